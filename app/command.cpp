@@ -1,0 +1,53 @@
+#include "app/command.h"
+
+#include <cstdio>
+#include <fstream>
+#include <memory>
+
+#include "core/error.h"
+#include "core/progress.h"
+
+namespace isoatlas::app {
+
+void writeJsonFile(const std::string& path, const nlohmann::json& json) {
+  std::ofstream out(path);
+  if (!out) throw Error(path + ": cannot write the report");
+  out << json.dump(2) << "\n";
+  if (!out) throw Error(path + ": could not finish writing the report", ErrorKind::Failure);
+}
+
+void bindAction(CLI::App& sub, const Action& action, int& exitCode) {
+  auto common = std::make_shared<CommonOptions>();
+  sub.add_option("--report", common->report, "write the figures of this run as JSON");
+  sub.add_flag("--quiet,-q", common->quiet, "no progress or informational lines on stderr");
+  sub.callback([&sub, action, common, &exitCode] {
+    Progress::setQuiet(common->quiet);
+    nlohmann::json report;
+    report["command"] = sub.get_name();
+    try {
+      exitCode = action(report);
+      if (!common->report.empty()) writeJsonFile(common->report, report);
+    } catch (const Error& e) {
+      std::fprintf(stderr, "isoatlas %s: %s\n", sub.get_name().c_str(), e.what());
+      exitCode = e.exitCode();
+    } catch (const std::bad_alloc&) {
+      std::fprintf(stderr, "isoatlas %s: out of memory\n", sub.get_name().c_str());
+      exitCode = 1;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "isoatlas %s: internal error: %s\n", sub.get_name().c_str(), e.what());
+      exitCode = 1;
+    }
+  });
+}
+
+void addPendingCommand(CLI::App& app, const std::string& name, const std::string& what, const std::string& issue,
+                       int& exitCode) {
+  CLI::App* sub = app.add_subcommand(name, what + " (not built yet)");
+  sub->allow_extras();
+  sub->callback([name, issue, &exitCode] {
+    std::fprintf(stderr, "isoatlas %s: this stage is not built yet (%s)\n", name.c_str(), issue.c_str());
+    exitCode = 1;
+  });
+}
+
+}  // namespace isoatlas::app

@@ -1,0 +1,33 @@
+// What every subcommand shares: --report, --quiet, and how a run ends. Each subcommand lives in its
+// own file (app/<name>.cpp) and registers itself with addXCommand().
+#pragma once
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <string>
+
+namespace isoatlas::app {
+
+struct CommonOptions {
+  std::string report;  // --report FILE.json
+  bool quiet = false;
+};
+
+// A subcommand's work: fills `report` and returns the exit code (0, or 1 when the work failed).
+using Action = std::function<int(nlohmann::json& report)>;
+
+// Adds --report and --quiet to `sub` and makes it run `action` when chosen: errors become one line on
+// stderr and exit 2 (bad input) or 1 (failure); the report is written on success.
+void bindAction(CLI::App& sub, const Action& action, int& exitCode);
+
+// A subcommand whose stage has not been built: it says so and exits 1.
+void addPendingCommand(CLI::App& app, const std::string& name, const std::string& what, const std::string& issue,
+                       int& exitCode);
+
+void writeJsonFile(const std::string& path, const nlohmann::json& json);
+
+void addInfoCommand(CLI::App& app, int& exitCode);
+void addRunCommand(CLI::App& app, int& exitCode);
+
+}  // namespace isoatlas::app

@@ -1,0 +1,49 @@
+// isoatlas: from a 3D scan to a surface you can edit and render at any level of detail.
+#include <cstdio>
+
+#include "app/command.h"
+
+int main(int argc, char** argv) {
+  using namespace isoatlas::app;
+  CLI::App app{"isoatlas: segment a volume, extract its surface, and build a multiresolution atlas of it"};
+  app.set_version_flag("--version", "isoatlas 0.1.0");
+  app.require_subcommand(1);
+  int exitCode = 0;
+
+  addInfoCommand(app, exitCode);
+  addPendingCommand(app, "probe", "mean and spread of a volume inside a sphere, and the level-set parameters they suggest",
+                    "issue 3, segmentation", exitCode);
+  addPendingCommand(app, "segment", "segment a structure with the paged narrow-band level-set solver",
+                    "issue 3, segmentation", exitCode);
+  addPendingCommand(app, "edit", "boolean brush and mesh edits in a dynamic volume tree", "the DVT issue", exitCode);
+  addPendingCommand(app, "extract", "marching cubes over a level set, mask or scalar volume", "issue 4, extraction",
+                    exitCode);
+  addPendingCommand(app, "build", "multiresolution model (triquad base mesh and atlas) of a triangle mesh",
+                    "issue 5, multiresolution", exitCode);
+  addPendingCommand(app, "eval", "PSNR and Hausdorff distance of a model per level", "the atlas issue", exitCode);
+  addPendingCommand(app, "render", "headless render of a model to PNG", "the render issue", exitCode);
+  addPendingCommand(app, "view", "interactive viewer", "the viewer issue", exitCode);
+  addRunCommand(app, exitCode);
+
+  if (argc > 1 && argv[1][0] != '-') {
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands({})) known |= sub->get_name() == argv[1];
+    if (!known) {
+      std::fprintf(stderr, "isoatlas: unknown subcommand '%s' (see isoatlas --help)\n", argv[1]);
+      return 2;
+    }
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "isoatlas: %s (see isoatlas --help)\n", e.what());
+    return 2;
+  }
+  return exitCode;
+}

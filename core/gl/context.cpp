@@ -1,0 +1,225 @@
+#include "core/gl/context.h"
+
+#include <epoxy/egl.h>
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include "core/error.h"
+#include "core/progress.h"
+
+namespace isoatlas::gl {
+namespace {
+
+std::string g_debugError;  // first error message from GL debug output since the last checkErrors()
+
+[[maybe_unused]] void GLAPIENTRY onDebugMessage(GLenum, GLenum type, GLuint, GLenum severity, GLsizei, const GLchar* message,
+                               const void*) {
+  if ((type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH) && g_debugError.empty())
+    g_debugError = message;
+}
+
+bool hasExtension(const char* list, const char* name) {
+  if (!list) return false;
+  const std::size_t n = std::strlen(name);
+  for (const char* p = list; (p = std::strstr(p, name)); p += n)
+    if ((p == list || p[-1] == ' ') && (p[n] == ' ' || p[n] == '\0')) return true;
+  return false;
+}
+
+struct EglAttempt {
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLContext context = EGL_NO_CONTEXT;
+};
+
+// Initialises `display` and makes a GL 4.5 core context current on it without a surface.
+bool tryDisplay(EGLDisplay display, EglAttempt& out) {
+  if (display == EGL_NO_DISPLAY) return false;
+  EGLint major = 0, minor = 0;
+  if (!eglInitialize(display, &major, &minor)) return false;
+  if (!eglBindAPI(EGL_OPENGL_API)) {
+    eglTerminate(display);
+    return false;
+  }
+  const EGLint configAttribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+  EGLConfig config = nullptr;
+  EGLint count = 0;
+  const bool noConfig = hasExtension(eglQueryString(display, EGL_EXTENSIONS), "EGL_KHR_no_config_context");
+  if (!eglChooseConfig(display, configAttribs, &config, 1, &count) || count < 1) {
+    if (!noConfig) {
+      eglTerminate(display);
+      return false;
+    }
+    config = EGL_NO_CONFIG_KHR;
+  }
+#ifdef NDEBUG
+  const EGLint debug = EGL_FALSE;
+#else
+  const EGLint debug = EGL_TRUE;
+#endif
+  const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
+                                   EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                   EGL_CONTEXT_OPENGL_DEBUG, debug, EGL_NONE};
+  EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttribs);
+  if (context == EGL_NO_CONTEXT || !eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, context)) {
+    if (context != EGL_NO_CONTEXT) eglDestroyContext(display, context);
+    eglTerminate(display);
+    return false;
+  }
+  out = {display, context};
+  return true;
+}
+
+// Real devices first (a GPU driver), Mesa's software device last.
+bool tryDevices(EglAttempt& out, std::string& platform) {
+  const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+  if (!hasExtension(client, "EGL_EXT_platform_device") || !hasExtension(client, "EGL_EXT_device_enumeration"))
+    return false;
+  EGLint count = 0;
+  if (!eglQueryDevicesEXT(0, nullptr, &count) || count <= 0) return false;
+  std::vector<EGLDeviceEXT> devices(static_cast<std::size_t>(count));
+  eglQueryDevicesEXT(count, devices.data(), &count);
+  for (int pass = 0; pass < 2; ++pass) {
+    for (EGLDeviceEXT device : devices) {
+      const bool software = hasExtension(eglQueryDeviceStringEXT(device, EGL_EXTENSIONS), "EGL_MESA_device_software");
+      if (software != (pass == 1)) continue;
+      if (tryDisplay(eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, device, nullptr), out)) {
+        platform = software ? "EGL device (Mesa software)" : "EGL device";
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+bool trySurfaceless(EglAttempt& out, std::string& platform) {
+  const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+  if (!hasExtension(client, "EGL_MESA_platform_surfaceless")) return false;
+  if (!tryDisplay(eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr), out))
+    return false;
+  platform = "EGL surfaceless (Mesa)";
+  return true;
+}
+
+void queryInfo(Info& info) {
+  auto str = [](GLenum e) {
+    const GLubyte* s = glGetString(e);
+    return std::string(s ? reinterpret_cast<const char*>(s) : "?");
+  };
+  info.vendor = str(GL_VENDOR);
+  info.renderer = str(GL_RENDERER);
+  info.version = str(GL_VERSION);
+  info.glsl = str(GL_SHADING_LANGUAGE_VERSION);
+  glGetIntegerv(GL_MAJOR_VERSION, &info.major);
+  glGetIntegerv(GL_MINOR_VERSION, &info.minor);
+  for (GLuint i = 0; i < 3; ++i) glGetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_SIZE, i, &info.maxComputeWorkGroupSize[i]);
+  glGetIntegerv(GL_MAX_COMPUTE_WORK_GROUP_INVOCATIONS, &info.maxComputeWorkGroupInvocations);
+  glGetIntegerv(GL_MAX_COMPUTE_SHARED_MEMORY_SIZE, &info.maxComputeSharedMemory);
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &info.maxTextureSize);
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &info.max3DTextureSize);
+  glGetIntegerv(GL_MAX_TESS_GEN_LEVEL, &info.maxTessellationLevel);
+  glGetIntegerv(GL_MAX_PATCH_VERTICES, &info.maxPatchVertices);
+}
+
+}  // namespace
+
+bool Info::software() const {
+  for (const char* name : {"llvmpipe", "softpipe", "swrast", "SwiftShader"})
+    if (renderer.find(name) != std::string::npos) return true;
+  return false;
+}
+
+std::unique_ptr<Context> Context::headless() {
+  const char* force = std::getenv("ISOATLAS_EGL");
+  const std::string mode = force ? force : "";
+  if (!mode.empty() && mode != "device" && mode != "surfaceless")
+    throw Error("ISOATLAS_EGL=" + mode + " (expected device or surfaceless)");
+  EglAttempt attempt;
+  std::string platform;
+  const bool ok = (mode != "surfaceless" && tryDevices(attempt, platform)) ||
+                  (mode != "device" && trySurfaceless(attempt, platform));
+  if (!ok)
+    throw Error("no OpenGL 4.5 context: EGL found neither a GPU device nor Mesa's surfaceless platform "
+                "(install libegl-mesa0 and libgl1-mesa-dri, or use --backend cpu)",
+                ErrorKind::Failure);
+  std::unique_ptr<Context> ctx(new Context);
+  ctx->display_ = attempt.display;
+  ctx->context_ = attempt.context;
+  ctx->finishSetup(platform);
+  return ctx;
+}
+
+std::unique_ptr<Context> Context::window(int width, int height, const std::string& title, bool visible) {
+  if (!glfwInit())
+    throw Error("cannot open a window: GLFW found no display (set DISPLAY, or run under xvfb-run)", ErrorKind::Failure);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_VISIBLE, visible ? GLFW_TRUE : GLFW_FALSE);
+#ifndef NDEBUG
+  glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, GLFW_TRUE);
+#endif
+  GLFWwindow* window = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
+  if (!window) {
+    glfwTerminate();
+    throw Error("cannot open an OpenGL 4.5 core window (the display's GL is too old?)", ErrorKind::Failure);
+  }
+  glfwMakeContextCurrent(window);
+  std::unique_ptr<Context> ctx(new Context);
+  ctx->window_ = window;
+  ctx->finishSetup("GLFW window");
+  return ctx;
+}
+
+void Context::finishSetup(const std::string& platform) {
+  queryInfo(info_);
+  info_.platform = platform;
+  if (epoxy_gl_version() < 45)
+    throw Error("OpenGL 4.5 core is needed; this driver gives " + info_.version + " (" + info_.renderer + ")",
+                ErrorKind::Failure);
+#ifndef NDEBUG
+  glEnable(GL_DEBUG_OUTPUT);
+  glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
+  glDebugMessageCallback(onDebugMessage, nullptr);
+#endif
+  if (info_.software()) logInfo("gl: no GPU found, running on " + info_.renderer + " (software; slow but exact)");
+}
+
+void Context::makeCurrent() {
+  if (window_) glfwMakeContextCurrent(window_);
+  else eglMakeCurrent(static_cast<EGLDisplay>(display_), EGL_NO_SURFACE, EGL_NO_SURFACE, static_cast<EGLContext>(context_));
+}
+
+Context::~Context() {
+  if (window_) {
+    glfwDestroyWindow(window_);
+    glfwTerminate();
+  } else if (display_) {
+    eglMakeCurrent(static_cast<EGLDisplay>(display_), EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    eglDestroyContext(static_cast<EGLDisplay>(display_), static_cast<EGLContext>(context_));
+    eglTerminate(static_cast<EGLDisplay>(display_));
+  }
+}
+
+void checkErrors(const char* where) {
+  std::string message;
+  if (GLenum e = glGetError(); e != GL_NO_ERROR) {
+    char code[16];
+    std::snprintf(code, sizeof code, "0x%04x", e);
+    message = std::string("GL error ") + code;
+  }
+  if (!g_debugError.empty()) {
+    message = message.empty() ? g_debugError : message + ": " + g_debugError;
+    g_debugError.clear();
+  }
+  while (glGetError() != GL_NO_ERROR) {
+  }
+  if (!message.empty()) throw Error(std::string(where) + ": " + message, ErrorKind::Failure);
+}
+
+}  // namespace isoatlas::gl

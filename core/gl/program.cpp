@@ -1,0 +1,110 @@
+#include "core/gl/program.h"
+
+#include "core/error.h"
+#include "core/gl/context.h"
+#include "core/gl/shader_library.h"
+#include "core/gz_file.h"
+
+namespace isoatlas::gl {
+namespace {
+
+GLenum stageOf(const std::string& path) {
+  if (endsWith(path, ".comp")) return GL_COMPUTE_SHADER;
+  if (endsWith(path, ".vert")) return GL_VERTEX_SHADER;
+  if (endsWith(path, ".tesc")) return GL_TESS_CONTROL_SHADER;
+  if (endsWith(path, ".tese")) return GL_TESS_EVALUATION_SHADER;
+  if (endsWith(path, ".geom")) return GL_GEOMETRY_SHADER;
+  if (endsWith(path, ".frag")) return GL_FRAGMENT_SHADER;
+  throw Error("shader " + path + ": unknown stage (extension)", ErrorKind::Failure);
+}
+
+std::string withDefines(std::string source, const Defines& defines) {
+  std::string block;
+  for (const auto& [name, value] : defines) block += "#define " + name + " " + value + "\n";
+  const auto version = source.find("#version");
+  const auto lineEnd = version == std::string::npos ? 0 : source.find('\n', version) + 1;
+  source.insert(lineEnd, block + "#line 2\n");
+  return source;
+}
+
+GLuint compile(const std::string& path, const Defines& defines) {
+  const std::string source = withDefines(shaderSource(path), defines);
+  const GLuint shader = glCreateShader(stageOf(path));
+  const char* text = source.c_str();
+  glShaderSource(shader, 1, &text, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    std::string log(std::size_t(length > 0 ? length : 1), '\0');
+    glGetShaderInfoLog(shader, length, nullptr, log.data());
+    glDeleteShader(shader);
+    throw Error("shader " + path + " does not compile: " + log.c_str(), ErrorKind::Failure);
+  }
+  return shader;
+}
+
+}  // namespace
+
+Program Program::compute(const std::string& path, const Defines& defines) { return link({path}, defines, {}); }
+
+Program Program::graphics(const std::vector<std::string>& paths, const Defines& defines) {
+  return link(paths, defines, {});
+}
+
+Program Program::graphicsWithFeedback(const std::vector<std::string>& paths, const std::vector<const char*>& varyings,
+                                      const Defines& defines) {
+  return link(paths, defines, varyings);
+}
+
+Program Program::link(const std::vector<std::string>& paths, const Defines& defines,
+                      const std::vector<const char*>& varyings) {
+  Program p;
+  p.id_ = glCreateProgram();
+  std::vector<GLuint> shaders;
+  try {
+    for (const auto& path : paths) shaders.push_back(compile(path, defines));
+  } catch (...) {
+    for (GLuint s : shaders) glDeleteShader(s);
+    throw;
+  }
+  for (GLuint s : shaders) glAttachShader(p.id_, s);
+  if (!varyings.empty())
+    glTransformFeedbackVaryings(p.id_, GLsizei(varyings.size()), varyings.data(), GL_INTERLEAVED_ATTRIBS);
+  glLinkProgram(p.id_);
+  for (GLuint s : shaders) glDeleteShader(s);
+  GLint ok = 0;
+  glGetProgramiv(p.id_, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetProgramiv(p.id_, GL_INFO_LOG_LENGTH, &length);
+    std::string log(std::size_t(length > 0 ? length : 1), '\0');
+    glGetProgramInfoLog(p.id_, length, nullptr, log.data());
+    throw Error("shader program " + paths.front() + " does not link: " + log.c_str(), ErrorKind::Failure);
+  }
+  checkErrors("linking shader program");
+  return p;
+}
+
+Program::~Program() {
+  if (id_) glDeleteProgram(id_);
+}
+
+Program& Program::operator=(Program&& o) noexcept {
+  if (this != &o) {
+    if (id_) glDeleteProgram(id_);
+    id_ = std::exchange(o.id_, 0);
+  }
+  return *this;
+}
+
+void Program::dispatch(GLuint x, GLuint y, GLuint z, GLbitfield barrier) const {
+  use();
+  glDispatchCompute(x, y, z);
+  if (barrier) glMemoryBarrier(barrier);
+  checkErrors("compute dispatch");
+}
+
+}  // namespace isoatlas::gl

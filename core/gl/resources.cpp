@@ -1,0 +1,107 @@
+#include "core/gl/resources.h"
+
+#include "core/error.h"
+#include "core/gl/context.h"
+
+namespace isoatlas::gl {
+
+void deleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
+void deleteTexture(GLuint id) { glDeleteTextures(1, &id); }
+void deleteFramebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
+void deleteVertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
+void deleteQuery(GLuint id) { glDeleteQueries(1, &id); }
+
+namespace {
+GLuint create(void (*fn)(GLsizei, GLuint*)) {
+  GLuint id = 0;
+  fn(1, &id);
+  return id;
+}
+}  // namespace
+
+Buffer::Buffer(std::size_t bytes, const void* data) : Handle(create(glCreateBuffers)), bytes_(bytes) {
+  glNamedBufferStorage(id(), GLsizeiptr(bytes ? bytes : 4), data, GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
+  checkErrors("allocating a GL buffer");
+}
+
+void Buffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
+  require(offset + bytes <= bytes_, "GL buffer upload past its end");
+  glNamedBufferSubData(id(), GLintptr(offset), GLsizeiptr(bytes), data);
+}
+
+void Buffer::download(void* data, std::size_t bytes, std::size_t offset) const {
+  require(offset + bytes <= bytes_, "GL buffer download past its end");
+  glGetNamedBufferSubData(id(), GLintptr(offset), GLsizeiptr(bytes), data);
+  checkErrors("reading a GL buffer back");
+}
+
+void Buffer::fillZero() { glClearNamedBufferData(id(), GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, nullptr); }
+
+Texture::Texture(GLenum target, int w, int h, int d) : target_(target), size_{w, h, d} {
+  GLuint tex = 0;
+  glCreateTextures(target, 1, &tex);
+  static_cast<Handle&>(*this) = Handle(tex);
+}
+
+Texture Texture::texture2D(GLenum internalFormat, int width, int height, int levels) {
+  Texture t(GL_TEXTURE_2D, width, height, 1);
+  glTextureStorage2D(t.id(), levels, internalFormat, width, height);
+  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  checkErrors("allocating a 2D texture");
+  return t;
+}
+
+Texture Texture::texture3D(GLenum internalFormat, int width, int height, int depth) {
+  Texture t(GL_TEXTURE_3D, width, height, depth);
+  glTextureStorage3D(t.id(), 1, internalFormat, width, height, depth);
+  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glTextureParameteri(t.id(), wrap, GL_CLAMP_TO_EDGE);
+  checkErrors("allocating a 3D texture");
+  return t;
+}
+
+Framebuffer::Framebuffer(int width, int height)
+    : Handle(create(glCreateFramebuffers)), colour_(Texture::texture2D(GL_RGBA8, width, height)),
+      depth_(Texture::texture2D(GL_DEPTH_COMPONENT32F, width, height)), w_(width), h_(height) {
+  glNamedFramebufferTexture(id(), GL_COLOR_ATTACHMENT0, colour_.id(), 0);
+  glNamedFramebufferTexture(id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
+  if (glCheckNamedFramebufferStatus(id(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw Error("the GL driver rejected a " + std::to_string(width) + "x" + std::to_string(height) + " framebuffer",
+                ErrorKind::Failure);
+}
+
+void Framebuffer::bind() const {
+  glBindFramebuffer(GL_FRAMEBUFFER, id());
+  glViewport(0, 0, w_, h_);
+}
+
+std::vector<unsigned char> Framebuffer::readRgba() const {
+  std::vector<unsigned char> pixels(std::size_t(w_) * h_ * 4);
+  glNamedFramebufferReadBuffer(id(), GL_COLOR_ATTACHMENT0);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, id());
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, w_, h_, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+  checkErrors("reading the framebuffer");
+  return pixels;
+}
+
+VertexArray::VertexArray() : Handle(create(glCreateVertexArrays)) {}
+
+TimerQuery::TimerQuery() {
+  GLuint id = 0;
+  glCreateQueries(GL_TIME_ELAPSED, 1, &id);
+  static_cast<Handle&>(*this) = Handle(id);
+}
+
+double TimerQuery::milliseconds() const {
+  GLuint64 ns = 0;
+  glGetQueryObjectui64v(id(), GL_QUERY_RESULT, &ns);
+  return double(ns) * 1e-6;
+}
+
+}  // namespace isoatlas::gl

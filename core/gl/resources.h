@@ -1,0 +1,109 @@
+// RAII owners of GL objects: Buffer, Texture, Framebuffer, VertexArray, TimerQuery. Each deletes its
+// object when destroyed and is movable, not copyable. Uses DSA (GL 4.5) throughout.
+#pragma once
+#include <epoxy/gl.h>
+
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+namespace isoatlas::gl {
+
+template <void (*Delete)(GLuint)>
+class Handle {
+public:
+  Handle() = default;
+  explicit Handle(GLuint id) : id_(id) {}
+  ~Handle() {
+    if (id_) Delete(id_);
+  }
+  Handle(Handle&& o) noexcept : id_(std::exchange(o.id_, 0)) {}
+  Handle& operator=(Handle&& o) noexcept {
+    if (this != &o) {
+      if (id_) Delete(id_);
+      id_ = std::exchange(o.id_, 0);
+    }
+    return *this;
+  }
+  GLuint id() const { return id_; }
+
+private:
+  GLuint id_ = 0;
+};
+
+void deleteBuffer(GLuint id);
+void deleteTexture(GLuint id);
+void deleteFramebuffer(GLuint id);
+void deleteVertexArray(GLuint id);
+void deleteQuery(GLuint id);
+
+class Buffer : public Handle<deleteBuffer> {
+public:
+  Buffer() = default;
+  // `bytes` of storage, filled from `data` when given; usable by the GPU and readable back.
+  explicit Buffer(std::size_t bytes, const void* data = nullptr);
+  template <class T>
+  static Buffer of(const std::vector<T>& v) { return Buffer(v.size() * sizeof(T), v.data()); }
+  std::size_t bytes() const { return bytes_; }
+  void upload(const void* data, std::size_t bytes, std::size_t offset = 0);
+  void download(void* data, std::size_t bytes, std::size_t offset = 0) const;
+  template <class T>
+  std::vector<T> read(std::size_t count) const {
+    std::vector<T> out(count);
+    download(out.data(), count * sizeof(T));
+    return out;
+  }
+  void fillZero();
+  void bindBase(GLenum target, GLuint index) const { glBindBufferBase(target, index, id()); }
+
+private:
+  std::size_t bytes_ = 0;
+};
+
+class Texture : public Handle<deleteTexture> {
+public:
+  Texture() = default;
+  static Texture texture2D(GLenum internalFormat, int width, int height, int levels = 1);
+  static Texture texture3D(GLenum internalFormat, int width, int height, int depth);
+  GLenum target() const { return target_; }
+  int width() const { return size_[0]; }
+  int height() const { return size_[1]; }
+  int depth() const { return size_[2]; }
+
+private:
+  Texture(GLenum target, int w, int h, int d);
+  GLenum target_ = 0;
+  int size_[3] = {0, 0, 0};
+};
+
+class Framebuffer : public Handle<deleteFramebuffer> {
+public:
+  Framebuffer() = default;
+  // An RGBA8 colour target with a depth buffer, for headless rendering.
+  Framebuffer(int width, int height);
+  void bind() const;
+  std::vector<unsigned char> readRgba() const;  // rows bottom to top, as GL stores them
+  int width() const { return w_; }
+  int height() const { return h_; }
+
+private:
+  Texture colour_, depth_;
+  int w_ = 0, h_ = 0;
+};
+
+class VertexArray : public Handle<deleteVertexArray> {
+public:
+  VertexArray();
+  void bind() const { glBindVertexArray(id()); }
+};
+
+// Measures GPU time between begin() and end() with a GL_TIME_ELAPSED query.
+class TimerQuery : public Handle<deleteQuery> {
+public:
+  TimerQuery();
+  void begin() const { glBeginQuery(GL_TIME_ELAPSED, id()); }
+  void end() const { glEndQuery(GL_TIME_ELAPSED); }
+  double milliseconds() const;  // waits for the result
+};
+
+}  // namespace isoatlas::gl

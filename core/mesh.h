@@ -1,0 +1,37 @@
+// Mesh: a polygon mesh as plain arrays (triangles, quads or mixed), positions in world mm.
+// Face f's corners are faceVertices[faceOffsets[f] .. faceOffsets[f+1]).
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/vec.h"
+
+namespace isoatlas {
+
+struct Mesh {
+  std::vector<Vec3> positions;
+  std::vector<Vec3> normals;  // per vertex; empty when the mesh has none
+  std::vector<std::uint32_t> faceOffsets{0};
+  std::vector<std::uint32_t> faceVertices;
+
+  std::size_t vertexCount() const { return positions.size(); }
+  std::size_t faceCount() const { return faceOffsets.size() - 1; }
+  std::span<const std::uint32_t> face(std::size_t f) const {
+    return {faceVertices.data() + faceOffsets[f], faceOffsets[f + 1] - faceOffsets[f]};
+  }
+  void addFace(std::span<const std::uint32_t> corners) {
+    faceVertices.insert(faceVertices.end(), corners.begin(), corners.end());
+    faceOffsets.push_back(std::uint32_t(faceVertices.size()));
+  }
+  void addFace(std::initializer_list<std::uint32_t> corners) { addFace(std::span(corners.begin(), corners.size())); }
+  bool allFacesHave(std::size_t corners) const;  // e.g. 3 for a triangle mesh
+};
+
+struct Box {
+  Vec3 min, max;
+  double diagonal() const { return norm(max - min); }
+};
+Box boundingBox(const std::vector<Vec3>& points);  // zero box for no points
+
+}  // namespace isoatlas

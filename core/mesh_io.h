@@ -1,0 +1,27 @@
+// Reading and writing meshes through OpenMesh's readers and writers: OFF, PLY (ASCII and binary),
+// OBJ (polygons kept, quads stay quads) and STL (read only). Faces arrive exactly as the file lists
+// them, without OpenMesh's connectivity repairs, so a non-manifold file is seen as it is (see
+// analyzeTopology) instead of being silently split. Throws isoatlas::Error naming the file.
+#pragma once
+#include <string>
+
+#include "core/mesh.h"
+
+namespace isoatlas {
+
+bool isMeshPath(const std::string& path);  // .off .ply .obj .stl
+
+// Rejects missing files, unreadable content, counts larger than the file can hold, face indices out
+// of range, faces of fewer than three corners, non-finite coordinates and meshes with no faces.
+Mesh readMesh(const std::string& path);
+
+struct MeshWriteOptions {
+  bool binary = true;   // PLY only
+  bool normals = true;  // written when the mesh has them (PLY, OFF, OBJ)
+};
+void writeMesh(const std::string& path, const Mesh& mesh, MeshWriteOptions options = {});
+
+// Throws Error("<where>: not 2-manifold: <first problem>") unless the mesh is a 2-manifold.
+void requireManifold(const Mesh& mesh, const std::string& where);
+
+}  // namespace isoatlas

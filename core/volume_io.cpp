@@ -1,0 +1,59 @@
+#include "core/volume_io.h"
+
+#include <filesystem>
+
+#include "core/error.h"
+#include "core/gz_file.h"
+
+namespace isoatlas {
+
+bool isVolumePath(const std::string& path) {
+  for (const char* ext : {".nii", ".nii.gz", ".hdr", ".nrrd", ".nhdr", ".inr", ".inr.gz"})
+    if (endsWith(path, ext)) return true;
+  return false;
+}
+
+VolumeFormat volumeFormatOf(const std::string& path) {
+  if (endsWith(path, ".nii") || endsWith(path, ".nii.gz") || endsWith(path, ".hdr")) return VolumeFormat::Nifti;
+  if (endsWith(path, ".nrrd") || endsWith(path, ".nhdr")) return VolumeFormat::Nrrd;
+  if (endsWith(path, ".inr") || endsWith(path, ".inr.gz")) return VolumeFormat::Inr;
+  throw Error(path + ": unknown volume format (expected .nii, .nii.gz, .nrrd, .nhdr, .inr or .inr.gz)");
+}
+
+Volume readVolume(const std::string& path) {
+  const VolumeFormat format = volumeFormatOf(path);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": no such file");
+  Volume v;
+  switch (format) {
+    case VolumeFormat::Nifti: v = readNifti(path); break;
+    case VolumeFormat::Nrrd: v = readNrrd(path); break;
+    case VolumeFormat::Inr: v = readInr(path); break;
+  }
+  requireFiniteVoxels(v, path);
+  return v;
+}
+
+void writeVolume(const std::string& path, const Volume& volume) {
+  require(volume.data.size() == volume.voxelCount() * bytesPerVoxel(volume.type),
+          path + ": volume data size does not match its dimensions");
+  switch (volumeFormatOf(path)) {
+    case VolumeFormat::Nifti: writeNifti(path, volume); break;
+    case VolumeFormat::Nrrd: writeNrrd(path, volume); break;
+    case VolumeFormat::Inr: writeInr(path, volume); break;
+  }
+}
+
+void setGeometryFromAffine(Volume& v, const Mat3& linear, const Vec3& origin, const std::string& where) {
+  for (int c = 0; c < 3; ++c) {
+    const Vec3 col = linear.column(c);
+    const double len = norm(col);
+    if (!std::isfinite(len) || len <= 0)
+      throw Error(where + ": voxel-to-world transform has a zero or non-finite axis " + std::to_string(c));
+    v.spacing[c] = len;
+    for (int r = 0; r < 3; ++r) v.direction.m[r][c] = col[r] / len;
+  }
+  v.origin = origin;
+}
+
+}  // namespace isoatlas

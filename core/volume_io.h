@@ -1,0 +1,32 @@
+// Reading and writing volumes. The format follows the file name:
+//   .nii .nii.gz .hdr (NIfTI-1 and NIfTI-2, nifticlib)   .nrrd .nhdr (NRRD, teem)   .inr .inr.gz (INRIMAGE-4)
+// Readers check every size before allocating (see volumeByteLimit) and reject NaN/infinite voxels;
+// all failures throw isoatlas::Error naming the file and what was wrong.
+#pragma once
+#include <string>
+
+#include "core/volume.h"
+
+namespace isoatlas {
+
+enum class VolumeFormat { Nifti, Nrrd, Inr };
+
+bool isVolumePath(const std::string& path);
+VolumeFormat volumeFormatOf(const std::string& path);  // throws Error for an unknown extension
+
+Volume readVolume(const std::string& path);
+void writeVolume(const std::string& path, const Volume& volume);
+
+// One reader and writer per format (core/volume_nifti.cpp, volume_nrrd.cpp, volume_inr.cpp).
+Volume readNifti(const std::string& path);
+void writeNifti(const std::string& path, const Volume& volume);
+Volume readNrrd(const std::string& path);
+void writeNrrd(const std::string& path, const Volume& volume);
+Volume readInr(const std::string& path);
+void writeInr(const std::string& path, const Volume& volume);
+
+// Splits an affine's 3x3 part (voxel index -> world) into spacing (column lengths) and direction
+// (unit columns). Throws Error naming `where` if a column is zero or not finite.
+void setGeometryFromAffine(Volume& v, const Mat3& linear, const Vec3& origin, const std::string& where);
+
+}  // namespace isoatlas

@@ -1,0 +1,148 @@
+// NRRD (.nrrd, .nhdr with its data file) through teem. World coordinates become RAS, as 3D Slicer
+// shows them: an LPS file's x and y are negated on reading and again on writing (we write LPS, the
+// space ITK and Slicer write).
+#include <teem/nrrd.h>
+
+#include <cstdlib>
+#include <memory>
+
+#include "core/error.h"
+#include "core/gz_file.h"
+#include "core/volume_io.h"
+
+namespace isoatlas {
+namespace {
+
+struct NrrdDeleter {
+  void operator()(Nrrd* n) const { nrrdNuke(n); }
+};
+struct IoDeleter {
+  void operator()(NrrdIoState* n) const { nrrdIoStateNix(n); }
+};
+using NrrdPtr = std::unique_ptr<Nrrd, NrrdDeleter>;
+
+std::string teemError() {
+  char* err = biffGetDone(NRRD);
+  std::string msg = err ? err : "unknown teem error";
+  std::free(err);
+  while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ')) msg.pop_back();
+  // teem's messages are nested "[nrrd] fn: ..." lines; the last line is the root cause.
+  const auto nl = msg.rfind('\n');
+  if (nl != std::string::npos) msg = msg.substr(nl + 1);
+  const auto bracket = msg.find("] ");
+  if (bracket != std::string::npos) msg = msg.substr(bracket + 2);
+  return msg;
+}
+
+bool scalarTypeFromNrrd(int t, ScalarType& out) {
+  switch (t) {
+    case nrrdTypeUChar: out = ScalarType::UInt8; return true;
+    case nrrdTypeChar: out = ScalarType::Int8; return true;
+    case nrrdTypeUShort: out = ScalarType::UInt16; return true;
+    case nrrdTypeShort: out = ScalarType::Int16; return true;
+    case nrrdTypeUInt: out = ScalarType::UInt32; return true;
+    case nrrdTypeInt: out = ScalarType::Int32; return true;
+    case nrrdTypeFloat: out = ScalarType::Float32; return true;
+    case nrrdTypeDouble: out = ScalarType::Float64; return true;
+    default: return false;
+  }
+}
+
+int nrrdTypeOf(ScalarType t) {
+  switch (t) {
+    case ScalarType::UInt8: return nrrdTypeUChar;
+    case ScalarType::Int8: return nrrdTypeChar;
+    case ScalarType::UInt16: return nrrdTypeUShort;
+    case ScalarType::Int16: return nrrdTypeShort;
+    case ScalarType::UInt32: return nrrdTypeUInt;
+    case ScalarType::Int32: return nrrdTypeInt;
+    case ScalarType::Float32: return nrrdTypeFloat;
+    case ScalarType::Float64: return nrrdTypeDouble;
+  }
+  return nrrdTypeFloat;
+}
+
+// Header only, or header and data, into a fresh Nrrd.
+NrrdPtr load(const std::string& path, bool skipData) {
+  NrrdPtr nrrd(nrrdNew());
+  std::unique_ptr<NrrdIoState, IoDeleter> io(nrrdIoStateNew());
+  nrrdIoStateSet(io.get(), nrrdIoStateSkipData, skipData ? AIR_TRUE : AIR_FALSE);
+  if (nrrdLoad(nrrd.get(), path.c_str(), io.get())) throw Error(path + ": not a readable NRRD file: " + teemError());
+  return nrrd;
+}
+
+}  // namespace
+
+Volume readNrrd(const std::string& path) {
+  Volume v;
+  {
+    // Check the header before teem allocates the data it announces.
+    NrrdPtr header = load(path, true);
+    if (header->dim < 1 || header->dim > 3)
+      throw Error(path + ": NRRD has " + std::to_string(header->dim) + " axes; isoatlas reads 3D scalar volumes");
+    if (!scalarTypeFromNrrd(header->type, v.type))
+      throw Error(path + ": unsupported NRRD type " + airEnumStr(nrrdType, header->type));
+    for (unsigned a = 0; a < 3; ++a) v.dims[a] = a < header->dim ? std::int64_t(header->axis[a].size) : 1;
+    validateVolumeHeader(v, path);
+  }
+  NrrdPtr nrrd = load(path, false);
+  if (!nrrd->data) throw Error(path + ": NRRD file has no data");
+
+  Mat3 linear;
+  Vec3 origin{0, 0, 0};
+  if (nrrd->spaceDim > 0) {
+    if (nrrd->spaceDim != 3) throw Error(path + ": NRRD space dimension is " + std::to_string(nrrd->spaceDim) + ", not 3");
+    for (unsigned a = 0; a < 3; ++a) {
+      for (int r = 0; r < 3; ++r) {
+        const double d = a < nrrd->dim ? nrrd->axis[a].spaceDirection[r] : (r == int(a) ? 1.0 : 0.0);
+        linear.m[r][a] = std::isfinite(d) ? d : (r == int(a) ? 1.0 : 0.0);  // NaN: axis without direction
+      }
+    }
+    for (int r = 0; r < 3; ++r) origin[r] = std::isfinite(nrrd->spaceOrigin[r]) ? nrrd->spaceOrigin[r] : 0.0;
+    const int s = nrrd->space;
+    const bool flipX = s == nrrdSpaceLeftPosteriorSuperior || s == nrrdSpaceLeftAnteriorSuperior || s == nrrdSpaceScannerXYZ;
+    const bool flipY = s == nrrdSpaceLeftPosteriorSuperior || s == nrrdSpaceScannerXYZ;
+    for (int c = 0; c < 3; ++c) {
+      if (flipX) linear.m[0][c] = -linear.m[0][c];
+      if (flipY) linear.m[1][c] = -linear.m[1][c];
+    }
+    if (flipX) origin.x = -origin.x;
+    if (flipY) origin.y = -origin.y;
+  } else {
+    for (unsigned a = 0; a < 3; ++a) {
+      const double sp = a < nrrd->dim ? nrrd->axis[a].spacing : 1.0;
+      linear.m[a][a] = std::isfinite(sp) && sp > 0 ? sp : 1.0;
+    }
+  }
+  setGeometryFromAffine(v, linear, origin, path);
+  validateVolumeHeader(v, path);
+  const std::size_t bytes = v.voxelCount() * bytesPerVoxel(v.type);
+  const auto* src = static_cast<const std::byte*>(nrrd->data);
+  v.data.assign(src, src + bytes);
+  return v;
+}
+
+void writeNrrd(const std::string& path, const Volume& v) {
+  NrrdPtr nrrd(nrrdNew());
+  std::size_t sizes[3] = {std::size_t(v.dims[0]), std::size_t(v.dims[1]), std::size_t(v.dims[2])};
+  // teem only reads from the wrapped pointer while saving.
+  if (nrrdWrap_nva(nrrd.get(), const_cast<std::byte*>(v.data.data()), nrrdTypeOf(v.type), 3, sizes))
+    throw Error(path + ": teem could not wrap the volume: " + teemError(), ErrorKind::Failure);
+  nrrdSpaceSet(nrrd.get(), nrrdSpaceLeftPosteriorSuperior);
+  double dirs[NRRD_DIM_MAX][NRRD_SPACE_DIM_MAX] = {};
+  for (int a = 0; a < 3; ++a)
+    for (int r = 0; r < 3; ++r) dirs[a][r] = v.direction.m[r][a] * v.spacing[a] * (r < 2 ? -1.0 : 1.0);
+  nrrdAxisInfoSet_nva(nrrd.get(), nrrdAxisInfoSpaceDirection, dirs);
+  const double origin[3] = {-v.origin.x, -v.origin.y, v.origin.z};
+  nrrdSpaceOriginSet(nrrd.get(), origin);
+  int kinds[3] = {nrrdKindDomain, nrrdKindDomain, nrrdKindDomain};
+  nrrdAxisInfoSet_nva(nrrd.get(), nrrdAxisInfoKind, kinds);
+
+  std::unique_ptr<NrrdIoState, IoDeleter> io(nrrdIoStateNew());
+  if (nrrdEncodingGzip->available()) nrrdIoStateEncodingSet(io.get(), nrrdEncodingGzip);
+  const int rc = nrrdSave(path.c_str(), nrrd.get(), io.get());
+  nrrd->data = nullptr;  // ours, not teem's to free
+  if (rc) throw Error(path + ": could not write NRRD: " + teemError(), ErrorKind::Failure);
+}
+
+}  // namespace isoatlas

@@ -1,0 +1,149 @@
+// End-to-end tests of the isoatlas command: exit codes, one-line errors, reports.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "core/mesh_io.h"
+#include "core/volume_io.h"
+#include "tests/test_util.h"
+
+namespace isoatlas {
+namespace {
+
+struct Result {
+  int code;
+  std::string out, err;
+};
+
+Result run(const std::string& args) {
+  // ctest runs tests in parallel: each process gets files of its own.
+  static int calls = 0;
+  const auto dir = std::filesystem::temp_directory_path() / "isoatlas-tests" / ("cli-" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  const auto out = dir / ("stdout" + std::to_string(++calls)), err = dir / ("stderr" + std::to_string(calls));
+  const std::string cmd = std::string(ISOATLAS_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), test::readBytes(out), test::readBytes(err)};
+}
+
+std::size_t lines(const std::string& s) { return std::size_t(std::count(s.begin(), s.end(), '\n')); }
+
+void expectBadInput(const std::string& args, const std::string& phrase) {
+  const Result r = run(args);
+  EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+  EXPECT_EQ(lines(r.err), 1u) << "one line on stderr: " << r.err;
+  EXPECT_NE(r.err.find(phrase), std::string::npos) << r.err;
+}
+
+TEST(Cli, HelpForEverySubcommand) {
+  for (const char* sub : {"info", "probe", "segment", "edit", "extract", "build", "eval", "render", "view", "run"}) {
+    const Result r = run(std::string(sub) + " --help");
+    EXPECT_EQ(r.code, 0) << sub;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
+  }
+}
+
+TEST(Cli, UsageErrorsExitTwo) {
+  expectBadInput("", "ubcommand is required");
+  expectBadInput("frobnicate", "frobnicate");
+  expectBadInput("info --no-such-option x.nii", "no-such-option");
+  expectBadInput("info", "give a FILE");
+}
+
+TEST(Cli, StagesNotBuiltSaySoAndExitOne) {
+  const Result r = run("build mesh.off -o m.isoatlas");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("not built yet"), std::string::npos);
+}
+
+TEST(Cli, InfoOnAVolumeWritesAReport) {
+  const auto dir = test::scratchDir();
+  Volume v = test::rampVolume(ScalarType::Int16, {9, 8, 7});
+  writeVolume((dir / "v.nii.gz").string(), v);
+  const Result r = run("info " + (dir / "v.nii.gz").string() + " --report " + (dir / "r.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("9 x 8 x 7, int16"), std::string::npos) << r.out;
+  const auto report = nlohmann::json::parse(test::readBytes(dir / "r.json"));
+  EXPECT_EQ(report["dims"], nlohmann::json({9, 8, 7}));
+  EXPECT_EQ(report["scalar_type"], "int16");
+  EXPECT_DOUBLE_EQ(report["spacing"][1].get<double>(), 1.25);
+  const ValueRange range = valueRange(v);
+  EXPECT_DOUBLE_EQ(report["min"].get<double>(), range.min);
+  EXPECT_DOUBLE_EQ(report["max"].get<double>(), range.max);
+}
+
+TEST(Cli, InfoOnAMeshReportsTopology) {
+  const auto dir = test::scratchDir();
+  writeMesh((dir / "torus.obj").string(), test::quadTorus(12, 8));
+  const Result r = run("info " + (dir / "torus.obj").string() + " --report " + (dir / "r.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto report = nlohmann::json::parse(test::readBytes(dir / "r.json"));
+  EXPECT_EQ(report["faces"], 96);
+  EXPECT_EQ(report["closed"], true);
+  EXPECT_EQ(report["manifold"], true);
+  EXPECT_EQ(report["genus"], 1);
+}
+
+TEST(Cli, BadInputsExitTwoWithOneLine) {
+  const auto dir = test::scratchDir();
+  test::writeBytes(dir / "junk.nii", std::string(400, 'x'));
+  expectBadInput("info " + (dir / "junk.nii").string(), "junk.nii");
+  expectBadInput("info " + (dir / "missing.nrrd").string(), "no such file");
+  std::string header = "#INRIMAGE-4#{\nXDIM=1000000\nYDIM=1000000\nZDIM=1000000\nVDIM=1\nTYPE=float\nPIXSIZE=32 bits\n";
+  header.append(252 - header.size(), '\n');
+  test::writeBytes(dir / "huge.inr", header + "##}\n");
+  expectBadInput("info " + (dir / "huge.inr").string(), "too large");
+  Volume v = test::rampVolume(ScalarType::Float32);
+  v.setValue(5, std::nan(""));
+  writeVolume((dir / "nan.nrrd").string(), v);
+  expectBadInput("info " + (dir / "nan.nrrd").string(), "NaN");
+  test::writeBytes(dir / "empty.ply", "");
+  expectBadInput("info " + (dir / "empty.ply").string(), "empty file");
+  test::writeBytes(dir / "fin.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n");
+  const Result r = run("info " + (dir / "fin.off").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "isoatlas info: " + (dir / "fin.off").string() + ": not 2-manifold: edge (0, 1) is shared by 3 faces\n");
+  EXPECT_NE(r.out.find("manifold no"), std::string::npos) << "the figures are still printed";
+  test::writeBytes(dir / "truncated.nii.gz", test::readBytes(dir / "nan.nrrd").substr(0, 10));
+  expectBadInput("info " + (dir / "truncated.nii.gz").string(), "truncated.nii.gz");
+}
+
+TEST(Cli, InfoGlReportsOpenGL45) {
+  const auto dir = test::scratchDir();
+  const Result r = run("info --gl --report " + (dir / "gl.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto report = nlohmann::json::parse(test::readBytes(dir / "gl.json"));
+  EXPECT_EQ(report["gl_version"], "4.5");
+  EXPECT_GE(report["max_tessellation_level"].get<int>(), 64);
+  EXPECT_FALSE(report["renderer"].get<std::string>().empty());
+}
+
+TEST(Cli, RunWritesItsProductsAndNamesSkippedStages) {
+  const auto dir = test::scratchDir();
+  Volume v = test::rampVolume(ScalarType::UInt8, {24, 20, 16});
+  writeVolume((dir / "v.nii.gz").string(), v);
+  const Result r = run("run " + (dir / "v.nii.gz").string() + " -o " + (dir / "out").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "out/index.html"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "out/input_slices.png"));
+  const auto report = nlohmann::json::parse(test::readBytes(dir / "out/report.json"));
+  bool sawSkipped = false;
+  for (const auto& s : report["stages"]) sawSkipped |= s["status"] == "skipped";
+  EXPECT_TRUE(sawSkipped);
+  EXPECT_NE(r.err.find("skipping"), std::string::npos);
+}
+
+TEST(Cli, Ch2IsReadWithItsTrueDimensions) {
+  const std::string ch2 = std::string(ISOATLAS_DATA) + "/volumes/ch2.nii.gz";
+  if (!std::filesystem::exists(ch2)) GTEST_SKIP() << "run scripts/fetch-data for the end-to-end data";
+  const Result r = run("info " + ch2);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("181 x 217 x 181, uint8"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace isoatlas

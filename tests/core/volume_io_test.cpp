@@ -1,0 +1,242 @@
+// Volumes: round trips through every format and scalar type, geometry kept, and every kind of bad
+// file rejected with an Error that names the problem.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <limits>
+
+#include "core/error.h"
+#include "core/volume_io.h"
+#include "tests/test_util.h"
+
+namespace isoatlas {
+namespace {
+
+using test::scratchDir;
+
+const ScalarType kAllTypes[] = {ScalarType::UInt8, ScalarType::Int8, ScalarType::UInt16, ScalarType::Int16,
+                                ScalarType::UInt32, ScalarType::Int32, ScalarType::Float32, ScalarType::Float64};
+
+void expectSameVolume(const Volume& a, const Volume& b, bool sameType = true) {
+  EXPECT_EQ(a.dims, b.dims);
+  if (sameType) {
+    EXPECT_EQ(a.type, b.type);
+  }
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(a.spacing[i], b.spacing[i], 1e-6);
+    EXPECT_NEAR(a.origin[i], b.origin[i], 1e-5);
+    for (int j = 0; j < 3; ++j) EXPECT_NEAR(a.direction.m[i][j], b.direction.m[i][j], 1e-6);
+  }
+  ASSERT_EQ(a.voxelCount(), b.voxelCount());
+  for (std::size_t n = 0; n < a.voxelCount(); ++n) ASSERT_DOUBLE_EQ(a.value(n), b.value(n)) << "voxel " << n;
+}
+
+Mat3 rotation() {  // 30 degrees about z, then a flip of y: orthonormal, not the identity
+  const double c = std::cos(M_PI / 6), s = std::sin(M_PI / 6);
+  Mat3 r;
+  r.m = {{{c, s, 0}, {s, -c, 0}, {0, 0, 1}}};
+  return r;
+}
+
+class VolumeRoundTrip : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(VolumeRoundTrip, EveryScalarTypeKeepsValuesAndGeometry) {
+  const auto dir = scratchDir();
+  for (ScalarType type : kAllTypes) {
+    Volume v = test::rampVolume(type);
+    const std::string ext = GetParam();
+    if (ext.find("inr") == std::string::npos) v.direction = rotation();  // INR stores no orientation
+    const std::string path = (dir / (std::string("v_") + scalarTypeName(type) + ext)).string();
+    writeVolume(path, v);
+    SCOPED_TRACE(path);
+    expectSameVolume(v, readVolume(path));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, VolumeRoundTrip,
+                         ::testing::Values(".nii", ".nii.gz", ".nrrd", ".nhdr", ".inr", ".inr.gz"),
+                         [](const auto& info) {
+                           std::string s = info.param + 1;
+                           for (char& c : s) c = c == '.' ? '_' : c;
+                           return s;
+                         });
+
+TEST(VolumeIo, WorldCoordinatesFollowTheAffine) {
+  Volume v = test::rampVolume(ScalarType::Float32);
+  v.direction = rotation();
+  const Vec3 ijk{2, 3, 1};
+  const Vec3 w = v.indexToWorld(ijk);
+  // origin + R * (spacing .* ijk), by hand
+  const Vec3 scaled{2 * 0.5, 3 * 1.25, 1 * 2.0};
+  const Vec3 expected = v.origin + rotation() * scaled;
+  EXPECT_NEAR(w.x, expected.x, 1e-12);
+  EXPECT_NEAR(w.y, expected.y, 1e-12);
+  EXPECT_NEAR(w.z, expected.z, 1e-12);
+  const Vec3 back = v.worldToIndex(w);
+  EXPECT_NEAR(back.x, 2, 1e-12);
+  EXPECT_NEAR(back.y, 3, 1e-12);
+  EXPECT_NEAR(back.z, 1, 1e-12);
+}
+
+TEST(VolumeIo, NrrdIsWrittenInLpsAndReadBackAsRas) {
+  const auto dir = scratchDir();
+  Volume v = test::rampVolume(ScalarType::UInt8);
+  writeVolume((dir / "a.nrrd").string(), v);
+  const std::string text = test::readBytes(dir / "a.nrrd");
+  EXPECT_NE(text.find("space: left-posterior-superior"), std::string::npos);
+  EXPECT_NE(text.find("space origin: (10.5,-3.25,7)"), std::string::npos) << text.substr(0, 400);
+}
+
+TEST(VolumeIo, InrRefusesAnOrientedVolume) {
+  Volume v = test::rampVolume(ScalarType::UInt8);
+  v.direction = rotation();
+  EXPECT_THROW(writeVolume((scratchDir() / "a.inr").string(), v), Error);
+}
+
+TEST(VolumeIo, NiftiScalingIsApplied) {
+  // A NIfTI file with scl_slope = 2, scl_inter = 1 reads as real values 2x + 1 (as nibabel's get_fdata).
+  const auto dir = scratchDir();
+  const Volume v = test::rampVolume(ScalarType::Int16);
+  const auto path = dir / "scaled.nii";
+  writeVolume(path.string(), v);
+  std::string bytes = test::readBytes(path);
+  const float slope = 2, inter = 1;
+  std::memcpy(bytes.data() + 112, &slope, 4);
+  std::memcpy(bytes.data() + 116, &inter, 4);
+  test::writeBytes(path, bytes);
+  const Volume r = readVolume(path.string());
+  EXPECT_EQ(r.type, ScalarType::Float32);
+  for (std::size_t n = 0; n < v.voxelCount(); ++n) ASSERT_DOUBLE_EQ(r.value(n), 2 * v.value(n) + 1);
+}
+
+// --- bad input ------------------------------------------------------------------------------
+
+std::string errorOf(const std::string& path) {
+  try {
+    readVolume(path);
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exitCode(), 2) << e.what();
+    return e.what();
+  }
+  ADD_FAILURE() << path << " was accepted";
+  return "";
+}
+
+TEST(VolumeBadInput, MissingFileAndUnknownExtension) {
+  EXPECT_NE(errorOf("/nonexistent/a.nii").find("no such file"), std::string::npos);
+  EXPECT_NE(errorOf("a.xyz").find("unknown volume format"), std::string::npos);
+}
+
+TEST(VolumeBadInput, TruncatedFilesInEveryFormat) {
+  const auto dir = scratchDir();
+  const Volume v = test::rampVolume(ScalarType::Float32, {20, 20, 20});
+  for (const char* ext : {".nii", ".nii.gz", ".nrrd", ".inr", ".inr.gz"}) {
+    const auto path = dir / (std::string("t") + ext);
+    writeVolume(path.string(), v);
+    const std::string bytes = test::readBytes(path);
+    test::writeBytes(path, bytes.substr(0, bytes.size() * 2 / 3));
+    const std::string e = errorOf(path.string());
+    EXPECT_FALSE(e.empty()) << ext;
+    EXPECT_NE(e.find(path.string()), std::string::npos) << e;
+  }
+}
+
+TEST(VolumeBadInput, WrongMagic) {
+  const auto dir = scratchDir();
+  const std::string junk(600, 'x');
+  for (const char* name : {"junk.nii", "junk.nii.gz", "junk.nrrd", "junk.inr"}) {
+    test::writeBytes(dir / name, junk);
+    EXPECT_FALSE(errorOf((dir / name).string()).empty()) << name;
+  }
+  EXPECT_NE(errorOf((dir / "junk.inr").string()).find("not an INR file"), std::string::npos);
+}
+
+std::string inrHeader(const std::string& body) {
+  std::string h = "#INRIMAGE-4#{\n" + body;
+  h.append(256 - h.size() - 4, '\n');
+  return h + "##}\n";
+}
+
+TEST(VolumeBadInput, AbsurdAndOverflowingDimensions) {
+  const auto dir = scratchDir();
+  test::writeBytes(dir / "huge.inr",
+                   inrHeader("XDIM=1000000\nYDIM=1000000\nZDIM=1000000\nVDIM=1\nTYPE=float\nPIXSIZE=32 bits\nCPU=decm\n"));
+  EXPECT_NE(errorOf((dir / "huge.inr").string()).find("too large"), std::string::npos);
+  test::writeBytes(dir / "overflow.inr",
+                   inrHeader("XDIM=4611686018427387904\nYDIM=8\nZDIM=8\nVDIM=1\nTYPE=float\nPIXSIZE=32 bits\nCPU=decm\n"));
+  EXPECT_NE(errorOf((dir / "overflow.inr").string()).find("too large"), std::string::npos);
+  test::writeBytes(dir / "huge.nrrd", "NRRD0004\ntype: float\ndimension: 3\nsizes: 1000000 1000000 1000000\nendian: little\nencoding: raw\n\n");
+  EXPECT_NE(errorOf((dir / "huge.nrrd").string()).find("too large"), std::string::npos);
+  test::writeBytes(dir / "overflow.nrrd",
+                   "NRRD0004\ntype: float\ndimension: 3\nsizes: 4294967296 4294967296 4294967296\nendian: little\nencoding: raw\n\n");
+  EXPECT_FALSE(errorOf((dir / "overflow.nrrd").string()).empty());
+  // NIfTI-1 dims are 16-bit: 32767^3 is past any limit.
+  const auto nii = dir / "huge.nii";
+  writeVolume(nii.string(), test::rampVolume(ScalarType::UInt8));
+  std::string bytes = test::readBytes(nii);
+  const std::int16_t big = 32767;
+  for (int d = 1; d <= 3; ++d) std::memcpy(bytes.data() + 40 + 2 * d, &big, 2);
+  test::writeBytes(nii, bytes);
+  EXPECT_NE(errorOf(nii.string()).find("too large"), std::string::npos);
+  // Zero and negative sizes.
+  test::writeBytes(dir / "zero.inr", inrHeader("XDIM=0\nYDIM=8\nZDIM=8\nVDIM=1\nTYPE=float\nPIXSIZE=32 bits\n"));
+  EXPECT_FALSE(errorOf((dir / "zero.inr").string()).empty());
+}
+
+TEST(VolumeBadInput, UnsupportedScalarTypes) {
+  const auto dir = scratchDir();
+  const auto nii = dir / "complex.nii";
+  writeVolume(nii.string(), test::rampVolume(ScalarType::Float64));
+  std::string bytes = test::readBytes(nii);
+  const std::int16_t complex64 = 32;
+  std::memcpy(bytes.data() + 70, &complex64, 2);
+  test::writeBytes(nii, bytes);
+  EXPECT_NE(errorOf(nii.string()).find("unsupported NIfTI datatype"), std::string::npos);
+  test::writeBytes(dir / "packed.inr", inrHeader("XDIM=2\nYDIM=2\nZDIM=2\nVDIM=1\nTYPE=packed\nPIXSIZE=1 bits\n"));
+  EXPECT_NE(errorOf((dir / "packed.inr").string()).find("unsupported INR voxel type"), std::string::npos);
+  test::writeBytes(dir / "block.nrrd", "NRRD0004\ntype: block\nblock size: 4\ndimension: 3\nsizes: 2 2 2\nendian: little\nencoding: raw\n\n" +
+                                          std::string(32, '\0'));
+  EXPECT_NE(errorOf((dir / "block.nrrd").string()).find("unsupported NRRD type"), std::string::npos);
+  test::writeBytes(dir / "vector.inr", inrHeader("XDIM=2\nYDIM=2\nZDIM=2\nVDIM=3\nTYPE=float\nPIXSIZE=32 bits\n"));
+  EXPECT_NE(errorOf((dir / "vector.inr").string()).find("VDIM"), std::string::npos);
+}
+
+TEST(VolumeBadInput, NanAndInfiniteVoxelsAreNamed) {
+  const auto dir = scratchDir();
+  for (const char* ext : {".nii.gz", ".nrrd", ".inr"}) {
+    Volume v = test::rampVolume(ScalarType::Float32);
+    v.setValue(v.index(3, 2, 1), std::numeric_limits<double>::quiet_NaN());
+    const auto path = dir / (std::string("nan") + ext);
+    writeVolume(path.string(), v);
+    EXPECT_NE(errorOf(path.string()).find("voxel (3,2,1) is NaN"), std::string::npos) << ext;
+  }
+  Volume v = test::rampVolume(ScalarType::Float64);
+  v.setValue(0, std::numeric_limits<double>::infinity());
+  writeVolume((dir / "inf.nii").string(), v);
+  EXPECT_NE(errorOf((dir / "inf.nii").string()).find("infinite"), std::string::npos);
+}
+
+TEST(VolumeBadInput, FourDimensionalNiftiIsRejected) {
+  const auto dir = scratchDir();
+  const auto nii = dir / "4d.nii";
+  writeVolume(nii.string(), test::rampVolume(ScalarType::UInt8));
+  std::string bytes = test::readBytes(nii);
+  const std::int16_t four = 4, two = 2;
+  std::memcpy(bytes.data() + 40, &four, 2);
+  std::memcpy(bytes.data() + 48, &two, 2);
+  test::writeBytes(nii, bytes);
+  EXPECT_NE(errorOf(nii.string()).find("3D scalar volumes"), std::string::npos);
+}
+
+TEST(VolumeBadInput, ByteLimitIsCheckedBeforeAllocation) {
+  const auto dir = scratchDir();
+  writeVolume((dir / "v.nii").string(), test::rampVolume(ScalarType::Float32, {64, 64, 64}));
+  const auto saved = volumeByteLimit();
+  setVolumeByteLimit(1 << 19);  // the file holds 1 MiB
+  EXPECT_NE(errorOf((dir / "v.nii").string()).find("limit"), std::string::npos);
+  setVolumeByteLimit(saved);
+  EXPECT_NO_THROW(readVolume((dir / "v.nii").string()));
+}
+
+}  // namespace
+}  // namespace isoatlas
