@@ -7,12 +7,20 @@
 #include <OpenMesh/Core/Mesh/BaseKernel.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "core/error.h"
 #include "core/gz_file.h"
+#include "core/mesh_io_validate.h"
 #include "core/mesh_topology.h"
 
 namespace isoatlas {
@@ -175,50 +183,12 @@ void silenceOpenMesh() {
   omout().disable();
 }
 
-// A header that announces more vertices and faces than the file could hold is rejected before any
-// reader loops over them. `minVertexBytes`/`minFaceBytes` are the least one record can take.
-void checkCounts(const std::string& path, std::uintmax_t fileBytes, std::uint64_t vertices, std::uint64_t faces,
-                 unsigned minVertexBytes, unsigned minFaceBytes) {
-  if (vertices > (std::uint64_t(1) << 31) || faces > (std::uint64_t(1) << 31) ||
-      vertices * minVertexBytes + faces * minFaceBytes > fileBytes)
-    throw Error(path + ": header announces " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
-                " faces, more than the file's " + std::to_string(fileBytes) + " bytes can hold");
-}
-
-// Reads the element counts of an OFF or PLY header and checks them against the file size.
-void checkHeaderCounts(const std::string& path, std::uintmax_t fileBytes) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  if (endsWith(path, ".off")) {
-    std::getline(in, line);
-    if (line.find("OFF") == std::string::npos) throw Error(path + ": not an OFF file (first line has no OFF keyword)");
-    const bool binary = line.find("BINARY") != std::string::npos;
-    std::string rest = line.substr(line.find("OFF") + 3);
-    while (rest.find_first_not_of(" \t\r") == std::string::npos || rest[rest.find_first_not_of(" \t\r")] == '#') {
-      if (!std::getline(in, rest)) throw Error(path + ": OFF file ends before its counts");
-    }
-    std::istringstream counts(rest);
-    long long v = -1, f = -1;
-    counts >> v >> f;
-    if (!counts || v < 0 || f < 0) throw Error(path + ": OFF counts line \"" + rest + "\" is not \"V F E\"");
-    checkCounts(path, fileBytes, std::uint64_t(v), std::uint64_t(f), binary ? 12 : 6, binary ? 16 : 8);
-  } else if (endsWith(path, ".ply")) {
-    std::uint64_t v = 0, f = 0;
-    bool binary = false;
-    for (int n = 0; n < 1000 && std::getline(in, line); ++n) {
-      std::istringstream words(line);
-      std::string a, b;
-      long long count = -1;
-      words >> a >> b >> count;
-      if (a == "format") binary = b != "ascii";
-      if (a == "element" && count < 0) throw Error(path + ": PLY element line \"" + line + "\" has no valid count");
-      if (a == "element" && b == "vertex") v = std::uint64_t(count);
-      if (a == "element" && b == "face") f = std::uint64_t(count);
-      if (a == "end_header") break;
-    }
-    checkCounts(path, fileBytes, v, f, binary ? 12 : 6, binary ? 13 : 8);
+struct TempFile {
+  std::string path;
+  ~TempFile() {
+    if (!path.empty()) std::remove(path.c_str());
   }
-}
+};
 
 }  // namespace
 
@@ -232,13 +202,28 @@ Mesh readMesh(const std::string& path) {
   require(std::filesystem::is_regular_file(path, ec), path + ": no such file");
   const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
   require(!ec && bytes > 0, path + ": empty file");
-  checkHeaderCounts(path, bytes);
+  std::string text;
+  {
+    std::ifstream file(path, std::ios::binary);
+    text.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+  }
+  const std::string checked = validatedMeshText(path, text);
   silenceOpenMesh();
+  // OpenMesh's readers take their options (normals, binary) from the file itself only when reading a
+  // file by name; a normalised text goes through a temporary copy.
+  std::string readPath = path;
+  TempFile normalised;
+  if (checked != text) {
+    normalised.path = (std::filesystem::temp_directory_path() /
+                       ("isoatlas-mesh-" + std::to_string(::getpid()) + path.substr(path.rfind('.')))).string();
+    std::ofstream(normalised.path, std::ios::binary) << checked;
+    readPath = normalised.path;
+  }
 
   Mesh mesh;
   SoupImporter importer(mesh);
   IO::Options options = IO::Options::VertexNormal;
-  if (!IO::IOManager().read(path, importer, options))
+  if (!IO::IOManager().read(readPath, importer, options))
     throw Error(path + ": OpenMesh could not parse it" + (importer.error.empty() ? "" : ": " + importer.error));
   if (!importer.error.empty()) throw Error(path + ": " + importer.error);
   if (!options.check(IO::Options::VertexNormal) || mesh.normals.size() != mesh.positions.size()) mesh.normals.clear();

@@ -4,6 +4,7 @@
 #include <teem/nrrd.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <memory>
 
 #include "core/error.h"
@@ -68,6 +69,18 @@ NrrdPtr load(const std::string& path, bool skipData) {
   std::unique_ptr<NrrdIoState, IoDeleter> io(nrrdIoStateNew());
   nrrdIoStateSet(io.get(), nrrdIoStateSkipData, skipData ? AIR_TRUE : AIR_FALSE);
   if (nrrdLoad(nrrd.get(), path.c_str(), io.get())) throw Error(path + ": not a readable NRRD file: " + teemError());
+  if (skipData) {
+    // A detached header may name any file as its data: only regular files are read (a FIFO or a
+    // device could block or never end).
+    for (unsigned i = 0; io->dataFNArr && i < io->dataFNArr->len; ++i) {
+      const char* name = io->dataFN[i];
+      std::string full = name ? name : "";
+      if (!full.empty() && full[0] != '/' && io->path) full = std::string(io->path) + "/" + full;
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(full, ec))
+        throw Error(path + ": NRRD data file \"" + (name ? name : "") + "\" is not a regular file");
+    }
+  }
   return nrrd;
 }
 

@@ -1,0 +1,43 @@
+// libFuzzer target for one file reader, chosen at build time by FUZZ_EXT (".nii", ".nrrd", ".inr",
+// ".off", ...). The input is written to a file with that extension and read back; an isoatlas::Error
+// is the expected way to fail, anything else (a crash, a sanitizer report, a hang) is a bug.
+#include <unistd.h>
+
+#include <cstdint>
+#include <fstream>
+#include <string>
+
+#include "core/error.h"
+#include "core/mesh_io.h"
+#include "core/volume_io.h"
+
+namespace {
+const std::string& scratchPath() {
+  static const std::string path = "/tmp/isoatlas-fuzz-" + std::to_string(getpid()) + FUZZ_EXT;
+  return path;
+}
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  // Keep every allocation far below libFuzzer's memory limit: a lying header must fail on its
+  // size check or its short read, never by exhausting memory.
+  isoatlas::setVolumeByteLimit(std::uint64_t(64) << 20);
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  {
+    std::ofstream out(scratchPath(), std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
+  }
+  try {
+    if (isoatlas::isMeshPath(scratchPath())) {
+      const isoatlas::Mesh m = isoatlas::readMesh(scratchPath());
+      isoatlas::requireManifold(m, scratchPath());
+    } else {
+      isoatlas::readVolume(scratchPath());
+    }
+  } catch (const isoatlas::Error&) {
+  }
+  return 0;
+}
