@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cerrno>
 #include <cstdlib>
 #include <set>
 #include <sstream>
@@ -157,14 +158,122 @@ std::string validatedOff(const std::string& path, const std::string& text) {
 
 // --- PLY ---------------------------------------------------------------------------------------
 
+struct PlyProperty {
+  std::string name;
+  int countBytes = 0;  // 0 for a scalar; else the list's count type size
+  bool countInteger = true;
+  int valueBytes = 4;
+  bool valueInteger = false;
+};
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+bool plyType(const std::string& t, int& bytes, bool& integer) {
+  static const std::pair<const char*, int> kTypes[] = {
+      {"char", 1}, {"uchar", 1}, {"int8", 1}, {"uint8", 1}, {"short", 2}, {"ushort", 2}, {"int16", 2},
+      {"uint16", 2}, {"int", 4}, {"uint", 4}, {"int32", 4}, {"uint32", 4}, {"float", 4}, {"float32", 4},
+      {"double", 8}, {"float64", 8}};
+  for (const auto& [name, size] : kTypes)
+    if (t == name) {
+      bytes = size;
+      integer = t.find("float") == std::string::npos && t != "double";
+      return true;
+    }
+  return false;
+}
+
+// Walks a binary PLY body element by element, so every list count is checked against the bytes left
+// and every face corner against the vertex count.
+void checkBinaryPlyBody(const std::string& path, const std::string& text, std::size_t pos,
+                        const std::vector<PlyElement>& elements, bool bigEndian) {
+  auto readInt = [&](int bytes, bool isSigned) -> long long {
+    if (pos + std::size_t(bytes) > text.size()) throw Error(path + ": binary PLY body ends early");
+    std::uint64_t v = 0;
+    for (int i = 0; i < bytes; ++i) {
+      const std::uint8_t byte = std::uint8_t(text[pos + std::size_t(bigEndian ? i : bytes - 1 - i)]);
+      v = (v << 8) | byte;
+    }
+    pos += std::size_t(bytes);
+    if (isSigned && bytes < 8 && (v >> (8 * bytes - 1)) & 1) return (long long)v - (1LL << (8 * bytes));
+    return (long long)v;
+  };
+  std::uint64_t vertices = 0;
+  for (const PlyElement& e : elements) {
+    if (e.name == "vertex") vertices = e.count;
+    for (std::uint64_t n = 0; n < e.count; ++n)
+      for (const PlyProperty& p : e.properties) {
+        if (p.countBytes == 0) {
+          if (pos + std::size_t(p.valueBytes) > text.size()) throw Error(path + ": binary PLY body ends early");
+          pos += std::size_t(p.valueBytes);
+          continue;
+        }
+        const long long count = readInt(p.countBytes, true);
+        if (count < 0 || pos + std::size_t(count) * std::size_t(p.valueBytes) > text.size())
+          throw Error(path + ": binary PLY list of " + std::to_string(count) + " values runs past the file's end");
+        const bool corners = e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index");
+        if (corners && count < 3) throw Error(path + ": a face has " + std::to_string(count) + " corners (needs 3 or more)");
+        for (long long i = 0; i < count; ++i) {
+          if (corners && p.valueInteger) {
+            const long long id = readInt(p.valueBytes, true);
+            if (id < 0 || std::uint64_t(id) >= vertices)
+              throw Error(path + ": face " + std::to_string(n) + " names vertex " + std::to_string(id) + " of " +
+                          std::to_string(vertices));
+          } else {
+            pos += std::size_t(p.valueBytes);
+          }
+        }
+      }
+  }
+}
+
+// The same walk over an ASCII body's tokens.
+void checkAsciiPlyBody(const std::string& path, const std::string& text, std::size_t pos, int firstLine,
+                       const std::vector<PlyElement>& elements) {
+  const std::vector<Line> lines = tokenize(path, text, pos, firstLine);
+  std::size_t li = 0, ti = 0;
+  auto next = [&]() -> std::pair<const std::string*, int> {
+    while (li < lines.size() && ti >= lines[li].tokens.size()) ++li, ti = 0;
+    if (li >= lines.size()) throw Error(path + ": PLY body ends before its last element");
+    return {&lines[li].tokens[ti++], lines[li].number};
+  };
+  std::uint64_t vertices = 0;
+  for (const PlyElement& e : elements) {
+    if (e.name == "vertex") vertices = e.count;
+    for (std::uint64_t n = 0; n < e.count; ++n)
+      for (const PlyProperty& p : e.properties) {
+        long long count = 1;
+        if (p.countBytes) {
+          const auto [token, line] = next();
+          count = wholeNumber(path, line, *token);
+          if (count < 0 || count > (1 << 20)) fail(path, line, "a PLY list of " + *token + " values");
+        }
+        const bool corners = e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index");
+        if (corners && count < 3) throw Error(path + ": a face has " + std::to_string(count) + " corners (needs 3 or more)");
+        for (long long i = 0; i < count; ++i) {
+          const auto [token, line] = next();
+          if (corners) {
+            const long long id = wholeNumber(path, line, *token);
+            if (id < 0 || std::uint64_t(id) >= vertices)
+              fail(path, line, "vertex index " + *token + " is not below " + std::to_string(vertices));
+          } else if (p.valueInteger) {
+            wholeNumber(path, line, *token);
+          } else {
+            finiteNumber(path, line, *token);
+          }
+        }
+      }
+  }
+}
+
 std::string validatedPly(const std::string& path, const std::string& text) {
-  static const std::set<std::string> kTypes = {"char",  "uchar", "short",  "ushort", "int",    "uint",
-                                               "float", "double", "int8", "uint8",  "int16",  "uint16",
-                                               "int32", "uint32", "float32", "float64"};
   std::size_t pos = 0;
   int number = 0;
-  bool binary = false, sawFormat = false, ended = false, sawElement = false;
-  std::uint64_t vertices = 0, faces = 0;
+  std::string format;
+  bool ended = false;
+  std::vector<PlyElement> elements;
   while (!ended) {
     if (pos >= text.size()) throw Error(path + ": PLY header has no end_header");
     const std::size_t end = std::min(text.find('\n', pos), text.size());
@@ -185,31 +294,41 @@ std::string validatedPly(const std::string& path, const std::string& text) {
     if (w[0] == "format") {
       if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian") || w[2] != "1.0")
         fail(path, number, "unknown PLY format \"" + line + "\"");
-      binary = w[1] != "ascii";
-      sawFormat = true;
+      format = w[1];
     } else if (w[0] == "element") {
       if (w.size() != 3) fail(path, number, "PLY element line is not \"element NAME COUNT\"");
       const long long count = wholeNumber(path, number, w[2]);
       if (count < 0 || std::uint64_t(count) > kMaxElements) fail(path, number, "PLY element count " + w[2] + " out of range");
-      if (w[1] == "vertex") vertices = std::uint64_t(count);
-      if (w[1] == "face") faces = std::uint64_t(count);
-      sawElement = true;
+      elements.push_back({w[1], std::uint64_t(count), {}});
     } else if (w[0] == "property") {
-      if (!sawElement) fail(path, number, "PLY property before any element");
-      const bool list = w.size() == 5 && w[1] == "list" && kTypes.count(w[2]) && kTypes.count(w[3]);
-      const bool scalar = w.size() == 3 && kTypes.count(w[1]);
-      if (!list && !scalar) fail(path, number, "PLY property line \"" + line + "\" is not \"property TYPE NAME\" or a list");
+      if (elements.empty()) fail(path, number, "PLY property before any element");
+      PlyProperty p;
+      bool ok = false;
+      if (w.size() == 5 && w[1] == "list") {
+        ok = plyType(w[2], p.countBytes, p.countInteger) && p.countInteger && plyType(w[3], p.valueBytes, p.valueInteger);
+        p.name = w[4];
+      } else if (w.size() == 3) {
+        ok = plyType(w[1], p.valueBytes, p.valueInteger);
+        p.name = w[2];
+      }
+      if (!ok) fail(path, number, "PLY property line \"" + line + "\" is not \"property TYPE NAME\" or an integer-counted list");
+      elements.back().properties.push_back(p);
     } else if (w[0] == "end_header" && w.size() == 1) {
       ended = true;
     } else {
       fail(path, number, "unknown PLY header line \"" + line + "\"");
     }
   }
-  if (!sawFormat) throw Error(path + ": PLY header has no format line");
+  if (format.empty()) throw Error(path + ": PLY header has no format line");
+  std::uint64_t vertices = 0, faces = 0;
+  for (const PlyElement& e : elements) {
+    if (e.name == "vertex") vertices = e.count;
+    if (e.name == "face") faces = e.count;
+  }
+  const bool binary = format != "ascii";
   checkCounts(path, text.size(), vertices, faces, binary ? 12 : 6, binary ? 13 : 8);
-  if (!binary)
-    for (const Line& l : tokenize(path, text, pos, number + 1))
-      for (const std::string& t : l.tokens) finiteNumber(path, l.number, t);
+  if (binary) checkBinaryPlyBody(path, text, pos, elements, format == "binary_big_endian");
+  else checkAsciiPlyBody(path, text, pos, number + 1, elements);
   return text;
 }
 
