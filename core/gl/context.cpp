@@ -197,8 +197,8 @@ void Context::makeCurrent() {
 
 Context::~Context() {
   if (window_) {
+    // No glfwTerminate, for the same reason as no eglTerminate below: it unloads the GL driver.
     glfwDestroyWindow(window_);
-    glfwTerminate();
   } else if (display_) {
     eglMakeCurrent(static_cast<EGLDisplay>(display_), EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroyContext(static_cast<EGLDisplay>(display_), static_cast<EGLContext>(context_));

@@ -1,0 +1,13 @@
+// CpuSolver: the paged solver on the CPU, TBB over active pages; the GPU solver's twin and the
+// backend for machines without a GPU (--backend cpu).
+//   source: the volume's intensities as floats, x fastest (the speed D(I) is computed from them)
+#pragma once
+#include <memory>
+
+#include "levelset/solver_backend.h"
+
+namespace isoatlas::levelset {
+
+std::unique_ptr<SolverBackend> makeCpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims);
+
+}  // namespace isoatlas::levelset

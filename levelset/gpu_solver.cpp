@@ -1,0 +1,227 @@
+#include "levelset/gpu_solver.h"
+
+#include <cstring>
+
+#include "core/error.h"
+#include "core/gl/context.h"
+#include "core/gl/program.h"
+#include "core/gl/resources.h"
+
+namespace isoatlas::levelset {
+namespace {
+
+// Mirrors PageEntry in shaders/pages.glsl (std430: 16 + 27 * 8 bytes, padded to 240).
+struct PageEntry {
+  std::int32_t info[4];
+  std::int32_t origins[27][2];
+  std::int32_t pad[2];
+};
+static_assert(sizeof(PageEntry) == 240);
+
+struct Fill {
+  std::int32_t origin[2];
+  float value, unused;
+};
+
+class GpuSolver final : public SolverBackend {
+public:
+  GpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims) : dims_(dims) {
+    ctx_ = gl::Context::headless();
+    const gl::Info& info = ctx_->info();
+    if (dims[0] > info.max3DTextureSize || dims[1] > info.max3DTextureSize || dims[2] > info.max3DTextureSize)
+      throw Error("the volume is larger than this GPU's 3D textures (" + std::to_string(info.max3DTextureSize) +
+                      " voxels a side); use --backend cpu",
+                  ErrorKind::Failure);
+    source_ = gl::Texture::texture3D(GL_R32F, int(dims[0]), int(dims[1]), int(dims[2]));
+    glTextureParameteri(source_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(source_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureSubImage3D(source_.id(), 0, 0, 0, 0, int(dims[0]), int(dims[1]), int(dims[2]), GL_RED, GL_FLOAT,
+                        source.data());
+    gl::checkErrors("uploading the source volume");
+    counters_ = gl::Buffer(16);
+  }
+
+  std::string name() const override { return "gpu (" + ctx_->info().renderer + ")"; }
+
+  void pagesChanged(const PageManager& pm, const std::vector<std::pair<std::int32_t, float>>& filled) override {
+    if (P_ != pm.pageSize()) {
+      P_ = pm.pageSize();
+      const gl::Defines defines{{"PAGE_SIZE", std::to_string(P_)}};
+      speed_ = gl::Program::compute("levelset/shaders/speed.comp", defines);
+      update_ = gl::Program::compute("levelset/shaders/update.comp", defines);
+      message_ = gl::Program::compute("levelset/shaders/message.comp", defines);
+      fill_ = gl::Program::compute("levelset/shaders/fill.comp", defines);
+    }
+    growPool(pm);
+    if (!filled.empty()) {
+      std::vector<Fill> fills;
+      for (const auto& [slot, value] : filled) {
+        const auto o = pm.slotOrigin(slot);
+        fills.push_back({{o[0], o[1]}, value, 0});
+      }
+      fillPages(phi_[current_], fills);
+    }
+    const auto& active = pm.activePages();
+    std::vector<PageEntry> entries(std::max<std::size_t>(active.size(), 1));
+    for (std::size_t i = 0; i < active.size(); ++i) {
+      PageEntry& e = entries[i];
+      const auto c = pm.pageCoords(active[i]);
+      e = {{pm.slotOf(active[i]), std::int32_t(c[0]), std::int32_t(c[1]), std::int32_t(c[2])}, {}, {0, 0}};
+      const auto slots = pm.neighbourSlots(active[i]);
+      for (int n = 0; n < 27; ++n) {
+        const auto o = pm.slotOrigin(slots[std::size_t(n)]);
+        e.origins[n][0] = o[0];
+        e.origins[n][1] = o[1];
+      }
+    }
+    pageCount_ = std::int32_t(active.size());
+    if (entries.size() * sizeof(PageEntry) > pageTable_.bytes()) {
+      pageTable_ = gl::Buffer(entries.size() * sizeof(PageEntry) * 2);
+      messages_ = gl::Buffer((entries.size() * 2 + 3) / 4 * 4 + 16);
+    }
+    pageTable_.upload(entries.data(), entries.size() * sizeof(PageEntry));
+  }
+
+  IterationResult iterate(const PageManager&, const SpeedParams& params) override {
+    IterationResult result;
+    if (pageCount_ == 0) return result;
+    const std::uint32_t zeros[4] = {0, 0, 0, 0};
+    counters_.upload(zeros, sizeof zeros);
+    messages_.fillZero();
+    pageTable_.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
+    counters_.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
+    messages_.bindBase(GL_SHADER_STORAGE_BUFFER, 2);
+    const GLuint groupsX = GLuint(std::min(pageCount_, 65535)), groupsY = GLuint((pageCount_ + 65534) / 65535);
+
+    setCommon(speed_);
+    glUniform1f(speed_.uniform("target"), params.target);
+    glUniform1f(speed_.uniform("width"), params.width);
+    glUniform1f(speed_.uniform("alpha"), params.alpha);
+    glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindTextureUnit(0, source_.id());
+    speed_.dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+
+    setCommon(update_);
+    glUniform1f(update_.uniform("alpha"), params.alpha);
+    glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    glBindImageTexture(2, phi_[1 - current_].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    update_.dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    current_ = 1 - current_;
+
+    setCommon(message_);
+    glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    message_.dispatch(groupsX, groupsY, 1, GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+
+    // The only read back: 16 bytes of counters and one byte per active page.
+    std::uint32_t counters[4];
+    counters_.download(counters, sizeof counters);
+    const std::size_t messageBytes = (std::size_t(pageCount_) + 3) / 4 * 4;
+    result.messages.resize(messageBytes);
+    messages_.download(result.messages.data(), messageBytes);
+    result.messages.resize(std::size_t(pageCount_));
+    std::memcpy(&result.maxSpeed, &counters[0], 4);
+    result.signChanges = std::int32_t(counters[1]);
+    std::memcpy(&result.dt, &counters[2], 4);
+    result.bytesReadBack = sizeof counters + messageBytes;
+    return result;
+  }
+
+  std::vector<float> readSlots(const PageManager& pm, const std::vector<std::int32_t>& slots) override {
+    const std::size_t area = std::size_t(P_) * std::size_t(P_);
+    std::vector<float> out(slots.size() * area);
+    if (slots.empty()) return out;
+    // Many pages: one read of the whole pool; few: one read per page.
+    if (slots.size() > 64) {
+      std::vector<float> pool(std::size_t(poolWidth_) * std::size_t(poolHeight_));
+      glGetTextureImage(phi_[current_].id(), 0, GL_RED, GL_FLOAT, GLsizei(pool.size() * 4), pool.data());
+      for (std::size_t s = 0; s < slots.size(); ++s) {
+        const auto o = pm.slotOrigin(slots[s]);
+        for (int y = 0; y < P_; ++y)
+          std::memcpy(&out[s * area + std::size_t(y * P_)], &pool[std::size_t(o[1] + y) * std::size_t(poolWidth_) + std::size_t(o[0])],
+                      std::size_t(P_) * 4);
+      }
+    } else {
+      for (std::size_t s = 0; s < slots.size(); ++s) {
+        const auto o = pm.slotOrigin(slots[s]);
+        glGetTextureSubImage(phi_[current_].id(), 0, o[0], o[1], 0, P_, P_, 1, GL_RED, GL_FLOAT, GLsizei(area * 4),
+                             &out[s * area]);
+      }
+    }
+    gl::checkErrors("reading phi pages");
+    return out;
+  }
+
+  void writeSlots(const PageManager& pm, const std::vector<std::int32_t>& slots, const std::vector<float>& values) override {
+    const std::size_t area = std::size_t(P_) * std::size_t(P_);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    for (std::size_t s = 0; s < slots.size(); ++s) {
+      const auto o = pm.slotOrigin(slots[s]);
+      glTextureSubImage2D(phi_[current_].id(), 0, o[0], o[1], P_, P_, GL_RED, GL_FLOAT, &values[s * area]);
+    }
+    gl::checkErrors("writing phi pages");
+  }
+
+  std::uint64_t physicalBytes() const override {
+    return std::uint64_t(poolWidth_) * std::uint64_t(poolHeight_) * 4 * 3 + pageTable_.bytes() + messages_.bytes();
+  }
+
+private:
+  void setCommon(const gl::Program& p) const {
+    p.use();
+    glUniform1i(p.uniform("pageCount"), pageCount_);
+    glUniform3i(p.uniform("dims"), int(dims_[0]), int(dims_[1]), int(dims_[2]));
+  }
+
+  // Grows the pool textures to the page manager's capacity, keeping what they hold: rows are appended,
+  // so every slot keeps its origin. The static pages are written once, into both copies.
+  void growPool(const PageManager& pm) {
+    const int width = pm.poolPagesX() * P_, height = pm.capacity() / pm.poolPagesX() * P_;
+    if (height <= poolHeight_) return;
+    if (height > ctx_->info().maxTextureSize)
+      throw Error("the GPU's physical page pool is full (" + std::to_string(pm.capacity()) + " pages); use --backend cpu",
+                  ErrorKind::Failure);
+    for (int copy = 0; copy < 3; ++copy) {
+      gl::Texture& t = copy < 2 ? phi_[copy] : rate_;
+      gl::Texture grown = gl::Texture::texture2D(GL_R32F, width, height);
+      if (poolHeight_ > 0) glCopyImageSubData(t.id(), GL_TEXTURE_2D, 0, 0, 0, 0, grown.id(), GL_TEXTURE_2D, 0, 0, 0, 0, width, poolHeight_, 1);
+      t = std::move(grown);
+    }
+    if (poolHeight_ == 0) {
+      const auto out = pm.slotOrigin(kOutsideSlot), in = pm.slotOrigin(kInsideSlot);
+      const std::vector<Fill> statics{{{out[0], out[1]}, -kClamp, 0}, {{in[0], in[1]}, kClamp, 0}};
+      fillPages(phi_[0], statics);
+      fillPages(phi_[1], statics);
+    }
+    poolWidth_ = width;
+    poolHeight_ = height;
+    gl::checkErrors("growing the page pool");
+  }
+
+  void fillPages(const gl::Texture& target, const std::vector<Fill>& fills) {
+    gl::Buffer buffer = gl::Buffer::of(fills);
+    buffer.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
+    fill_.use();
+    glUniform1i(fill_.uniform("fillCount"), int(fills.size()));
+    glBindImageTexture(0, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    const int n = int(fills.size());
+    fill_.dispatch(GLuint(std::min(n, 65535)), GLuint((n + 65534) / 65535), 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  }
+
+  std::unique_ptr<gl::Context> ctx_;
+  std::array<std::int64_t, 3> dims_;
+  gl::Texture source_, phi_[2], rate_;
+  gl::Buffer pageTable_, counters_, messages_;
+  gl::Program speed_, update_, message_, fill_;
+  int current_ = 0, P_ = 0, poolWidth_ = 0, poolHeight_ = 0;
+  std::int32_t pageCount_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<SolverBackend> makeGpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims) {
+  return std::make_unique<GpuSolver>(std::move(source), dims);
+}
+
+}  // namespace isoatlas::levelset

@@ -1,0 +1,15 @@
+// GpuSolver: the paged solver in GL 4.5 compute shaders (levelset/shaders/). phi lives in two r32f
+// pool textures (ping-pong) laid out exactly as PageManager says; the source is a 3D texture the
+// speed reads, so changing T/eps/alpha costs nothing. Per iteration the CPU uploads the active-page
+// table when the active set changed and reads back one byte per active page plus 16 bytes of counters.
+// Creates its own headless GL context (a GPU through EGL, else Mesa's llvmpipe).
+#pragma once
+#include <memory>
+
+#include "levelset/solver_backend.h"
+
+namespace isoatlas::levelset {
+
+std::unique_ptr<SolverBackend> makeGpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims);
+
+}  // namespace isoatlas::levelset

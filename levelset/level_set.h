@@ -1,0 +1,90 @@
+// LevelSet: the steerable segmentation. It owns the page manager and a backend (CPU or GPU), decodes
+// each iteration's activation messages (releasing pages to the static inside/outside page, activating
+// requested ones initialised to the value they had), and exposes the steering API: step, run until
+// converged, change T/eps/alpha between steps, add or remove spheres at any time, start from spheres
+// or a mask, read phi or the mask at any time.
+// Coordinates are voxel indices; phi is in voxel units, > 0 inside (see speed.h).
+#pragma once
+#include <deque>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "core/volume.h"
+#include "levelset/page_manager.h"
+#include "levelset/solver_backend.h"
+
+namespace isoatlas::levelset {
+
+enum class Backend { Cpu, Gpu };
+
+struct LevelSetOptions {
+  Backend backend = Backend::Cpu;
+  int pageSize = 16;
+  std::int32_t initialSlots = 1024;  // the physical pool grows past this when it must
+};
+
+struct RunOptions {
+  int maxIterations = 1000;
+  bool untilConverged = true;
+  // Converged: fewer than `changedVoxels` voxels changed side over the last `window` iterations.
+  int window = 20;
+  std::int64_t changedVoxels = 10;
+  std::function<void(int iteration, std::int64_t activePages)> progress;
+};
+
+struct RunStats {
+  int iterations = 0;
+  bool converged = false;
+  double seconds = 0;
+  std::uint64_t bytesReadBackPerIteration = 0;
+  double simulatedTime = 0;  // sum of dt
+};
+
+class LevelSet {
+public:
+  // source: the intensities the speed reads (any scalar type; finite values).
+  LevelSet(const Volume& source, const SpeedParams& params, const LevelSetOptions& options = {});
+  ~LevelSet();
+
+  void setParams(const SpeedParams& params);  // takes effect at the next step
+  const SpeedParams& params() const { return params_; }
+
+  // Model on (add) or model off (remove) a ball of `radius` voxels around `centre` (voxel index).
+  void addSphere(const Vec3& centre, double radius, bool add = true);
+  // Starts over from a mask (voxels > 0 inside; same dims as the source).
+  void setMask(const Volume& mask);
+
+  IterationResult step();
+  RunStats run(const RunOptions& options);
+
+  Volume phi() const;   // float32, the source's geometry; inactive pages read as +-kClamp
+  Volume mask() const;  // uint8, 1 inside (phi > 0), 0 outside
+
+  const PageManager& pages() const { return *pages_; }
+  std::string backendName() const { return backend_->name(); }
+  std::uint64_t physicalBytes() const { return backend_->physicalBytes(); }
+  std::uint64_t physicalBytesPeak() const { return physicalBytesPeak_; }
+  int iterations() const { return iterations_; }
+  double simulatedTime() const { return simulatedTime_; }
+
+private:
+  void applyMessages(const IterationResult& r);
+  void commit(const std::vector<std::pair<std::int32_t, float>>& filled);
+
+  Volume geometry_;  // the source's geometry, no data
+  SpeedParams params_;
+  std::unique_ptr<PageManager> pages_;
+  std::unique_ptr<SolverBackend> backend_;
+  std::vector<std::uint32_t> mark_;  // per virtual page: the iteration that last requested it
+  std::uint32_t epoch_ = 0;
+  std::deque<std::int64_t> recentSignChanges_;
+  int iterations_ = 0;
+  double simulatedTime_ = 0;
+  std::uint64_t physicalBytesPeak_ = 0;
+};
+
+// Checks T, eps and alpha; throws Error (bad input) naming the value.
+void validateParams(const SpeedParams& params);
+
+}  // namespace isoatlas::levelset

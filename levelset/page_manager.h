@@ -1,0 +1,81 @@
+// PageManager: the multidimensional virtual memory of the paged narrow-band solver (Lefohn's thesis,
+// ch. 3; Hong & Park). Shared by the CPU and GPU backends; it owns no voxel data, only the mapping.
+//   virtual space:  the volume split into P x P x 1 pages; (pagesX, pagesY, Z) of them
+//   physical space: a 2D pool of page slots, poolPagesX slots per row; slot s has its texel origin
+//                   at ((s % poolPagesX) * P, (s / poolPagesX) * P). Slots 0 and 1 are the static
+//                   outside (phi = -clamp) and inside (phi = +clamp) pages every inactive page maps to.
+//   page table:     virtual page -> slot; inverse page table: slot -> virtual page (or -1)
+//   free stack:     unused slots; when it runs empty the pool grows by whole rows (slot origins stay
+//                   put, so backends grow their storage by appending rows). An active page is never
+//                   dropped to make room.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace isoatlas::levelset {
+
+constexpr std::int32_t kOutsideSlot = 0, kInsideSlot = 1;
+
+class PageManager {
+public:
+  // dims: volume size in voxels; pageSize: P; initialSlots: pool size to start with (grows).
+  PageManager(std::array<std::int64_t, 3> dims, int pageSize, std::int32_t initialSlots = 1024);
+
+  int pageSize() const { return pageSize_; }
+  std::array<std::int64_t, 3> dims() const { return dims_; }
+  std::array<std::int64_t, 3> pages() const { return pages_; }  // virtual pages per axis
+  std::int64_t virtualPageCount() const { return pages_[0] * pages_[1] * pages_[2]; }
+  std::int64_t pageIndex(std::int64_t px, std::int64_t py, std::int64_t pz) const {
+    return (pz * pages_[1] + py) * pages_[0] + px;
+  }
+  std::array<std::int64_t, 3> pageCoords(std::int64_t page) const {
+    return {page % pages_[0], (page / pages_[0]) % pages_[1], page / (pages_[0] * pages_[1])};
+  }
+
+  std::int32_t slotOf(std::int64_t page) const { return pageTable_[std::size_t(page)]; }
+  bool isActive(std::int64_t page) const { return slotOf(page) > kInsideSlot; }
+  std::int64_t pageOfSlot(std::int32_t slot) const { return inverseTable_[std::size_t(slot)]; }
+
+  // Maps `page` to a free slot (growing the pool if needed) and returns it. The caller fills the
+  // slot with the value of the static page it was mapped to (see staticSlotBefore).
+  std::int32_t activate(std::int64_t page);
+  // Maps an active page back to the static inside or outside page and frees its slot.
+  void release(std::int64_t page, bool inside);
+  // For an inactive page: which static slot it maps to.
+  std::int32_t staticSlot(std::int64_t page) const { return slotOf(page); }
+  // Marks an inactive page as inside or outside (e.g. when a seed covers it whole).
+  void setStatic(std::int64_t page, bool inside);
+
+  // Active pages, in a stable order that changes only through activate/release (swap-remove).
+  const std::vector<std::int64_t>& activePages() const { return active_; }
+
+  // Slots of the 3x3x3 pages around `page` (index (dz+1)*9 + (dy+1)*3 + (dx+1)); pages outside the
+  // volume read as the static outside page.
+  std::array<std::int32_t, 27> neighbourSlots(std::int64_t page) const;
+
+  std::int32_t poolPagesX() const { return poolPagesX_; }
+  std::int32_t capacity() const { return capacity_; }  // slots, static ones included
+  std::array<std::int32_t, 2> slotOrigin(std::int32_t slot) const {
+    return {(slot % poolPagesX_) * pageSize_, (slot / poolPagesX_) * pageSize_};
+  }
+
+  struct Stats {
+    std::int64_t active = 0, peakActive = 0, activations = 0, releases = 0, growths = 0;
+  };
+  const Stats& stats() const { return stats_; }
+
+private:
+  void grow();
+  std::array<std::int64_t, 3> dims_, pages_;
+  int pageSize_;
+  std::int32_t poolPagesX_, capacity_;
+  std::vector<std::int32_t> pageTable_;
+  std::vector<std::int64_t> inverseTable_;
+  std::vector<std::int32_t> freeStack_;
+  std::vector<std::int64_t> active_;
+  std::vector<std::int32_t> activePosition_;  // per slot: index in active_
+  Stats stats_;
+};
+
+}  // namespace isoatlas::levelset

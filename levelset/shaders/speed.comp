@@ -1,0 +1,32 @@
+#version 450
+// Pass 1: speed F and rate F|grad phi| at every voxel of every active page; max |F| over moving voxels.
+layout(local_size_x = PAGE_SIZE, local_size_y = PAGE_SIZE) in;
+layout(r32f, binding = 0) readonly uniform image2D phi;
+#include "pages.glsl"
+#include "speed.glsl"
+#include "counters.glsl"
+layout(r32f, binding = 1) writeonly uniform image2D rate;
+layout(binding = 0) uniform sampler3D source;
+uniform float target, width, alpha;
+shared uint groupMax;
+
+void main() {
+  int page = pageIndex();
+  if (page >= pageCount) return;
+  if (gl_LocalInvocationIndex == 0) groupMax = 0u;
+  loadApron(page);
+  ivec2 local = ivec2(gl_LocalInvocationID.xy);
+  ivec3 voxel = voxelOf(page, local);
+  ivec2 texel = pages[page].origins[13] + local;
+  float r = 0.0;
+  if (voxel.x < dims.x && voxel.y < dims.y) {
+    float u[27];
+    neighbourhood(local, u);
+    VoxelUpdate v = evaluateVoxel(u, texelFetch(source, voxel, 0).r, target, width, alpha);
+    r = v.rate;
+    if (r != 0.0) atomicMax(groupMax, floatBitsToUint(abs(v.speed)));
+  }
+  imageStore(rate, texel, vec4(r));
+  barrier();
+  if (gl_LocalInvocationIndex == 0) atomicMax(maxSpeedBits, groupMax);
+}

@@ -1,0 +1,33 @@
+#version 450
+// Pass 2: explicit Euler step of every active voxel into the other phi image, clamped; sign changes.
+layout(r32f, binding = 0) readonly uniform image2D phi;
+#include "pages.glsl"
+#include "speed.glsl"
+#include "counters.glsl"
+layout(local_size_x = PAGE_SIZE, local_size_y = PAGE_SIZE) in;
+layout(r32f, binding = 1) readonly uniform image2D rate;
+layout(r32f, binding = 2) writeonly uniform image2D next;
+uniform float alpha;
+shared int groupChanges;
+
+void main() {
+  int page = pageIndex();
+  if (page >= pageCount) return;
+  if (gl_LocalInvocationIndex == 0) groupChanges = 0;
+  barrier();
+  float step = timeStep(uintBitsToFloat(maxSpeedBits), alpha);
+  ivec2 local = ivec2(gl_LocalInvocationID.xy);
+  ivec3 voxel = voxelOf(page, local);
+  ivec2 texel = pages[page].origins[13] + local;
+  float old = imageLoad(phi, texel).r;
+  // Voxels past the volume's edge (in partial pages) stay outside: the volume is padded with outside.
+  float value = (voxel.x >= dims.x || voxel.y >= dims.y) ? -kClamp
+                                                         : clamp(old + step * imageLoad(rate, texel).r, -kClamp, kClamp);
+  imageStore(next, texel, vec4(value));
+  if ((value > 0.0) != (old > 0.0)) atomicAdd(groupChanges, 1);
+  barrier();
+  if (gl_LocalInvocationIndex == 0) {
+    if (groupChanges != 0) atomicAdd(signChanges, groupChanges);
+    if (page == 0) dt = step;  // one writer for the step the CPU reports
+  }
+}

@@ -1,0 +1,36 @@
+// SolverBackend: one iteration of the paged solver over the active pages, on the CPU (cpu_solver) or
+// the GPU (gpu_solver). Both keep phi in the same physical layout (see PageManager): a pool image
+// of poolPagesX * P texels per row, ping-ponged between two copies, slots 0/1 the static pages.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "levelset/page_manager.h"
+#include "levelset/speed.h"
+
+namespace isoatlas::levelset {
+
+struct IterationResult {
+  std::vector<std::uint8_t> messages;  // one byte per active page, in PageManager::activePages() order
+  std::int64_t signChanges = 0;        // voxels whose phi changed sign
+  float maxSpeed = 0, dt = 0;
+  std::uint64_t bytesReadBack = 0;     // GPU -> CPU this iteration
+};
+
+class SolverBackend {
+public:
+  virtual ~SolverBackend() = default;
+  virtual std::string name() const = 0;
+  // The active set changed: grow storage to pm.capacity(), fill each (slot, value) page with the
+  // value, and refresh the per-page neighbour tables.
+  virtual void pagesChanged(const PageManager& pm, const std::vector<std::pair<std::int32_t, float>>& filled) = 0;
+  virtual IterationResult iterate(const PageManager& pm, const SpeedParams& params) = 0;
+  // P*P values per slot, row-major, from the current phi.
+  virtual std::vector<float> readSlots(const PageManager& pm, const std::vector<std::int32_t>& slots) = 0;
+  virtual void writeSlots(const PageManager& pm, const std::vector<std::int32_t>& slots, const std::vector<float>& values) = 0;
+  virtual std::uint64_t physicalBytes() const = 0;  // phi storage (both copies) and per-page tables
+};
+
+}  // namespace isoatlas::levelset

@@ -1,0 +1,89 @@
+// The level-set PDE of Lefohn's thesis (sec. 4.2.1, app. A), per voxel, in voxel units:
+//   phi_t = F |grad phi|,  F = alpha D(I) + (1 - alpha) H + G_r,  D(I) = eps - |I - T|
+//   H    = mean curvature by difference of normals, (1/2) div(grad phi / |grad phi|)
+//   G_r  = (phi / kClamp) (1 - |grad phi|), the rescaling term that keeps phi a distance transform
+//          clamped to [-kClamp, kClamp], so phi is flat (zero gradient) away from the front. phi is
+//          divided by the clamp as in the thesis, which stores phi normalised to [0, 1].
+//   |grad phi| upwind: from the one-sided differences, chosen by the sign of F (app. A.9-A.11).
+// Sign convention, everywhere: phi > 0 inside the model, < 0 outside; F > 0 grows the model.
+// I, T and eps are in the source volume's own intensity units (as ITK's threshold level set), so
+// alpha weighs intensity units against 1/voxel. The GLSL twin is levelset/shaders/speed.glsl.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace isoatlas::levelset {
+
+constexpr float kClamp = 3.0f;  // |phi| <= 3 voxels: a band of 6 voxels around the front
+
+struct SpeedParams {
+  float target = 0;  // T
+  float width = 1;   // eps > 0
+  float alpha = 0.5; // in [0, 1]: 1 pure intensity propagation, 0 pure curvature flow
+};
+
+// Activation message bits, one byte per active page (thesis sec. 3.3.5, app. C).
+enum MessageBit : std::uint8_t {
+  kNeedPlusX = 1, kNeedMinusX = 2, kNeedPlusY = 4, kNeedMinusY = 8, kNeedPlusZ = 16, kNeedMinusZ = 32,
+  kSelfActive = 64, kInside = 128
+};
+
+struct VoxelUpdate {
+  float speed;  // alpha D + (1 - alpha) H: the physical speed the CFL step is taken from
+  float rate;   // F |grad phi|_upwind (F includes G_r): phi changes by dt * rate
+};
+
+// u: the 3x3x3 neighbourhood, u[(dz+1)*9 + (dy+1)*3 + (dx+1)]; intensity: I at the centre voxel.
+inline VoxelUpdate evaluateVoxel(const float* u, float intensity, const SpeedParams& p) {
+  auto at = [u](int dx, int dy, int dz) { return u[(dz + 1) * 9 + (dy + 1) * 3 + (dx + 1)]; };
+  const float c = at(0, 0, 0);
+  const float dxp = at(1, 0, 0) - c, dxm = c - at(-1, 0, 0);
+  const float dyp = at(0, 1, 0) - c, dym = c - at(0, -1, 0);
+  const float dzp = at(0, 0, 1) - c, dzm = c - at(0, 0, -1);
+  const float dx = 0.5f * (at(1, 0, 0) - at(-1, 0, 0));
+  const float dy = 0.5f * (at(0, 1, 0) - at(0, -1, 0));
+  const float dz = 0.5f * (at(0, 0, 1) - at(0, 0, -1));
+  // Central differences one column/row/slice over, for the normals on the voxel's faces.
+  const float dyAtXp = 0.5f * (at(1, 1, 0) - at(1, -1, 0)), dyAtXm = 0.5f * (at(-1, 1, 0) - at(-1, -1, 0));
+  const float dzAtXp = 0.5f * (at(1, 0, 1) - at(1, 0, -1)), dzAtXm = 0.5f * (at(-1, 0, 1) - at(-1, 0, -1));
+  const float dxAtYp = 0.5f * (at(1, 1, 0) - at(-1, 1, 0)), dxAtYm = 0.5f * (at(1, -1, 0) - at(-1, -1, 0));
+  const float dzAtYp = 0.5f * (at(0, 1, 1) - at(0, 1, -1)), dzAtYm = 0.5f * (at(0, -1, 1) - at(0, -1, -1));
+  const float dxAtZp = 0.5f * (at(1, 0, 1) - at(-1, 0, 1)), dxAtZm = 0.5f * (at(1, 0, -1) - at(-1, 0, -1));
+  const float dyAtZp = 0.5f * (at(0, 1, 1) - at(0, -1, 1)), dyAtZm = 0.5f * (at(0, 1, -1) - at(0, -1, -1));
+  auto normal = [](float along, float a, float b) {
+    const float len = std::sqrt(along * along + a * a + b * b);
+    return len > 0 ? along / len : 0.0f;
+  };
+  const float nxp = normal(dxp, 0.5f * (dyAtXp + dy), 0.5f * (dzAtXp + dz));
+  const float nxm = normal(dxm, 0.5f * (dyAtXm + dy), 0.5f * (dzAtXm + dz));
+  const float nyp = normal(dyp, 0.5f * (dxAtYp + dx), 0.5f * (dzAtYp + dz));
+  const float nym = normal(dym, 0.5f * (dxAtYm + dx), 0.5f * (dzAtYm + dz));
+  const float nzp = normal(dzp, 0.5f * (dxAtZp + dx), 0.5f * (dyAtZp + dy));
+  const float nzm = normal(dzm, 0.5f * (dxAtZm + dx), 0.5f * (dyAtZm + dy));
+  const float curvature = 0.5f * ((nxp - nxm) + (nyp - nym) + (nzp - nzm));
+
+  const float data = p.width - std::fabs(intensity - p.target);
+  const float rescale = (c / kClamp) * (1.0f - std::sqrt(dx * dx + dy * dy + dz * dz));
+  const float physical = p.alpha * data + (1.0f - p.alpha) * curvature;
+  const float speed = physical + rescale;
+
+  auto sq = [](float v) { return v * v; };
+  const float gradMax = std::sqrt(sq(std::max(dxp, 0.0f)) + sq(std::max(-dxm, 0.0f)) + sq(std::max(dyp, 0.0f)) +
+                                  sq(std::max(-dym, 0.0f)) + sq(std::max(dzp, 0.0f)) + sq(std::max(-dzm, 0.0f)));
+  const float gradMin = std::sqrt(sq(std::min(dxp, 0.0f)) + sq(std::min(-dxm, 0.0f)) + sq(std::min(dyp, 0.0f)) +
+                                  sq(std::min(-dym, 0.0f)) + sq(std::min(dzp, 0.0f)) + sq(std::min(-dzm, 0.0f)));
+  return {physical, speed * (speed > 0 ? gradMax : gradMin)};
+}
+
+// The time step from the CFL condition: the fastest physical speed moves the front at most a quarter
+// of a voxel (at a half, G_r cannot keep the band a distance ramp and the front speed wanders), and
+// the curvature term (parabolic) stays within its explicit-scheme limit. G_r is left out of the
+// speed: it is a restoring term bounded by the clamp, and counting it slows the front 3.5-fold.
+inline float timeStep(float maxSpeed, float alpha) {
+  float dt = maxSpeed > 0 ? 0.25f / maxSpeed : 1.0f;
+  if (alpha < 1) dt = std::min(dt, 0.25f / (1.0f - alpha));
+  return std::min(dt, 1.0f);
+}
+
+}  // namespace isoatlas::levelset
