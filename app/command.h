@@ -29,5 +29,7 @@ void writeJsonFile(const std::string& path, const nlohmann::json& json);
 
 void addInfoCommand(CLI::App& app, int& exitCode);
 void addRunCommand(CLI::App& app, int& exitCode);
+void addProbeCommand(CLI::App& app, int& exitCode);
+void addSegmentCommand(CLI::App& app, int& exitCode);
 
 }  // namespace isoatlas::app

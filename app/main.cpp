@@ -11,10 +11,8 @@ int main(int argc, char** argv) {
   int exitCode = 0;
 
   addInfoCommand(app, exitCode);
-  addPendingCommand(app, "probe", "mean and spread of a volume inside a sphere, and the level-set parameters they suggest",
-                    "issue 3, segmentation", exitCode);
-  addPendingCommand(app, "segment", "segment a structure with the paged narrow-band level-set solver",
-                    "issue 3, segmentation", exitCode);
+  addProbeCommand(app, exitCode);
+  addSegmentCommand(app, exitCode);
   addPendingCommand(app, "edit", "boolean brush and mesh edits in a dynamic volume tree", "the DVT issue", exitCode);
   addPendingCommand(app, "extract", "marching cubes over a level set, mask or scalar volume", "issue 4, extraction",
                     exitCode);

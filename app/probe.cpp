@@ -1,0 +1,37 @@
+// isoatlas probe VOLUME --at X,Y,Z --radius R: the statistics under a sphere and the level-set
+// parameters they suggest (T = mean, eps = standard deviation), as JSON on stdout.
+#include <cstdio>
+
+#include "app/command.h"
+#include "app/options.h"
+#include "core/volume_io.h"
+#include "levelset/probe.h"
+
+namespace isoatlas::app {
+
+void addProbeCommand(CLI::App& app, int& exitCode) {
+  auto* sub = app.add_subcommand("probe", "mean and spread of a volume inside a sphere, and the T and eps they suggest");
+  auto volume = std::make_shared<std::string>();
+  auto at = std::make_shared<std::string>();
+  auto radius = std::make_shared<double>(3);
+  sub->add_option("volume", *volume, "input volume")->required();
+  sub->add_option("--at", *at, "centre X,Y,Z in voxel indices")->required();
+  sub->add_option("--radius", *radius, "radius in voxels")->capture_default_str();
+  bindAction(*sub, [volume, at, radius](nlohmann::json& r) {
+    const Volume v = readVolume(*volume);
+    const Ball ball = parseBall(*at, "--at", *radius);
+    requireInside(v, ball.centre, "--at");
+    const levelset::ProbeResult p = levelset::probeSphere(v, ball.centre, *radius);
+    r["mean"] = p.mean;
+    r["std"] = p.std;
+    r["voxels"] = p.voxels;
+    r["suggested_T"] = p.suggestedTarget();
+    r["suggested_eps"] = p.suggestedWidth();
+    nlohmann::json out = r;
+    out.erase("command");
+    std::printf("%s\n", out.dump().c_str());
+    return 0;
+  }, exitCode);
+}
+
+}  // namespace isoatlas::app

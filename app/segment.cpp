@@ -1,0 +1,90 @@
+// isoatlas segment: the paged narrow-band level-set segmentation of a volume from seeds or a mask.
+#include <chrono>
+
+#include "app/command.h"
+#include "app/options.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "core/volume_io.h"
+#include "levelset/level_set.h"
+
+namespace isoatlas::app {
+
+struct SegmentOptions {
+  std::string volume, seedMask, output, phi, backend = "auto";
+  std::vector<std::string> seeds;
+  double target = 0, width = 0, alpha = 0.5;
+  int iterations = 1000, page = 16;
+  bool converge = false;
+};
+
+void addSegmentCommand(CLI::App& app, int& exitCode) {
+  auto* sub = app.add_subcommand("segment", "segment a structure with the paged narrow-band level-set solver");
+  auto o = std::make_shared<SegmentOptions>();
+  sub->add_option("volume", o->volume, "input volume")->required();
+  sub->add_option("--seed", o->seeds, "seed sphere X,Y,Z[,R] in voxel indices, R in voxels (default 3); repeatable");
+  sub->add_option("--seed-mask", o->seedMask, "start from this mask (same grid; voxels > 0 inside)");
+  sub->add_option("--target,-T", o->target, "T: the intensity to segment (isoatlas probe suggests it)")->required();
+  sub->add_option("--width,-e", o->width, "eps: intensities within T +- eps grow the model")->required();
+  sub->add_option("--alpha,-a", o->alpha, "weight of the intensity term against curvature, in [0, 1]")->capture_default_str();
+  sub->add_option("--iterations,-n", o->iterations, "most iterations to run")->capture_default_str();
+  sub->add_flag("--converge", o->converge, "stop early once the front stops moving");
+  sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
+  sub->add_option("--page", o->page, "page size in voxels (a power of two, 4..32)")->capture_default_str();
+  sub->add_option("-o,--output", o->output, "output mask (uint8, 1 inside), e.g. mask.nii.gz")->required();
+  sub->add_option("--phi", o->phi, "also write the level set phi (float, > 0 inside, voxel units)");
+  bindAction(*sub, [o](nlohmann::json& r) {
+    volumeFormatOf(o->output);  // throws for a name that is no volume format, before any work
+    if (!o->phi.empty()) volumeFormatOf(o->phi);
+    require(o->iterations > 0, "--iterations must be > 0");
+    require(!o->seeds.empty() || !o->seedMask.empty(), "give at least one --seed X,Y,Z[,R] or a --seed-mask");
+    const levelset::SpeedParams params{float(o->target), float(o->width), float(o->alpha)};
+    levelset::validateParams(params);
+    const Volume volume = readVolume(o->volume);
+    std::vector<Ball> seeds;
+    for (const std::string& s : o->seeds) {
+      seeds.push_back(parseBall(s, "--seed", 3));
+      requireInside(volume, seeds.back().centre, "--seed " + s);
+    }
+    Volume seedMask;
+    if (!o->seedMask.empty()) {
+      seedMask = readVolume(o->seedMask);
+      require(seedMask.dims == volume.dims, o->seedMask + ": its dimensions differ from " + o->volume + "'s");
+    }
+
+    std::string renderer;
+    const levelset::Backend backend = chooseBackend(o->backend, renderer);
+    levelset::LevelSet ls(volume, params, {.backend = backend, .pageSize = o->page});
+    if (!o->seedMask.empty()) ls.setMask(seedMask);
+    for (const Ball& b : seeds) ls.addSphere(b.centre, b.radius);
+
+    Progress progress("segment", std::uint64_t(o->iterations), "iterations");
+    const levelset::RunStats stats =
+        ls.run({.maxIterations = o->iterations, .untilConverged = o->converge,
+                .progress = [&](int i, std::int64_t) { progress.update(std::uint64_t(i)); }});
+    progress.finish();
+    const Volume mask = ls.mask();
+    writeVolume(o->output, mask);
+    if (!o->phi.empty()) writeVolume(o->phi, ls.phi());
+
+    std::int64_t inside = 0;
+    for (std::size_t n = 0; n < mask.voxelCount(); ++n) inside += mask.data[n] != std::byte{0};
+    r["backend"] = backend == levelset::Backend::Gpu ? "gpu" : "cpu";
+    r["renderer"] = renderer;
+    r["iterations"] = stats.iterations;
+    r["seconds"] = stats.seconds;
+    r["steps_per_second"] = stats.seconds > 0 ? stats.iterations / stats.seconds : 0.0;
+    r["converged"] = stats.converged;
+    r["inside_voxels"] = inside;
+    r["active_pages_peak"] = ls.pages().stats().peakActive;
+    r["active_pages_final"] = std::int64_t(ls.pages().activePages().size());
+    r["physical_bytes_peak"] = ls.physicalBytesPeak();
+    r["readback_bytes_per_iteration"] = stats.bytesReadBackPerIteration;
+    r["params"] = {{"target", o->target}, {"width", o->width}, {"alpha", o->alpha}, {"page", o->page}};
+    logInfo("segment: " + std::to_string(inside) + " voxels inside after " + std::to_string(stats.iterations) +
+            " iterations (" + (stats.converged ? "converged" : "not converged") + "), " + o->output);
+    return 0;
+  }, exitCode);
+}
+
+}  // namespace isoatlas::app
