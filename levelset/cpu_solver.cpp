@@ -22,19 +22,16 @@ public:
     P_ = pm.pageSize();
     width_ = std::size_t(pm.poolPagesX()) * std::size_t(P_);
     const std::size_t texels = width_ * std::size_t(pm.capacity() / pm.poolPagesX()) * std::size_t(P_);
-    if (texels > phi_[0].size()) {
+    if (texels > phi_.size()) {
       // New rows are appended; existing slots keep their texels.
-      const std::size_t old = phi_[0].size();
-      for (auto& buffer : phi_) buffer.resize(texels, 0.0f);
-      rate_.resize(texels, 0.0f);
+      const std::size_t old = phi_.size();
+      phi_.resize(texels, 0.0f);
       if (old == 0) {
-        for (auto& buffer : phi_) {
-          fill(buffer, pm, kOutsideSlot, -kClamp);
-          fill(buffer, pm, kInsideSlot, kClamp);
-        }
+        fill(phi_, pm, kOutsideSlot, -kClamp);
+        fill(phi_, pm, kInsideSlot, kClamp);
       }
     }
-    for (const auto& [slot, value] : filled) fill(phi_[current_], pm, slot, value);
+    for (const auto& [slot, value] : filled) fill(phi_, pm, slot, value);
     const auto& active = pm.activePages();
     pages_.resize(active.size());
     for (std::size_t i = 0; i < active.size(); ++i) {
@@ -47,60 +44,67 @@ public:
   }
 
   IterationResult iterate(const PageManager&, const SpeedParams& params) override {
-    const std::vector<float>& phi = phi_[current_];
-    // Pass 1: speed and rate of change at every voxel of every active page; the largest speed.
+    std::vector<float>& phi = phi_;
+    // Pass 1: speed and rate of change at every voxel of every active page; the largest speed. Only
+    // voxels that can move (a one-sided difference is nonzero) are listed for pass 2.
     tbb::combinable<float> maxSpeed(0.0f);
+    moving_.resize(pages_.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pages_.size()), [&](const auto& range) {
       float& localMax = maxSpeed.local();
-      float u[27];
+      Apron apron(P_);
+      bool flat[32];
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         const PageInfo& page = pages_[i];
-        forEachVoxel(page, [&](int x, int y, std::int64_t vx, std::int64_t vy, std::int64_t vz) {
-          const std::size_t texel = texelOf(page.neighbourOrigins[13], x, y);
-          if (vx >= dims_[0] || vy >= dims_[1]) {
-            rate_[texel] = 0;
-            return;
+        auto& moving = moving_[i];
+        moving.clear();
+        apron.load(*this, phi, page);
+        const std::int64_t vz = page.coords[2];
+        for (int y = 0; y < P_; ++y) {
+          const std::int64_t vy = page.coords[1] * P_ + y;
+          if (vy >= dims_[1]) break;  // past the volume's edge: kept outside
+          apron.flatRow(y, flat);
+          const int xEnd = int(std::min<std::int64_t>(P_, dims_[0] - page.coords[0] * P_));
+          for (int x = 0; x < xEnd; ++x) {
+            if (flat[x]) continue;  // every one-sided difference zero: no change
+            const std::int64_t vx = page.coords[0] * P_ + x;
+            const float intensity = source_[std::size_t((vz * dims_[1] + vy) * dims_[0] + vx)];
+            const VoxelUpdate update = evaluateVoxelAt(
+                [&](int dx, int dy, int dz) { return apron.at(x + dx, y + dy, dz); }, intensity, params);
+            if (update.rate == 0) continue;
+            moving.push_back({std::uint32_t(texelOf(page.neighbourOrigins[13], x, y)), update.rate});
+            localMax = std::max(localMax, std::fabs(update.speed));
           }
-          gather(phi, page, x, y, u);
-          const float intensity = source_[std::size_t((vz * dims_[1] + vy) * dims_[0] + vx)];
-          const VoxelUpdate update = evaluateVoxel(u, intensity, params);
-          rate_[texel] = update.rate;
-          if (update.rate != 0) localMax = std::max(localMax, std::fabs(update.speed));
-        });
+        }
       }
     });
     IterationResult result;
     result.maxSpeed = maxSpeed.combine([](float a, float b) { return std::max(a, b); });
     result.dt = timeStep(result.maxSpeed, params.alpha);
 
-    // Pass 2: explicit Euler step into the other copy, clamped; count sign changes.
-    std::vector<float>& next = phi_[1 - current_];
+    // Pass 2: explicit Euler step, clamped; count sign changes. Pass 1 has read everything, so the
+    // update is in place (the GPU ping-pongs instead) and visits only the voxels that move.
     std::atomic<std::int64_t> signChanges{0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pages_.size()), [&](const auto& range) {
       std::int64_t changes = 0;
-      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        const PageInfo& page = pages_[i];
-        forEachVoxel(page, [&](int x, int y, std::int64_t vx, std::int64_t vy, std::int64_t) {
-          const std::size_t texel = texelOf(page.neighbourOrigins[13], x, y);
-          // Voxels past the volume's edge (in partial pages) stay outside: the volume is padded with outside.
-          const float value = vx >= dims_[0] || vy >= dims_[1]
-                                  ? -kClamp
-                                  : std::clamp(phi[texel] + result.dt * rate_[texel], -kClamp, kClamp);
-          changes += (value > 0) != (phi[texel] > 0);
-          next[texel] = value;
-        });
-      }
+      for (std::size_t i = range.begin(); i != range.end(); ++i)
+        for (const Moving& m : moving_[i]) {
+          float& value = phi[m.texel];
+          const float next = std::clamp(value + result.dt * m.rate, -kClamp, kClamp);
+          changes += (next > 0) != (value > 0);
+          value = next;
+        }
       signChanges += changes;
     });
-    current_ = 1 - current_;
     result.signChanges = signChanges;
 
     // Pass 3: the activation message of every page, from the new phi.
     result.messages.assign(pages_.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pages_.size()), [&](const auto& range) {
-      float u[27];
-      for (std::size_t i = range.begin(); i != range.end(); ++i)
-        result.messages[i] = message(phi_[current_], pages_[i], u);
+      Apron apron(P_);
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        apron.load(*this, phi, pages_[i]);
+        result.messages[i] = message(apron, pages_[i]);
+      }
     });
     return result;
   }
@@ -111,7 +115,7 @@ public:
     for (std::size_t s = 0; s < slots.size(); ++s) {
       const auto o = origin(pm, slots[s]);
       for (int y = 0; y < P_; ++y)
-        for (int x = 0; x < P_; ++x) out[s * area + std::size_t(y * P_ + x)] = phi_[current_][texelOf(o, x, y)];
+        for (int x = 0; x < P_; ++x) out[s * area + std::size_t(y * P_ + x)] = phi_[texelOf(o, x, y)];
     }
     return out;
   }
@@ -121,12 +125,14 @@ public:
     for (std::size_t s = 0; s < slots.size(); ++s) {
       const auto o = origin(pm, slots[s]);
       for (int y = 0; y < P_; ++y)
-        for (int x = 0; x < P_; ++x) phi_[current_][texelOf(o, x, y)] = values[s * area + std::size_t(y * P_ + x)];
+        for (int x = 0; x < P_; ++x) phi_[texelOf(o, x, y)] = values[s * area + std::size_t(y * P_ + x)];
     }
   }
 
   std::uint64_t physicalBytes() const override {
-    return (phi_[0].size() * 2 + rate_.size()) * sizeof(float) + pages_.size() * sizeof(PageInfo);
+    std::size_t moving = 0;
+    for (const auto& m : moving_) moving += m.capacity();
+    return phi_.size() * sizeof(float) + moving * sizeof(Moving) + pages_.size() * sizeof(PageInfo);
   }
 
 private:
@@ -155,44 +161,78 @@ private:
         fn(x, y, page.coords[0] * P_ + x, page.coords[1] * P_ + y, page.coords[2]);
   }
 
-  // The 3x3x3 neighbourhood of voxel (x, y) of `page`, through its neighbour table only.
-  void gather(const std::vector<float>& phi, const PageInfo& page, int x, int y, float* u) const {
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          int lx = x + dx, ly = y + dy;
-          const int ox = lx < 0 ? -1 : (lx >= P_ ? 1 : 0), oy = ly < 0 ? -1 : (ly >= P_ ? 1 : 0);
-          lx -= ox * P_;
-          ly -= oy * P_;
-          const Origin& o = page.neighbourOrigins[(dz + 1) * 9 + (oy + 1) * 3 + (ox + 1)];
-          u[(dz + 1) * 9 + (dy + 1) * 3 + (dx + 1)] = phi[texelOf(o, lx, ly)];
+  // The (P+2) x (P+2) x 3 values around a page, read through its neighbour table only (as the GPU
+  // reads them into shared memory); voxels are then evaluated without further lookups.
+  struct Apron {
+    int side;
+    std::array<float, 3 * 34 * 34> v;  // [dz][y + 1][x + 1]; pages are at most 32 wide
+    explicit Apron(int P) : side(P + 2) {}
+    float at(int x, int y, int dz) const { return v[std::size_t(((dz + 1) * side + y + 1) * side + x + 1)]; }
+    void load(const CpuSolver& s, const std::vector<float>& phi, const PageInfo& page) {
+      const int P = side - 2;
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int y = -1; y <= P; ++y) {
+          const int oy = y < 0 ? -1 : (y >= P ? 1 : 0), ly = y - oy * P;
+          const Origin* row = &page.neighbourOrigins[(dz + 1) * 9 + (oy + 1) * 3];
+          float* out = &v[std::size_t(((dz + 1) * side + y + 1) * side)];
+          out[0] = phi[s.texelOf(row[0], P - 1, ly)];
+          std::copy_n(&phi[s.texelOf(row[1], 0, ly)], P, out + 1);
+          out[P + 1] = phi[s.texelOf(row[2], 0, ly)];
         }
-  }
+    }
+    const float* row(int y, int dz) const { return &v[std::size_t(((dz + 1) * side + y + 1) * side + 1)]; }
+    // flat[x]: voxel (x, y) equals its six face neighbours. Branch-free, so it vectorises.
+    void flatRow(int y, bool* flat) const {
+      const float *c = row(y, 0), *ym = row(y - 1, 0), *yp = row(y + 1, 0), *zm = row(y, -1), *zp = row(y, 1);
+      for (int x = 0; x < side - 2; ++x)
+        flat[x] = (c[x + 1] == c[x]) & (c[x - 1] == c[x]) & (yp[x] == c[x]) & (ym[x] == c[x]) & (zp[x] == c[x]) &
+                  (zm[x] == c[x]);
+    }
+  };
 
   // Which pages must be active next: this one if any voxel differs from a face neighbour; a
   // neighbour page if a voxel on the shared border differs from its voxel across it.
-  std::uint8_t message(const std::vector<float>& phi, const PageInfo& page, float* u) const {
+  std::uint8_t message(const Apron& a, const PageInfo&) const {
+    bool self = false, px = false, mx = false, py = false, my = false, pz = false, mz = false;
+    for (int y = 0; y < P_; ++y) {
+      const float *c = a.row(y, 0), *ym = a.row(y - 1, 0), *yp = a.row(y + 1, 0), *zm = a.row(y, -1), *zp = a.row(y, 1);
+      bool rowSelf = false, rowPz = false, rowMz = false;
+      for (int x = 0; x < P_; ++x) {
+        rowSelf |= (c[x + 1] != c[x]) | (c[x - 1] != c[x]) | (yp[x] != c[x]) | (ym[x] != c[x]);
+        rowPz |= zp[x] != c[x];
+        rowMz |= zm[x] != c[x];
+      }
+      self |= rowSelf | rowPz | rowMz;
+      pz |= rowPz;
+      mz |= rowMz;
+      px |= c[P_] != c[P_ - 1];
+      mx |= c[-1] != c[0];
+      if (y == 0)
+        for (int x = 0; x < P_; ++x) my |= ym[x] != c[x];
+      if (y == P_ - 1)
+        for (int x = 0; x < P_; ++x) py |= yp[x] != c[x];
+    }
     std::uint8_t bits = 0;
-    forEachVoxel(page, [&](int x, int y, std::int64_t, std::int64_t, std::int64_t) {
-      gather(phi, page, x, y, u);
-      const float c = u[13];
-      const bool px = u[14] != c, mx = u[12] != c, py = u[16] != c, my = u[10] != c, pz = u[22] != c, mz = u[4] != c;
-      if (px || mx || py || my || pz || mz) bits |= kSelfActive;
-      if (px && x == P_ - 1) bits |= kNeedPlusX;
-      if (mx && x == 0) bits |= kNeedMinusX;
-      if (py && y == P_ - 1) bits |= kNeedPlusY;
-      if (my && y == 0) bits |= kNeedMinusY;
-      if (pz) bits |= kNeedPlusZ;
-      if (mz) bits |= kNeedMinusZ;
-    });
-    if (phi[texelOf(page.neighbourOrigins[13], 0, 0)] > 0) bits |= kInside;
+    if (self) bits |= kSelfActive;
+    if (px) bits |= kNeedPlusX;
+    if (mx) bits |= kNeedMinusX;
+    if (py) bits |= kNeedPlusY;
+    if (my) bits |= kNeedMinusY;
+    if (pz) bits |= kNeedPlusZ;
+    if (mz) bits |= kNeedMinusZ;
+    if (a.at(0, 0, 0) > 0) bits |= kInside;
     return bits;
   }
 
   std::vector<float> source_;
   std::array<std::int64_t, 3> dims_;
-  std::vector<float> phi_[2], rate_;
-  int current_ = 0, P_ = 16;
+  struct Moving {
+    std::uint32_t texel;
+    float rate;
+  };
+  std::vector<float> phi_;
+  std::vector<std::vector<Moving>> moving_;  // per active page, from pass 1
+  int P_ = 16;
   std::size_t width_ = 0;
   std::vector<PageInfo> pages_;
 };

@@ -34,9 +34,9 @@ struct VoxelUpdate {
   float rate;   // F |grad phi|_upwind (F includes G_r): phi changes by dt * rate
 };
 
-// u: the 3x3x3 neighbourhood, u[(dz+1)*9 + (dy+1)*3 + (dx+1)]; intensity: I at the centre voxel.
-inline VoxelUpdate evaluateVoxel(const float* u, float intensity, const SpeedParams& p) {
-  auto at = [u](int dx, int dy, int dz) { return u[(dz + 1) * 9 + (dy + 1) * 3 + (dx + 1)]; };
+// at(dx, dy, dz): phi at the neighbour (dx, dy, dz) in {-1, 0, 1}^3; intensity: I at the centre voxel.
+template <class At>
+inline VoxelUpdate evaluateVoxelAt(const At& at, float intensity, const SpeedParams& p) {
   const float c = at(0, 0, 0);
   const float dxp = at(1, 0, 0) - c, dxm = c - at(-1, 0, 0);
   const float dyp = at(0, 1, 0) - c, dym = c - at(0, -1, 0);
@@ -74,6 +74,11 @@ inline VoxelUpdate evaluateVoxel(const float* u, float intensity, const SpeedPar
   const float gradMin = std::sqrt(sq(std::min(dxp, 0.0f)) + sq(std::min(-dxm, 0.0f)) + sq(std::min(dyp, 0.0f)) +
                                   sq(std::min(-dym, 0.0f)) + sq(std::min(dzp, 0.0f)) + sq(std::min(-dzm, 0.0f)));
   return {physical, speed * (speed > 0 ? gradMax : gradMin)};
+}
+
+// u: the 3x3x3 neighbourhood, u[(dz+1)*9 + (dy+1)*3 + (dx+1)].
+inline VoxelUpdate evaluateVoxel(const float* u, float intensity, const SpeedParams& p) {
+  return evaluateVoxelAt([u](int dx, int dy, int dz) { return u[(dz + 1) * 9 + (dy + 1) * 3 + (dx + 1)]; }, intensity, p);
 }
 
 // The time step from the CFL condition: the fastest physical speed moves the front at most a quarter

@@ -137,6 +137,87 @@ TEST(Cli, RunWritesItsProductsAndNamesSkippedStages) {
   EXPECT_NE(r.err.find("skipping"), std::string::npos);
 }
 
+// A 40x36x30 volume: a bright ball (200) of radius 9 around (20,18,15) in a background of 50.
+std::filesystem::path ballVolume(const std::filesystem::path& dir) {
+  Volume v = Volume::zeros({40, 36, 30}, ScalarType::UInt8);
+  v.spacing = {0.9, 0.9, 1.2};
+  v.origin = {-18, -16, -17};
+  for (std::int64_t z = 0; z < 30; ++z)
+    for (std::int64_t y = 0; y < 36; ++y)
+      for (std::int64_t x = 0; x < 40; ++x) {
+        const double d2 = (x - 20.0) * (x - 20.0) + (y - 18.0) * (y - 18.0) + (z - 15.0) * (z - 15.0);
+        v.setValue(v.index(x, y, z), d2 < 81 ? 200 : 50);
+      }
+  writeVolume((dir / "ball.nii.gz").string(), v);
+  return dir / "ball.nii.gz";
+}
+
+TEST(Cli, ProbeSuggestsTheBallsIntensity) {
+  const auto dir = test::scratchDir();
+  const auto ball = ballVolume(dir);
+  const Result r = run("probe " + ball.string() + " --at 20,18,15 --radius 3");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_DOUBLE_EQ(j["mean"].get<double>(), 200);
+  EXPECT_DOUBLE_EQ(j["std"].get<double>(), 0);
+  EXPECT_DOUBLE_EQ(j["suggested_T"].get<double>(), 200);
+  EXPECT_GT(j["voxels"].get<int>(), 100);
+}
+
+TEST(Cli, SegmentFindsTheBallAndKeepsTheGeometry) {
+  const auto dir = test::scratchDir();
+  const auto ball = ballVolume(dir);
+  for (const char* backend : {"cpu", "gpu"}) {
+    const std::string out = (dir / (std::string(backend) + ".nii.gz")).string();
+    const Result r = run("segment " + ball.string() + " --seed 20,18,15,2 --target 200 --width 60 --alpha 0.8 " +
+                         "--iterations 400 --converge --backend " + backend + " -o " + out + " --phi " +
+                         (dir / "phi.nii").string() + " --report " + (dir / "r.json").string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Volume mask = readVolume(out);
+    const Volume input = readVolume(ball.string());
+    EXPECT_EQ(mask.dims, input.dims);
+    EXPECT_EQ(mask.type, ScalarType::UInt8);
+    EXPECT_NEAR(mask.spacing.z, 1.2, 1e-6);
+    EXPECT_NEAR(mask.origin.x, -18, 1e-5);
+    std::int64_t inside = 0, wrong = 0;
+    for (std::size_t n = 0; n < mask.voxelCount(); ++n) {
+      inside += mask.value(n) == 1;
+      wrong += (mask.value(n) == 1) != (input.value(n) == 200);
+    }
+    EXPECT_LT(double(wrong), 0.05 * double(inside)) << backend;
+    const auto report = nlohmann::json::parse(test::readBytes(dir / "r.json"));
+    for (const char* key : {"backend", "renderer", "iterations", "seconds", "steps_per_second", "converged",
+                            "inside_voxels", "active_pages_peak", "active_pages_final", "physical_bytes_peak",
+                            "readback_bytes_per_iteration"})
+      EXPECT_TRUE(report.contains(key)) << key;
+    EXPECT_EQ(report["backend"], backend);
+    EXPECT_EQ(report["inside_voxels"], inside);
+    EXPECT_EQ(report["converged"], true);
+    if (std::string(backend) == "gpu") {
+      EXPECT_GT(report["readback_bytes_per_iteration"].get<int>(), 0);
+    }
+    EXPECT_TRUE(std::filesystem::exists(dir / "phi.nii"));
+  }
+}
+
+TEST(Cli, SegmentRejectsBadInput) {
+  const auto dir = test::scratchDir();
+  const std::string ball = ballVolume(dir).string(), out = " -o " + (dir / "m.nii.gz").string();
+  expectBadInput("segment " + ball + " --seed 80,18,15 --target 200 --width 60" + out, "lies outside the volume");
+  expectBadInput("segment " + ball + " --seed 20,18,15 --target 200 --width 0" + out, "eps must be > 0");
+  expectBadInput("segment " + ball + " --seed 20,18,15 --target 200 --width 60 --alpha 1.5" + out, "alpha must lie in [0, 1]");
+  expectBadInput("segment " + ball + " --seed 20,18 --target 200 --width 60" + out, "expected X,Y,Z");
+  expectBadInput("segment " + ball + " --target 200 --width 60" + out, "give at least one --seed");
+  expectBadInput("segment " + ball + " --seed 20,18,15 --target 200 --width 60 -o m.png", "unknown volume format");
+  Volume nan = test::rampVolume(ScalarType::Float32);
+  nan.setValue(3, std::nan(""));
+  writeVolume((dir / "nan.nrrd").string(), nan);
+  expectBadInput("segment " + (dir / "nan.nrrd").string() + " --seed 1,1,1 --target 1 --width 1" + out, "NaN");
+  test::writeBytes(dir / "empty.nii", "");
+  expectBadInput("segment " + (dir / "empty.nii").string() + " --seed 1,1,1 --target 1 --width 1" + out, "empty.nii");
+  expectBadInput("probe " + ball + " --at 20,18,99 --radius 2", "lies outside the volume");
+}
+
 TEST(Cli, Ch2IsReadWithItsTrueDimensions) {
   const std::string ch2 = std::string(ISOATLAS_DATA) + "/volumes/ch2.nii.gz";
   if (!std::filesystem::exists(ch2)) GTEST_SKIP() << "run scripts/fetch-data for the end-to-end data";

@@ -1,0 +1,284 @@
+// bench/levelset: isoatlas's paged narrow-band solver beside ITK's sparse-field threshold level set,
+// serial (ThresholdSegmentationLevelSetImageFilter) and parallel (ParallelSparseFieldLevelSetImageFilter
+// driving ThresholdSegmentationLevelSetFunction, the solver ITK-SNAP's snake mode uses), same seeds,
+// same speed: lower = T - eps, upper = T + eps, propagation = alpha, curvature = 1 - alpha, edge = 0.
+// (ITK-SNAP's snake mode drives the same filter with a function of its own.)
+// Convergence as issue 3 defines it: a solver has converged at N iterations when its mask at N and at
+// 2N agree with Dice >= 0.999; its time to convergence is the wall time of those N iterations.
+//   bench_levelset [DATA]                      every case and solver, one process each; JSON lines
+//   bench_levelset --one SOLVER CASE DATA OUT  one solver on one case: writes OUT.nii.gz, prints JSON
+#include <itkImage.h>
+#include <itkImportImageFilter.h>
+#include <itkParallelSparseFieldLevelSetImageFilter.h>
+#include <itkThresholdSegmentationLevelSetFunction.h>
+#include <itkThresholdSegmentationLevelSetImageFilter.h>
+#include <itkCommand.h>
+#include <itkMultiThreaderBase.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "bench/bench_util.h"
+#include "core/volume_io.h"
+#include "levelset/level_set.h"
+
+namespace {
+
+using namespace isoatlas;
+using Clock = std::chrono::steady_clock;
+using Image = itk::Image<float, 3>;
+
+struct Case {
+  std::string name, file;
+  std::vector<std::array<double, 4>> seeds;  // x, y, z, r (voxels)
+  levelset::SpeedParams params;
+  int maxIterations;
+};
+
+const std::vector<Case> kCases = {
+    {"ch2 white matter", "volumes/ch2.nii.gz", {{64, 115, 101, 4}, {116, 115, 101, 4}}, {112, 14, 0.8f}, 8192},
+    {"skull_2.9 bone", "volumes/skull_2.9.inr", {{30, 41, 10, 2}, {18, 38, 25, 2}, {43, 38, 25, 2}}, {4.15f, 1.25f, 0.9f}, 8192},
+};
+
+double dice(const std::vector<char>& a, const std::vector<char>& b) {
+  std::int64_t both = 0, sa = 0, sb = 0;
+  for (std::size_t n = 0; n < a.size(); ++n) {
+    both += a[n] && b[n];
+    sa += a[n];
+    sb += b[n];
+  }
+  return sa + sb ? 2.0 * double(both) / double(sa + sb) : 1.0;
+}
+
+// Tracks snapshots at 64, 128, 256, ... iterations; done once two in a row agree to Dice 0.999.
+struct Convergence {
+  int next = 64;
+  std::vector<char> previous;
+  int previousIteration = 0;
+  double previousSeconds = 0;
+  bool converged = false;
+  int iterations = 0;
+  double seconds = 0;
+  std::vector<char> result;
+  // Returns true when the run may stop.
+  bool snapshot(int iteration, double seconds, std::vector<char> mask) {
+    if (!previous.empty() && dice(previous, mask) >= 0.999) {
+      converged = true;
+      iterations = previousIteration;
+      this->seconds = previousSeconds;
+      result = std::move(previous);
+      return true;
+    }
+    previous = std::move(mask);
+    previousIteration = iteration;
+    previousSeconds = seconds;
+    next *= 2;
+    return false;
+  }
+};
+
+Image::Pointer toItk(const Volume& v) {
+  auto image = Image::New();
+  Image::RegionType region;
+  region.SetSize({std::size_t(v.dims[0]), std::size_t(v.dims[1]), std::size_t(v.dims[2])});
+  image->SetRegions(region);
+  image->Allocate();
+  const std::vector<float> values = v.toFloat();
+  std::copy(values.begin(), values.end(), image->GetBufferPointer());
+  return image;
+}
+
+// Signed distance to the union of the seed balls, in voxels: negative inside (ITK's sparse field).
+Image::Pointer seedDistance(const Volume& v, const Case& c, float sign) {
+  auto image = Image::New();
+  Image::RegionType region;
+  region.SetSize({std::size_t(v.dims[0]), std::size_t(v.dims[1]), std::size_t(v.dims[2])});
+  image->SetRegions(region);
+  image->Allocate();
+  float* out = image->GetBufferPointer();
+  for (std::int64_t z = 0; z < v.dims[2]; ++z)
+    for (std::int64_t y = 0; y < v.dims[1]; ++y)
+      for (std::int64_t x = 0; x < v.dims[0]; ++x) {
+        double d = 1e9;
+        for (const auto& s : c.seeds)
+          d = std::min(d, std::sqrt((x - s[0]) * (x - s[0]) + (y - s[1]) * (y - s[1]) + (z - s[2]) * (z - s[2])) - s[3]);
+        out[(z * v.dims[1] + y) * v.dims[0] + x] = sign * float(d);
+      }
+  return image;
+}
+
+std::vector<char> itkMask(const Image* phi, float insideSign) {
+  const std::size_t n = phi->GetLargestPossibleRegion().GetNumberOfPixels();
+  std::vector<char> mask(n);
+  const float* p = phi->GetBufferPointer();
+  for (std::size_t i = 0; i < n; ++i) mask[i] = insideSign * p[i] > 0;
+  return mask;
+}
+
+template <class Filter>
+Convergence runItk(Filter* filter, int maxIterations, float insideSign) {
+  Convergence conv;
+  const auto start = Clock::now();
+  int iteration = 0;
+  auto observer = itk::CStyleCommand::New();
+  struct Context {
+    Filter* filter;
+    Convergence* conv;
+    Clock::time_point start;
+    int* iteration;
+    float sign;
+  } ctx{filter, &conv, start, &iteration, insideSign};
+  observer->SetClientData(&ctx);
+  observer->SetCallback([](itk::Object*, const itk::EventObject&, void* data) {
+    auto* c = static_cast<Context*>(data);
+    const int it = int(c->filter->GetElapsedIterations());
+    if (it < c->conv->next) return;
+    const double seconds = std::chrono::duration<double>(Clock::now() - c->start).count();
+    // Halt() stops once the elapsed iterations reach the set number.
+    if (c->conv->snapshot(it, seconds, itkMask(c->filter->GetOutput(), c->sign))) c->filter->SetNumberOfIterations(unsigned(it));
+  });
+  filter->AddObserver(itk::IterationEvent(), observer);
+  filter->SetNumberOfIterations(maxIterations);
+  filter->Update();
+  if (!conv.converged) {
+    conv.iterations = int(filter->GetElapsedIterations());
+    conv.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    conv.result = itkMask(filter->GetOutput(), insideSign);
+  }
+  return conv;
+}
+
+Convergence runOurs(const Volume& v, const Case& c, levelset::Backend backend) {
+  levelset::LevelSet ls(v, c.params, {.backend = backend});
+  for (const auto& s : c.seeds) ls.addSphere({s[0], s[1], s[2]}, s[3]);
+  Convergence conv;
+  const auto start = Clock::now();
+  for (int i = 1; i <= c.maxIterations; ++i) {
+    ls.step();
+    if (i < conv.next) continue;
+    const Volume m = ls.mask();
+    std::vector<char> mask(m.voxelCount());
+    for (std::size_t n = 0; n < mask.size(); ++n) mask[n] = m.data[n] != std::byte{0};
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (conv.snapshot(i, seconds, std::move(mask))) break;
+  }
+  if (!conv.converged) {
+    conv.iterations = ls.iterations();
+    conv.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    const Volume m = ls.mask();
+    conv.result.resize(m.voxelCount());
+    for (std::size_t n = 0; n < m.voxelCount(); ++n) conv.result[n] = m.data[n] != std::byte{0};
+  }
+  return conv;
+}
+
+int runOne(const std::string& solver, const Case& c, const std::string& data, const std::string& out) {
+  const Volume v = readVolume(data + "/" + c.file);
+  Convergence conv;
+  const float lower = c.params.target - c.params.width, upper = c.params.target + c.params.width;
+  if (solver == "isoatlas-cpu" || solver == "isoatlas-gpu") {
+    conv = runOurs(v, c, solver == "isoatlas-cpu" ? levelset::Backend::Cpu : levelset::Backend::Gpu);
+  } else if (solver == "itk-serial") {
+    using Filter = itk::ThresholdSegmentationLevelSetImageFilter<Image, Image>;
+    auto f = Filter::New();
+    f->SetInput(seedDistance(v, c, 1));
+    f->SetFeatureImage(toItk(v));
+    f->SetLowerThreshold(lower);
+    f->SetUpperThreshold(upper);
+    f->SetPropagationScaling(c.params.alpha);
+    f->SetCurvatureScaling(1 - c.params.alpha);
+    f->SetEdgeWeight(0);
+    f->SetMaximumRMSError(0);
+    conv = runItk(f.GetPointer(), c.maxIterations, -1);
+  } else if (solver == "itk-parallel") {
+    using Function = itk::ThresholdSegmentationLevelSetFunction<Image, Image>;
+    using Filter = itk::ParallelSparseFieldLevelSetImageFilter<Image, Image>;
+    auto fn = Function::New();
+    // Initialize first: it resets the weights to (propagation -1, curvature 1, advection 0).
+    fn->Initialize(Function::RadiusType{{1, 1, 1}});
+    fn->SetFeatureImage(toItk(v));
+    fn->SetLowerThreshold(lower);
+    fn->SetUpperThreshold(upper);
+    fn->SetEdgeWeight(0);
+    fn->AllocateSpeedImage();  // as SegmentationLevelSetImageFilter::GenerateData does
+    fn->CalculateSpeedImage();
+    fn->SetPropagationWeight(c.params.alpha);
+    fn->SetCurvatureWeight(1 - c.params.alpha);
+    auto f = Filter::New();
+    f->SetInput(seedDistance(v, c, 1));  // negative inside, as the serial filter; the output too
+    f->SetDifferenceFunction(fn);
+    f->SetIsoSurfaceValue(0);
+    f->SetNumberOfLayers(3);
+    f->SetMaximumRMSError(-1);  // halt by iteration count only
+    conv = runItk(f.GetPointer(), c.maxIterations, -1);
+  } else {
+    std::fprintf(stderr, "bench_levelset: unknown solver %s\n", solver.c_str());
+    return 2;
+  }
+  Volume mask = v.sameGeometry(ScalarType::UInt8);
+  for (std::size_t n = 0; n < conv.result.size(); ++n) mask.data[n] = std::byte(conv.result[n] ? 1 : 0);
+  writeVolume(out, mask);
+  const nlohmann::json j{{"solver", solver}, {"case", c.name}, {"converged", conv.converged},
+                         {"iterations", conv.iterations}, {"seconds", conv.seconds},
+                         {"ms_per_iteration", conv.iterations ? 1000 * conv.seconds / conv.iterations : 0.0},
+                         {"peak_rss_mib", bench::peakRssMiB()}};
+  std::printf("%s\n", j.dump().c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc == 6 && std::string(argv[1]) == "--one") {
+    for (const Case& c : kCases)
+      if (c.name == argv[3]) return runOne(argv[2], c, argv[4], argv[5]);
+    std::fprintf(stderr, "bench_levelset: unknown case %s\n", argv[3]);
+    return 2;
+  }
+  const std::string data = argc > 1 ? argv[1] : "data";
+  const auto tmp = std::filesystem::temp_directory_path() / "isoatlas-bench-levelset";
+  std::filesystem::create_directories(tmp);
+  const std::string self = std::filesystem::canonical("/proc/self/exe").string();
+  std::vector<std::string> solvers = {"isoatlas-cpu", "itk-serial", "itk-parallel"};
+  if (std::getenv("ISOATLAS_BENCH_GPU")) solvers.insert(solvers.begin() + 1, "isoatlas-gpu");
+  for (const Case& c : kCases) {
+    std::map<std::string, nlohmann::json> figures;
+    std::map<std::string, Volume> masks;
+    for (const std::string& s : solvers) {
+      const std::string out = (tmp / (s + ".nii.gz")).string(), log = (tmp / (s + ".json")).string();
+      const std::string cmd = "'" + self + "' --one " + s + " '" + c.name + "' '" + data + "' '" + out + "' > '" + log + "'";
+      std::fprintf(stderr, "bench_levelset: %s on %s\n", s.c_str(), c.name.c_str());
+      if (std::system(cmd.c_str()) != 0) return 1;
+      std::ifstream in(log);
+      figures[s] = nlohmann::json::parse(in);
+      masks[s] = readVolume(out);
+      std::fprintf(stderr, "  %s\n", figures[s].dump().c_str());
+    }
+    auto maskOf = [&](const std::string& s) {
+      std::vector<char> m(masks[s].voxelCount());
+      for (std::size_t n = 0; n < m.size(); ++n) m[n] = masks[s].data[n] != std::byte{0};
+      return m;
+    };
+    for (const std::string& ours : solvers) {
+      if (ours.rfind("isoatlas", 0) != 0) continue;
+      for (const std::string& peer : {std::string("itk-serial"), std::string("itk-parallel")}) {
+        const std::string peerName = peer == "itk-serial" ? "ITK 5.2 ThresholdSegmentationLevelSet (serial)"
+                                                          : "ITK 5.2 ParallelSparseField (2 threads)";
+        const auto& a = figures[ours];
+        const auto& b = figures[peer];
+        const std::string tag = c.name + ", " + ours;
+        bench::report("levelset", tag, "seconds to convergence", a["seconds"], peerName, b["seconds"]);
+        bench::report("levelset", tag, "ms per iteration", a["ms_per_iteration"], peerName, b["ms_per_iteration"]);
+        bench::report("levelset", tag, "iterations to convergence", a["iterations"], peerName, b["iterations"]);
+        bench::report("levelset", tag, "peak RSS MiB", a["peak_rss_mib"], peerName, b["peak_rss_mib"]);
+        const double d = dice(maskOf(ours), maskOf(peer));
+        bench::report("levelset", tag, "Dice with the peer's result", d, peerName, 1.0, false);
+      }
+    }
+  }
+  return 0;
+}
