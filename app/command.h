@@ -5,6 +5,9 @@
 #include <nlohmann/json.hpp>
 
 #include <functional>
+
+#include "core/mesh.h"
+#include "extract/extract_surface.h"
 #include <string>
 
 namespace isoatlas::app {
@@ -27,9 +30,13 @@ void addPendingCommand(CLI::App& app, const std::string& name, const std::string
 
 void writeJsonFile(const std::string& path, const nlohmann::json& json);
 
+// vertices, triangles, components, closed, manifold, euler, genus, seconds, cells_visited, ...
+nlohmann::json meshFigures(const Mesh& mesh, const extract::ExtractStats& stats);
+
 void addInfoCommand(CLI::App& app, int& exitCode);
 void addRunCommand(CLI::App& app, int& exitCode);
 void addProbeCommand(CLI::App& app, int& exitCode);
 void addSegmentCommand(CLI::App& app, int& exitCode);
+void addExtractCommand(CLI::App& app, int& exitCode);
 
 }  // namespace isoatlas::app

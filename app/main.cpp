@@ -14,8 +14,7 @@ int main(int argc, char** argv) {
   addProbeCommand(app, exitCode);
   addSegmentCommand(app, exitCode);
   addPendingCommand(app, "edit", "boolean brush and mesh edits in a dynamic volume tree", "the DVT issue", exitCode);
-  addPendingCommand(app, "extract", "marching cubes over a level set, mask or scalar volume", "issue 4, extraction",
-                    exitCode);
+  addExtractCommand(app, exitCode);
   addPendingCommand(app, "build", "multiresolution model (triquad base mesh and atlas) of a triangle mesh",
                     "issue 5, multiresolution", exitCode);
   addPendingCommand(app, "eval", "PSNR and Hausdorff distance of a model per level", "the atlas issue", exitCode);

@@ -1,0 +1,64 @@
+// isoatlas extract: the closed, manifold isosurface of a level set (phi), a mask or a scalar volume.
+#include "app/command.h"
+#include "core/error.h"
+#include "core/gz_file.h"
+#include "core/mesh_io.h"
+#include "core/mesh_topology.h"
+#include "core/progress.h"
+#include "core/volume_io.h"
+#include "extract/extract_surface.h"
+
+namespace isoatlas::app {
+
+struct ExtractCommandOptions {
+  std::string input, output, backend = "cpu";
+  std::optional<double> iso;
+  bool largest = false;
+  std::int64_t minComponent = 0;
+  int smooth = 0;
+};
+
+// The figures every extraction reports (also used by isoatlas run).
+nlohmann::json meshFigures(const Mesh& mesh, const extract::ExtractStats& stats) {
+  const MeshTopology t = analyzeTopology(mesh);
+  return {{"vertices", mesh.vertexCount()}, {"triangles", mesh.faceCount()}, {"components", t.components},
+          {"closed", t.closed}, {"manifold", t.manifold}, {"euler", t.euler}, {"genus", t.genus},
+          {"seconds", stats.seconds}, {"cells_visited", stats.cellsVisited}, {"cells_total", stats.cellsTotal},
+          {"iso", stats.iso}, {"binary_input", stats.binaryInput}};
+}
+
+void addExtractCommand(CLI::App& app, int& exitCode) {
+  auto* sub = app.add_subcommand("extract", "closed, manifold marching cubes over a level set, mask or scalar volume");
+  auto o = std::make_shared<ExtractCommandOptions>();
+  sub->add_option("input", o->input, "a mask, a phi volume (isoatlas segment --phi) or any scalar volume")->required();
+  sub->add_option("--iso", o->iso, "isovalue (default: 0.5 for a mask, else the middle of the value range; 0 for phi)");
+  sub->add_flag("--largest", o->largest, "keep only the largest component");
+  sub->add_option("--min-component", o->minComponent, "drop components of fewer triangles than this");
+  sub->add_option("--smooth", o->smooth, "Taubin smoothing iterations")->capture_default_str();
+  sub->add_option("--backend", o->backend, "cpu (the GPU path is not built yet)")->capture_default_str();
+  sub->add_option("-o,--output", o->output, "output mesh (.ply, .off or .obj)")->required();
+  bindAction(*sub, [o](nlohmann::json& r) {
+    require(isMeshPath(o->output) && !endsWith(o->output, ".stl"), o->output + ": write the mesh as .ply, .off or .obj");
+    if (o->backend == "gpu")
+      throw Error("the GPU extraction path is not built yet (issue 4); use --backend cpu", ErrorKind::Failure);
+    require(o->backend == "cpu" || o->backend == "auto", "--backend " + o->backend + ": expected cpu or gpu");
+    require(o->smooth >= 0, "--smooth must be >= 0");
+    const Volume v = readVolume(o->input);
+    extract::ExtractOptions options{.largestComponent = o->largest, .minComponentTriangles = o->minComponent,
+                                    .smoothIterations = o->smooth};
+    if (o->iso) options.iso = float(*o->iso);
+    extract::ExtractStats stats;
+    const Mesh mesh = extract::extractSurface(v, options, &stats);
+    if (mesh.faceCount() == 0)
+      throw Error(o->input + ": no surface at iso " + std::to_string(stats.iso) + " (every voxel is on one side)",
+                  ErrorKind::Failure);
+    writeMesh(o->output, mesh);
+    r.update(meshFigures(mesh, stats));
+    r["backend"] = "cpu";
+    logInfo("extract: " + std::to_string(mesh.faceCount()) + " triangles, " + std::to_string(mesh.vertexCount()) +
+            " vertices at iso " + std::to_string(stats.iso) + " -> " + o->output);
+    return 0;
+  }, exitCode);
+}
+
+}  // namespace isoatlas::app

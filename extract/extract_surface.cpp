@@ -1,0 +1,147 @@
+#include "extract/extract_surface.h"
+
+#include <chrono>
+#include <cmath>
+#include <set>
+
+#include "core/error.h"
+#include "extract/marching_cubes.h"
+#include "extract/mesh_filters.h"
+#include "levelset/level_set.h"
+
+namespace isoatlas::extract {
+namespace {
+
+constexpr int kBlock = 8;
+
+// Separable Gaussian (sigma 1 voxel, radius 3) of a 0/1 field, in place.
+void gaussianBlur(std::vector<float>& f, const std::array<std::int64_t, 3>& dims) {
+  float w[7];
+  float sum = 0;
+  for (int i = -3; i <= 3; ++i) sum += w[i + 3] = std::exp(-0.5f * float(i * i));
+  for (float& x : w) x /= sum;
+  std::vector<float> tmp(f.size());
+  const std::int64_t stride[3] = {1, dims[0], dims[0] * dims[1]};
+  for (int axis = 0; axis < 3; ++axis) {
+    for (std::int64_t z = 0; z < dims[2]; ++z)
+      for (std::int64_t y = 0; y < dims[1]; ++y)
+        for (std::int64_t x = 0; x < dims[0]; ++x) {
+          const std::int64_t p[3] = {x, y, z};
+          const std::size_t n = std::size_t((z * dims[1] + y) * dims[0] + x);
+          float acc = 0;
+          for (int i = -3; i <= 3; ++i) {
+            const std::int64_t q = p[axis] + i;
+            if (q < 0 || q >= dims[axis]) continue;  // outside is 0: the mask is padded with outside
+            acc += w[i + 3] * f[std::size_t(std::int64_t(n) + i * stride[axis])];
+          }
+          tmp[n] = acc;
+        }
+    f.swap(tmp);
+  }
+}
+
+// Index coordinates to world; triangles reversed where the index-to-world map mirrors space, so the
+// normals still point outwards.
+void toWorld(Mesh& mesh, const Volume& v) {
+  for (Vec3& p : mesh.positions) p = v.indexToWorld(p);
+  const Mat3& d = v.direction;
+  const double det = d.m[0][0] * (d.m[1][1] * d.m[2][2] - d.m[1][2] * d.m[2][1]) -
+                     d.m[0][1] * (d.m[1][0] * d.m[2][2] - d.m[1][2] * d.m[2][0]) +
+                     d.m[0][2] * (d.m[1][0] * d.m[2][1] - d.m[1][1] * d.m[2][0]);
+  if (det < 0)
+    for (std::size_t f = 0; f < mesh.faceCount(); ++f)
+      std::swap(mesh.faceVertices[mesh.faceOffsets[f] + 1], mesh.faceVertices[mesh.faceOffsets[f] + 2]);
+}
+
+Mesh finish(MarchingResult result, const Volume& geometry, const ExtractOptions& o, ExtractStats& s,
+            std::chrono::steady_clock::time_point start) {
+  s.cellsVisited = result.cellsVisited;
+  s.cellsTotal = (geometry.dims[0] + 1) * (geometry.dims[1] + 1) * (geometry.dims[2] + 1);
+  Mesh mesh = std::move(result.mesh);
+  s.componentsRemoved = keepComponents(mesh, o.largestComponent, o.minComponentTriangles);
+  toWorld(mesh, geometry);
+  taubinSmooth(mesh, o.smoothIterations);
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return mesh;
+}
+
+}  // namespace
+
+bool isBinaryMask(const Volume& v) {
+  if (isFloating(v.type)) return false;
+  std::set<double> values;
+  for (std::size_t n = 0; n < v.voxelCount(); ++n) {
+    values.insert(v.value(n));
+    if (values.size() > 2) return false;
+  }
+  return true;
+}
+
+Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  ExtractStats local;
+  ExtractStats& s = stats ? *stats : local;
+  require(volume.voxelCount() > 0, "the volume is empty");
+  require(o.smoothIterations >= 0, "--smooth must be >= 0");
+  std::vector<float> field = volume.toFloat();
+  s.binaryInput = isBinaryMask(volume);
+  if (s.binaryInput) {
+    const ValueRange r = valueRange(volume);
+    for (float& x : field) x = x > float(r.min) || r.min == r.max ? (x > 0 ? 1.0f : 0.0f) : 0.0f;
+    gaussianBlur(field, volume.dims);
+    s.iso = o.iso.value_or(0.5f);
+  } else {
+    const ValueRange r = valueRange(volume);
+    s.iso = o.iso.value_or(float(0.5 * (r.min + r.max)));
+  }
+  require(std::isfinite(s.iso), "the isovalue must be finite");
+  const Grid grid{volume.dims, field.data()};
+  // Blocks with every corner on one side of iso hold no surface. The padding outside mirrors inside
+  // values, so a block on the border holds surface exactly when some corner is inside.
+  const auto d = volume.dims;
+  auto visit = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) {
+    bool above = false, below = false;
+    for (std::int64_t z = std::max<std::int64_t>(0, bz * kBlock - 1); z <= std::min(d[2] - 1, bz * kBlock - 1 + kBlock); ++z)
+      for (std::int64_t y = std::max<std::int64_t>(0, by * kBlock - 1); y <= std::min(d[1] - 1, by * kBlock - 1 + kBlock); ++y)
+        for (std::int64_t x = std::max<std::int64_t>(0, bx * kBlock - 1); x <= std::min(d[0] - 1, bx * kBlock - 1 + kBlock); ++x) {
+          const bool in = grid.at(x, y, z) > s.iso;
+          above |= in;
+          below |= !in;
+          if (above && below) return true;
+        }
+    const bool border = bx == 0 || by == 0 || bz == 0 || (bx + 1) * kBlock - 1 >= d[0] || (by + 1) * kBlock - 1 >= d[1] ||
+                        (bz + 1) * kBlock - 1 >= d[2];
+    return above && border;
+  };
+  return finish(marchingCubes(grid, s.iso, kBlock, visit), volume, o, s, start);
+}
+
+Mesh extractLevelSet(const levelset::LevelSet& ls, const ExtractOptions& o, ExtractStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  ExtractStats local;
+  ExtractStats& s = stats ? *stats : local;
+  s.iso = o.iso.value_or(0.0f);
+  const Volume phi = ls.phi();
+  const auto* values = reinterpret_cast<const float*>(phi.data.data());
+  // Visit only blocks of cells that touch an active page: everywhere else phi is flat.
+  const levelset::PageManager& pm = ls.pages();
+  const int P = pm.pageSize();
+  const auto d = phi.dims;
+  const std::int64_t blocks[3] = {(d[0] + kBlock) / kBlock, (d[1] + kBlock) / kBlock, (d[2] + kBlock) / kBlock};
+  std::vector<char> mark(std::size_t(blocks[0] * blocks[1] * blocks[2]), 0);
+  for (std::int64_t page : pm.activePages()) {
+    const auto [px, py, pz] = pm.pageCoords(page);
+    // Cells c - 1 and c touch voxel c, and cell c lies in block (c + 1) / kBlock: so the page's
+    // voxels [v0, v1] are touched by the blocks [v0 / kBlock, (v1 + 1) / kBlock] on each axis.
+    for (std::int64_t z = pz / kBlock; z <= std::min(blocks[2] - 1, (pz + 1) / kBlock); ++z)
+      for (std::int64_t y = (py * P) / kBlock; y <= std::min(blocks[1] - 1, (py * P + P) / kBlock); ++y)
+        for (std::int64_t x = (px * P) / kBlock; x <= std::min(blocks[0] - 1, (px * P + P) / kBlock); ++x)
+          mark[std::size_t((z * blocks[1] + y) * blocks[0] + x)] = 1;
+  }
+  auto visit = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) {
+    return mark[std::size_t((bz * blocks[1] + by) * blocks[0] + bx)] != 0;
+  };
+  return finish(marchingCubes(Grid{d, values}, s.iso, kBlock, visit), phi, o, s, start);
+}
+
+}  // namespace isoatlas::extract

@@ -1,0 +1,43 @@
+// extractSurface: the closed, manifold isosurface of a volume in world coordinates, from a level set
+// (phi, iso 0, inside > 0), a mask, or any scalar volume at any isovalue.
+//   A binary mask (an integer volume with at most two values) is first made a smooth field: the
+//   mask as 0/1 blurred by a Gaussian of sigma 1 voxel, taken at 0.5, so the surface follows the
+//   mask without stair steps and encloses about the mask's volume.
+//   Blocks of cells with no value above and none at or below iso are skipped (or, for a LevelSet,
+//   every block away from its active pages), so the cost follows the surface.
+// Options: keep the largest component or the components of at least N triangles; Taubin smoothing.
+#pragma once
+#include <cstdint>
+#include <optional>
+
+#include "core/mesh.h"
+#include "core/volume.h"
+
+namespace isoatlas::levelset {
+class LevelSet;
+}
+
+namespace isoatlas::extract {
+
+struct ExtractOptions {
+  std::optional<float> iso;        // default: 0.5 for a mask, 0 for a level set, the mid value otherwise
+  bool largestComponent = false;
+  std::int64_t minComponentTriangles = 0;
+  int smoothIterations = 0;        // Taubin (lambda 0.5, mu -0.53)
+};
+
+struct ExtractStats {
+  float iso = 0;
+  bool binaryInput = false;
+  std::int64_t cellsVisited = 0, cellsTotal = 0;
+  std::int64_t componentsRemoved = 0;
+  double seconds = 0;
+};
+
+Mesh extractSurface(const Volume& volume, const ExtractOptions& options, ExtractStats* stats = nullptr);
+Mesh extractLevelSet(const levelset::LevelSet& levelSet, const ExtractOptions& options, ExtractStats* stats = nullptr);
+
+// Whether a volume is a mask: integer voxels with at most two distinct values.
+bool isBinaryMask(const Volume& volume);
+
+}  // namespace isoatlas::extract

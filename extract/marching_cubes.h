@@ -1,0 +1,41 @@
+// marchingCubes: the isosurface {f = iso} of a scalar field on a grid, as a closed, 2-manifold,
+// consistently oriented triangle mesh.
+//   Each cell's surface is traced from its faces: on every face the crossing points are paired into
+//   segments by a rule that depends on that face alone (on an ambiguous face the two inside corners
+//   are kept apart), so the two cells sharing a face always agree; the segments chain into polygons,
+//   which are fanned into triangles. Every vertex lies on a grid edge and is shared by the cells
+//   around that edge. Hence: every mesh edge has exactly two triangles, every vertex one fan.
+//   Inside is f > iso; a corner equal to iso counts as outside, and crossing points are kept a small
+//   distance off the corners, so no triangle is degenerate. Outside the grid counts as outside (the
+//   field is padded), so a surface touching the border is closed there.
+//   Triangles are oriented counter-clockwise seen from outside (normals point out of {f > iso}).
+// Positions are in voxel index coordinates (the caller maps them to the world).
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "core/mesh.h"
+
+namespace isoatlas::extract {
+
+struct Grid {
+  std::array<std::int64_t, 3> dims;
+  const float* values;  // x fastest
+  float at(std::int64_t x, std::int64_t y, std::int64_t z) const {
+    return values[std::size_t((z * dims[1] + y) * dims[0] + x)];
+  }
+};
+
+struct MarchingResult {
+  Mesh mesh;
+  std::int64_t cellsVisited = 0;
+};
+
+// Cells are the cubes between grid points, from (-1,-1,-1) to dims-1 (the padding included).
+// `visitBlock`, when given, says which blocks of blockSize^3 cells can hold surface (e.g. those
+// touching an active page of a level set); others are skipped. Blocks are indexed from cell -1.
+MarchingResult marchingCubes(const Grid& grid, float iso, int blockSize = 8,
+                             const std::function<bool(std::int64_t bx, std::int64_t by, std::int64_t bz)>& visitBlock = {});
+
+}  // namespace isoatlas::extract

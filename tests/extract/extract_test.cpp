@@ -1,0 +1,184 @@
+// Extraction against truth: spheres and tori of known area, volume and genus; random fields whose
+// every output must be closed, manifold and oriented by analyzeTopology (which shares no code with
+// the extractor); masks touching the border; world coordinates through a mirrored frame.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/mesh_topology.h"
+#include "extract/extract_surface.h"
+#include "extract/marching_cubes.h"
+#include "levelset/level_set.h"
+
+namespace isoatlas::extract {
+namespace {
+
+double area(const Mesh& m) {
+  double a = 0;
+  for (std::size_t f = 0; f < m.faceCount(); ++f) {
+    const auto t = m.face(f);
+    a += norm(cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]])) / 2;
+  }
+  return a;
+}
+double enclosedVolume(const Mesh& m) {  // positive when the normals point out
+  double v = 0;
+  for (std::size_t f = 0; f < m.faceCount(); ++f) {
+    const auto t = m.face(f);
+    v += dot(m.positions[t[0]], cross(m.positions[t[1]], m.positions[t[2]])) / 6;
+  }
+  return v;
+}
+std::size_t degenerate(const Mesh& m) {
+  std::size_t n = 0;
+  for (std::size_t f = 0; f < m.faceCount(); ++f) {
+    const auto t = m.face(f);
+    n += norm(cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]])) < 1e-12;
+  }
+  return n;
+}
+
+template <class F>
+Volume field(std::array<std::int64_t, 3> dims, F f) {
+  Volume v = Volume::zeros(dims, ScalarType::Float32);
+  for (std::int64_t z = 0; z < dims[2]; ++z)
+    for (std::int64_t y = 0; y < dims[1]; ++y)
+      for (std::int64_t x = 0; x < dims[0]; ++x) v.setValue(v.index(x, y, z), f(double(x), double(y), double(z)));
+  return v;
+}
+
+void expectClosedManifold(const Mesh& m, long long genus) {
+  const MeshTopology t = analyzeTopology(m);
+  EXPECT_TRUE(t.closed) << t.firstProblem;
+  EXPECT_TRUE(t.manifold) << t.firstProblem;
+  EXPECT_TRUE(t.oriented);
+  EXPECT_EQ(t.genus, genus);
+  EXPECT_EQ(degenerate(m), 0u);
+}
+
+TEST(MarchingCubes, SphereAreaVolumeAndGenus) {
+  const double R = 14;
+  const Volume v = field({40, 40, 40}, [&](double x, double y, double z) {
+    return R - std::sqrt((x - 19.5) * (x - 19.5) + (y - 20.2) * (y - 20.2) + (z - 19.7) * (z - 19.7));
+  });
+  ExtractStats stats;
+  const Mesh m = extractSurface(v, {.iso = 0.0f}, &stats);
+  expectClosedManifold(m, 0);
+  EXPECT_NEAR(area(m), 4 * M_PI * R * R, 0.01 * 4 * M_PI * R * R);
+  EXPECT_NEAR(enclosedVolume(m), 4.0 / 3 * M_PI * R * R * R, 0.01 * 4.0 / 3 * M_PI * R * R * R);
+  EXPECT_LT(stats.cellsVisited, stats.cellsTotal) << "blocks away from the surface are skipped";
+}
+
+TEST(MarchingCubes, TorusAreaVolumeAndGenus) {
+  const double R = 12, r = 5;
+  const Volume v = field({44, 44, 20}, [&](double x, double y, double z) {
+    const double q = std::hypot(x - 21.6, y - 21.3) - R;
+    return r - std::sqrt(q * q + (z - 9.6) * (z - 9.6));
+  });
+  const Mesh m = extractSurface(v, {.iso = 0.0f});
+  expectClosedManifold(m, 1);
+  EXPECT_NEAR(area(m), 4 * M_PI * M_PI * R * r, 0.01 * 4 * M_PI * M_PI * R * r);
+  EXPECT_NEAR(enclosedVolume(m), 2 * M_PI * M_PI * R * r * r, 0.01 * 2 * M_PI * M_PI * R * r * r);
+}
+
+TEST(MarchingCubes, RandomFieldsAreClosedManifoldAndOriented) {
+  // Integer values with an integer isovalue: many corners equal iso exactly.
+  std::mt19937 rng(3);
+  for (int trial = 0; trial < 30; ++trial) {
+    std::uniform_int_distribution<int> value(-3, 3);
+    const Volume v = field({9 + trial % 4, 8, 7 + trial % 3}, [&](double, double, double) { return value(rng); });
+    for (float iso : {0.0f, 0.5f, 2.0f}) {
+      const Mesh m = extractSurface(v, {.iso = iso});
+      if (m.faceCount() == 0) continue;
+      const MeshTopology t = analyzeTopology(m);
+      ASSERT_TRUE(t.closed && t.manifold && t.oriented) << "trial " << trial << " iso " << iso << ": " << t.firstProblem;
+      ASSERT_EQ(degenerate(m), 0u);
+      ASSERT_GT(enclosedVolume(m), 0) << "normals point out";
+    }
+  }
+}
+
+TEST(MarchingCubes, EveryCasePatternClosesAcrossNeighbours) {
+  // A 3x3x3 grid of +-1 values from all 2^27 patterns is too many; 20000 random ones cover every
+  // cell case many times over, with neighbouring cells in every combination.
+  std::mt19937 rng(11);
+  std::bernoulli_distribution in(0.5);
+  for (int trial = 0; trial < 20000; ++trial) {
+    std::vector<float> values(27);
+    for (float& x : values) x = in(rng) ? 1.0f : -1.0f;
+    const MarchingResult r = marchingCubes({{3, 3, 3}, values.data()}, 0.0f);
+    if (r.mesh.faceCount() == 0) continue;
+    const MeshTopology t = analyzeTopology(r.mesh);
+    ASSERT_TRUE(t.closed && t.manifold && t.oriented) << "trial " << trial << ": " << t.firstProblem;
+  }
+}
+
+TEST(ExtractSurface, MaskTouchingTheBorderIsClosedAndSmooth) {
+  Volume mask = Volume::zeros({20, 16, 12}, ScalarType::UInt8);
+  for (std::int64_t z = 0; z < 12; ++z)
+    for (std::int64_t y = 0; y < 10; ++y)
+      for (std::int64_t x = 0; x < 20; ++x) mask.setValue(mask.index(x, y, z), 1);  // touches five faces
+  ExtractStats stats;
+  const Mesh m = extractSurface(mask, {}, &stats);
+  EXPECT_TRUE(stats.binaryInput);
+  EXPECT_FLOAT_EQ(stats.iso, 0.5f);
+  expectClosedManifold(m, 0);
+  // The blurred mask at 0.5 encloses about the mask's own volume (20 x 10 x 12 voxels).
+  EXPECT_NEAR(enclosedVolume(m), 20.0 * 10 * 12, 0.1 * 20 * 10 * 12);
+}
+
+TEST(ExtractSurface, WorldCoordinatesThroughAMirroredFrame) {
+  Volume v = field({24, 24, 24}, [](double x, double y, double z) {
+    return 8 - std::sqrt((x - 12) * (x - 12) + (y - 12) * (y - 12) + (z - 12) * (z - 12));
+  });
+  v.spacing = {0.5, 2.0, 1.0};
+  v.origin = {100, -50, 7};
+  v.direction.m = {{{-1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};  // x mirrored: det < 0
+  const Mesh m = extractSurface(v, {.iso = 0.0f});
+  expectClosedManifold(m, 0);
+  EXPECT_GT(enclosedVolume(m), 0) << "still outward after the mirror";
+  const Box b = boundingBox(m.positions);
+  EXPECT_NEAR(b.max.x, 100 - 4 * 0.5, 0.1);   // voxels 4..20 along i map to x = 98 .. 90
+  EXPECT_NEAR(b.min.x, 100 - 20 * 0.5, 0.1);
+  EXPECT_NEAR(b.min.y, -50 + 4 * 2.0, 0.6);
+  EXPECT_NEAR(b.max.z, 7 + 20, 0.3);
+  EXPECT_NEAR(enclosedVolume(m), 4.0 / 3 * M_PI * 512 * 0.5 * 2.0, 0.02 * 4.0 / 3 * M_PI * 512);
+}
+
+TEST(ExtractSurface, ComponentsAndSmoothing) {
+  const Volume v = field({40, 20, 20}, [](double x, double y, double z) {
+    const double a = 6 - std::sqrt((x - 10) * (x - 10) + (y - 10) * (y - 10) + (z - 10) * (z - 10));
+    const double b = 3 - std::sqrt((x - 30) * (x - 30) + (y - 10) * (y - 10) + (z - 10) * (z - 10));
+    return std::max(a, b);
+  });
+  ExtractStats stats;
+  const Mesh both = extractSurface(v, {.iso = 0.0f});
+  EXPECT_EQ(analyzeTopology(both).components, 2u);
+  const Mesh largest = extractSurface(v, {.iso = 0.0f, .largestComponent = true}, &stats);
+  EXPECT_EQ(analyzeTopology(largest).components, 1u);
+  EXPECT_EQ(stats.componentsRemoved, 1);
+  EXPECT_NEAR(enclosedVolume(largest), 4.0 / 3 * M_PI * 216, 0.03 * 4.0 / 3 * M_PI * 216);
+  const Mesh smooth = extractSurface(v, {.iso = 0.0f, .largestComponent = true, .smoothIterations = 10});
+  expectClosedManifold(smooth, 0);
+  EXPECT_NEAR(enclosedVolume(smooth), enclosedVolume(largest), 0.03 * enclosedVolume(largest)) << "Taubin keeps volume";
+}
+
+TEST(ExtractLevelSet, ActivePagesGiveTheSameSurfaceForLessWork) {
+  Volume image = field({128, 128, 40}, [](double x, double y, double z) {
+    return std::sqrt((x - 40) * (x - 40) + (y - 40) * (y - 40) + (z - 20) * (z - 20)) < 10 ? 100.0 : 20.0;
+  });
+  levelset::LevelSet ls(image, {100, 40, 0.8f});
+  ls.addSphere({40, 40, 20}, 3);
+  ls.run({.maxIterations = 400});
+  ExtractStats paged, dense;
+  const Mesh a = extractLevelSet(ls, {}, &paged);
+  const Mesh b = extractSurface(ls.phi(), {.iso = 0.0f}, &dense);
+  expectClosedManifold(a, 0);
+  EXPECT_EQ(a.faceCount(), b.faceCount());
+  EXPECT_EQ(a.positions, b.positions);
+  EXPECT_LT(paged.cellsVisited, paged.cellsTotal / 10) << "the cost follows the surface";
+}
+
+}  // namespace
+}  // namespace isoatlas::extract
