@@ -13,6 +13,7 @@
 #include "extract/extract_surface.h"
 #include "core/progress.h"
 #include "core/volume_io.h"
+#include "viewer/mesh_render.h"
 #include "viewer/slice_render.h"
 
 namespace isoatlas::app {
@@ -134,6 +135,12 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                         std::to_string(surface.faceCount()) + " triangles, genus " +
                             std::to_string(r["extract"]["genus"].get<long long>()) + ", " +
                             (r["extract"]["closed"].get<bool>() ? "closed" : "NOT closed") + ": surface.ply"});
+      // Seen from the left (RAS -x) and from above, as a reader of an atlas would look.
+      writePng((dir / "surface_left.png").string(), viewer::renderMesh(surface, {.viewDirection = {1, 0, 0}}));
+      writePng((dir / "surface_top.png").string(),
+               viewer::renderMesh(surface, {.viewDirection = {0, 0, -1}, .up = {0, 1, 0}}));
+      pictures.push_back({"surface_left.png", "the extracted surface seen from the left"});
+      pictures.push_back({"surface_top.png", "the extracted surface seen from above (anterior up)"});
       viewer::SliceOptions overlay;
       overlay.mask = &mask;
       // Through the first seed, so the slices cut the structure.
