@@ -55,6 +55,13 @@ double dice(const std::vector<char>& a, const std::vector<char>& b) {
 }
 
 // Tracks snapshots at 64, 128, 256, ... iterations; done once two in a row agree to Dice 0.999.
+// Each solver gets at most this much wall time (ISOATLAS_BENCH_CAP_SECONDS, default 600): one that
+// has not converged by then is reported as such, so a ratio against it is a lower bound.
+double capSeconds() {
+  const char* cap = std::getenv("ISOATLAS_BENCH_CAP_SECONDS");
+  return cap ? std::atof(cap) : 600.0;
+}
+
 struct Convergence {
   int next = 64;
   std::vector<char> previous;
@@ -136,8 +143,12 @@ Convergence runItk(Filter* filter, int maxIterations, float insideSign) {
   observer->SetCallback([](itk::Object*, const itk::EventObject&, void* data) {
     auto* c = static_cast<Context*>(data);
     const int it = int(c->filter->GetElapsedIterations());
-    if (it < c->conv->next) return;
     const double seconds = std::chrono::duration<double>(Clock::now() - c->start).count();
+    if (seconds > capSeconds()) {
+      c->filter->SetNumberOfIterations(unsigned(it));  // out of time: stop unconverged
+      return;
+    }
+    if (it < c->conv->next) return;
     // Halt() stops once the elapsed iterations reach the set number.
     if (c->conv->snapshot(it, seconds, itkMask(c->filter->GetOutput(), c->sign))) c->filter->SetNumberOfIterations(unsigned(it));
   });
@@ -159,6 +170,7 @@ Convergence runOurs(const Volume& v, const Case& c, levelset::Backend backend) {
   const auto start = Clock::now();
   for (int i = 1; i <= c.maxIterations; ++i) {
     ls.step();
+    if (std::chrono::duration<double>(Clock::now() - start).count() > capSeconds()) break;
     if (i < conv.next) continue;
     const Volume m = ls.mask();
     std::vector<char> mask(m.voxelCount());
@@ -271,7 +283,9 @@ int main(int argc, char** argv) {
         const auto& a = figures[ours];
         const auto& b = figures[peer];
         const std::string tag = c.name + ", " + ours;
-        bench::report("levelset", tag, "seconds to convergence", a["seconds"], peerName, b["seconds"]);
+        const std::string unconverged = std::string(a["converged"] ? "" : " (isoatlas: capped, not converged)") +
+                                        (b["converged"] ? "" : " (peer: capped, not converged; ratio a lower bound)");
+        bench::report("levelset", tag, "seconds to convergence" + unconverged, a["seconds"], peerName, b["seconds"]);
         bench::report("levelset", tag, "ms per iteration", a["ms_per_iteration"], peerName, b["ms_per_iteration"]);
         bench::report("levelset", tag, "iterations to convergence", a["iterations"], peerName, b["iterations"]);
         bench::report("levelset", tag, "peak RSS MiB", a["peak_rss_mib"], peerName, b["peak_rss_mib"]);

@@ -117,10 +117,11 @@ struct Corner {
   Vec3 position;
 };
 
-struct Local {
+// What one block of cells produces; blocks are merged in block order, so the mesh does not depend
+// on how threads split the work.
+struct BlockOutput {
   std::vector<std::int64_t> triangleKeys;
   std::vector<Corner> corners;
-  std::unordered_map<std::int64_t, std::uint32_t> seen;
   std::int64_t cells = 0;
 };
 
@@ -148,13 +149,16 @@ MarchingResult marchingCubes(const Grid& grid, float iso, int blockSize,
   const std::int64_t blocks[3] = {(cells[0] + blockSize - 1) / blockSize, (cells[1] + blockSize - 1) / blockSize,
                                   (cells[2] + blockSize - 1) / blockSize};
 
-  tbb::enumerable_thread_specific<Local> locals;
+  std::vector<BlockOutput> outputs(std::size_t(blocks[0] * blocks[1] * blocks[2]));
+  tbb::enumerable_thread_specific<std::unordered_map<std::int64_t, std::uint32_t>> seenPerThread;
   tbb::parallel_for(tbb::blocked_range3d<std::int64_t>(0, blocks[2], 0, blocks[1], 0, blocks[0]), [&](const auto& r) {
-    Local& local = locals.local();
+    auto& seen = seenPerThread.local();
     for (std::int64_t bz = r.pages().begin(); bz != r.pages().end(); ++bz)
       for (std::int64_t by = r.rows().begin(); by != r.rows().end(); ++by)
         for (std::int64_t bx = r.cols().begin(); bx != r.cols().end(); ++bx) {
           if (visitBlock && !visitBlock(bx, by, bz)) continue;
+          BlockOutput& local = outputs[std::size_t((bz * blocks[1] + by) * blocks[0] + bx)];
+          seen.clear();
           const std::int64_t x0 = bx * blockSize - 1, y0 = by * blockSize - 1, z0 = bz * blockSize - 1;
           const std::int64_t x1 = std::min(x0 + blockSize, dims[0]), y1 = std::min(y0 + blockSize, dims[1]),
                              z1 = std::min(z0 + blockSize, dims[2]);
@@ -176,7 +180,7 @@ MarchingResult marchingCubes(const Grid& grid, float iso, int blockSize,
                     const int a = kEdgeCorner[e][0], b = kEdgeCorner[e][1];
                     const std::int64_t ax = x + (a & 1), ay = y + ((a >> 1) & 1), az = z + ((a >> 2) & 1);
                     const std::int64_t key = keyOf(ax, ay, az, kEdgeAxis[e]);
-                    auto [it, fresh] = local.seen.try_emplace(key, std::uint32_t(local.corners.size()));
+                    auto [it, fresh] = seen.try_emplace(key, std::uint32_t(local.corners.size()));
                     if (fresh) {
                       const float t = std::clamp((iso - v[a]) / (v[b] - v[a]), kOffCorner, 1 - kOffCorner);
                       Vec3 p{double(ax), double(ay), double(az)};
@@ -214,7 +218,7 @@ MarchingResult marchingCubes(const Grid& grid, float iso, int blockSize,
   MarchingResult result;
   std::vector<Corner> all;
   std::size_t triangleCorners = 0;
-  for (const Local& l : locals) {
+  for (const BlockOutput& l : outputs) {
     all.insert(all.end(), l.corners.begin(), l.corners.end());
     triangleCorners += l.triangleKeys.size();
     result.cellsVisited += l.cells;
@@ -226,7 +230,7 @@ MarchingResult marchingCubes(const Grid& grid, float iso, int blockSize,
   for (const Corner& c : all) mesh.positions.push_back(c.position);
   mesh.faceVertices.reserve(triangleCorners);
   mesh.faceOffsets.reserve(triangleCorners / 3 + 1);
-  for (const Local& l : locals)
+  for (const BlockOutput& l : outputs)
     for (std::size_t i = 0; i < l.triangleKeys.size(); i += 3) {
       std::uint32_t tri[3];
       for (int k = 0; k < 3; ++k) {

@@ -1,0 +1,65 @@
+// bench/extract: isoatlas's marching cubes beside OpenVDB's volumeToMesh on the same field: the
+// white-matter level set of data/volumes/ch2better.nii.gz (301 x 370 x 316, 0.5 mm), segmented once
+// by isoatlas's CPU solver and kept in data/derived/. Seconds (median of 3) and triangles (an OpenVDB
+// quad counts as two). OpenVDB gets a sparse FloatGrid of the same field, built outside the timing.
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Dense.h>
+#include <openvdb/tools/VolumeToMesh.h>
+
+#include <filesystem>
+
+#include "bench/bench_util.h"
+#include "core/volume_io.h"
+#include "extract/extract_surface.h"
+#include "levelset/level_set.h"
+
+using namespace isoatlas;
+
+int main(int argc, char** argv) {
+  const std::string data = argc > 1 ? argv[1] : "data";
+  const std::string phiPath = data + "/derived/ch2better_white_matter_phi.nii.gz";
+  if (!std::filesystem::exists(phiPath)) {
+    std::fprintf(stderr, "extract: segmenting ch2better's white matter once (kept in %s)\n", phiPath.c_str());
+    const Volume v = readVolume(data + "/volumes/ch2better.nii.gz");
+    levelset::LevelSet ls(v, {112, 14, 0.8f});
+    ls.addSphere({98, 194, 199}, 8);   // the demo's seeds, mapped through world coordinates
+    ls.addSphere({202, 194, 199}, 8);
+    ls.run({.maxIterations = 4000});
+    std::filesystem::create_directories(data + "/derived");
+    writeVolume(phiPath, ls.phi());
+  }
+  const Volume phi = readVolume(phiPath);
+
+  std::size_t ours = 0;
+  const double oursSeconds = bench::medianSeconds(3, [&] {
+    ours = extract::extractSurface(phi, {.iso = 0.0f}).faceCount();
+  });
+
+  openvdb::initialize();
+  const auto& d = phi.dims;
+  const openvdb::CoordBBox box(openvdb::Coord(0, 0, 0), openvdb::Coord(int(d[0] - 1), int(d[1] - 1), int(d[2] - 1)));
+  // LayoutXYZ means z fastest; ours is x fastest, so the grid is built from a transposed copy.
+  std::vector<float> zFastest(phi.voxelCount());
+  const float* p = reinterpret_cast<const float*>(phi.data.data());
+  for (std::int64_t z = 0; z < d[2]; ++z)
+    for (std::int64_t y = 0; y < d[1]; ++y)
+      for (std::int64_t x = 0; x < d[0]; ++x)
+        zFastest[std::size_t((x * d[1] + y) * d[2] + z)] = p[std::size_t((z * d[1] + y) * d[0] + x)];
+  openvdb::tools::Dense<const float, openvdb::tools::LayoutXYZ> denseXyz(box, zFastest.data());
+  auto grid = openvdb::FloatGrid::create(-levelset::kClamp);
+  openvdb::tools::copyFromDense(denseXyz, grid->tree(), 0.0f);
+  std::size_t theirs = 0;
+  const double theirSeconds = bench::medianSeconds(3, [&] {
+    std::vector<openvdb::Vec3s> points;
+    std::vector<openvdb::Vec3I> triangles;
+    std::vector<openvdb::Vec4I> quads;
+    openvdb::tools::volumeToMesh(*grid, points, triangles, quads, 0.0);
+    theirs = triangles.size() + 2 * quads.size();
+  });
+  const std::string name = "ch2better white matter (" + std::to_string(d[0]) + "x" + std::to_string(d[1]) + "x" +
+                            std::to_string(d[2]) + ")";
+  bench::report("extract", name + ", isoatlas cpu", "seconds", oursSeconds, "OpenVDB 10 volumeToMesh", theirSeconds);
+  bench::report("extract", name + ", isoatlas cpu", "triangles", double(ours), "OpenVDB 10 volumeToMesh",
+                double(theirs), false);
+  return 0;
+}
