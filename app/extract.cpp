@@ -1,5 +1,6 @@
 // isoatlas extract: the closed, manifold isosurface of a level set (phi), a mask or a scalar volume.
 #include "app/command.h"
+#include "app/options.h"
 #include "core/error.h"
 #include "core/gz_file.h"
 #include "core/mesh_io.h"
@@ -11,7 +12,7 @@
 namespace isoatlas::app {
 
 struct ExtractCommandOptions {
-  std::string input, output, backend = "cpu";
+  std::string input, output, backend = "auto";
   std::optional<double> iso;
   bool largest = false;
   std::int64_t minComponent = 0;
@@ -35,17 +36,16 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
   sub->add_flag("--largest", o->largest, "keep only the largest component");
   sub->add_option("--min-component", o->minComponent, "drop components of fewer triangles than this");
   sub->add_option("--smooth", o->smooth, "Taubin smoothing iterations")->capture_default_str();
-  sub->add_option("--backend", o->backend, "cpu (the GPU path is not built yet)")->capture_default_str();
+  sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
   sub->add_option("-o,--output", o->output, "output mesh (.ply, .off or .obj)")->required();
   bindAction(*sub, [o](nlohmann::json& r) {
     require(isMeshPath(o->output) && !endsWith(o->output, ".stl"), o->output + ": write the mesh as .ply, .off or .obj");
-    if (o->backend == "gpu")
-      throw Error("the GPU extraction path is not built yet (issue 4); use --backend cpu", ErrorKind::Failure);
-    require(o->backend == "cpu" || o->backend == "auto", "--backend " + o->backend + ": expected cpu or gpu");
     require(o->smooth >= 0, "--smooth must be >= 0");
     const Volume v = readVolume(o->input);
+    std::string renderer;
+    const bool gpu = chooseBackend(o->backend, renderer) == levelset::Backend::Gpu;
     extract::ExtractOptions options{.largestComponent = o->largest, .minComponentTriangles = o->minComponent,
-                                    .smoothIterations = o->smooth};
+                                    .smoothIterations = o->smooth, .gpu = gpu};
     if (o->iso) options.iso = float(*o->iso);
     extract::ExtractStats stats;
     const Mesh mesh = extract::extractSurface(v, options, &stats);
@@ -54,7 +54,8 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
                   ErrorKind::Failure);
     writeMesh(o->output, mesh);
     r.update(meshFigures(mesh, stats));
-    r["backend"] = "cpu";
+    r["backend"] = gpu ? "gpu" : "cpu";
+    r["renderer"] = renderer;
     logInfo("extract: " + std::to_string(mesh.faceCount()) + " triangles, " + std::to_string(mesh.vertexCount()) +
             " vertices at iso " + std::to_string(stats.iso) + " -> " + o->output);
     return 0;

@@ -128,7 +128,8 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                             (stats.converged ? "converged" : "not converged") + "): mask.nii.gz, phi.nii.gz"});
       // Extract: marching cubes over the level set's active pages.
       extract::ExtractStats extractStats;
-      const Mesh surface = extract::extractLevelSet(ls, {.largestComponent = true}, &extractStats);
+      const Mesh surface = extract::extractLevelSet(
+          ls, {.largestComponent = true, .gpu = backend == levelset::Backend::Gpu}, &extractStats);
       writeMesh((dir / "surface.ply").string(), surface);
       r["extract"] = meshFigures(surface, extractStats);
       stages.push_back({"extract", "done",

@@ -1,9 +1,10 @@
 // bench/extract: isoatlas's marching cubes beside OpenVDB's volumeToMesh on the same field: the
 // white-matter level set of data/volumes/ch2better.nii.gz (301 x 370 x 316, 0.5 mm), segmented once
 // by isoatlas's CPU solver and kept in data/derived/. Seconds (median of 3) and triangles (an OpenVDB
-// quad counts as two). OpenVDB gets a sparse FloatGrid of the same field, built outside the timing.
+// quad counts as two). OpenVDB gets the same field as its own narrow-band level set, built outside
+// the timing.
 #include <openvdb/openvdb.h>
-#include <openvdb/tools/Dense.h>
+#include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <filesystem>
@@ -36,18 +37,22 @@ int main(int argc, char** argv) {
   });
 
   openvdb::initialize();
+  // OpenVDB's own level-set form: negative inside, the narrow band active, the rest inactive tiles
+  // of +-background after a signed flood fill. (A dense copy keeps the whole inside active, and
+  // volumeToMesh then meshes ten times too many quads.)
   const auto& d = phi.dims;
-  const openvdb::CoordBBox box(openvdb::Coord(0, 0, 0), openvdb::Coord(int(d[0] - 1), int(d[1] - 1), int(d[2] - 1)));
-  // LayoutXYZ means z fastest; ours is x fastest, so the grid is built from a transposed copy.
-  std::vector<float> zFastest(phi.voxelCount());
   const float* p = reinterpret_cast<const float*>(phi.data.data());
-  for (std::int64_t z = 0; z < d[2]; ++z)
-    for (std::int64_t y = 0; y < d[1]; ++y)
-      for (std::int64_t x = 0; x < d[0]; ++x)
-        zFastest[std::size_t((x * d[1] + y) * d[2] + z)] = p[std::size_t((z * d[1] + y) * d[0] + x)];
-  openvdb::tools::Dense<const float, openvdb::tools::LayoutXYZ> denseXyz(box, zFastest.data());
-  auto grid = openvdb::FloatGrid::create(-levelset::kClamp);
-  openvdb::tools::copyFromDense(denseXyz, grid->tree(), 0.0f);
+  auto grid = openvdb::FloatGrid::create(levelset::kClamp);
+  {
+    auto accessor = grid->getAccessor();
+    for (std::int64_t z = 0; z < d[2]; ++z)
+      for (std::int64_t y = 0; y < d[1]; ++y)
+        for (std::int64_t x = 0; x < d[0]; ++x) {
+          const float v = p[std::size_t((z * d[1] + y) * d[0] + x)];
+          if (std::fabs(v) < levelset::kClamp) accessor.setValue(openvdb::Coord(int(x), int(y), int(z)), -v);
+        }
+  }
+  openvdb::tools::signedFloodFill(grid->tree());
   std::size_t theirs = 0;
   const double theirSeconds = bench::medianSeconds(3, [&] {
     std::vector<openvdb::Vec3s> points;

@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "extract/gpu_marching_cubes.h"
 #include "extract/marching_cubes.h"
 #include "extract/mesh_filters.h"
 #include "levelset/level_set.h"
@@ -84,7 +85,7 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
   require(volume.voxelCount() > 0, "the volume is empty");
   require(o.smoothIterations >= 0, "--smooth must be >= 0");
   std::vector<float> field = volume.toFloat();
-  s.binaryInput = isBinaryMask(volume);
+  s.binaryInput = !o.iso && isBinaryMask(volume);  // an explicit isovalue means a scalar field
   if (s.binaryInput) {
     const ValueRange r = valueRange(volume);
     for (float& x : field) x = x > float(r.min) || r.min == r.max ? (x > 0 ? 1.0f : 0.0f) : 0.0f;
@@ -113,7 +114,8 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
                         (bz + 1) * kBlock - 1 >= d[2];
     return above && border;
   };
-  return finish(marchingCubes(grid, s.iso, kBlock, visit), volume, o, s, start);
+  return finish(o.gpu ? marchingCubesGpu(grid, s.iso, kBlock, visit) : marchingCubes(grid, s.iso, kBlock, visit), volume,
+                o, s, start);
 }
 
 Mesh extractLevelSet(const levelset::LevelSet& ls, const ExtractOptions& o, ExtractStats* stats) {
@@ -141,7 +143,9 @@ Mesh extractLevelSet(const levelset::LevelSet& ls, const ExtractOptions& o, Extr
   auto visit = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) {
     return mark[std::size_t((bz * blocks[1] + by) * blocks[0] + bx)] != 0;
   };
-  return finish(marchingCubes(Grid{d, values}, s.iso, kBlock, visit), phi, o, s, start);
+  const Grid grid{d, values};
+  return finish(o.gpu ? marchingCubesGpu(grid, s.iso, kBlock, visit) : marchingCubes(grid, s.iso, kBlock, visit), phi, o,
+                s, start);
 }
 
 }  // namespace isoatlas::extract

@@ -1,6 +1,6 @@
 // extractSurface: the closed, manifold isosurface of a volume in world coordinates, from a level set
 // (phi, iso 0, inside > 0), a mask, or any scalar volume at any isovalue.
-//   A binary mask (an integer volume with at most two values) is first made a smooth field: the
+//   A binary mask (an integer volume with at most two values, and no iso given) is first made a smooth field: the
 //   mask as 0/1 blurred by a Gaussian of sigma 1 voxel, taken at 0.5, so the surface follows the
 //   mask without stair steps and encloses about the mask's volume.
 //   Blocks of cells with no value above and none at or below iso are skipped (or, for a LevelSet,
@@ -24,6 +24,7 @@ struct ExtractOptions {
   bool largestComponent = false;
   std::int64_t minComponentTriangles = 0;
   int smoothIterations = 0;        // Taubin (lambda 0.5, mu -0.53)
+  bool gpu = false;                // marching cubes in compute shaders (gpu_marching_cubes.h)
 };
 
 struct ExtractStats {

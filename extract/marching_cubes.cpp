@@ -1,5 +1,7 @@
 #include "extract/marching_cubes.h"
 
+#include "extract/gpu_marching_cubes.h"
+
 #include <tbb/blocked_range3d.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -110,6 +112,27 @@ const CaseTable& caseTable() {
   return table;
 }
 
+}  // namespace
+
+const PackedCaseTable& packedCaseTable() {
+  static const PackedCaseTable packed = [] {
+    PackedCaseTable p;
+    for (const auto& polygons : caseTable().polygons) {
+      p.index.push_back(std::int32_t(p.polygons.size()));
+      p.index.push_back(std::int32_t(polygons.size()));
+      for (const Polygon& polygon : polygons) {
+        p.polygons.push_back(polygon.apex);
+        p.polygons.push_back(std::int32_t(polygon.edges.size()));
+        for (std::int8_t e : polygon.edges) p.polygons.push_back(e);
+      }
+    }
+    return p;
+  }();
+  return packed;
+}
+
+namespace {
+
 constexpr float kOffCorner = 1e-3f;  // crossing points stay this far (in voxels) from grid points
 
 struct Corner {
@@ -198,9 +221,10 @@ MarchingResult marchingCubes(const Grid& grid, float iso, int blockSize,
                       for (std::size_t k : {a, (a + i) % n, (a + i + 1) % n})
                         local.triangleKeys.push_back(local.corners[ids[cycle[k]]].key);
                   } else {
-                    // A centre vertex of this polygon alone: its key lies below every edge key.
+                    // A centre vertex of this polygon alone: its key lies past every edge key, in cell
+                    // order (the GPU path numbers them the same way).
                     const std::int64_t cellIndex = ((z + 1) * (dims[1] + 1) + (y + 1)) * (dims[0] + 1) + (x + 1);
-                    const std::int64_t centreKey = -(cellIndex * 8 + polygonIndex) - 1;
+                    const std::int64_t centreKey = px * py * (dims[2] + 2) * 3 + cellIndex * 8 + polygonIndex;
                     Vec3 centre{0, 0, 0};
                     for (std::int8_t e : cycle) centre = centre + local.corners[ids[e]].position;
                     local.corners.push_back({centreKey, centre * (1.0 / double(n))});

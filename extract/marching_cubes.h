@@ -22,6 +22,7 @@ namespace isoatlas::extract {
 struct Grid {
   std::array<std::int64_t, 3> dims;
   const float* values;  // x fastest
+  std::size_t voxels() const { return std::size_t(dims[0]) * std::size_t(dims[1]) * std::size_t(dims[2]); }
   float at(std::int64_t x, std::int64_t y, std::int64_t z) const {
     return values[std::size_t((z * dims[1] + y) * dims[0] + x)];
   }

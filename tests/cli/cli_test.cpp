@@ -7,6 +7,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/mesh.h"
 #include "core/mesh_io.h"
 #include "core/volume_io.h"
 #include "tests/test_util.h"
@@ -216,6 +217,40 @@ TEST(Cli, SegmentRejectsBadInput) {
   test::writeBytes(dir / "empty.nii", "");
   expectBadInput("segment " + (dir / "empty.nii").string() + " --seed 1,1,1 --target 1 --width 1" + out, "empty.nii");
   expectBadInput("probe " + ball + " --at 20,18,99 --radius 2", "lies outside the volume");
+}
+
+TEST(Cli, ExtractGivesOneClosedSurfaceOnBothBackends) {
+  const auto dir = test::scratchDir();
+  const auto ball = ballVolume(dir);
+  std::vector<nlohmann::json> reports;
+  for (const char* backend : {"cpu", "gpu"}) {
+    const std::string out = (dir / (std::string(backend) + ".ply")).string(), report = (dir / "x.json").string();
+    const Result r = run("extract " + ball.string() + " --iso 125 --backend " + backend + " -o " + out + " --report " + report);
+    ASSERT_EQ(r.code, 0) << r.err;
+    reports.push_back(nlohmann::json::parse(test::readBytes(report)));
+    const Mesh m = readMesh(out);
+    EXPECT_EQ(m.faceCount(), reports.back()["triangles"].get<std::size_t>());
+    for (const char* key : {"vertices", "triangles", "components", "closed", "manifold", "euler", "genus", "seconds",
+                            "cells_visited"})
+      EXPECT_TRUE(reports.back().contains(key)) << key;
+  }
+  EXPECT_EQ(reports[0]["triangles"], reports[1]["triangles"]);
+  EXPECT_EQ(reports[0]["vertices"], reports[1]["vertices"]);
+  EXPECT_EQ(reports[1]["closed"], true);
+  EXPECT_EQ(reports[1]["manifold"], true);
+  EXPECT_EQ(reports[1]["genus"], 0);
+  EXPECT_EQ(reports[1]["components"], 1);
+}
+
+TEST(Cli, ExtractRejectsBadInput) {
+  const auto dir = test::scratchDir();
+  const std::string ball = ballVolume(dir).string();
+  expectBadInput("extract " + (dir / "missing.nii").string() + " -o a.ply", "no such file");
+  expectBadInput("extract " + ball + " -o a.png", "write the mesh as .ply, .off or .obj");
+  expectBadInput("extract " + ball + " --smooth -2 -o " + (dir / "a.ply").string(), "--smooth must be >= 0");
+  const Result r = run("extract " + ball + " --iso 1000 -o " + (dir / "a.ply").string());
+  EXPECT_EQ(r.code, 1) << "no surface at that isovalue: the work fails";
+  EXPECT_NE(r.err.find("no surface"), std::string::npos) << r.err;
 }
 
 TEST(Cli, Ch2IsReadWithItsTrueDimensions) {

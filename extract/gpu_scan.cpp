@@ -1,0 +1,35 @@
+#include "extract/gpu_scan.h"
+
+#include <algorithm>
+
+namespace isoatlas::extract {
+
+GpuScan::GpuScan()
+    : scanBlocks_(gl::Program::compute("extract/shaders/scan.comp", {{"SCAN_BLOCKS", "1"}})),
+      addOffsets_(gl::Program::compute("extract/shaders/scan.comp")) {}
+
+std::uint32_t GpuScan::exclusive(gl::Buffer& values, std::uint32_t count) {
+  if (count == 0) return 0;
+  const std::uint32_t groups = (count + 1023) / 1024;
+  gl::Buffer sums(std::size_t(groups) * 4 + 4);
+  const GLuint gx = std::min<GLuint>(groups, 65535), gy = (groups + 65534) / 65535;
+  values.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
+  sums.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
+  scanBlocks_.use();
+  glUniform1ui(scanBlocks_.uniform("count"), count);
+  scanBlocks_.dispatch(gx, gy, 1, GL_SHADER_STORAGE_BARRIER_BIT);
+  std::uint32_t total = 0;
+  if (groups == 1) {
+    sums.download(&total, 4);
+    return total;
+  }
+  total = exclusive(sums, groups);
+  values.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
+  sums.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
+  addOffsets_.use();
+  glUniform1ui(addOffsets_.uniform("count"), count);
+  addOffsets_.dispatch(gx, gy, 1, GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  return total;
+}
+
+}  // namespace isoatlas::extract
