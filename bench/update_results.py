@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Merges benchmark JSON lines (stdin) into bench/results.jsonl, keeping the newest line for each
-(bench, case, metric, machine), and regenerates the tables of bench/RESULTS.md below its marker."""
+(bench, case, metric, peer, machine), and regenerates the tables of bench/RESULTS.md below its marker."""
 import datetime
 import json
 import pathlib
@@ -16,7 +16,7 @@ if store.exists():
     for line in store.read_text().splitlines():
         if line.strip():
             r = json.loads(line)
-            rows[(r["bench"], r["case"], r["metric"], r["machine"])] = r
+            rows[(r["bench"], r["case"], r["metric"], r["peer"], r["machine"])] = r
 today = datetime.date.today().isoformat()
 for line in sys.stdin:
     line = line.strip()
@@ -24,7 +24,7 @@ for line in sys.stdin:
         continue
     r = json.loads(line)
     r.setdefault("date", today)
-    rows[(r["bench"], r["case"], r["metric"], r["machine"])] = r
+    rows[(r["bench"], r["case"], r["metric"], r["peer"], r["machine"])] = r
 store.write_text("".join(json.dumps(r, sort_keys=True) + "\n" for _, r in sorted(rows.items())))
 
 head = results.read_text().split(MARKER)[0] if results.exists() else "# Benchmark results\n\n"

@@ -84,8 +84,10 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
   ExtractStats& s = stats ? *stats : local;
   require(volume.voxelCount() > 0, "the volume is empty");
   require(o.smoothIterations >= 0, "--smooth must be >= 0");
-  std::vector<float> field = volume.toFloat();
   s.binaryInput = !o.iso && isBinaryMask(volume);  // an explicit isovalue means a scalar field
+  // Float volumes are read in place; others (and masks, which are blurred) as a float copy.
+  std::vector<float> field;
+  if (volume.type != ScalarType::Float32 || s.binaryInput) field = volume.toFloat();
   if (s.binaryInput) {
     const ValueRange r = valueRange(volume);
     for (float& x : field) x = x > float(r.min) || r.min == r.max ? (x > 0 ? 1.0f : 0.0f) : 0.0f;
@@ -96,7 +98,8 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
     s.iso = o.iso.value_or(float(0.5 * (r.min + r.max)));
   }
   require(std::isfinite(s.iso), "the isovalue must be finite");
-  const Grid grid{volume.dims, field.data()};
+  // Taken only now: the blur swaps the field's buffer.
+  const Grid grid{volume.dims, field.empty() ? reinterpret_cast<const float*>(volume.data.data()) : field.data()};
   // Blocks with every corner on one side of iso hold no surface. The padding outside mirrors inside
   // values, so a block on the border holds surface exactly when some corner is inside.
   const auto d = volume.dims;

@@ -2,6 +2,7 @@
 
 #include "extract/gpu_marching_cubes.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/blocked_range3d.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -252,18 +253,25 @@ MarchingResult marchingCubes(const Grid& grid, float iso, int blockSize,
   Mesh& mesh = result.mesh;
   mesh.positions.reserve(all.size());
   for (const Corner& c : all) mesh.positions.push_back(c.position);
-  mesh.faceVertices.reserve(triangleCorners);
-  mesh.faceOffsets.reserve(triangleCorners / 3 + 1);
-  for (const BlockOutput& l : outputs)
-    for (std::size_t i = 0; i < l.triangleKeys.size(); i += 3) {
-      std::uint32_t tri[3];
-      for (int k = 0; k < 3; ++k) {
-        const auto it = std::lower_bound(all.begin(), all.end(), l.triangleKeys[i + std::size_t(k)],
-                                         [](const Corner& c, std::int64_t key) { return c.key < key; });
-        tri[k] = std::uint32_t(it - all.begin());
-      }
-      mesh.addFace({tri[0], tri[1], tri[2]});
+  auto globalId = [&](std::int64_t key) {
+    return std::uint32_t(std::lower_bound(all.begin(), all.end(), key, [](const Corner& c, std::int64_t k) { return c.key < k; }) -
+                         all.begin());
+  };
+  mesh.faceVertices.resize(triangleCorners);
+  mesh.faceOffsets.resize(triangleCorners / 3 + 1);
+  for (std::size_t t = 0; t < mesh.faceOffsets.size(); ++t) mesh.faceOffsets[t] = std::uint32_t(3 * t);
+  // Each block's corners are looked up once; its triangles then map through that table.
+  std::vector<std::size_t> start(outputs.size() + 1, 0);
+  for (std::size_t b = 0; b < outputs.size(); ++b) start[b + 1] = start[b] + outputs[b].triangleKeys.size();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, outputs.size()), [&](const auto& range) {
+    std::unordered_map<std::int64_t, std::uint32_t> ids;
+    for (std::size_t b = range.begin(); b != range.end(); ++b) {
+      const BlockOutput& l = outputs[b];
+      ids.clear();
+      for (const Corner& c : l.corners) ids.emplace(c.key, globalId(c.key));
+      for (std::size_t i = 0; i < l.triangleKeys.size(); ++i) mesh.faceVertices[start[b] + i] = ids.at(l.triangleKeys[i]);
     }
+  });
   return result;
 }
 
