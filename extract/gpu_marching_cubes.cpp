@@ -50,7 +50,7 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   const gl::Defines defines{{"BLOCK_SIZE", std::to_string(blockSize)}};
   gl::Program classify = gl::Program::compute("extract/shaders/mc_classify.comp", defines);
   gl::Program countEdges = gl::Program::compute("extract/shaders/mc_count_edges.comp");
-  gl::Program makeVertices = gl::Program::compute("extract/shaders/mc_vertices.comp");
+  gl::Program makeVertices = gl::Program::compute("extract/shaders/mc_vertices.comp", defines);
   gl::Program makeTriangles = gl::Program::compute("extract/shaders/mc_triangles.comp", defines);
   GpuScan scan;
 
@@ -61,15 +61,14 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   gl::Buffer cellTriangles(cells * 4), cellCentres(cells * 4), edgeBits(points * 4), edgeOffset(points * 4), visited(16);
   for (gl::Buffer* b : {&cellTriangles, &cellCentres, &edgeBits, &visited}) b->fillZero();
 
-  field.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
-  blockBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
-  caseIndex.bindBase(GL_SHADER_STORAGE_BUFFER, 2);
-  polygons.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
-  cellTriangles.bindBase(GL_SHADER_STORAGE_BUFFER, 4);
-  cellCentres.bindBase(GL_SHADER_STORAGE_BUFFER, 5);
-  edgeBits.bindBase(GL_SHADER_STORAGE_BUFFER, 6);
-  visited.bindBase(GL_SHADER_STORAGE_BUFFER, 7);
-  edgeOffset.bindBase(GL_SHADER_STORAGE_BUFFER, 8);
+  // The shaders' bindings (marching.glsl and the passes); the scans reuse 0 and 1, so this runs again.
+  auto bindAll = [&] {
+    int binding = 0;
+    for (const gl::Buffer* b : {&field, &blockBuffer, &caseIndex, &polygons, &cellTriangles, &cellCentres, &edgeBits,
+                                &visited, &edgeOffset})
+      b->bindBase(GL_SHADER_STORAGE_BUFFER, GLuint(binding++));
+  };
+  bindAll();
   auto common = [&](const gl::Program& p) {
     p.use();
     glUniform3i(p.uniform("dims"), int(d[0]), int(d[1]), int(d[2]));
@@ -91,17 +90,10 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
 
   gl::Buffer vertices(std::size_t(std::max<std::uint32_t>(edgeVertexCount, 1)) * sizeof(GpuVertex));
   gl::Buffer triangles(std::size_t(std::max<std::uint32_t>(triangleCount, 1)) * 12);
-  field.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
-  blockBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
-  cellTriangles.bindBase(GL_SHADER_STORAGE_BUFFER, 4);
-  cellCentres.bindBase(GL_SHADER_STORAGE_BUFFER, 5);
-  edgeBits.bindBase(GL_SHADER_STORAGE_BUFFER, 6);
-  edgeOffset.bindBase(GL_SHADER_STORAGE_BUFFER, 8);
+  bindAll();
   vertices.bindBase(GL_SHADER_STORAGE_BUFFER, 9);
   triangles.bindBase(GL_SHADER_STORAGE_BUFFER, 10);
-  makeVertices.use();
-  glUniform3i(makeVertices.uniform("dims"), int(d[0]), int(d[1]), int(d[2]));
-  glUniform1f(makeVertices.uniform("iso"), iso);
+  common(makeVertices);
   glUniform1ui(makeVertices.uniform("pointCount"), GLuint(points));
   makeVertices.dispatch(px, py, 1, GL_SHADER_STORAGE_BARRIER_BIT);
   common(makeTriangles);

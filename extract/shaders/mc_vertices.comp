@@ -2,21 +2,12 @@
 // Pass 2: one vertex per used grid edge, at edgeOffset[point] + its rank among the point's edges:
 // the grid point and the crossing's parameter t along the axis (the CPU adds them in double).
 layout(local_size_x = 256) in;
-layout(std430, binding = 0) readonly buffer Field { float field[]; };
+#include "marching.glsl"
 layout(std430, binding = 6) readonly buffer EdgeBits { uint edgeBits[]; };
 layout(std430, binding = 8) readonly buffer EdgeOffset { uint edgeOffset[]; };
 struct Vertex { ivec3 point; float t; int axis; int unused0; int unused1; int unused2; };
 layout(std430, binding = 9) writeonly buffer Vertices { Vertex vertices[]; };
-uniform ivec3 dims;
-uniform float iso;
 uniform uint pointCount;
-
-float sampleField(ivec3 p) {
-  ivec3 c = clamp(p, ivec3(0), dims - 1);
-  float v = field[(c.z * dims.y + c.y) * dims.x + c.x];
-  if (c == p) return v;
-  return v > iso ? 2.0 * iso - v : v;
-}
 
 void main() {
   uint i = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * 256u) + gl_GlobalInvocationID.x;
