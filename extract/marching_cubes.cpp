@@ -82,7 +82,7 @@ struct CaseTable {
         for (int i = 0; i < 4; ++i) {
           const int corner = face[i];
           if (!inside(corner)) continue;
-          const int before = face[(i + 3) % 4], after = face[(i + 1) % 4];
+          const int before = face[(i + 3) % 4];
           if (inside(before)) continue;  // this inside run starts earlier on the face
           // Walk the inside run forward to its last corner; the run leaves on the following edge.
           int j = i;
@@ -90,7 +90,6 @@ struct CaseTable {
           const int entering = edgeBetween(before, corner);
           const int leaving = edgeBetween(face[j], face[(j + 1) % 4]);
           next[entering] = leaving;
-          (void)after;
         }
       }
       bool used[12] = {};

@@ -154,13 +154,6 @@ private:
       for (int x = 0; x < P_; ++x) buffer[texelOf(o, x, y)] = value;
   }
 
-  template <class Fn>
-  void forEachVoxel(const PageInfo& page, Fn&& fn) const {
-    for (int y = 0; y < P_; ++y)
-      for (int x = 0; x < P_; ++x)
-        fn(x, y, page.coords[0] * P_ + x, page.coords[1] * P_ + y, page.coords[2]);
-  }
-
   // The (P+2) x (P+2) x 3 values around a page, read through its neighbour table only (as the GPU
   // reads them into shared memory); voxels are then evaluated without further lookups.
   struct Apron {
