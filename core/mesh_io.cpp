@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -214,8 +215,10 @@ Mesh readMesh(const std::string& path) {
   std::string readPath = path;
   TempFile normalised;
   if (checked != text) {
+    static std::atomic<unsigned> counter{0};  // unique per call: reads may run concurrently
     normalised.path = (std::filesystem::temp_directory_path() /
-                       ("isoatlas-mesh-" + std::to_string(::getpid()) + path.substr(path.rfind('.')))).string();
+                       ("isoatlas-mesh-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) +
+                        path.substr(path.rfind('.')))).string();
     std::ofstream(normalised.path, std::ios::binary) << checked;
     readPath = normalised.path;
   }
