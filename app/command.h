@@ -38,5 +38,6 @@ void addRunCommand(CLI::App& app, int& exitCode);
 void addProbeCommand(CLI::App& app, int& exitCode);
 void addSegmentCommand(CLI::App& app, int& exitCode);
 void addExtractCommand(CLI::App& app, int& exitCode);
+void addBuildCommand(CLI::App& app, int& exitCode);
 
 }  // namespace isoatlas::app

@@ -15,8 +15,7 @@ int main(int argc, char** argv) {
   addSegmentCommand(app, exitCode);
   addPendingCommand(app, "edit", "boolean brush and mesh edits in a dynamic volume tree", "the DVT issue", exitCode);
   addExtractCommand(app, exitCode);
-  addPendingCommand(app, "build", "multiresolution model (triquad base mesh and atlas) of a triangle mesh",
-                    "issue 5, multiresolution", exitCode);
+  addBuildCommand(app, exitCode);
   addPendingCommand(app, "eval", "PSNR and Hausdorff distance of a model per level", "the atlas issue", exitCode);
   addPendingCommand(app, "render", "headless render of a model to PNG", "the render issue", exitCode);
   addPendingCommand(app, "view", "interactive viewer", "the viewer issue", exitCode);

@@ -7,9 +7,8 @@
 #include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
-#include <filesystem>
-
 #include "bench/bench_util.h"
+#include "bench/derived_data.h"
 #include "core/volume_io.h"
 #include "extract/extract_surface.h"
 #include "levelset/level_set.h"
@@ -18,18 +17,7 @@ using namespace isoatlas;
 
 int main(int argc, char** argv) {
   const std::string data = argc > 1 ? argv[1] : "data";
-  const std::string phiPath = data + "/derived/ch2better_white_matter_phi.nii.gz";
-  if (!std::filesystem::exists(phiPath)) {
-    std::fprintf(stderr, "extract: segmenting ch2better's white matter once (kept in %s)\n", phiPath.c_str());
-    const Volume v = readVolume(data + "/volumes/ch2better.nii.gz");
-    levelset::LevelSet ls(v, {112, 14, 0.8f});
-    ls.addSphere({98, 194, 199}, 8);   // the demo's seeds, mapped through world coordinates
-    ls.addSphere({202, 194, 199}, 8);
-    ls.run({.maxIterations = 4000});
-    std::filesystem::create_directories(data + "/derived");
-    writeVolume(phiPath, ls.phi());
-  }
-  const Volume phi = readVolume(phiPath);
+  const Volume phi = bench::ch2betterWhiteMatterPhi(data);
 
   std::size_t ours = 0;
   const double oursSeconds = bench::medianSeconds(3, [&] {

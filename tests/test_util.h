@@ -30,6 +30,16 @@ inline std::string readBytes(const std::filesystem::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// A float volume whose voxel (x, y, z) holds f(x, y, z), unit spacing at the origin.
+template <class F>
+Volume fieldVolume(std::array<std::int64_t, 3> dims, F f) {
+  Volume v = Volume::zeros(dims, ScalarType::Float32);
+  for (std::int64_t z = 0; z < dims[2]; ++z)
+    for (std::int64_t y = 0; y < dims[1]; ++y)
+      for (std::int64_t x = 0; x < dims[0]; ++x) v.setValue(v.index(x, y, z), f(double(x), double(y), double(z)));
+  return v;
+}
+
 // A volume of the given type whose voxel (i,j,k) holds a value that differs at every voxel
 // (within the type's range), with a non-trivial spacing and origin.
 inline Volume rampVolume(ScalarType type, std::array<std::int64_t, 3> dims = {7, 5, 4}) {

@@ -9,7 +9,9 @@
 
 #include "core/mesh.h"
 #include "core/mesh_io.h"
+#include "core/mesh_topology.h"
 #include "core/volume_io.h"
+#include "tests/multires/mesh_shapes.h"
 #include "tests/test_util.h"
 
 namespace isoatlas {
@@ -56,7 +58,7 @@ TEST(Cli, UsageErrorsExitTwo) {
 }
 
 TEST(Cli, StagesNotBuiltSaySoAndExitOne) {
-  const Result r = run("build mesh.off -o m.isoatlas");
+  const Result r = run("eval model.isoatlas");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("not built yet"), std::string::npos);
 }
@@ -251,6 +253,46 @@ TEST(Cli, ExtractRejectsBadInput) {
   const Result r = run("extract " + ball + " --iso 1000 -o " + (dir / "a.ply").string());
   EXPECT_EQ(r.code, 1) << "no surface at that isovalue: the work fails";
   EXPECT_NE(r.err.find("no surface"), std::string::npos) << r.err;
+}
+
+TEST(Cli, BuildMakesATriquadBaseMeshAndAModel) {
+  const auto dir = test::scratchDir();
+  const std::string torus = (dir / "torus.off").string();
+  writeMesh(torus, test::torusMesh(60, 30));
+  const std::string model = (dir / "torus.isoatlas").string(), base = (dir / "base.obj").string(),
+                    report = (dir / "r.json").string();
+  const Result r = run("build " + torus + " -o " + model + " --base-only " + base + " --base-ratio 0.03 --report " + report);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(test::readBytes(report));
+  for (const char* key : {"dense_vertices", "base_vertices", "base_triangles", "tiles", "splits_for_matching",
+                          "seconds_simplify", "seconds_match", "hausdorff_base", "psnr_base_db"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["dense_vertices"], 1800);
+  EXPECT_EQ(j["base_vertices"], 54);
+  EXPECT_EQ(j["tiles"].get<int>() * 2, j["base_triangles"].get<int>());
+  EXPECT_LT(j["hausdorff_base"].get<double>(), 0.5);
+  const Mesh quads = readMesh(base);
+  EXPECT_TRUE(quads.allFacesHave(4));
+  EXPECT_EQ(quads.faceCount(), j["tiles"].get<std::size_t>());
+  const MeshTopology t = analyzeTopology(quads);
+  EXPECT_TRUE(t.closed && t.manifold && t.oriented) << t.firstProblem;
+  EXPECT_EQ(t.genus, 1);
+  EXPECT_TRUE(std::filesystem::file_size(model) > 1800 * 24);
+}
+
+TEST(Cli, BuildRejectsBadInput) {
+  const auto dir = test::scratchDir();
+  const std::string bowtie = (dir / "bowtie.off").string();
+  test::writeBytes(bowtie, "OFF\n5 2 0\n0 0 0\n1 0 0\n0 1 0\n-1 0 0\n0 -1 0\n3 0 1 2\n3 0 3 4\n");
+  const std::string torus = (dir / "torus.off").string();
+  writeMesh(torus, test::torusMesh(12, 8));
+  const std::string out = " -o " + (dir / "m.isoatlas").string();
+  expectBadInput("build " + bowtie + out, "not 2-manifold");
+  expectBadInput("build " + (dir / "missing.off").string() + out, "no such file");
+  expectBadInput("build " + torus + out + " --chart 32", "--chart must be 2^k + 1");
+  expectBadInput("build " + torus + out + " --base-ratio 0", "--base-ratio must be in (0, 1]");
+  expectBadInput("build " + torus + " -o " + (dir / "m.obj").string(), "must end in .isoatlas");
+  expectBadInput("build " + torus, "give -o MODEL.isoatlas");
 }
 
 TEST(Cli, Ch2IsReadWithItsTrueDimensions) {

@@ -10,6 +10,7 @@
 #include "extract/extract_surface.h"
 #include "extract/marching_cubes.h"
 #include "levelset/level_set.h"
+#include "tests/test_util.h"
 
 namespace isoatlas::extract {
 namespace {
@@ -41,11 +42,7 @@ std::size_t degenerate(const Mesh& m) {
 
 template <class F>
 Volume field(std::array<std::int64_t, 3> dims, F f) {
-  Volume v = Volume::zeros(dims, ScalarType::Float32);
-  for (std::int64_t z = 0; z < dims[2]; ++z)
-    for (std::int64_t y = 0; y < dims[1]; ++y)
-      for (std::int64_t x = 0; x < dims[0]; ++x) v.setValue(v.index(x, y, z), f(double(x), double(y), double(z)));
-  return v;
+  return test::fieldVolume(dims, f);
 }
 
 void expectClosedManifold(const Mesh& m, long long genus) {

@@ -1,5 +1,5 @@
 // libFuzzer target for one file reader, chosen at build time by FUZZ_EXT (".nii", ".nrrd", ".inr",
-// ".off", ...). The input is written to a file with that extension and read back; an isoatlas::Error
+// ".off", ".isoatlas", ...). The input is written to a file with that extension and read back; an isoatlas::Error
 // is the expected way to fail, anything else (a crash, a sanitizer report, a hang) is a bug.
 #include <unistd.h>
 
@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "atlas/model_file.h"
 #include "core/error.h"
 #include "core/mesh_io.h"
 #include "core/volume_io.h"
@@ -31,7 +32,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
   }
   try {
-    if (isoatlas::isMeshPath(scratchPath())) {
+    if (scratchPath().ends_with(".isoatlas")) {
+      isoatlas::atlas::readModel(scratchPath());
+    } else if (isoatlas::isMeshPath(scratchPath())) {
       const isoatlas::Mesh m = isoatlas::readMesh(scratchPath());
       isoatlas::requireManifold(m, scratchPath());
     } else {

@@ -1,0 +1,36 @@
+// BaseMesh: what simplification hands on. The coarse triangles (every base vertex an original dense
+// vertex, or a vertex added by an edge split), the parametrisation of the dense mesh over them (each
+// dense vertex: a base triangle and barycentric coordinates in it) and, once paired, the tiles.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/mesh.h"
+
+namespace isoatlas::multires {
+
+struct BaseMesh {
+  std::vector<Vec3> positions;
+  std::vector<std::int64_t> denseVertex;  // per base vertex: its dense vertex, or -1 when made by a split
+  std::vector<std::array<std::uint32_t, 3>> triangles;  // counter-clockwise, as the dense faces
+
+  // Dense vertex i lies in base triangle denseTriangle[i] at weights denseBary[i] of that triangle's
+  // corners (non-negative, summing to one).
+  std::vector<std::uint32_t> denseTriangle;
+  std::vector<std::array<double, 3>> denseBary;
+
+  // Filled by pairTriangles: each tile is two triangles sharing an edge; every triangle is in one.
+  std::vector<std::array<std::uint32_t, 2>> tiles;
+
+  std::size_t vertexCount() const { return positions.size(); }
+  std::size_t triangleCount() const { return triangles.size(); }
+  Vec3 pointAt(std::uint32_t triangle, const std::array<double, 3>& bary) const {
+    const auto& t = triangles[triangle];
+    return positions[t[0]] * bary[0] + positions[t[1]] * bary[1] + positions[t[2]] * bary[2];
+  }
+  Mesh triangleMesh() const;  // the base triangles as a Mesh
+  Mesh quadMesh() const;      // the tiles as quads (the shared edge dropped); requires tiles
+};
+
+}  // namespace isoatlas::multires

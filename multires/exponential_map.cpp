@@ -1,0 +1,52 @@
+#include "multires/exponential_map.h"
+
+#include <numbers>
+
+namespace isoatlas::multires {
+
+std::vector<Vec2> exponentialMap(const StellarMesh& mesh, VertexH v, const OneRing& ring) {
+  std::vector<Vec2> plane;
+  if (!exponentialMap(mesh, v, ring, plane)) plane.clear();
+  return plane;
+}
+
+bool exponentialMap(const StellarMesh& mesh, VertexH v, const OneRing& ring, std::vector<Vec2>& plane) {
+  constexpr std::size_t kMax = 64;  // a vertex of higher degree is left in place
+  const std::size_t k = ring.vertices.size();
+  if (k > kMax) return false;
+  const Vec3 centre = toVec3(mesh.point(v));
+  Vec3 directions[kMax];
+  double radius[kMax], angle[kMax];
+  for (std::size_t i = 0; i < k; ++i) {
+    const Vec3 d = toVec3(mesh.point(ring.vertices[i])) - centre;
+    radius[i] = norm(d);
+    if (!(radius[i] > 0)) return false;
+    directions[i] = d * (1 / radius[i]);
+  }
+  // Angle of each face at v; the faces are (v, w_i, w_i+1).
+  double total = 0;
+  for (std::size_t i = 0; i < ring.faces.size(); ++i) {
+    const Vec3& a = directions[i];
+    const Vec3& b = directions[(i + 1) % k];
+    angle[i] = std::atan2(norm(cross(a, b)), dot(a, b));
+    total += angle[i];
+  }
+  if (!(total > 1e-12)) return false;
+  const double scale = (ring.boundary ? std::numbers::pi : 2 * std::numbers::pi) / total;
+  plane.resize(k);
+  double phi = 0;
+  for (std::size_t i = 0; i < k; ++i) {
+    plane[i] = {radius[i] * std::cos(phi), radius[i] * std::sin(phi)};
+    if (i < ring.faces.size()) phi += scale * angle[i];
+  }
+  return true;
+}
+
+std::array<double, 3> barycentric2(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {
+  const double area = orient2(a, b, c);
+  if (area == 0) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
+  const double wa = orient2(p, b, c) / area, wb = orient2(a, p, c) / area;
+  return {wa, wb, 1 - wa - wb};
+}
+
+}  // namespace isoatlas::multires

@@ -1,0 +1,315 @@
+#include "multires/stellar_simplify.h"
+
+#include <algorithm>
+#include <chrono>
+#include <queue>
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "multires/exponential_map.h"
+#include "multires/quadric.h"
+
+namespace isoatlas::multires {
+namespace {
+
+// Where a removed dense vertex lies: a face of the current mesh, and weights of the face's vertices.
+struct MappedPoint {
+  int face = -1;
+  std::array<int, 3> vertices{};
+  std::array<double, 3> bary{};
+};
+
+struct Candidate {
+  double cost;
+  std::uint32_t vertex, stamp, target;
+  bool operator>(const Candidate& o) const { return cost > o.cost; }
+};
+
+class Simplifier {
+public:
+  Simplifier(const Mesh& dense, const SimplifyOptions& options)
+      : options_(options), mesh_(toStellarMesh(dense, "simplify")) {}
+
+  BaseMesh run(SimplifyStats& stats);
+
+private:
+  void initQuadrics();
+  bool evaluate(VertexH v, Candidate& best);
+  void push(VertexH v);
+  void removeVertex(VertexH v, VertexH u);
+  BaseMesh compact() const;
+
+  SimplifyOptions options_;
+  StellarMesh mesh_;
+  std::vector<Quadric> quadric_;
+  std::vector<std::uint32_t> stamp_;
+  std::vector<MappedPoint> mapped_;                    // per dense vertex, once removed
+  std::vector<std::vector<std::uint32_t>> facePoints_;  // removed dense vertices mapped into each face
+  std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> heap_;
+  WeldCounts operators_;
+  OneRing ringBuffer_;  // scratch for evaluate, reused to avoid allocations
+  std::vector<Vec2> planeBuffer_;
+};
+
+Vec3 pointOf(const StellarMesh& mesh, VertexH v) { return toVec3(mesh.point(v)); }
+
+void Simplifier::initQuadrics() {
+  quadric_.assign(mesh_.n_vertices(), {});
+  for (const FaceH f : mesh_.faces()) {
+    Vec3 p[3];
+    int i = 0;
+    for (const VertexH v : mesh_.fv_range(f)) p[i++] = pointOf(mesh_, v);
+    const Vec3 n = cross(p[1] - p[0], p[2] - p[0]);
+    const double twiceArea = norm(n);
+    if (!(twiceArea > 0)) continue;
+    const Vec3 unit = n * (1 / twiceArea);
+    const Quadric q = Quadric::plane(unit, -dot(unit, p[0]), twiceArea / 6);  // a third of the area each
+    for (const VertexH v : mesh_.fv_range(f)) quadric_[v.idx()] += q;
+  }
+  // Boundary edges: a plane through the edge, perpendicular to its face, weighted strongly so welds
+  // along the boundary keep its course.
+  constexpr double kBoundaryWeight = 10;
+  for (const HalfedgeH h : mesh_.halfedges()) {
+    if (!mesh_.is_boundary(h)) continue;
+    const HalfedgeH inner = mesh_.opposite_halfedge_handle(h);
+    const FaceH f = mesh_.face_handle(inner);
+    const Vec3 a = pointOf(mesh_, mesh_.from_vertex_handle(h)), b = pointOf(mesh_, mesh_.to_vertex_handle(h));
+    const Vec3 c = pointOf(mesh_, mesh_.to_vertex_handle(mesh_.next_halfedge_handle(inner)));
+    const Vec3 faceNormal = cross(b - a, c - a);
+    Vec3 n = cross(b - a, faceNormal);
+    const double len = norm(n);
+    if (!(len > 0) || !f.is_valid()) continue;
+    n = n * (1 / len);
+    const double edge2 = dot(b - a, b - a);
+    const Quadric q = Quadric::plane(n, -dot(n, a), kBoundaryWeight * edge2);
+    quadric_[mesh_.from_vertex_handle(h).idx()] += q;
+    quadric_[mesh_.to_vertex_handle(h).idx()] += q;
+  }
+}
+
+// The cheapest valid weld of v: into which neighbour, at what quadric cost. A weld is valid when the
+// fan it leaves is counter-clockwise in v's exponential map (so the parametrisation stays one-to-one),
+// no face turns over in space, and the topology is kept (canWeldInto).
+bool Simplifier::evaluate(VertexH v, Candidate& best) {
+  OneRing& ring = ringBuffer_;
+  oneRing(mesh_, v, ring);
+  const std::size_t k = ring.vertices.size();
+  if (k < 3 || ring.faces.size() < 2) return false;
+  std::vector<Vec2>& plane = planeBuffer_;
+  if (!exponentialMap(mesh_, v, ring, plane)) return false;
+  double maxR2 = 0;
+  for (const Vec2& p : plane) maxR2 = std::max(maxR2, p.x * p.x + p.y * p.y);
+  const Vec3 pv = pointOf(mesh_, v);
+  Vec3 points[64], oldNormal[64];  // exponentialMap refuses rings of more than 64
+  double oldLength[64];
+  for (std::size_t i = 0; i < k; ++i) points[i] = pointOf(mesh_, ring.vertices[i]);
+  for (std::size_t i = 0; i < ring.faces.size(); ++i) {
+    oldNormal[i] = cross(points[i] - pv, points[(i + 1) % k] - pv);
+    oldLength[i] = norm(oldNormal[i]);
+  }
+
+  // Rank the candidates by cost first (cheap), then take the cheapest that passes the checks.
+  struct Option {
+    double cost;
+    std::size_t t;
+  };
+  Option options[64];
+  std::size_t count = 0;
+  auto rank = [&](std::size_t t) {
+    const Quadric q = quadric_[v.idx()] + quadric_[ring.vertices[t].idx()];
+    const double cost = std::max(0.0, q.error(points[t]));
+    if (cost > options_.maxError * options_.maxError * q.weight) return;
+    options[count++] = {cost, t};
+  };
+  if (ring.boundary) {
+    rank(0);
+    rank(k - 1);
+  } else {
+    for (std::size_t t = 0; t < k; ++t) rank(t);
+  }
+  std::sort(options, options + count, [](const Option& a, const Option& b) { return a.cost < b.cost; });
+  auto valid = [&](std::size_t t) {
+    const Vec3& pu = points[t];
+    for (std::size_t i = 0; i < ring.faces.size(); ++i) {
+      const std::size_t j = i, j1 = (i + 1) % k;
+      if (j == t || j1 == t) continue;
+      if (!(orient2(plane[t], plane[j], plane[j1]) > 1e-10 * maxR2)) return false;
+      const Vec3 nNew = cross(points[j] - pu, points[j1] - pu);
+      const double lNew = norm(nNew);
+      if (!(lNew > 1e-12 * maxR2) || dot(nNew, oldNormal[i]) < 0.1 * lNew * oldLength[i]) return false;
+    }
+    return true;
+  };
+  for (std::size_t i = 0; i < count; ++i) {
+    const VertexH u = ring.vertices[options[i].t];
+    if (!valid(options[i].t) || !canWeldInto(mesh_, v, u)) continue;
+    best = {options[i].cost, std::uint32_t(v.idx()), stamp_[v.idx()], std::uint32_t(u.idx())};
+    return true;
+  }
+  return false;
+}
+
+void Simplifier::push(VertexH v) {
+  ++stamp_[v.idx()];
+  Candidate c;
+  if (evaluate(v, c)) heap_.push(c);
+}
+
+void Simplifier::removeVertex(VertexH v, VertexH u) {
+  const OneRing ring = oneRing(mesh_, v);
+  const std::vector<Vec2> plane = exponentialMap(mesh_, v, ring);
+  auto planeOf = [&](int vertex) -> Vec2 {
+    if (vertex == v.idx()) return {0, 0};
+    for (std::size_t i = 0; i < ring.vertices.size(); ++i)
+      if (ring.vertices[i].idx() == vertex) return plane[i];
+    throw Error("stellar simplify: a mapped point names a vertex outside the 1-ring", ErrorKind::Failure);
+  };
+
+  // The points to map again: v itself and every dense vertex mapped into the ring's faces.
+  std::vector<std::uint32_t> points{std::uint32_t(v.idx())};
+  std::vector<Vec2> where{{0, 0}};
+  for (const FaceH f : ring.faces) {
+    for (const std::uint32_t p : facePoints_[f.idx()]) {
+      const MappedPoint& m = mapped_[p];
+      points.push_back(p);
+      where.push_back(planeOf(m.vertices[0]) * m.bary[0] + planeOf(m.vertices[1]) * m.bary[1] +
+                      planeOf(m.vertices[2]) * m.bary[2]);
+    }
+    facePoints_[f.idx()].clear();
+  }
+
+  operators_ += weldInto(mesh_, v, u);
+
+  struct NewFace {
+    int face;
+    std::array<int, 3> vertices;
+    Vec2 corner[3];
+  };
+  std::vector<NewFace> faces;
+  for (const FaceH f : ring.faces) {
+    if (mesh_.status(f).deleted()) continue;
+    NewFace nf{f.idx(), {}, {}};
+    int i = 0;
+    for (const VertexH w : mesh_.fv_range(f)) {
+      nf.vertices[i] = w.idx();
+      nf.corner[i] = planeOf(w.idx());
+      ++i;
+    }
+    faces.push_back(nf);
+  }
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    // The face that holds the point best (largest smallest weight); outside all only by rounding.
+    const NewFace* bestFace = nullptr;
+    std::array<double, 3> bestBary{};
+    double bestMin = -std::numeric_limits<double>::infinity();
+    for (const NewFace& nf : faces) {
+      const auto b = barycentric2(where[i], nf.corner[0], nf.corner[1], nf.corner[2]);
+      const double lowest = std::min({b[0], b[1], b[2]});
+      if (lowest > bestMin) bestMin = lowest, bestFace = &nf, bestBary = b;
+    }
+    double sum = 0;
+    for (double& w : bestBary) sum += (w = std::max(0.0, w));
+    for (double& w : bestBary) w /= sum;
+    MappedPoint& m = mapped_[points[i]];
+    m = {bestFace->face, bestFace->vertices, bestBary};
+    facePoints_[bestFace->face].push_back(points[i]);
+  }
+
+  quadric_[u.idx()] += quadric_[v.idx()];
+  push(u);
+  for (const VertexH w : mesh_.vv_range(u)) push(w);
+}
+
+BaseMesh Simplifier::run(SimplifyStats& stats) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::size_t n = mesh_.n_vertices();
+  const std::size_t target = options_.targetVertices > 0
+                                 ? options_.targetVertices
+                                 : std::max<std::size_t>(4, std::size_t(std::llround(options_.vertexRatio * double(n))));
+  initQuadrics();
+  stamp_.assign(n, 0);
+  mapped_.assign(n, {});
+  facePoints_.assign(mesh_.n_faces(), {});
+  for (const VertexH v : mesh_.vertices()) push(v);
+
+  std::size_t alive = n;
+  Progress progress("simplify", n > target ? n - target : 0, "vertices");
+  while (alive > target && !heap_.empty()) {
+    const Candidate c = heap_.top();
+    heap_.pop();
+    const VertexH v(int(c.vertex)), u(int(c.target));
+    if (c.stamp != stamp_[c.vertex] || mesh_.status(v).deleted()) continue;
+    if (mesh_.status(u).deleted() || !canWeldInto(mesh_, v, u)) {
+      push(v);  // its ring changed since it was ranked
+      continue;
+    }
+    removeVertex(v, u);
+    --alive;
+    if ((n - alive) % 4096 == 0) progress.update(n - alive);
+  }
+  progress.update(n - alive);
+  progress.finish();
+
+  BaseMesh base = compact();
+  stats.denseVertices = n;
+  stats.baseVertices = base.vertexCount();
+  stats.baseTriangles = base.triangleCount();
+  stats.targetVertices = target;
+  stats.operators = operators_;
+  stats.reachedTarget = alive <= target;
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return base;
+}
+
+BaseMesh Simplifier::compact() const {
+  BaseMesh base;
+  std::vector<std::uint32_t> vertexIndex(mesh_.n_vertices(), ~0u), faceIndex(mesh_.n_faces(), ~0u);
+  for (const VertexH v : mesh_.vertices()) {
+    vertexIndex[v.idx()] = std::uint32_t(base.positions.size());
+    base.positions.push_back(pointOf(mesh_, v));
+    base.denseVertex.push_back(v.idx());
+  }
+  for (const FaceH f : mesh_.faces()) {
+    faceIndex[f.idx()] = std::uint32_t(base.triangles.size());
+    std::array<std::uint32_t, 3> t{};
+    int i = 0;
+    for (const VertexH v : mesh_.fv_range(f)) t[i++] = vertexIndex[v.idx()];
+    base.triangles.push_back(t);
+  }
+  const std::size_t n = mesh_.n_vertices();
+  base.denseTriangle.resize(n);
+  base.denseBary.resize(n);
+  for (std::size_t d = 0; d < n; ++d) {
+    const VertexH v{int(d)};
+    if (!mesh_.status(v).deleted()) {
+      // A base vertex: a corner of any of its faces.
+      const HalfedgeH h = mesh_.halfedge_handle(v);
+      const FaceH f = mesh_.is_boundary(h) ? mesh_.face_handle(mesh_.opposite_halfedge_handle(h)) : mesh_.face_handle(h);
+      const std::uint32_t t = faceIndex[f.idx()];
+      base.denseTriangle[d] = t;
+      base.denseBary[d] = {0, 0, 0};
+      for (int c = 0; c < 3; ++c)
+        if (base.triangles[t][c] == vertexIndex[d]) base.denseBary[d][c] = 1;
+      continue;
+    }
+    const MappedPoint& m = mapped_[d];
+    const std::uint32_t t = faceIndex[m.face];
+    base.denseTriangle[d] = t;
+    for (int c = 0; c < 3; ++c)
+      for (int j = 0; j < 3; ++j)
+        if (base.triangles[t][c] == vertexIndex[m.vertices[j]]) base.denseBary[d][c] = m.bary[j];
+  }
+  return base;
+}
+
+}  // namespace
+
+BaseMesh simplifyStellar(const Mesh& dense, const SimplifyOptions& options, SimplifyStats* stats) {
+  require(options.vertexRatio > 0 && options.vertexRatio <= 1, "simplify: the vertex ratio must be in (0, 1]");
+  require(options.maxError > 0, "simplify: the error bound must be positive");
+  Simplifier simplifier(dense, options);
+  SimplifyStats local;
+  return simplifier.run(stats ? *stats : local);
+}
+
+}  // namespace isoatlas::multires

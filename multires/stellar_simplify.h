@@ -1,0 +1,34 @@
+// simplifyStellar: simplifies a dense 2-manifold triangle mesh with stellar operators only (edge flips,
+// then a face, edge or boundary weld), removing the vertex whose weld costs least by the quadric error
+// (Garland and Heckbert; boundary edges add perpendicular planes so borders keep their shape), and
+// keeps a local parametrisation as it goes (Maximo, Velho and Siqueira, section 4.1): the 1-ring of a
+// removed vertex is laid flat by an exponential map, and the removed vertex and every dense vertex
+// already mapped into that 1-ring are located in the new faces with barycentric coordinates.
+// Every base vertex is an original vertex; the genus and the boundary loops are kept.
+#pragma once
+#include <limits>
+
+#include "multires/base_mesh.h"
+#include "multires/stellar_operators.h"
+
+namespace isoatlas::multires {
+
+struct SimplifyOptions {
+  double vertexRatio = 0.01;       // stop at this fraction of the dense vertices (the paper's 1 %)
+  std::size_t targetVertices = 0;  // when > 0, stop at this many vertices instead
+  double maxError = std::numeric_limits<double>::infinity();  // never weld above this RMS distance (mm)
+};
+
+struct SimplifyStats {
+  std::size_t denseVertices = 0, baseVertices = 0, baseTriangles = 0, targetVertices = 0;
+  WeldCounts operators;
+  double seconds = 0;
+  bool reachedTarget = false;  // false when no weld was left that keeps the mesh valid and under maxError
+};
+
+// Inputs: `dense`, an oriented 2-manifold triangle mesh (closed or with boundaries); `options`.
+// Output: the base mesh with the dense vertices' parametrisation (tiles empty). Throws Error(BadInput)
+// for a mesh that is not an oriented 2-manifold of triangles, naming the first problem.
+BaseMesh simplifyStellar(const Mesh& dense, const SimplifyOptions& options = {}, SimplifyStats* stats = nullptr);
+
+}  // namespace isoatlas::multires

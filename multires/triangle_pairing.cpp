@@ -1,0 +1,210 @@
+#include "multires/triangle_pairing.h"
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <cmath>
+#include <queue>
+#include <unordered_map>
+
+#include "core/error.h"
+#include "multires/dense_sampler.h"
+#include "multires/max_weight_matching.h"
+
+namespace isoatlas::multires {
+namespace {
+
+constexpr std::uint32_t kNone = ~0u;
+
+// Per triangle and corner i: the triangle across edge (corner i, corner i+1), or kNone on the boundary.
+std::vector<std::array<std::uint32_t, 3>> neighbours(const BaseMesh& base) {
+  std::unordered_map<std::uint64_t, std::uint32_t> halfedge;  // (from, to) -> triangle
+  halfedge.reserve(base.triangleCount() * 3);
+  auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
+  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
+    for (int i = 0; i < 3; ++i) halfedge[key(base.triangles[t][i], base.triangles[t][(i + 1) % 3])] = t;
+  std::vector<std::array<std::uint32_t, 3>> across(base.triangleCount());
+  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
+    for (int i = 0; i < 3; ++i) {
+      const auto it = halfedge.find(key(base.triangles[t][(i + 1) % 3], base.triangles[t][i]));
+      across[t][i] = it == halfedge.end() ? kNone : it->second;
+    }
+  return across;
+}
+
+// Edges per vertex: each halfedge counts for the vertex it leaves; a boundary edge, having one
+// halfedge, counts for both its ends.
+std::vector<std::uint32_t> vertexDegrees(const BaseMesh& base, const std::vector<std::array<std::uint32_t, 3>>& across) {
+  std::vector<std::uint32_t> degree(base.vertexCount(), 0);
+  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
+    for (int i = 0; i < 3; ++i) {
+      ++degree[base.triangles[t][i]];
+      if (across[t][i] == kNone) ++degree[base.triangles[t][(i + 1) % 3]];
+    }
+  return degree;
+}
+
+double cornerCos(const Vec3& at, const Vec3& a, const Vec3& b) {
+  const Vec3 u = a - at, v = b - at;
+  const double l = norm(u) * norm(v);
+  return l > 0 ? std::abs(dot(u, v)) / l : 1;
+}
+
+// 1 - mean |cos| of the corners of the quad (p, s, q, r) made by the triangles (p, q, r) and (q, p, s).
+double orthogonality(const Vec3& p, const Vec3& s, const Vec3& q, const Vec3& r) {
+  return 1 - (cornerCos(p, s, r) + cornerCos(s, q, p) + cornerCos(q, r, s) + cornerCos(r, p, q)) / 4;
+}
+
+}  // namespace
+
+PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
+  const auto start = std::chrono::steady_clock::now();
+  PairingStats stats;
+  const std::uint32_t n = std::uint32_t(base.triangleCount());
+  std::vector<std::array<std::uint32_t, 3>> across = neighbours(base);
+
+  std::vector<std::uint32_t> degree = vertexDegrees(base, across);
+
+  // Weights: a bonus larger than any sum of qualities makes the matching a largest one first.
+  const std::int64_t bonus = 1001 * std::int64_t(n + 1);
+  std::vector<WeightedEdge> edges;
+  for (std::uint32_t t = 0; t < n; ++t)
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t o = across[t][i];
+      if (o == kNone || o < t) continue;
+      const auto& tri = base.triangles[t];
+      const std::uint32_t p = tri[i], q = tri[(i + 1) % 3], r = tri[(i + 2) % 3];
+      std::uint32_t s = kNone;
+      for (const std::uint32_t v : base.triangles[o])
+        if (v != p && v != q) s = v;
+      const bool degreeThree = degree[p] == 3 || degree[q] == 3;
+      const double quality = orthogonality(base.positions[p], base.positions[s], base.positions[q], base.positions[r]);
+      edges.push_back({t, o, bonus + (degreeThree ? 0 : 1 + std::int64_t(std::lround(1000 * quality)))});
+    }
+  const std::vector<std::int64_t> matched = maxWeightMatching(n, edges);
+  std::vector<std::uint32_t> mate(n);
+  for (std::uint32_t t = 0; t < n; ++t) mate[t] = matched[t] < 0 ? kNone : std::uint32_t(matched[t]);
+
+  // Leftovers: shift the matching along an alternating path to a triangle with a boundary edge, and
+  // split that edge. Each base triangle remembers its frame in the original triangle, so the dense
+  // sampler (built once) serves split triangles too.
+  struct Frame {
+    std::uint32_t original;
+    std::array<std::array<double, 3>, 3> corner;  // the corners' barycentric coordinates in it
+  };
+  std::vector<Frame> frame(n);
+  for (std::uint32_t t = 0; t < n; ++t) frame[t] = {t, {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}};
+  std::unique_ptr<DenseSampler> sampler;
+  std::vector<std::vector<std::uint32_t>> densePoints;  // per base triangle, filled on the first split
+
+  for (std::uint32_t t0 = 0; t0 < base.triangleCount(); ++t0) {
+    if (mate[t0] != kNone) continue;
+    if (!sampler) {
+      sampler = std::make_unique<DenseSampler>(dense, base);
+      densePoints.assign(base.triangleCount(), {});
+      for (std::uint32_t d = 0; d < base.denseTriangle.size(); ++d) densePoints[base.denseTriangle[d]].push_back(d);
+    }
+    across = neighbours(base);
+    // Breadth-first over triangles reachable by alternating paths (a free edge, then a matched one).
+    std::vector<std::uint32_t> parent(base.triangleCount(), kNone), via(base.triangleCount(), kNone);
+    std::queue<std::uint32_t> queue;
+    queue.push(t0);
+    parent[t0] = t0;
+    std::uint32_t goal = kNone;
+    int goalCorner = -1;
+    while (!queue.empty() && goal == kNone) {
+      const std::uint32_t a = queue.front();
+      queue.pop();
+      for (int i = 0; i < 3; ++i)
+        if (across[a][i] == kNone) goal = a, goalCorner = i;
+      if (goal != kNone) break;
+      for (int i = 0; i < 3; ++i) {
+        const std::uint32_t b = across[a][i];
+        if (b == mate[a] || mate[b] == kNone || parent[mate[b]] != kNone) continue;
+        parent[mate[b]] = a, via[mate[b]] = b;
+        queue.push(mate[b]);
+      }
+    }
+    if (goal == kNone)
+      throw Error("pairing: a leftover triangle reaches no boundary (is the base mesh manifold?)", ErrorKind::Failure);
+    for (std::uint32_t c = goal; c != t0;) {  // re-pair along the path; the goal ends free
+      const std::uint32_t a = parent[c], b = via[c];
+      mate[a] = b, mate[b] = a;
+      if (c == goal) mate[c] = kNone;
+      c = a;
+    }
+    mate[goal] = kNone;
+
+    // Split the goal's boundary edge (p, q) at s: goal = (p, s, r), new = (s, q, r), a tile.
+    auto& tri = base.triangles[goal];
+    const std::uint32_t p = tri[goalCorner], q = tri[(goalCorner + 1) % 3], r = tri[(goalCorner + 2) % 3];
+    const Frame f = frame[goal];
+    const auto& fp = f.corner[goalCorner];
+    const auto& fq = f.corner[(goalCorner + 1) % 3];
+    const auto& fr = f.corner[(goalCorner + 2) % 3];
+    const std::array<double, 3> fs{(fp[0] + fq[0]) / 2, (fp[1] + fq[1]) / 2, (fp[2] + fq[2]) / 2};
+    const std::uint32_t s = std::uint32_t(base.positions.size());
+    base.positions.push_back(sampler->position(f.original, fs));
+    base.denseVertex.push_back(-1);
+    const std::uint32_t added = std::uint32_t(base.triangles.size());
+    base.triangles[goal] = {p, s, r};
+    base.triangles.push_back({s, q, r});
+    frame[goal] = {f.original, {fp, fs, fr}};
+    frame.push_back({f.original, {fs, fq, fr}});
+    mate[goal] = added;
+    mate.push_back(goal);
+    densePoints.emplace_back();
+    std::vector<std::uint32_t> stay;
+    for (const std::uint32_t d : densePoints[goal]) {
+      auto& b = base.denseBary[d];
+      double wp = 0, wq = 0, wr = 0;  // weights of p, q, r in the old triangle
+      for (int i = 0; i < 3; ++i) {
+        const std::uint32_t v = i == goalCorner ? p : (i == (goalCorner + 1) % 3 ? q : r);
+        (v == p ? wp : v == q ? wq : wr) = b[i];
+      }
+      if (wp >= wq) {
+        b = {wp - wq, 2 * wq, wr};
+        stay.push_back(d);
+      } else {
+        b = {2 * wp, wq - wp, wr};
+        base.denseTriangle[d] = added;
+        densePoints[added].push_back(d);
+      }
+    }
+    densePoints[goal] = std::move(stay);
+    ++stats.splits;
+  }
+
+  base.tiles.clear();
+  double orthoSum = 0;
+  across = neighbours(base);
+  for (std::uint32_t t = 0; t < base.triangleCount(); ++t) {
+    const std::uint32_t o = mate[t];
+    if (o == kNone) throw Error("pairing: a triangle was left unpaired", ErrorKind::Failure);
+    if (o < t) continue;
+    base.tiles.push_back({t, o});
+    for (int i = 0; i < 3; ++i)
+      if (across[t][i] == o) {
+        const auto& tri = base.triangles[t];
+        const std::uint32_t p = tri[i], q = tri[(i + 1) % 3], r = tri[(i + 2) % 3];
+        std::uint32_t s = kNone;
+        for (const std::uint32_t v : base.triangles[o])
+          if (v != p && v != q) s = v;
+        orthoSum += orthogonality(base.positions[p], base.positions[s], base.positions[q], base.positions[r]);
+      }
+  }
+  // Zero-weight tiles: the shared edge has an end of degree 3 in the final mesh.
+  const std::vector<std::uint32_t> finalDegree = vertexDegrees(base, across);
+  for (const auto& tile : base.tiles)
+    for (int i = 0; i < 3; ++i)
+      if (across[tile[0]][i] == tile[1]) {
+        const auto& tri = base.triangles[tile[0]];
+        stats.zeroWeightTiles += finalDegree[tri[i]] == 3 || finalDegree[tri[(i + 1) % 3]] == 3;
+      }
+  stats.tiles = base.tiles.size();
+  stats.meanOrthogonality = stats.tiles ? orthoSum / double(stats.tiles) : 0;
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+}  // namespace isoatlas::multires

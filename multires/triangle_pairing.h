@@ -1,0 +1,25 @@
+// pairTriangles: covers the base mesh with tiles, pairs of triangles sharing an edge, by a
+// maximum-weight matching on the dual graph (LEMON). The weight of a pair ranks the quad's
+// orthogonality (1 - mean |cos| of its corner angles) and is zero when the shared edge has an end
+// of degree 3 (the paper's "manifoldness": such a pair leaves that vertex between two tiles only).
+// Closed meshes always have a perfect matching (Petersen: the dual is cubic and bridgeless); where
+// a triangle is left over (odd counts, boundaries), the matching is shifted along an alternating path
+// to a triangle with a boundary edge, whose edge is split; the new vertex is sampled from the dense
+// surface at the edge's middle. The result is a triquad mesh: every triangle in exactly one tile.
+#pragma once
+#include "multires/base_mesh.h"
+
+namespace isoatlas::multires {
+
+struct PairingStats {
+  std::size_t tiles = 0, splits = 0, zeroWeightTiles = 0;
+  double meanOrthogonality = 0;  // over the tiles, 1 = all corners right angles
+  double seconds = 0;
+};
+
+// Inputs: the base mesh and the dense mesh it parametrises. Output: base.tiles filled; base
+// triangles, vertices and the parametrisation changed by the splits. Throws Error(Failure) if a
+// leftover triangle reaches no boundary (impossible on a manifold).
+PairingStats pairTriangles(BaseMesh& base, const Mesh& dense);
+
+}  // namespace isoatlas::multires

@@ -1,0 +1,140 @@
+// Triangle pairing and surface distances against invariants and known answers.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+
+#include "core/mesh_topology.h"
+#include "multires/mesh_distance.h"
+#include "multires/stellar_simplify.h"
+#include "multires/triangle_pairing.h"
+#include "tests/multires/mesh_shapes.h"
+
+namespace isoatlas::multires {
+namespace {
+
+void expectTriquad(const BaseMesh& base) {
+  ASSERT_EQ(base.tiles.size() * 2, base.triangleCount());
+  std::vector<int> seen(base.triangleCount(), 0);
+  for (const auto& tile : base.tiles) {
+    ++seen[tile[0]], ++seen[tile[1]];
+    int shared = 0;
+    for (const auto a : base.triangles[tile[0]])
+      for (const auto b : base.triangles[tile[1]]) shared += a == b;
+    EXPECT_EQ(shared, 2) << "a tile's triangles share an edge";
+  }
+  for (const int s : seen) EXPECT_EQ(s, 1) << "every triangle is in exactly one tile";
+}
+
+void expectParametrisationInside(const Mesh& dense, const BaseMesh& base, double tolerance) {
+  for (std::size_t d = 0; d < dense.vertexCount(); ++d) {
+    const auto& b = base.denseBary[d];
+    EXPECT_GE(std::min({b[0], b[1], b[2]}), 0.0);
+    EXPECT_NEAR(b[0] + b[1] + b[2], 1.0, 1e-9);
+    EXPECT_LT(norm(base.pointAt(base.denseTriangle[d], b) - dense.positions[d]), tolerance);
+  }
+}
+
+TEST(TrianglePairing, ClosedMeshIsPairedWithoutSplits) {
+  const Mesh dense = test::torusMesh(60, 30);
+  BaseMesh base = simplifyStellar(dense, {.vertexRatio = 0.03});
+  const PairingStats stats = pairTriangles(base, dense);
+  EXPECT_EQ(stats.splits, 0u) << "a closed manifold always has a perfect matching";
+  expectTriquad(base);
+  const MeshTopology quads = analyzeTopology(base.quadMesh());
+  EXPECT_TRUE(quads.closed && quads.manifold && quads.oriented) << quads.firstProblem;
+  EXPECT_EQ(quads.genus, 1);
+  EXPECT_GT(stats.meanOrthogonality, 0.5);
+}
+
+// A wavy sheet with a square hole, plus one lone triangle hung below its bottom border so that the
+// triangle count is odd: some triangle must be split on the boundary.
+Mesh oddSheet() {
+  Mesh dense = test::gridMesh(30, 20, [](int i, int j) { return i >= 10 && i < 14 && j >= 6 && j < 10; });
+  auto find = [&](double x, double y) {
+    for (std::uint32_t v = 0; v < dense.vertexCount(); ++v)
+      if (dense.positions[v].x == x && dense.positions[v].y == y) return v;
+    return ~0u;
+  };
+  const std::uint32_t a = find(15, 0), b = find(16, 0), n = std::uint32_t(dense.vertexCount());
+  dense.positions.push_back({15.5, -1, dense.positions[a].z});
+  dense.addFace({b, a, n});  // the border runs b -> a on the outside
+  return dense;
+}
+
+// Distance from p to the nearest boundary edge of a mesh.
+double boundaryDistance(const Mesh& m, const Vec3& p) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> count;
+  for (std::size_t f = 0; f < m.faceCount(); ++f)
+    for (int i = 0; i < 3; ++i) {
+      const auto a = m.face(f)[i], b = m.face(f)[(i + 1) % 3];
+      ++count[{std::min(a, b), std::max(a, b)}];
+    }
+  double best = 1e300;
+  for (const auto& [e, c] : count) {
+    if (c != 1) continue;
+    const Vec3 a = m.positions[e.first], d = m.positions[e.second] - a;
+    const double t = std::clamp(dot(p - a, d) / dot(d, d), 0.0, 1.0);
+    best = std::min(best, norm(a + d * t - p));
+  }
+  return best;
+}
+
+TEST(TrianglePairing, LeftoversAreSplitOnTheBoundary) {
+  const Mesh dense = oddSheet();
+  const MeshTopology topology = analyzeTopology(dense);
+  ASSERT_TRUE(topology.manifold && topology.oriented) << topology.firstProblem;
+  BaseMesh base = simplifyStellar(dense, {.vertexRatio = 0.08});
+  const std::size_t before = base.triangleCount();
+  const PairingStats stats = pairTriangles(base, dense);
+  expectTriquad(base);
+  EXPECT_EQ(base.triangleCount(), before + stats.splits);
+  EXPECT_GE(stats.splits, before % 2);
+  expectParametrisationInside(dense, base, 0.5);
+  const MeshTopology quads = analyzeTopology(base.quadMesh());
+  EXPECT_TRUE(quads.manifold) << quads.firstProblem;
+  EXPECT_EQ(quads.boundaryLoops, 2u);
+}
+
+TEST(TrianglePairing, SplitVerticesLieOnTheDenseBoundary) {
+  const Mesh dense = oddSheet();
+  // Several ratios, so that several base meshes with odd counts are paired.
+  std::size_t splitVertices = 0;
+  for (const double ratio : {0.05, 0.06, 0.07, 0.08, 0.09}) {
+    BaseMesh base = simplifyStellar(dense, {.vertexRatio = ratio});
+    pairTriangles(base, dense);
+    expectTriquad(base);
+    for (std::size_t v = 0; v < base.vertexCount(); ++v) {
+      if (base.denseVertex[v] >= 0) continue;
+      ++splitVertices;
+      EXPECT_LT(boundaryDistance(dense, base.positions[v]), 1e-6) << "split vertex " << v;
+    }
+  }
+  EXPECT_GT(splitVertices, 0u);
+}
+
+TEST(MeshDistance, ZeroToItselfAndTheOffsetToATranslatedCopy) {
+  const Mesh sphere = test::sphereMesh(8);
+  const Hausdorff self = hausdorffDistance(sphere, sphere);
+  EXPECT_LT(self.symmetric(), 1e-9);
+  Mesh moved = sphere;
+  for (Vec3& p : moved.positions) p = p + Vec3{0.3, 0, 0};
+  const Hausdorff h = hausdorffDistance(sphere, moved);
+  EXPECT_NEAR(h.symmetric(), 0.3, 0.3 * 0.03);
+  EXPECT_NEAR(h.aToB, h.bToA, 0.3 * 0.03);
+  EXPECT_NEAR(psnrDb(100, 1), 40, 1e-12);
+}
+
+TEST(MeshDistance, FarPointsAreMeasuredExactly) {
+  Mesh square;
+  square.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  square.addFace({0, 1, 2});
+  square.addFace({0, 2, 3});
+  const TriangleGrid grid(square);
+  EXPECT_NEAR(grid.distance({0.5, 0.5, 7}), 7, 1e-12);
+  EXPECT_NEAR(grid.distance({4, 5, 0}), 5, 1e-12);  // to the corner (1, 1): (3, 4)
+  EXPECT_NEAR(grid.distance({0.25, 0.75, -0.5}), 0.5, 1e-12);
+}
+
+}  // namespace
+}  // namespace isoatlas::multires
