@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/mesh_io.h"
 #include "core/progress.h"
+#include "multires/adaptive_mesh.h"
 #include "multires/mesh_distance.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
@@ -69,8 +70,8 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
     require(o->baseOnly.empty() || o->baseOnly.ends_with(".obj"), o->baseOnly + ": --base-only writes an .obj");
     require(o->baseRatio > 0 && o->baseRatio <= 1, "--base-ratio must be in (0, 1]");
     require(o->maxError >= 0, "--max-error must be positive");
-    require(o->chart >= 3 && o->chart <= 1025 && ((o->chart - 1) & (o->chart - 2)) == 0,
-            "--chart must be 2^k + 1 between 3 and 1025 (e.g. 33)");
+    require(o->chart >= 3 && o->chart <= 257 && ((o->chart - 1) & (o->chart - 2)) == 0,
+            "--chart must be 2^k + 1 between 3 and 257 (e.g. 33)");
 
     const Mesh dense = prepareInput(readMesh(o->input));
     multires::SimplifyOptions simplify{.vertexRatio = o->baseRatio, .targetVertices = o->baseVertices};
@@ -97,6 +98,15 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
     r["mean_tile_orthogonality"] = pairing.meanOrthogonality;
     r["operators"] = {{"flips", stats.operators.flips}, {"face_welds", stats.operators.faceWelds},
                       {"edge_welds", stats.operators.edgeWelds}, {"boundary_welds", stats.operators.boundaryWelds}};
+    // The specialised halfedge over the tiles (refinement at run time is the viewer's).
+    const multires::AdaptiveMesh adaptive(base, std::uint32_t(o->chart), [&](const multires::ChartPoint& p) {
+      const auto [t, w] = base.chartToTriangle(p.chart, p.u, p.v);
+      return base.pointAt(t, w);
+    });
+    r["halfedge_bytes"] = multires::AdaptiveMesh::kBytesPerHalfedge;
+    r["vertex_bytes"] = multires::AdaptiveMesh::kBytesPerVertex;
+    r["face_bytes"] = multires::AdaptiveMesh::kBytesPerFace;
+    r["patches"] = adaptive.patches().size();
     r["seconds_simplify"] = stats.seconds;
     r["seconds_match"] = pairing.seconds;
     const double diagonal = boundingBox(dense.positions).diagonal();

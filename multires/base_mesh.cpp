@@ -11,6 +11,25 @@ Mesh BaseMesh::triangleMesh() const {
   return mesh;
 }
 
+std::pair<std::uint32_t, std::array<double, 3>> BaseMesh::chartToTriangle(std::uint32_t tile, double u, double v) const {
+  const auto [first, second] = tiles.at(tile);
+  const auto& a = triangles[first];
+  const auto& b = triangles[second];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (b[j] == a[(i + 1) % 3] && b[(j + 1) % 3] == a[i]) {
+        std::array<double, 3> w{};
+        if (v >= u) {  // first = (p, q, r): (u, v) = u (q - p) + (v - u) (r - p) from p
+          w[i] = 1 - v, w[(i + 1) % 3] = u, w[(i + 2) % 3] = v - u;
+          return {first, w};
+        }
+        // second = (q, p, s) starting at corner j: (u, v) = (1,1) + (1 - u) (p - q) + (u - v) (s - q)
+        w[j] = v, w[(j + 1) % 3] = 1 - u, w[(j + 2) % 3] = u - v;
+        return {second, w};
+      }
+  throw Error("base mesh: a tile's two triangles share no edge", ErrorKind::Failure);
+}
+
 Mesh BaseMesh::quadMesh() const {
   require(tiles.size() * 2 == triangles.size(), "base mesh: the triangles are not all paired into tiles");
   Mesh mesh;

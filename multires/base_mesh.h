@@ -29,6 +29,10 @@ struct BaseMesh {
     const auto& t = triangles[triangle];
     return positions[t[0]] * bary[0] + positions[t[1]] * bary[1] + positions[t[2]] * bary[2];
   }
+  // Tile i's chart is the unit square on its quad (p, s, q, r), where p -> q is the edge its first
+  // triangle shares: p (0,0), s (1,0), q (1,1), r (0,1). Returns the base triangle and barycentric
+  // coordinates of chart point (u, v).
+  std::pair<std::uint32_t, std::array<double, 3>> chartToTriangle(std::uint32_t tile, double u, double v) const;
   Mesh triangleMesh() const;  // the base triangles as a Mesh
   Mesh quadMesh() const;      // the tiles as quads (the shared edge dropped); requires tiles
 };

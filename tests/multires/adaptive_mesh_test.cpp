@@ -1,0 +1,194 @@
+// The specialised halfedge: refinement and coarsening by stellar splits and welds keep the mesh a
+// closed manifold of the same genus, neighbours within one level, and the surface on the dense one;
+// a weld undone by a split gives the same faces back; patches tile every chart.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+
+#include "core/mesh_topology.h"
+#include "multires/adaptive_mesh.h"
+#include "multires/dense_sampler.h"
+#include "multires/mesh_distance.h"
+#include "multires/stellar_simplify.h"
+#include "multires/triangle_pairing.h"
+#include "tests/multires/mesh_shapes.h"
+
+namespace isoatlas::multires {
+namespace {
+
+struct Fixture {
+  Mesh dense = test::torusMesh(64, 32);
+  BaseMesh base;
+  std::unique_ptr<DenseSampler> sampler;
+  Fixture() {
+    base = simplifyStellar(dense, {.vertexRatio = 0.02});
+    pairTriangles(base, dense);
+    sampler = std::make_unique<DenseSampler>(dense, base);
+  }
+  AdaptiveMesh adaptive(std::uint32_t chart = 17) {
+    return AdaptiveMesh(base, chart, [this](const ChartPoint& p) {
+      const auto [t, w] = base.chartToTriangle(p.chart, p.u, p.v);
+      return sampler->position(t, w);
+    });
+  }
+};
+
+int faceLevel(const AdaptiveMesh& a, FaceH f) {
+  int l = 0;
+  for (const VertexH v : a.mesh().fv_range(f)) l = std::max(l, a.level(v));
+  return l;
+}
+
+void expectInvariants(const AdaptiveMesh& a) {
+  const StellarMesh& m = a.mesh();
+  const MeshTopology t = analyzeTopology(a.triangles());
+  ASSERT_TRUE(t.closed && t.manifold && t.oriented) << t.firstProblem;
+  EXPECT_EQ(t.genus, 1);
+  for (const FaceH f : m.faces()) {
+    int interior = 0;
+    for (const HalfedgeH h : m.fh_range(f)) interior += a.isInterior(h);
+    EXPECT_EQ(interior, 1) << "each face points to one of its own halfedges";
+  }
+  for (const EdgeH e : m.edges()) {
+    const FaceH f0 = m.face_handle(m.halfedge_handle(e, 0)), f1 = m.face_handle(m.halfedge_handle(e, 1));
+    ASSERT_LE(std::abs(faceLevel(a, f0) - faceLevel(a, f1)), 1) << "neighbours differ by more than one level";
+  }
+}
+
+TEST(AdaptiveMesh, BaseTilesHaveTheirDiagonalInterior) {
+  Fixture fx;
+  const AdaptiveMesh a = fx.adaptive();
+  expectInvariants(a);
+  std::size_t splittable = 0;
+  for (const EdgeH e : a.mesh().edges()) splittable += a.canSplit(e);
+  EXPECT_EQ(splittable, fx.base.tiles.size()) << "exactly the tile diagonals";
+  EXPECT_EQ(AdaptiveMesh::kBytesPerVertex, 1u);
+  EXPECT_EQ(a.patches().size(), fx.base.tiles.size());
+}
+
+TEST(AdaptiveMesh, UniformRefinementFollowsTheDenseSurface) {
+  Fixture fx;
+  AdaptiveMesh a = fx.adaptive(9);  // 8 texels a side: six levels of 4-8 refinement
+  for (int level = 0; level < 6; ++level) {
+    const std::size_t faces = a.mesh().n_faces() - 0;
+    std::vector<EdgeH> edges;
+    for (const EdgeH e : a.mesh().edges())
+      if (a.canSplit(e)) edges.push_back(e);
+    for (const EdgeH e : edges) a.split(e);
+    a.compact();
+    EXPECT_EQ(a.mesh().n_faces(), 2 * faces) << "a uniform 4-8 level doubles the faces";
+    expectInvariants(a);
+  }
+  // Nothing is finer than the chart's texels.
+  for (const EdgeH e : a.mesh().edges()) EXPECT_FALSE(a.canSplit(e));
+  // Every vertex lies on the dense torus (distance to its tube), within the dense mesh's own error.
+  double worst = 0;
+  for (const VertexH v : a.mesh().vertices()) {
+    const auto p = a.mesh().point(v);
+    const double ring = std::sqrt(p[0] * p[0] + p[1] * p[1]) - 3;
+    worst = std::max(worst, std::abs(std::sqrt(ring * ring + p[2] * p[2]) - 1));
+  }
+  EXPECT_LT(worst, 0.01);
+}
+
+TEST(AdaptiveMesh, RandomRefineAndWeldKeepOneLevelOfDifference) {
+  Fixture fx;
+  AdaptiveMesh a = fx.adaptive(33);
+  std::mt19937 rng(11);
+  int splits = 0, welds = 0;
+  for (int round = 0; round < 20; ++round) {
+    for (int i = 0; i < 100; ++i) {
+      const EdgeH e(int(rng() % a.mesh().n_edges()));
+      if (!a.mesh().status(e).deleted() && a.refine(e)) ++splits;
+    }
+    for (int i = 0; i < 60; ++i) {
+      const VertexH v(int(rng() % a.mesh().n_vertices()));
+      if (a.canWeld(v)) a.weld(v), ++welds;
+    }
+    a.compact();
+    expectInvariants(a);
+  }
+  EXPECT_GT(splits, 500);
+  EXPECT_GT(welds, 100);
+  // Weld everything back: the base mesh returns.
+  for (bool any = true; any;) {
+    any = false;
+    for (const VertexH v : a.mesh().vertices())
+      if (a.canWeld(v)) a.weld(v), any = true;
+  }
+  a.compact();
+  EXPECT_EQ(a.mesh().n_vertices(), fx.base.vertexCount());
+  EXPECT_EQ(a.mesh().n_faces(), fx.base.triangleCount());
+  expectInvariants(a);
+}
+
+std::multiset<std::array<double, 9>> facePositions(const AdaptiveMesh& a) {
+  std::multiset<std::array<double, 9>> out;
+  for (const FaceH f : a.mesh().faces()) {
+    std::vector<std::array<double, 3>> c;
+    // Rounded: a vertex on a tile side is sampled from either tile's chart, equal up to rounding.
+    auto r = [](double x) { return std::round(x * 1e6) / 1e6; };
+    for (const VertexH v : a.mesh().fv_range(f))
+      c.push_back({r(a.mesh().point(v)[0]), r(a.mesh().point(v)[1]), r(a.mesh().point(v)[2])});
+    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
+    out.insert({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
+  }
+  return out;
+}
+
+TEST(AdaptiveMesh, WeldThenSplitRestoresTheFaces) {
+  Fixture fx;
+  AdaptiveMesh a = fx.adaptive(17);
+  std::mt19937 rng(3);
+  for (int i = 0; i < 400; ++i) a.refine(EdgeH(int(rng() % a.mesh().n_edges())));
+  int checked = 0;
+  for (int i = 0; i < int(a.mesh().n_vertices()) && checked < 30; ++i) {
+    const VertexH v(i);
+    if (!a.canWeld(v)) continue;
+    const auto before = facePositions(a);
+    const int level = a.level(v);
+    a.weld(v);
+    // The restored edge is the one splittable edge whose split lands on v's old place.
+    bool restored = false;
+    for (const EdgeH e : a.mesh().edges())
+      if (a.canSplit(e)) {
+        AdaptiveMesh copy = a;
+        const VertexH m = copy.split(e);
+        if (facePositions(copy) == before) {
+          EXPECT_EQ(copy.level(m), level);
+          a = std::move(copy);
+          restored = true;
+          break;
+        }
+      }
+    EXPECT_TRUE(restored) << "vertex " << i;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 30);
+}
+
+TEST(AdaptiveMesh, PatchesTileEveryChart) {
+  Fixture fx;
+  AdaptiveMesh a = fx.adaptive(33);
+  // Refine tile 0 deeply and the rest a little.
+  for (int round = 0; round < 6; ++round) {
+    std::vector<EdgeH> edges;
+    for (const EdgeH e : a.mesh().edges())
+      for (int i = 0; i < 2; ++i) {
+        const HalfedgeH h = a.mesh().halfedge_handle(e, i);
+        if (a.isInterior(h) && a.chart(h) == 0) edges.push_back(e);  // refine() forces the neighbours
+      }
+    for (const EdgeH e : edges) a.refine(e);
+  }
+  const std::vector<Patch> patches = a.patches();
+  std::map<std::uint32_t, long> area;
+  std::map<std::uint32_t, int> count;
+  for (const Patch& p : patches) area[p.chart] += long(p.s) * p.s, ++count[p.chart];
+  EXPECT_EQ(area.size(), fx.base.tiles.size());
+  for (const auto& [chart, covered] : area) EXPECT_EQ(covered, 32 * 32) << "chart " << chart;
+  EXPECT_GE(count[0], 4) << "a tile with several odd-level vertices becomes four patches or more";
+}
+
+}  // namespace
+}  // namespace isoatlas::multires
