@@ -4,12 +4,6 @@
 
 namespace isoatlas::multires {
 
-std::vector<Vec2> exponentialMap(const StellarMesh& mesh, VertexH v, const OneRing& ring) {
-  std::vector<Vec2> plane;
-  if (!exponentialMap(mesh, v, ring, plane)) plane.clear();
-  return plane;
-}
-
 bool exponentialMap(const StellarMesh& mesh, VertexH v, const OneRing& ring, std::vector<Vec2>& plane) {
   constexpr std::size_t kMax = 64;  // a vertex of higher degree is left in place
   const std::size_t k = ring.vertices.size();

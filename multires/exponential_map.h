@@ -19,11 +19,10 @@ inline double cross2(const Vec2& a, const Vec2& b) { return a.x * b.y - a.y * b.
 // Twice the signed area of (a, b, c): positive when counter-clockwise.
 inline double orient2(const Vec2& a, const Vec2& b, const Vec2& c) { return cross2(b - a, c - a); }
 
-// Inputs: the mesh, the vertex v and its oneRing. Output: the plane position of each ring vertex
-// (v at the origin), in ring order; empty when the ring is degenerate (a zero-length edge or a
-// zero total angle).
-std::vector<Vec2> exponentialMap(const StellarMesh& mesh, VertexH v, const OneRing& ring);
-bool exponentialMap(const StellarMesh& mesh, VertexH v, const OneRing& ring, std::vector<Vec2>& plane);  // false: degenerate
+// Inputs: the mesh, the vertex v and its oneRing. Output: `plane`, the plane position of each ring
+// vertex (v at the origin), in ring order. Returns false when the ring is degenerate (a zero-length
+// edge, a zero total angle) or has more than 64 vertices.
+bool exponentialMap(const StellarMesh& mesh, VertexH v, const OneRing& ring, std::vector<Vec2>& plane);
 
 // Barycentric coordinates of p in triangle (a, b, c); any sign.
 std::array<double, 3> barycentric2(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c);

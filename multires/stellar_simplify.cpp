@@ -110,8 +110,9 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
 
   // Rank the candidates by cost first (cheap), then take the cheapest that passes the checks.
   struct Option {
-    double cost;
+    double cost, length2;  // ties (flat regions cost nothing) go to the nearer neighbour
     std::size_t t;
+    bool operator<(const Option& o) const { return cost != o.cost ? cost < o.cost : length2 < o.length2; }
   };
   Option options[64];
   std::size_t count = 0;
@@ -119,7 +120,8 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
     const Quadric q = quadric_[v.idx()] + quadric_[ring.vertices[t].idx()];
     const double cost = std::max(0.0, q.error(points[t]));
     if (cost > options_.maxError * options_.maxError * q.weight) return;
-    options[count++] = {cost, t};
+    const Vec3 d = points[t] - pv;
+    options[count++] = {cost, dot(d, d), t};
   };
   if (ring.boundary) {
     rank(0);
@@ -127,7 +129,7 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
   } else {
     for (std::size_t t = 0; t < k; ++t) rank(t);
   }
-  std::sort(options, options + count, [](const Option& a, const Option& b) { return a.cost < b.cost; });
+  std::sort(options, options + count);
   auto valid = [&](std::size_t t) {
     const Vec3& pu = points[t];
     for (std::size_t i = 0; i < ring.faces.size(); ++i) {
@@ -156,8 +158,10 @@ void Simplifier::push(VertexH v) {
 }
 
 void Simplifier::removeVertex(VertexH v, VertexH u) {
+  // Ranked by evaluate() on this very ring (its stamp is current), so the map is not degenerate.
   const OneRing ring = oneRing(mesh_, v);
-  const std::vector<Vec2> plane = exponentialMap(mesh_, v, ring);
+  std::vector<Vec2> plane;
+  exponentialMap(mesh_, v, ring, plane);
   auto planeOf = [&](int vertex) -> Vec2 {
     if (vertex == v.idx()) return {0, 0};
     for (std::size_t i = 0; i < ring.vertices.size(); ++i)
