@@ -38,17 +38,10 @@ Mesh prepareInput(Mesh mesh) {
             std::to_string(triangles.faceCount()) + " triangles");
     mesh = std::move(triangles);
   }
-  std::vector<std::uint32_t> index(mesh.vertexCount(), ~0u);
-  for (const std::uint32_t v : mesh.faceVertices) index[v] = 0;
-  std::uint32_t next = 0;
-  Mesh out;
-  for (std::size_t v = 0; v < mesh.vertexCount(); ++v)
-    if (index[v] == 0) index[v] = next++, out.positions.push_back(mesh.positions[v]);
-  if (out.positions.size() == mesh.positions.size()) return mesh;
-  logInfo("build: dropped " + std::to_string(mesh.vertexCount() - out.vertexCount()) + " vertices that no face uses");
-  for (const std::uint32_t v : mesh.faceVertices) out.faceVertices.push_back(index[v]);
-  out.faceOffsets = mesh.faceOffsets;
-  return out;
+  const Mesh used = selectFaces(mesh, [](std::size_t) { return true; });
+  if (used.vertexCount() < mesh.vertexCount())
+    logInfo("build: dropped " + std::to_string(mesh.vertexCount() - used.vertexCount()) + " vertices that no face uses");
+  return used;
 }
 
 }  // namespace
@@ -98,15 +91,10 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
     r["mean_tile_orthogonality"] = pairing.meanOrthogonality;
     r["operators"] = {{"flips", stats.operators.flips}, {"face_welds", stats.operators.faceWelds},
                       {"edge_welds", stats.operators.edgeWelds}, {"boundary_welds", stats.operators.boundaryWelds}};
-    // The specialised halfedge over the tiles (refinement at run time is the viewer's).
-    const multires::AdaptiveMesh adaptive(base, std::uint32_t(o->chart), [&](const multires::ChartPoint& p) {
-      const auto [t, w] = base.chartToTriangle(p.chart, p.u, p.v);
-      return base.pointAt(t, w);
-    });
+    // Storage of the specialised halfedge the model is refined with (multires/adaptive_mesh.h).
     r["halfedge_bytes"] = multires::AdaptiveMesh::kBytesPerHalfedge;
     r["vertex_bytes"] = multires::AdaptiveMesh::kBytesPerVertex;
     r["face_bytes"] = multires::AdaptiveMesh::kBytesPerFace;
-    r["patches"] = adaptive.patches().size();
     r["seconds_simplify"] = stats.seconds;
     r["seconds_match"] = pairing.seconds;
     const double diagonal = boundingBox(dense.positions).diagonal();

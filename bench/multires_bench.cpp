@@ -71,19 +71,10 @@ Mesh meshoptSimplify(const Mesh& dense, std::size_t faces, double& seconds) {
   const std::size_t n = meshopt_simplify(out.data(), indices.data(), indices.size(), xyz.data(), dense.vertexCount(),
                                          12, faces * 3, 1.0f, 0, &error);
   seconds = since(start);
-  // Keep only the vertices the result uses.
-  Mesh m;
-  std::vector<std::uint32_t> remap(dense.vertexCount(), ~0u);
-  for (std::size_t i = 0; i < n; i += 3) {
-    std::uint32_t c[3];
-    for (int k = 0; k < 3; ++k) {
-      const unsigned v = out[i + k];
-      if (remap[v] == ~0u) remap[v] = std::uint32_t(m.positions.size()), m.positions.push_back(dense.positions[v]);
-      c[k] = remap[v];
-    }
-    m.addFace({c[0], c[1], c[2]});
-  }
-  return m;
+  Mesh m;  // the result's faces over all dense vertices, then only the vertices it uses
+  m.positions = dense.positions;
+  for (std::size_t i = 0; i < n; i += 3) m.addFace({out[i], out[i + 1], out[i + 2]});
+  return selectFaces(m, [](std::size_t) { return true; });
 }
 
 void compare(const std::string& name, const Mesh& dense) {

@@ -10,6 +10,25 @@ bool Mesh::allFacesHave(std::size_t corners) const {
   return true;
 }
 
+Mesh selectFaces(const Mesh& mesh, const std::function<bool(std::size_t)>& keep) {
+  Mesh out;
+  std::vector<std::uint32_t> remap(mesh.vertexCount(), UINT32_MAX), corners;
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+    if (!keep(f)) continue;
+    corners.clear();
+    for (const std::uint32_t v : mesh.face(f)) {
+      if (remap[v] == UINT32_MAX) {
+        remap[v] = std::uint32_t(out.positions.size());
+        out.positions.push_back(mesh.positions[v]);
+        if (!mesh.normals.empty()) out.normals.push_back(mesh.normals[v]);
+      }
+      corners.push_back(remap[v]);
+    }
+    out.addFace(corners);
+  }
+  return out;
+}
+
 Box boundingBox(const std::vector<Vec3>& points) {
   if (points.empty()) return {};
   Box b{points[0], points[0]};

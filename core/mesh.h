@@ -2,6 +2,7 @@
 // Face f's corners are faceVertices[faceOffsets[f] .. faceOffsets[f+1]).
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -27,6 +28,10 @@ struct Mesh {
   void addFace(std::initializer_list<std::uint32_t> corners) { addFace(std::span(corners.begin(), corners.size())); }
   bool allFacesHave(std::size_t corners) const;  // e.g. 3 for a triangle mesh
 };
+
+// The faces for which keep(f) holds, in order, with only the vertices they use (and their normals),
+// renumbered in order of first use. keep is called once per face, in order.
+Mesh selectFaces(const Mesh& mesh, const std::function<bool(std::size_t face)>& keep);
 
 struct Box {
   Vec3 min, max;

@@ -26,31 +26,20 @@ std::int64_t keepComponents(Mesh& mesh, bool largestOnly, std::int64_t minTriang
   auto keep = [&](std::uint32_t root) {
     return largestOnly ? size[root] == largest : size[root] >= minTriangles;
   };
-  Mesh out;
-  std::vector<std::uint32_t> remap(mesh.vertexCount(), UINT32_MAX);
   bool largestTaken = false;
   std::uint32_t largestRoot = UINT32_MAX;
-  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
-    const auto face = mesh.face(f);
-    const std::uint32_t root = find(face[0]);
-    if (!keep(root)) continue;
+  std::vector<char> rootKept(mesh.vertexCount(), 0);
+  Mesh out = selectFaces(mesh, [&](std::size_t f) {
+    const std::uint32_t root = find(mesh.face(f)[0]);
+    if (!keep(root)) return false;
     if (largestOnly) {  // ties: the first largest component only
       if (!largestTaken) largestTaken = true, largestRoot = root;
-      if (root != largestRoot) continue;
+      if (root != largestRoot) return false;
     }
-    std::vector<std::uint32_t> corners;
-    for (std::uint32_t v : face) {
-      if (remap[v] == UINT32_MAX) {
-        remap[v] = std::uint32_t(out.positions.size());
-        out.positions.push_back(mesh.positions[v]);
-        if (!mesh.normals.empty()) out.normals.push_back(mesh.normals[v]);
-      }
-      corners.push_back(remap[v]);
-    }
-    out.addFace(corners);
-  }
-  for (std::uint32_t v = 0; v < parent.size(); ++v)
-    if (parent[v] == v && size[v] > 0 && remap[v] != UINT32_MAX) ++kept;
+    rootKept[root] = 1;
+    return true;
+  });
+  for (std::uint32_t v = 0; v < parent.size(); ++v) kept += rootKept[v];
   mesh = std::move(out);
   return components - kept;
 }

@@ -19,8 +19,13 @@ const std::array<int, 2>& lookup(const UvTable& table, int vertex) {
 
 }  // namespace
 
+// The storage the class documents is the storage its properties take.
+static_assert(sizeof(std::uint32_t) + sizeof(std::array<std::uint8_t, 4>) == AdaptiveMesh::kBytesPerHalfedge);
+static_assert(sizeof(std::uint8_t) == AdaptiveMesh::kBytesPerVertex);
+static_assert(sizeof(HalfedgeH) == AdaptiveMesh::kBytesPerFace);
+
 AdaptiveMesh::AdaptiveMesh(const BaseMesh& base, std::uint32_t chartSize, Sampler sampler)
-    : chartSize_(chartSize), sampler_(std::move(sampler)) {
+    : chartSize_(chartSize), charts_(std::uint32_t(base.tiles.size())), sampler_(std::move(sampler)) {
   require(chartSize >= 3 && chartSize <= 257 && ((chartSize - 1) & (chartSize - 2)) == 0,
           "adaptive mesh: the chart size must be 2^k + 1 between 3 and 257");
   require(!base.tiles.empty() && base.tiles.size() * 2 == base.triangleCount(),
@@ -35,17 +40,8 @@ AdaptiveMesh::AdaptiveMesh(const BaseMesh& base, std::uint32_t chartSize, Sample
       throw Error("adaptive mesh: the base mesh is not a manifold");
   const int n = int(chartSize - 1);
   for (std::uint32_t i = 0; i < base.tiles.size(); ++i) {
-    const auto& a = base.triangles[base.tiles[i][0]];
-    const auto& b = base.triangles[base.tiles[i][1]];
-    int p = -1, q = -1, r = -1, s = -1;
-    for (int c = 0; c < 3 && p < 0; ++c)
-      for (int d = 0; d < 3; ++d)
-        if (b[d] == a[(c + 1) % 3] && b[(d + 1) % 3] == a[c]) {
-          p = int(a[c]), q = int(a[(c + 1) % 3]), r = int(a[(c + 2) % 3]), s = int(b[(d + 2) % 3]);
-          break;
-        }
-    if (p < 0) throw Error("adaptive mesh: a tile's triangles share no edge");
-    const UvTable table{{p, {0, 0}}, {s, {n, 0}}, {q, {n, n}}, {r, {0, n}}};
+    const BaseMesh::TileCorners c = base.tileCorners(i);
+    const UvTable table{{int(c.p), {0, 0}}, {int(c.s), {n, 0}}, {int(c.q), {n, n}}, {int(c.r), {0, n}}};
     setFace(FaceH(int(base.tiles[i][0])), i, table);
     setFace(FaceH(int(base.tiles[i][1])), i, table);
   }
@@ -145,7 +141,11 @@ VertexH AdaptiveMesh::split(EdgeH e) {
     sides.push_back(std::move(side));
   }
   const int n = int(chartSize_ - 1);
-  const Vec3 position = sampler_({sides[0].chart, double(sides[0].mid[0]) / n, double(sides[0].mid[1]) / n});
+  // On a tile side, the chart of lower index is sampled, so the new vertex does not depend on which
+  // side the edge's handle happens to start from. (Averaging both, as the atlas will average shared
+  // edges, puts the vertex off the surface while the two charts still disagree: see DenseSampler.)
+  const Side& from = sides.size() == 2 && sides[1].chart < sides[0].chart ? sides[1] : sides[0];
+  const Vec3 position = sampler_({from.chart, double(from.mid[0]) / n, double(from.mid[1]) / n});
   const VertexH m = splitEdge(mesh_, e, position);
   mesh_.property(level_, m) = std::uint8_t(newLevel | ((newLevel % 2 == 1 && diagonalPlus) ? 0x80 : 0));
   for (Side& side : sides) side.table.push_back({m.idx(), side.mid});
@@ -232,10 +232,8 @@ std::vector<Patch> AdaptiveMesh::patches() const {
   // Odd-level vertices strictly inside each chart, with their (u, v).
   std::map<std::uint32_t, std::vector<std::array<int, 3>>> inside;
   std::vector<char> seen(mesh_.n_vertices(), 0);
-  std::uint32_t charts = 0;
   for (const HalfedgeH h : mesh_.halfedges()) {
     if (mesh_.is_boundary(h)) continue;
-    charts = std::max(charts, chart(h) + 1);
     const VertexH v = mesh_.from_vertex_handle(h);
     const auto x = uv(h);
     if (seen[v.idx()] || level(v) % 2 == 0 || x[0] <= 0 || x[0] >= n || x[1] <= 0 || x[1] >= n) continue;
@@ -254,7 +252,7 @@ std::vector<Patch> AdaptiveMesh::patches() const {
     }
     out.push_back({c, std::uint16_t(u), std::uint16_t(v), std::uint16_t(s), std::uint8_t(finest)});
   };
-  for (std::uint32_t c = 0; c < charts; ++c) visit(c, 0, 0, n);
+  for (std::uint32_t c = 0; c < charts_; ++c) visit(c, 0, 0, n);
   return out;
 }
 

@@ -10,7 +10,8 @@
 //   - Each vertex stores its resolution level (0 for base vertices) in 7 bits, and for odd levels
 //     (the centre of a square of the chart) which diagonal it was split from in the eighth.
 // refine() makes the forced splits first, so neighbouring faces never differ by more than one level.
-// New vertices are sampled at the split point from the chart, through a callback.
+// New vertices are sampled at the split point from the chart, through a callback; on a tile side,
+// from the chart of lower index.
 #pragma once
 #include <functional>
 
@@ -70,7 +71,7 @@ private:
   void setFace(FaceH f, std::uint32_t chart, const std::vector<std::pair<int, std::array<int, 2>>>& uvOf);
 
   StellarMesh mesh_;
-  std::uint32_t chartSize_;
+  std::uint32_t chartSize_, charts_;
   Sampler sampler_;
   OpenMesh::HPropHandleT<std::uint32_t> chart_;
   OpenMesh::HPropHandleT<std::array<std::uint8_t, 4>> uv_;

@@ -29,6 +29,13 @@ struct BaseMesh {
     const auto& t = triangles[triangle];
     return positions[t[0]] * bary[0] + positions[t[1]] * bary[1] + positions[t[2]] * bary[2];
   }
+  // Tile i as a quad (p, s, q, r), counter-clockwise: its first triangle is (p, q, r) with the shared
+  // edge p -> q starting at corner `first`, its second (q, p, s) starting at corner `second`.
+  struct TileCorners {
+    std::uint32_t p, s, q, r;
+    int first, second;
+  };
+  TileCorners tileCorners(std::uint32_t tile) const;
   // Tile i's chart is the unit square on its quad (p, s, q, r), where p -> q is the edge its first
   // triangle shares: p (0,0), s (1,0), q (1,1), r (0,1). Returns the base triangle and barycentric
   // coordinates of chart point (u, v).

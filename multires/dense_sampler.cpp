@@ -34,6 +34,22 @@ bool unfold(const BaseMesh& base, std::uint32_t from, const std::array<double, 3
   return true;
 }
 
+// A point of base triangle `from` whose weight lies only on corners `to` shares (a base vertex, or
+// a point of a shared edge) is the same point of `to`: expressed there exactly.
+bool express(const BaseMesh& base, std::uint32_t from, const std::array<double, 3>& bary, std::uint32_t to,
+             std::array<double, 3>& out) {
+  const auto& f = base.triangles[from];
+  const auto& t = base.triangles[to];
+  out = {0, 0, 0};
+  for (int i = 0; i < 3; ++i) {
+    if (bary[i] == 0) continue;
+    const auto* at = std::find(t.begin(), t.end(), f[i]);
+    if (at == t.end()) return false;
+    out[std::size_t(at - t.begin())] += bary[i];
+  }
+  return true;
+}
+
 }  // namespace
 
 DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base) : dense_(dense), base_(base), images_(base.triangleCount()) {
@@ -49,7 +65,7 @@ DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base) : dense_(den
       bool ok = true;
       for (int i = 0; i < 3 && ok; ++i) {
         std::array<double, 3> b = base.denseBary[c[i]];
-        if (tris[i] != t) ok = unfold(base, tris[i], base.denseBary[c[i]], t, b);
+        if (tris[i] != t) ok = express(base, tris[i], base.denseBary[c[i]], t, b) || unfold(base, tris[i], base.denseBary[c[i]], t, b);
         image.uv[i] = {b[1], b[2]};
       }
       if (ok) images_[t].push_back(image);

@@ -3,7 +3,8 @@
 // holds the point, interpolated. A dense triangle whose corners lie in two neighbouring base
 // triangles is unfolded across their shared edge, so points on base edges are covered too. Where no
 // dense triangle holds the point (only near a base vertex, where three or more base triangles meet),
-// the nearest image is used, and the base triangle itself where it holds no image at all. Keeps
+// the nearest image is used, and the base triangle itself where it holds no image at all. A base
+// vertex belongs to all its base triangles, so the dense triangles around it are imaged in each. Keeps
 // references to both meshes.
 #pragma once
 #include <array>

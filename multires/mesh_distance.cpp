@@ -46,7 +46,8 @@ TriangleGrid::TriangleGrid(const Mesh& mesh) : mesh_(mesh) {
   const Box box = boundingBox(mesh.positions);
   double area = 0;
   for (std::size_t f = 0; f < mesh.faceCount(); ++f) area += faceArea(mesh, f);
-  // Cells about twice a triangle's size; never more than ~64 per axis per cube root of the count.
+  // Cells about twice a triangle's size, but at most 4096 along the box's diagonal (the cell key
+  // packs 21 bits per axis).
   cell_ = std::max({2 * std::sqrt(area / double(mesh.faceCount())), box.diagonal() / 4096, 1e-9});
   origin_ = box.min;
   for (int a = 0; a < 3; ++a) extent_[a] = cellOf(box.max[a], a) + 1;

@@ -30,14 +30,12 @@ StellarMesh toStellarMesh(const Mesh& mesh, const std::string& where) {
   return out;
 }
 
-Mesh toMesh(const StellarMesh& mesh, std::vector<std::uint32_t>* vertexOrigin) {
+Mesh toMesh(const StellarMesh& mesh) {
   Mesh out;
   std::vector<std::uint32_t> index(mesh.n_vertices(), ~0u);
-  if (vertexOrigin) vertexOrigin->clear();
   for (const VertexH v : mesh.vertices()) {
     index[v.idx()] = std::uint32_t(out.positions.size());
     out.positions.push_back(toVec3(mesh.point(v)));
-    if (vertexOrigin) vertexOrigin->push_back(std::uint32_t(v.idx()));
   }
   for (const FaceH f : mesh.faces()) {
     std::uint32_t c[3];

@@ -28,8 +28,7 @@ inline OpenMesh::Vec3d toPoint(const Vec3& p) { return {p[0], p[1], p[2]}; }
 // Error(BadInput) naming `where` unless the mesh is an oriented 2-manifold of triangles.
 StellarMesh toStellarMesh(const Mesh& mesh, const std::string& where);
 
-// The mesh's live vertices and faces, renumbered in order; `vertexOrigin`, when given, receives the
-// StellarMesh vertex index of each output vertex.
-Mesh toMesh(const StellarMesh& mesh, std::vector<std::uint32_t>* vertexOrigin = nullptr);
+// The mesh's live vertices and faces, renumbered in order.
+Mesh toMesh(const StellarMesh& mesh);
 
 }  // namespace isoatlas::multires

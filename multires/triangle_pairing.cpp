@@ -130,7 +130,6 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
     for (std::uint32_t c = goal; c != t0;) {  // re-pair along the path; the goal ends free
       const std::uint32_t a = parent[c], b = via[c];
       mate[a] = b, mate[b] = a;
-      if (c == goal) mate[c] = kNone;
       c = a;
     }
     mate[goal] = kNone;
@@ -157,11 +156,7 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
     std::vector<std::uint32_t> stay;
     for (const std::uint32_t d : densePoints[goal]) {
       auto& b = base.denseBary[d];
-      double wp = 0, wq = 0, wr = 0;  // weights of p, q, r in the old triangle
-      for (int i = 0; i < 3; ++i) {
-        const std::uint32_t v = i == goalCorner ? p : (i == (goalCorner + 1) % 3 ? q : r);
-        (v == p ? wp : v == q ? wq : wr) = b[i];
-      }
+      const double wp = b[goalCorner], wq = b[(goalCorner + 1) % 3], wr = b[(goalCorner + 2) % 3];
       if (wp >= wq) {
         b = {wp - wq, 2 * wq, wr};
         stay.push_back(d);
@@ -176,31 +171,18 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
   }
 
   base.tiles.clear();
-  double orthoSum = 0;
-  across = neighbours(base);
   for (std::uint32_t t = 0; t < base.triangleCount(); ++t) {
-    const std::uint32_t o = mate[t];
-    if (o == kNone) throw Error("pairing: a triangle was left unpaired", ErrorKind::Failure);
-    if (o < t) continue;
-    base.tiles.push_back({t, o});
-    for (int i = 0; i < 3; ++i)
-      if (across[t][i] == o) {
-        const auto& tri = base.triangles[t];
-        const std::uint32_t p = tri[i], q = tri[(i + 1) % 3], r = tri[(i + 2) % 3];
-        std::uint32_t s = kNone;
-        for (const std::uint32_t v : base.triangles[o])
-          if (v != p && v != q) s = v;
-        orthoSum += orthogonality(base.positions[p], base.positions[s], base.positions[q], base.positions[r]);
-      }
+    if (mate[t] == kNone) throw Error("pairing: a triangle was left unpaired", ErrorKind::Failure);
+    if (mate[t] > t) base.tiles.push_back({t, mate[t]});
   }
-  // Zero-weight tiles: the shared edge has an end of degree 3 in the final mesh.
-  const std::vector<std::uint32_t> finalDegree = vertexDegrees(base, across);
-  for (const auto& tile : base.tiles)
-    for (int i = 0; i < 3; ++i)
-      if (across[tile[0]][i] == tile[1]) {
-        const auto& tri = base.triangles[tile[0]];
-        stats.zeroWeightTiles += finalDegree[tri[i]] == 3 || finalDegree[tri[(i + 1) % 3]] == 3;
-      }
+  // Figures of the final tiling; zero-weight tiles: the shared edge has an end of degree 3.
+  const std::vector<std::uint32_t> finalDegree = vertexDegrees(base, neighbours(base));
+  double orthoSum = 0;
+  for (std::uint32_t i = 0; i < base.tiles.size(); ++i) {
+    const BaseMesh::TileCorners c = base.tileCorners(i);
+    orthoSum += orthogonality(base.positions[c.p], base.positions[c.s], base.positions[c.q], base.positions[c.r]);
+    stats.zeroWeightTiles += finalDegree[c.p] == 3 || finalDegree[c.q] == 3;
+  }
   stats.tiles = base.tiles.size();
   stats.meanOrthogonality = stats.tiles ? orthoSum / double(stats.tiles) : 0;
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -63,7 +63,6 @@ TEST(AdaptiveMesh, BaseTilesHaveTheirDiagonalInterior) {
   std::size_t splittable = 0;
   for (const EdgeH e : a.mesh().edges()) splittable += a.canSplit(e);
   EXPECT_EQ(splittable, fx.base.tiles.size()) << "exactly the tile diagonals";
-  EXPECT_EQ(AdaptiveMesh::kBytesPerVertex, 1u);
   EXPECT_EQ(a.patches().size(), fx.base.tiles.size());
 }
 
@@ -71,7 +70,7 @@ TEST(AdaptiveMesh, UniformRefinementFollowsTheDenseSurface) {
   Fixture fx;
   AdaptiveMesh a = fx.adaptive(9);  // 8 texels a side: six levels of 4-8 refinement
   for (int level = 0; level < 6; ++level) {
-    const std::size_t faces = a.mesh().n_faces() - 0;
+    const std::size_t faces = a.mesh().n_faces();
     std::vector<EdgeH> edges;
     for (const EdgeH e : a.mesh().edges())
       if (a.canSplit(e)) edges.push_back(e);

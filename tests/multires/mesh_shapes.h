@@ -43,19 +43,7 @@ Mesh gridMesh(int w, int h, Hole hole) {
       mesh.addFace({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
       mesh.addFace({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
     }
-  // Drop vertices no face uses (inside holes), renumbering the faces.
-  std::vector<std::uint32_t> used(mesh.positions.size(), ~0u);
-  Mesh out;
-  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
-    std::uint32_t c[3];
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t v = mesh.face(f)[k];
-      if (used[v] == ~0u) used[v] = std::uint32_t(out.positions.size()), out.positions.push_back(mesh.positions[v]);
-      c[k] = used[v];
-    }
-    out.addFace({c[0], c[1], c[2]});
-  }
-  return out;
+  return selectFaces(mesh, [](std::size_t) { return true; });  // drops the vertices inside holes
 }
 
 // Marching cubes of an implicit function sampled on a grid (positive inside).

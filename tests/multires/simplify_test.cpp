@@ -31,7 +31,6 @@ std::vector<std::array<int, 3>> faceSet(const StellarMesh& m) {
 TEST(StellarOperators, SplitThenEdgeWeldRestoresTheConnectivity) {
   StellarMesh m = toStellarMesh(torusMesh(8, 6), "torus");
   const auto before = faceSet(m);
-  int checked = 0;
   for (int e = 0; e < 20; ++e) {
     const EdgeH edge(e);
     const VertexH a = m.from_vertex_handle(m.halfedge_handle(edge, 0));
@@ -44,9 +43,7 @@ TEST(StellarOperators, SplitThenEdgeWeldRestoresTheConnectivity) {
     EXPECT_EQ(counts.flips, 0);
     m.garbage_collection();
     EXPECT_EQ(faceSet(m), before);
-    ++checked;
   }
-  EXPECT_EQ(checked, 20);
 }
 
 TEST(StellarOperators, FlipsBringADegreeSixVertexToAnEdgeWeld) {
