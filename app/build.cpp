@@ -95,6 +95,10 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
     r["halfedge_bytes"] = multires::AdaptiveMesh::kBytesPerHalfedge;
     r["vertex_bytes"] = multires::AdaptiveMesh::kBytesPerVertex;
     r["face_bytes"] = multires::AdaptiveMesh::kBytesPerFace;
+    r["folded_before_untangle"] = stats.untangle.foldedBefore;
+    r["folded_after_untangle"] = stats.untangle.foldedAfter;
+    r["untangled_vertices"] = stats.untangle.movedVertices;
+    r["seconds_untangle"] = stats.untangle.seconds;
     r["seconds_simplify"] = stats.seconds;
     r["seconds_match"] = pairing.seconds;
     const double diagonal = boundingBox(dense.positions).diagonal();

@@ -3,71 +3,44 @@
 #include <algorithm>
 #include <limits>
 
+
 #include "core/error.h"
 
 namespace isoatlas::multires {
-namespace {
 
-// The barycentric coordinates of a point given in base triangle `from`, expressed in the frame of
-// `to`, which shares an edge with it: `from`'s third corner is unfolded across the edge to
-// (corner a + corner b - to's third corner), an affine map that both sides agree on.
-bool unfold(const BaseMesh& base, std::uint32_t from, const std::array<double, 3>& bary, std::uint32_t to,
-            std::array<double, 3>& out) {
-  const auto& f = base.triangles[from];
-  const auto& t = base.triangles[to];
-  int shared = 0, apex = -1;
-  double w[3] = {0, 0, 0};
-  double apexWeight = 0;
-  for (int i = 0; i < 3; ++i) {
-    int at = -1;
-    for (int j = 0; j < 3; ++j)
-      if (t[j] == f[i]) at = j;
-    if (at >= 0) w[at] += bary[i], ++shared;
-    else apexWeight = bary[i];
-  }
-  if (shared != 2) return false;
-  for (int j = 0; j < 3; ++j) {
-    const bool inFrom = t[j] == f[0] || t[j] == f[1] || t[j] == f[2];
-    if (!inFrom) apex = j;
-  }
-  for (int j = 0; j < 3; ++j) out[j] = w[j] + (j == apex ? -apexWeight : apexWeight);
-  return true;
-}
-
-// A point of base triangle `from` whose weight lies only on corners `to` shares (a base vertex, or
-// a point of a shared edge) is the same point of `to`: expressed there exactly.
-bool express(const BaseMesh& base, std::uint32_t from, const std::array<double, 3>& bary, std::uint32_t to,
-             std::array<double, 3>& out) {
-  const auto& f = base.triangles[from];
-  const auto& t = base.triangles[to];
-  out = {0, 0, 0};
-  for (int i = 0; i < 3; ++i) {
-    if (bary[i] == 0) continue;
-    const auto* at = std::find(t.begin(), t.end(), f[i]);
-    if (at == t.end()) return false;
-    out[std::size_t(at - t.begin())] += bary[i];
-  }
-  return true;
-}
-
-}  // namespace
-
-DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base) : dense_(dense), base_(base), images_(base.triangleCount()) {
+DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base)
+    : dense_(dense), base_(base), domain_(base), images_(base.triangleCount()) {
   require(base.denseTriangle.size() == dense.vertexCount(), "dense sampler: the parametrisation does not match the mesh");
+  std::vector<std::vector<std::uint32_t>> star(base.vertexCount());  // base vertex -> its triangles
+  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
+    for (const std::uint32_t v : base.triangles[t]) star[v].push_back(t);
+  std::vector<std::uint32_t> homes;
   for (std::size_t f = 0; f < dense.faceCount(); ++f) {
     const auto c = dense.face(f);
-    std::uint32_t tris[3];
-    for (int i = 0; i < 3; ++i) tris[i] = base.denseTriangle[c[i]];
-    for (int home = 0; home < 3; ++home) {
-      const std::uint32_t t = tris[home];
-      if (std::find(tris, tris + home, t) != tris + home) continue;  // one image per base triangle
+    homes.clear();
+    for (int i = 0; i < 3; ++i)
+      if (std::find(homes.begin(), homes.end(), base.denseTriangle[c[i]]) == homes.end()) homes.push_back(base.denseTriangle[c[i]]);
+    // Corners in triangles around one base vertex that are not neighbours: the image crosses the
+    // triangles between them too, so it goes into the vertex's whole star.
+    if (homes.size() > 1) {
+      std::vector<std::uint32_t> common;
+      for (const std::uint32_t v : base.triangles[homes[0]])
+        if (std::all_of(homes.begin(), homes.end(), [&](std::uint32_t t) {
+              const auto& tri = base.triangles[t];
+              return std::find(tri.begin(), tri.end(), v) != tri.end();
+            }))
+          common.push_back(v);
+      if (common.size() == 1)
+        for (const std::uint32_t t : star[common[0]])
+          if (std::find(homes.begin(), homes.end(), t) == homes.end()) homes.push_back(t);
+    }
+    for (const std::uint32_t t : homes) {
       Image image{std::uint32_t(f), {}};
-      bool ok = true;
-      for (int i = 0; i < 3 && ok; ++i) {
-        std::array<double, 3> b = base.denseBary[c[i]];
-        if (tris[i] != t) ok = express(base, tris[i], base.denseBary[c[i]], t, b) || unfold(base, tris[i], base.denseBary[c[i]], t, b);
-        image.uv[i] = {b[1], b[2]};
-      }
+      const std::uint32_t from[3] = {base.denseTriangle[c[0]], base.denseTriangle[c[1]], base.denseTriangle[c[2]]};
+      const BaseDomain::Bary bary[3] = {base.denseBary[c[0]], base.denseBary[c[1]], base.denseBary[c[2]]};
+      BaseDomain::Bary b[3];
+      const bool ok = domain_.transferAll(from, bary, 3, t, b);
+      for (int i = 0; i < 3; ++i) image.uv[i] = {b[i][1], b[i][2]};
       if (ok) images_[t].push_back(image);
     }
   }

@@ -1,15 +1,15 @@
 // DenseSampler: the dense surface evaluated at a point of the base mesh (a base triangle and
 // barycentric coordinates), through the parametrisation: the dense triangle whose parametric image
-// holds the point, interpolated. A dense triangle whose corners lie in two neighbouring base
-// triangles is unfolded across their shared edge, so points on base edges are covered too. Where no
-// dense triangle holds the point (only near a base vertex, where three or more base triangles meet),
-// the nearest image is used, and the base triangle itself where it holds no image at all. A base
-// vertex belongs to all its base triangles, so the dense triangles around it are imaged in each. Keeps
-// references to both meshes.
+// holds the point, interpolated. A dense triangle whose corners lie in several base triangles is
+// imaged in each of their frames (BaseDomain::transfer), so points on base edges and around base
+// vertices are covered too. Where no image holds the point (rounding) the nearest image is used, and
+// the base triangle itself where it holds no image at all. Exact only where the parametrisation does
+// not fold (untangleParametrisation). Keeps references to both meshes.
 #pragma once
 #include <array>
 #include <vector>
 
+#include "multires/base_domain.h"
 #include "multires/base_mesh.h"
 
 namespace isoatlas::multires {
@@ -27,6 +27,7 @@ private:
   };
   const Mesh& dense_;
   const BaseMesh& base_;
+  BaseDomain domain_;
   std::vector<std::vector<Image>> images_;  // per base triangle
 };
 

@@ -313,7 +313,11 @@ BaseMesh simplifyStellar(const Mesh& dense, const SimplifyOptions& options, Simp
   require(options.maxError > 0, "simplify: the error bound must be positive");
   Simplifier simplifier(dense, options);
   SimplifyStats local;
-  return simplifier.run(stats ? *stats : local);
+  SimplifyStats& out = stats ? *stats : local;
+  BaseMesh base = simplifier.run(out);
+  out.untangle = untangleParametrisation(dense, base);
+  out.seconds += out.untangle.seconds;
+  return base;
 }
 
 }  // namespace isoatlas::multires

@@ -3,13 +3,15 @@
 // (Garland and Heckbert; boundary edges add perpendicular planes so borders keep their shape), and
 // keeps a local parametrisation as it goes (Maximo, Velho and Siqueira, section 4.1): the 1-ring of a
 // removed vertex is laid flat by an exponential map, and the removed vertex and every dense vertex
-// already mapped into that 1-ring are located in the new faces with barycentric coordinates.
+// already mapped into that 1-ring are located in the new faces with barycentric coordinates. At the
+// end the parametrisation is untangled where dense triangles fold (untangleParametrisation).
 // Every base vertex is an original vertex; the genus and the boundary loops are kept.
 #pragma once
 #include <limits>
 
 #include "multires/base_mesh.h"
 #include "multires/stellar_operators.h"
+#include "multires/untangle_parametrisation.h"
 
 namespace isoatlas::multires {
 
@@ -22,7 +24,8 @@ struct SimplifyOptions {
 struct SimplifyStats {
   std::size_t denseVertices = 0, baseVertices = 0, baseTriangles = 0, targetVertices = 0;
   WeldCounts operators;
-  double seconds = 0;
+  UntangleStats untangle;  // the parametrisation's folds, before and after untangling
+  double seconds = 0;      // all of it, untangling included
   bool reachedTarget = false;  // false when no weld was left that keeps the mesh valid and under maxError
 };
 

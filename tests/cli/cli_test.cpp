@@ -265,8 +265,10 @@ TEST(Cli, BuildMakesATriquadBaseMeshAndAModel) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(test::readBytes(report));
   for (const char* key : {"dense_vertices", "base_vertices", "base_triangles", "tiles", "splits_for_matching",
-                          "seconds_simplify", "seconds_match", "hausdorff_base", "psnr_base_db"})
+                          "seconds_simplify", "seconds_match", "hausdorff_base", "psnr_base_db",
+                          "folded_before_untangle", "folded_after_untangle"})
     EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_LE(j["folded_after_untangle"].get<int>(), j["folded_before_untangle"].get<int>());
   EXPECT_EQ(j["dense_vertices"], 1800);
   EXPECT_EQ(j["base_vertices"], 54);
   EXPECT_EQ(j["tiles"].get<int>() * 2, j["base_triangles"].get<int>());

@@ -1,0 +1,247 @@
+#include "multires/base_domain.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <unordered_map>
+
+#include "core/error.h"
+
+namespace isoatlas::multires {
+namespace {
+
+void clampInside(BaseDomain::Bary& w) {
+  double sum = 0;
+  for (double& x : w) sum += (x = std::max(0.0, x));
+  for (double& x : w) x /= sum;  // weights sum to one, so at least one stays positive
+}
+
+int cornerOf(const std::array<std::uint32_t, 3>& t, std::uint32_t vertex) {
+  for (int i = 0; i < 3; ++i)
+    if (t[i] == vertex) return i;
+  return -1;
+}
+
+}  // namespace
+
+BaseDomain::BaseDomain(const BaseMesh& base) : base_(base), across_(base.triangleCount(), {kNone, kNone, kNone}) {
+  std::unordered_map<std::uint64_t, std::uint64_t> edges;  // directed edge -> triangle * 3 + edge
+  edges.reserve(base.triangleCount() * 3);
+  auto key = [](std::uint32_t a, std::uint32_t b) { return std::uint64_t(a) << 32 | b; };
+  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
+    for (int e = 0; e < 3; ++e) edges[key(base.triangles[t][e], base.triangles[t][(e + 1) % 3])] = std::uint64_t(t) * 3 + e;
+  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
+    for (int e = 0; e < 3; ++e) {
+      const auto it = edges.find(key(base.triangles[t][(e + 1) % 3], base.triangles[t][e]));
+      if (it != edges.end()) across_[t][e] = std::uint32_t(it->second / 3);
+    }
+  starOffsets_.assign(base.vertexCount() + 1, 0);
+  for (const auto& t : base.triangles)
+    for (const std::uint32_t v : t) ++starOffsets_[v + 1];
+  for (std::size_t v = 0; v < base.vertexCount(); ++v) starOffsets_[v + 1] += starOffsets_[v];
+  starTriangles_.resize(starOffsets_.back());
+  std::vector<std::uint32_t> fill(starOffsets_.begin(), starOffsets_.end() - 1);
+  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
+    for (const std::uint32_t v : base.triangles[t]) starTriangles_[fill[v]++] = t;
+}
+
+bool BaseDomain::inStar(std::uint32_t vertex, std::uint32_t t, const Bary& bary, std::uint32_t& into, Bary& out) const {
+  if (cornerOf(base_.triangles[t], vertex) >= 0) {
+    into = t, out = bary;
+    return true;
+  }
+  for (std::uint32_t k = starOffsets_[vertex]; k < starOffsets_[vertex + 1]; ++k) {
+    const std::uint32_t s = starTriangles_[k];
+    Bary w{0, 0, 0};
+    bool holds = true;
+    for (int i = 0; i < 3 && holds; ++i) {
+      if (bary[i] == 0) continue;
+      const int at = cornerOf(base_.triangles[s], base_.triangles[t][i]);
+      if (at < 0) holds = false;
+      else w[at] = bary[i];
+    }
+    if (holds) {
+      into = s, out = w;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool BaseDomain::unfold(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const {
+  const auto& f = base_.triangles[from];
+  const auto& t = base_.triangles[to];
+  out = {0, 0, 0};
+  int apex = -1, shared = 0;
+  double apexWeight = 0;
+  for (int i = 0; i < 3; ++i) {
+    const int at = cornerOf(t, f[i]);
+    if (at >= 0) out[at] += bary[i], ++shared;
+    else apexWeight = bary[i];
+  }
+  for (int j = 0; j < 3; ++j)
+    if (cornerOf(f, t[j]) < 0) apex = j;
+  if (shared != 2 || apex < 0) return false;
+  // from's apex -> (a + b - to's apex): add its weight to both shared corners, take it from the apex.
+  for (int j = 0; j < 3; ++j) out[j] += j == apex ? -apexWeight : apexWeight;
+  return true;
+}
+
+void BaseDomain::starChart(std::uint32_t vertex, std::uint32_t someTriangle, Chart& chart) const {
+  // Triangle t holds `vertex` at corner i; counter-clockwise around it, t's sides are (vertex, t[i+1])
+  // then (vertex, t[i+2]); the next triangle lies across edge i+2, the previous across edge i.
+  auto corner = [&](std::uint32_t t) { return cornerOf(base_.triangles[t], vertex); };
+  std::uint32_t first = someTriangle;
+  for (std::size_t guard = 0; guard < 256; ++guard) {  // back to the boundary, if there is one
+    const std::uint32_t previous = across_[first][corner(first)];
+    if (previous == kNone || previous == someTriangle) break;
+    first = previous;
+  }
+  chart.home = someTriangle;
+  chart.vertex = vertex;
+  chart.star.clear();
+  chart.closed = false;
+  for (std::uint32_t t = first; t != kNone && chart.star.size() < 256;) {
+    chart.star.push_back(t);
+    t = across_[t][(corner(t) + 2) % 3];
+    if (t == first) {
+      chart.closed = true;
+      break;
+    }
+  }
+  // The domain's metric is the unfold's: every base triangle equilateral, so a star of k triangles
+  // is a cone of k * 60 degrees, laid flat by scaling its angles to a full turn (half on the boundary).
+  chart.step = (chart.closed ? 2 : 1) * std::numbers::pi / double(chart.star.size());
+}
+
+bool BaseDomain::chartFor(const std::uint32_t* triangles, const Bary* bary, std::size_t n, std::uint32_t home, Chart& chart) const {
+  std::uint32_t other = kNone;
+  bool many = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (triangles[i] == home || triangles[i] == other) continue;
+    if (other == kNone) other = triangles[i];
+    else many = true;
+  }
+  if (!many) {
+    chart = {};
+    chart.home = home;
+    return true;
+  }
+  for (const std::uint32_t vertex : base_.triangles[home]) {
+    bool shared = true;
+    std::uint32_t into;
+    Bary w;
+    for (std::size_t i = 0; i < n && shared; ++i) shared = inStar(vertex, triangles[i], bary[i], into, w);
+    if (!shared) continue;
+    starChart(vertex, home, chart);
+    return true;
+  }
+  return false;
+}
+
+namespace {
+// Triangle k of a star chart: its outer corners' directions.
+void starPiece(const BaseDomain::Chart& chart, std::size_t k, double (&a)[2], double (&b)[2]) {
+  a[0] = std::cos(double(k) * chart.step), a[1] = std::sin(double(k) * chart.step);
+  b[0] = std::cos(double(k + 1) * chart.step), b[1] = std::sin(double(k + 1) * chart.step);
+}
+}  // namespace
+
+bool BaseDomain::toChart(const Chart& chart, std::uint32_t t, const Bary& bary, Point2& out) const {
+  if (chart.vertex == kNone) {
+    Bary b;
+    if (!transfer(t, bary, chart.home, b)) return false;
+    out = {b[1], b[2]};
+    return true;
+  }
+  std::uint32_t s;
+  Bary w;
+  if (!inStar(chart.vertex, t, bary, s, w)) return false;
+  const auto k = std::find(chart.star.begin(), chart.star.end(), s);
+  if (k == chart.star.end()) return false;
+  double a[2], b[2];
+  starPiece(chart, std::size_t(k - chart.star.begin()), a, b);
+  const int i = cornerOf(base_.triangles[s], chart.vertex);
+  const double wa = w[(i + 1) % 3], wb = w[(i + 2) % 3];
+  out = {wa * a[0] + wb * b[0], wa * a[1] + wb * b[1]};
+  return true;
+}
+
+bool BaseDomain::inFrame(const Chart& chart, const Point2& p, std::uint32_t t, Bary& out) const {
+  if (chart.vertex == kNone) return transfer(chart.home, {1 - p.x - p.y, p.x, p.y}, t, out);
+  const auto k = std::find(chart.star.begin(), chart.star.end(), t);
+  if (k == chart.star.end()) return false;
+  double a[2], b[2];
+  starPiece(chart, std::size_t(k - chart.star.begin()), a, b);
+  const double det = a[0] * b[1] - a[1] * b[0];
+  const double wa = (p.x * b[1] - p.y * b[0]) / det, wb = (a[0] * p.y - a[1] * p.x) / det;
+  const int i = cornerOf(base_.triangles[t], chart.vertex);
+  out[i] = 1 - wa - wb;
+  out[(i + 1) % 3] = wa;
+  out[(i + 2) % 3] = wb;
+  return true;
+}
+
+void BaseDomain::fromChart(const Chart& chart, const Point2& p, std::uint32_t& t, Bary& out) const {
+  if (chart.vertex == kNone) {
+    t = chart.home;
+    out = {1 - p.x - p.y, p.x, p.y};
+  } else {
+    // The star triangle by angle; beyond the boundary, the nearer end of the star.
+    double angle = std::atan2(p.y, p.x);
+    if (chart.closed && angle < 0) angle += 2 * std::numbers::pi;
+    if (!chart.closed && angle < -std::numbers::pi / 2) angle = double(chart.star.size()) * chart.step;
+    const auto k = std::size_t(std::clamp(std::floor(angle / chart.step), 0.0, double(chart.star.size() - 1)));
+    t = chart.star[k];
+    inFrame(chart, p, t, out);
+  }
+  locate(t, out);
+}
+
+bool BaseDomain::transfer(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const {
+  if (from == to) {
+    out = bary;
+    return true;
+  }
+  const auto& f = base_.triangles[from];
+  const auto& t = base_.triangles[to];
+  int shared = 0;
+  std::uint32_t common = kNone;
+  for (int i = 0; i < 3; ++i)
+    if (cornerOf(t, f[i]) >= 0) ++shared, common = f[i];
+  if (shared == 2) return unfold(from, bary, to, out);
+  if (shared != 1) return false;
+  Chart chart;
+  starChart(common, to, chart);
+  Point2 p;
+  return toChart(chart, from, bary, p) && inFrame(chart, p, to, out);
+}
+
+bool BaseDomain::transferAll(const std::uint32_t* from, const Bary* bary, std::size_t n, std::uint32_t to, Bary* out) const {
+  Chart chart;
+  if (chartFor(from, bary, n, to, chart)) {
+    Point2 p;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!toChart(chart, from[i], bary[i], p) || !inFrame(chart, p, to, out[i])) return false;
+    return true;
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    if (!transfer(from[i], bary[i], to, out[i])) return false;
+  return true;
+}
+
+void BaseDomain::locate(std::uint32_t& t, Bary& bary, int maxSteps) const {
+  for (int step = 0; step < maxSteps; ++step) {
+    int c = 0;
+    for (int i = 1; i < 3; ++i)
+      if (bary[i] < bary[c]) c = i;
+    if (bary[c] >= 0) return;
+    const std::uint32_t next = across_[t][(c + 1) % 3];  // the edge opposite corner c
+    Bary moved;
+    if (next == kNone || !unfold(t, bary, next, moved)) break;
+    t = next, bary = moved;
+  }
+  clampInside(bary);
+}
+
+}  // namespace isoatlas::multires

@@ -1,0 +1,79 @@
+// BaseDomain: the base mesh as the parameter domain of the dense surface. A point of the domain is a
+// base triangle and barycentric weights in it (the triangle's frame). Points move between frames:
+// across a shared edge by the unfold (the other triangle's apex mirrored through the edge midpoint,
+// an affine map both sides agree on, as if both were equilateral), around a shared vertex through
+// that vertex's star laid flat (k equilateral triangles with their angles scaled to a full turn, a
+// half turn on the boundary), which spreads the vertex's cone angle evenly instead of piling it on
+// one edge. With six triangles around the vertex the two agree. Keeps a reference to the base mesh.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "multires/base_mesh.h"
+
+namespace isoatlas::multires {
+
+class BaseDomain {
+public:
+  using Bary = std::array<double, 3>;
+  static constexpr std::uint32_t kNone = ~0u;
+  struct Point2 {
+    double x = 0, y = 0;
+  };
+  // A flat chart of part of the domain: a base triangle's frame with its neighbours unfolded into
+  // it (vertex == kNone; chart point = weights 1 and 2), or a base vertex's star laid flat (the
+  // vertex at the origin, its triangles counter-clockwise, each spanning `step` radians).
+  struct Chart {
+    std::uint32_t home = kNone, vertex = kNone;
+    std::vector<std::uint32_t> star;
+    double step = 0;
+    bool closed = false;
+  };
+
+  explicit BaseDomain(const BaseMesh& base);
+
+  // The triangle across edge e of triangle t (edge e runs from corner e to corner e + 1), or kNone
+  // on the boundary.
+  std::uint32_t across(std::uint32_t t, int e) const { return across_[t][e]; }
+
+  // Point `bary` of triangle `from` in the frame of `to` (weights may then be negative). Works when
+  // the two are the same, share an edge or share a vertex; returns false otherwise.
+  bool transfer(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const;
+
+  // One chart for points of the n given triangles and `home`, so that a dense triangle or a
+  // vertex's neighbourhood keeps its shape: home's frame when they lie in home and at most one other
+  // triangle, else the star of the base vertex they all share (the unfolds around a vertex do not
+  // close up unless it has six triangles). False when they share no vertex.
+  // A point on a base vertex or edge counts as in every triangle that holds it.
+  bool chartFor(const std::uint32_t* triangles, const Bary* bary, std::size_t n, std::uint32_t home, Chart& chart) const;
+  bool toChart(const Chart& chart, std::uint32_t t, const Bary& bary, Point2& out) const;
+  // Weights of chart point p in triangle t's frame (any sign); t must lie in the chart.
+  bool inFrame(const Chart& chart, const Point2& p, std::uint32_t t, Bary& out) const;
+  // The triangle holding chart point p, and p's weights there (walked and clamped as in locate).
+  void fromChart(const Chart& chart, const Point2& p, std::uint32_t& t, Bary& out) const;
+
+  // n points (triangle from[i], weights bary[i]) in the frame of `to` through one chart (chartFor),
+  // or point by point (transfer) when their triangles share no vertex. False when one cannot be
+  // brought over.
+  bool transferAll(const std::uint32_t* from, const Bary* bary, std::size_t n, std::uint32_t to, Bary* out) const;
+
+  // A point given in t's frame, possibly outside t, walked across edges into the triangle that
+  // holds it (at most `maxSteps` edges); clamped onto the last triangle at the boundary or when the
+  // walk runs out. Updates t and bary.
+  void locate(std::uint32_t& t, Bary& bary, int maxSteps = 16) const;
+
+private:
+  // The unfold of a point of `from` into neighbour `to` across their shared edge.
+  bool unfold(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const;
+  void starChart(std::uint32_t vertex, std::uint32_t someTriangle, Chart& chart) const;
+  // A triangle around `vertex` that holds point (t, bary) (t itself, or one that holds the corners
+  // with weight, for a point on a base vertex or edge), and the point's weights there.
+  bool inStar(std::uint32_t vertex, std::uint32_t t, const Bary& bary, std::uint32_t& into, Bary& out) const;
+
+  const BaseMesh& base_;
+  std::vector<std::array<std::uint32_t, 3>> across_;
+  std::vector<std::uint32_t> starOffsets_, starTriangles_;  // base vertex -> its triangles
+};
+
+}  // namespace isoatlas::multires

@@ -1,0 +1,216 @@
+#include "multires/untangle_parametrisation.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+#include <span>
+
+#include "core/error.h"
+#include "multires/base_domain.h"
+
+namespace isoatlas::multires {
+namespace {
+
+// Twice the signed area of a dense triangle's image in one chart that holds its corners (a base
+// triangle's own frame has area 1 in these units; the other frames that hold the image are affine
+// images of it, so the sign holds there too); -inf when its corners share no chart.
+double imageArea(const Mesh& dense, const BaseMesh& base, const BaseDomain& domain, std::size_t face,
+                 BaseDomain::Chart& chart) {
+  const auto c = dense.face(face);
+  const std::uint32_t from[3] = {base.denseTriangle[c[0]], base.denseTriangle[c[1]], base.denseTriangle[c[2]]};
+  const BaseDomain::Bary bary[3] = {base.denseBary[c[0]], base.denseBary[c[1]], base.denseBary[c[2]]};
+  BaseDomain::Point2 p[3];
+  if (!domain.chartFor(from, bary, 3, from[0], chart)) return -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 3; ++i)
+    if (!domain.toChart(chart, from[i], base.denseBary[c[i]], p[i])) return -std::numeric_limits<double>::infinity();
+  return (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+}
+
+constexpr double kFlat = 1e-14;
+
+struct Adjacency {
+  std::vector<std::uint32_t> offsets, items;
+  std::span<const std::uint32_t> of(std::size_t i) const { return {items.data() + offsets[i], offsets[i + 1] - offsets[i]}; }
+};
+
+// Per vertex: its neighbours (unique) and its faces.
+void buildAdjacency(const Mesh& dense, Adjacency& neighbours, Adjacency& faces, std::vector<char>& boundary) {
+  const std::size_t n = dense.vertexCount();
+  faces.offsets.assign(n + 1, 0);
+  for (std::size_t f = 0; f < dense.faceCount(); ++f)
+    for (const std::uint32_t v : dense.face(f)) ++faces.offsets[v + 1];
+  for (std::size_t i = 0; i < n; ++i) faces.offsets[i + 1] += faces.offsets[i];
+  faces.items.resize(faces.offsets[n]);
+  std::vector<std::uint32_t> fill(faces.offsets.begin(), faces.offsets.end() - 1);
+  for (std::size_t f = 0; f < dense.faceCount(); ++f)
+    for (const std::uint32_t v : dense.face(f)) faces.items[fill[v]++] = std::uint32_t(f);
+
+  // An edge used by one face only is a boundary edge: counted per vertex pair through the faces.
+  neighbours.offsets.assign(n + 1, 0);
+  neighbours.items.clear();
+  boundary.assign(n, 0);
+  std::vector<std::pair<std::uint32_t, int>> count;  // neighbour, faces using the edge
+  for (std::size_t v = 0; v < n; ++v) {
+    count.clear();
+    for (const std::uint32_t f : faces.of(v)) {
+      const auto c = dense.face(f);
+      for (std::size_t i = 0; i < c.size(); ++i) {
+        if (c[i] != v) continue;
+        for (const std::uint32_t w : {c[(i + 1) % c.size()], c[(i + c.size() - 1) % c.size()]}) {
+          auto it = std::find_if(count.begin(), count.end(), [&](const auto& e) { return e.first == w; });
+          if (it == count.end()) count.push_back({w, 1});
+          else ++it->second;
+        }
+      }
+    }
+    for (const auto& [w, uses] : count) {
+      neighbours.items.push_back(w);
+      if (uses == 1) boundary[v] = 1;
+    }
+    neighbours.offsets[v + 1] = std::uint32_t(neighbours.items.size());
+  }
+}
+
+}  // namespace
+
+std::size_t countFoldedTriangles(const Mesh& dense, const BaseMesh& base) {
+  const BaseDomain domain(base);
+  std::size_t folded = 0;
+  BaseDomain::Chart chart;
+  for (std::size_t f = 0; f < dense.faceCount(); ++f) folded += imageArea(dense, base, domain, f, chart) <= kFlat;
+  return folded;
+}
+
+UntangleStats untangleParametrisation(const Mesh& dense, BaseMesh& base) {
+  const auto start = std::chrono::steady_clock::now();
+  require(base.denseTriangle.size() == dense.vertexCount(), "untangle: the parametrisation does not match the mesh");
+  for (std::size_t f = 0; f < dense.faceCount(); ++f)
+    require(dense.face(f).size() == 3, "untangle: the dense mesh must be made of triangles");
+  const BaseDomain domain(base);
+  Adjacency neighbours, faces;
+  std::vector<char> fixed;
+  buildAdjacency(dense, neighbours, faces, fixed);
+  for (const std::int64_t d : base.denseVertex)
+    if (d >= 0) fixed[std::size_t(d)] = 1;
+
+  UntangleStats stats;
+  BaseDomain::Chart chart;
+  std::vector<std::uint32_t> folded;
+  for (std::size_t f = 0; f < dense.faceCount(); ++f)
+    if (imageArea(dense, base, domain, f, chart) <= kFlat) folded.push_back(std::uint32_t(f));
+  stats.foldedBefore = folded.size();
+
+  // A new place for v: inside the kernel of its link (where every face around it turns
+  // counter-clockwise) when that is not empty, at the kernel's centre; else the average of its
+  // neighbours (Tutte's step). All in one chart that holds v's neighbours.
+  std::vector<std::uint32_t> from;
+  std::vector<BaseDomain::Bary> fromBary;
+  std::vector<BaseDomain::Point2> kernel, clipped;
+  BaseDomain::Chart relaxChart;
+  auto place = [&](std::uint32_t v) {
+    const std::uint32_t home = base.denseTriangle[v];
+    from.clear();
+    fromBary.clear();
+    for (const std::uint32_t w : neighbours.of(v)) from.push_back(base.denseTriangle[w]), fromBary.push_back(base.denseBary[w]);
+    if (from.empty() || !domain.chartFor(from.data(), fromBary.data(), from.size(), home, relaxChart)) return false;
+    auto at = [&](std::uint32_t w, BaseDomain::Point2& p) {
+      return domain.toChart(relaxChart, base.denseTriangle[w], base.denseBary[w], p);
+    };
+    BaseDomain::Point2 sum, p, lo{1e300, 1e300}, hi{-1e300, -1e300};
+    for (const std::uint32_t w : neighbours.of(v)) {
+      if (!at(w, p)) return false;
+      sum.x += p.x, sum.y += p.y;
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y)}, hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
+    }
+    kernel = {lo, {hi.x, lo.y}, hi, {lo.x, hi.y}};
+    for (const std::uint32_t f : faces.of(v)) {
+      const auto c = dense.face(f);
+      const std::size_t i = std::size_t(std::find(c.begin(), c.end(), v) - c.begin());
+      BaseDomain::Point2 a, b;
+      if (!at(c[(i + 1) % 3], a) || !at(c[(i + 2) % 3], b)) return false;
+      // Keep the side where (a, b, p) turns counter-clockwise.
+      auto side = [&](const BaseDomain::Point2& q) { return (b.x - a.x) * (q.y - a.y) - (b.y - a.y) * (q.x - a.x); };
+      clipped.clear();
+      for (std::size_t k = 0; k < kernel.size(); ++k) {
+        const BaseDomain::Point2& q0 = kernel[k];
+        const BaseDomain::Point2& q1 = kernel[(k + 1) % kernel.size()];
+        const double s0 = side(q0), s1 = side(q1);
+        if (s0 >= 0) clipped.push_back(q0);
+        if ((s0 >= 0) != (s1 >= 0)) {
+          const double t = s0 / (s0 - s1);
+          clipped.push_back({q0.x + t * (q1.x - q0.x), q0.y + t * (q1.y - q0.y)});
+        }
+      }
+      kernel.swap(clipped);
+      if (kernel.empty()) break;
+    }
+    const double count = double(from.size());
+    BaseDomain::Point2 target{sum.x / count, sum.y / count};
+    if (kernel.size() >= 3) {
+      BaseDomain::Point2 centre;
+      for (const BaseDomain::Point2& q : kernel) centre.x += q.x, centre.y += q.y;
+      target = {centre.x / double(kernel.size()), centre.y / double(kernel.size())};
+    }
+    domain.fromChart(relaxChart, target, base.denseTriangle[v], base.denseBary[v]);
+    return true;
+  };
+  // How folded v's faces are: their count, then the most negative area.
+  auto foldsAround = [&](std::uint32_t v) {
+    std::pair<int, double> score{0, 0};
+    for (const std::uint32_t f : faces.of(v)) {
+      const double area = imageArea(dense, base, domain, f, chart);
+      if (area <= kFlat) ++score.first, score.second = std::max(score.second, kFlat - area);
+    }
+    return score;
+  };
+
+  // Greedy: a vertex of a folded face moves to its neighbours' average when that leaves fewer folds
+  // around it (or the same number, less deep), so the count never grows. Moving a vertex can unfold
+  // its neighbours' faces, so the next pass starts from the faces still folded.
+  std::vector<char> relaxed(dense.vertexCount(), 0), queued(dense.vertexCount(), 0);
+  std::vector<std::uint32_t> candidates;
+  constexpr int kPasses = 30;
+  for (int pass = 0; pass < kPasses && !folded.empty(); ++pass) {
+    candidates.clear();
+    for (const std::uint32_t f : folded)
+      for (const std::uint32_t v : dense.face(f)) {
+        if (!fixed[v] && !queued[v]) queued[v] = 1, candidates.push_back(v);
+        for (const std::uint32_t w : neighbours.of(v))  // the ring too: a fold can need room
+          if (pass >= kPasses / 2 && !fixed[w] && !queued[w]) queued[w] = 1, candidates.push_back(w);
+      }
+    bool changed = false;
+    for (const std::uint32_t v : candidates) {
+      queued[v] = 0;
+      const auto before = foldsAround(v);
+      const std::uint32_t t = base.denseTriangle[v];
+      const BaseDomain::Bary b = base.denseBary[v];
+      if (!place(v)) continue;
+      const auto after = foldsAround(v);
+      if (after.first < before.first || (after.first == before.first && after.second < before.second)) {
+        relaxed[v] = 1, changed = true;
+      } else {
+        base.denseTriangle[v] = t, base.denseBary[v] = b;
+      }
+    }
+    // Still folded: the faces around the moved candidates, and the folded ones none could move.
+    std::vector<std::uint32_t> recheck;
+    recheck.swap(folded);
+    for (const std::uint32_t v : candidates)
+      for (const std::uint32_t f : faces.of(v)) recheck.push_back(f);
+    std::sort(recheck.begin(), recheck.end());
+    recheck.erase(std::unique(recheck.begin(), recheck.end()), recheck.end());
+    for (const std::uint32_t f : recheck)
+      if (imageArea(dense, base, domain, f, chart) <= kFlat) folded.push_back(f);
+    std::sort(folded.begin(), folded.end());
+    folded.erase(std::unique(folded.begin(), folded.end()), folded.end());
+    stats.rounds = pass + 1;
+    if (!changed && pass < kPasses / 2) pass = kPasses / 2 - 1;  // stuck: widen to the rings
+    else if (!changed) break;
+  }
+  stats.foldedAfter = folded.size();
+  for (const char m : relaxed) stats.movedVertices += m;
+  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+}  // namespace isoatlas::multires
