@@ -164,9 +164,9 @@ UntangleStats untangleParametrisation(const Mesh& dense, BaseMesh& base) {
     return score;
   };
 
-  // Greedy: a vertex of a folded face moves to its neighbours' average when that leaves fewer folds
-  // around it (or the same number, less deep), so the count never grows. Moving a vertex can unfold
-  // its neighbours' faces, so the next pass starts from the faces still folded.
+  // Greedy: a vertex of a folded face moves (place) when that leaves fewer folds around it, or as
+  // many but shallower; only its own faces change, so the count never grows. Each pass starts from
+  // the faces still folded; when a pass moves nothing, the folds' neighbours become candidates too.
   std::vector<char> relaxed(dense.vertexCount(), 0), queued(dense.vertexCount(), 0);
   std::vector<std::uint32_t> candidates;
   constexpr int kPasses = 30;
@@ -201,8 +201,6 @@ UntangleStats untangleParametrisation(const Mesh& dense, BaseMesh& base) {
     recheck.erase(std::unique(recheck.begin(), recheck.end()), recheck.end());
     for (const std::uint32_t f : recheck)
       if (imageArea(dense, base, domain, f, chart) <= kFlat) folded.push_back(f);
-    std::sort(folded.begin(), folded.end());
-    folded.erase(std::unique(folded.begin(), folded.end()), folded.end());
     stats.rounds = pass + 1;
     if (!changed && pass < kPasses / 2) pass = kPasses / 2 - 1;  // stuck: widen to the rings
     else if (!changed) break;
