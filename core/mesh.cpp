@@ -10,6 +10,46 @@ bool Mesh::allFacesHave(std::size_t corners) const {
   return true;
 }
 
+VertexAdjacency vertexAdjacency(const Mesh& mesh) {
+  const std::size_t n = mesh.vertexCount();
+  VertexAdjacency a;
+  Rows& faces = a.faces;
+  faces.offsets.assign(n + 1, 0);
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f)
+    for (const std::uint32_t v : mesh.face(f)) ++faces.offsets[v + 1];
+  for (std::size_t i = 0; i < n; ++i) faces.offsets[i + 1] += faces.offsets[i];
+  faces.items.resize(faces.offsets[n]);
+  std::vector<std::uint32_t> fill(faces.offsets.begin(), faces.offsets.end() - 1);
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f)
+    for (const std::uint32_t v : mesh.face(f)) faces.items[fill[v]++] = std::uint32_t(f);
+
+  // Each edge at v is seen once per face using it; an edge seen once is a boundary edge.
+  Rows& neighbours = a.neighbours;
+  neighbours.offsets.assign(n + 1, 0);
+  a.boundary.assign(n, 0);
+  std::vector<std::pair<std::uint32_t, int>> count;  // neighbour, faces using the edge
+  for (std::size_t v = 0; v < n; ++v) {
+    count.clear();
+    for (const std::uint32_t f : faces.of(v)) {
+      const auto c = mesh.face(f);
+      for (std::size_t i = 0; i < c.size(); ++i) {
+        if (c[i] != v) continue;
+        for (const std::uint32_t w : {c[(i + 1) % c.size()], c[(i + c.size() - 1) % c.size()]}) {
+          auto it = std::find_if(count.begin(), count.end(), [&](const auto& e) { return e.first == w; });
+          if (it == count.end()) count.push_back({w, 1});
+          else ++it->second;
+        }
+      }
+    }
+    for (const auto& [w, uses] : count) {
+      neighbours.items.push_back(w);
+      if (uses == 1) a.boundary[v] = 1;
+    }
+    neighbours.offsets[v + 1] = std::uint32_t(neighbours.items.size());
+  }
+  return a;
+}
+
 Mesh selectFaces(const Mesh& mesh, const std::function<bool(std::size_t)>& keep) {
   Mesh out;
   std::vector<std::uint32_t> remap(mesh.vertexCount(), UINT32_MAX), corners;

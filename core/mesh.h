@@ -33,6 +33,19 @@ struct Mesh {
 // renumbered in order of first use. keep is called once per face, in order.
 Mesh selectFaces(const Mesh& mesh, const std::function<bool(std::size_t face)>& keep);
 
+// Compressed rows: row i is items[offsets[i] .. offsets[i + 1]).
+struct Rows {
+  std::vector<std::uint32_t> offsets, items;
+  std::span<const std::uint32_t> of(std::size_t i) const { return {items.data() + offsets[i], offsets[i + 1] - offsets[i]}; }
+};
+// Per vertex: the vertices it shares an edge with (each once), the faces that use it, and whether
+// it lies on a boundary edge (an edge of one face only).
+struct VertexAdjacency {
+  Rows neighbours, faces;
+  std::vector<char> boundary;
+};
+VertexAdjacency vertexAdjacency(const Mesh& mesh);
+
 struct Box {
   Vec3 min, max;
   double diagonal() const { return norm(max - min); }

@@ -46,31 +46,18 @@ std::int64_t keepComponents(Mesh& mesh, bool largestOnly, std::int64_t minTriang
 
 void taubinSmooth(Mesh& mesh, int iterations, double lambda, double mu) {
   if (iterations <= 0) return;
-  // 1-ring neighbours from the faces' edges (each undirected edge once per face side is fine:
-  // duplicates weigh a neighbour twice on both sides equally).
-  std::vector<std::vector<std::uint32_t>> ring(mesh.vertexCount());
-  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
-    const auto face = mesh.face(f);
-    for (std::size_t i = 0; i < face.size(); ++i) {
-      const std::uint32_t a = face[i], b = face[(i + 1) % face.size()];
-      ring[a].push_back(b);
-      ring[b].push_back(a);
-    }
-  }
-  for (auto& r : ring) {
-    std::sort(r.begin(), r.end());
-    r.erase(std::unique(r.begin(), r.end()), r.end());
-  }
+  const Rows ring = vertexAdjacency(mesh).neighbours;
   std::vector<Vec3> next(mesh.vertexCount());
   auto pass = [&](double factor) {
     for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
-      if (ring[v].empty()) {
+      const auto around = ring.of(v);
+      if (around.empty()) {
         next[v] = mesh.positions[v];
         continue;
       }
       Vec3 mean{0, 0, 0};
-      for (std::uint32_t n : ring[v]) mean = mean + mesh.positions[n];
-      mean = mean * (1.0 / double(ring[v].size()));
+      for (const std::uint32_t n : around) mean = mean + mesh.positions[n];
+      mean = mean * (1.0 / double(around.size()));
       next[v] = mesh.positions[v] + (mean - mesh.positions[v]) * factor;
     }
     mesh.positions.swap(next);

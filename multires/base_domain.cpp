@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <unordered_map>
 
 #include "core/error.h"
 
@@ -24,17 +23,7 @@ int cornerOf(const std::array<std::uint32_t, 3>& t, std::uint32_t vertex) {
 
 }  // namespace
 
-BaseDomain::BaseDomain(const BaseMesh& base) : base_(base), across_(base.triangleCount(), {kNone, kNone, kNone}) {
-  std::unordered_map<std::uint64_t, std::uint64_t> edges;  // directed edge -> triangle * 3 + edge
-  edges.reserve(base.triangleCount() * 3);
-  auto key = [](std::uint32_t a, std::uint32_t b) { return std::uint64_t(a) << 32 | b; };
-  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
-    for (int e = 0; e < 3; ++e) edges[key(base.triangles[t][e], base.triangles[t][(e + 1) % 3])] = std::uint64_t(t) * 3 + e;
-  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
-    for (int e = 0; e < 3; ++e) {
-      const auto it = edges.find(key(base.triangles[t][(e + 1) % 3], base.triangles[t][e]));
-      if (it != edges.end()) across_[t][e] = std::uint32_t(it->second / 3);
-    }
+BaseDomain::BaseDomain(const BaseMesh& base) : base_(base), across_(base.triangleNeighbours()) {
   starOffsets_.assign(base.vertexCount() + 1, 0);
   for (const auto& t : base.triangles)
     for (const std::uint32_t v : t) ++starOffsets_[v + 1];
@@ -215,19 +204,6 @@ bool BaseDomain::transfer(std::uint32_t from, const Bary& bary, std::uint32_t to
   starChart(common, to, chart);
   Point2 p;
   return toChart(chart, from, bary, p) && inFrame(chart, p, to, out);
-}
-
-bool BaseDomain::transferAll(const std::uint32_t* from, const Bary* bary, std::size_t n, std::uint32_t to, Bary* out) const {
-  Chart chart;
-  if (chartFor(from, bary, n, to, chart)) {
-    Point2 p;
-    for (std::size_t i = 0; i < n; ++i)
-      if (!toChart(chart, from[i], bary[i], p) || !inFrame(chart, p, to, out[i])) return false;
-    return true;
-  }
-  for (std::size_t i = 0; i < n; ++i)
-    if (!transfer(from[i], bary[i], to, out[i])) return false;
-  return true;
 }
 
 void BaseDomain::locate(std::uint32_t& t, Bary& bary, int maxSteps) const {

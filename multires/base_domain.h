@@ -17,7 +17,7 @@ namespace isoatlas::multires {
 class BaseDomain {
 public:
   using Bary = std::array<double, 3>;
-  static constexpr std::uint32_t kNone = ~0u;
+  static constexpr std::uint32_t kNone = BaseMesh::kNoTriangle;
   struct Point2 {
     double x = 0, y = 0;
   };
@@ -33,10 +33,6 @@ public:
 
   explicit BaseDomain(const BaseMesh& base);
 
-  // The triangle across edge e of triangle t (edge e runs from corner e to corner e + 1), or kNone
-  // on the boundary.
-  std::uint32_t across(std::uint32_t t, int e) const { return across_[t][e]; }
-
   // Point `bary` of triangle `from` in the frame of `to` (weights may then be negative). Works when
   // the two are the same, share an edge or share a vertex; returns false otherwise.
   bool transfer(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const;
@@ -44,8 +40,8 @@ public:
   // One chart for points of the n given triangles and `home`, so that a dense triangle or a
   // vertex's neighbourhood keeps its shape: home's frame when they lie in home and at most one other
   // triangle, else the star of the base vertex they all share (the unfolds around a vertex do not
-  // close up unless it has six triangles). False when they share no vertex.
-  // A point on a base vertex or edge counts as in every triangle that holds it.
+  // close up unless it has six triangles). A point on a base vertex or edge counts as in every
+  // triangle that holds it. False when they share no vertex.
   bool chartFor(const std::uint32_t* triangles, const Bary* bary, std::size_t n, std::uint32_t home, Chart& chart) const;
   bool toChart(const Chart& chart, std::uint32_t t, const Bary& bary, Point2& out) const;
   // Weights of chart point p in triangle t's frame (any sign); t must lie in the chart.
@@ -53,17 +49,11 @@ public:
   // The triangle holding chart point p, and p's weights there (walked and clamped as in locate).
   void fromChart(const Chart& chart, const Point2& p, std::uint32_t& t, Bary& out) const;
 
-  // n points (triangle from[i], weights bary[i]) in the frame of `to` through one chart (chartFor),
-  // or point by point (transfer) when their triangles share no vertex. False when one cannot be
-  // brought over.
-  bool transferAll(const std::uint32_t* from, const Bary* bary, std::size_t n, std::uint32_t to, Bary* out) const;
-
+private:
   // A point given in t's frame, possibly outside t, walked across edges into the triangle that
   // holds it (at most `maxSteps` edges); clamped onto the last triangle at the boundary or when the
   // walk runs out. Updates t and bary.
   void locate(std::uint32_t& t, Bary& bary, int maxSteps = 16) const;
-
-private:
   // The unfold of a point of `from` into neighbour `to` across their shared edge.
   bool unfold(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const;
   void starChart(std::uint32_t vertex, std::uint32_t someTriangle, Chart& chart) const;

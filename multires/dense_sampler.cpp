@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <limits>
 
-
 #include "core/error.h"
 
 namespace isoatlas::multires {
@@ -11,36 +10,32 @@ namespace isoatlas::multires {
 DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base)
     : dense_(dense), base_(base), domain_(base), images_(base.triangleCount()) {
   require(base.denseTriangle.size() == dense.vertexCount(), "dense sampler: the parametrisation does not match the mesh");
-  std::vector<std::vector<std::uint32_t>> star(base.vertexCount());  // base vertex -> its triangles
-  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
-    for (const std::uint32_t v : base.triangles[t]) star[v].push_back(t);
+  // Each dense triangle through the one chart that holds its corners (as untangling sees it),
+  // imaged in its corners' base triangles; when that chart is a base vertex's star the image may
+  // cross the triangles between them, so it goes into the whole star.
+  BaseDomain::Chart chart;
   std::vector<std::uint32_t> homes;
   for (std::size_t f = 0; f < dense.faceCount(); ++f) {
     const auto c = dense.face(f);
-    homes.clear();
-    for (int i = 0; i < 3; ++i)
-      if (std::find(homes.begin(), homes.end(), base.denseTriangle[c[i]]) == homes.end()) homes.push_back(base.denseTriangle[c[i]]);
-    // Corners in triangles around one base vertex that are not neighbours: the image crosses the
-    // triangles between them too, so it goes into the vertex's whole star.
-    if (homes.size() > 1) {
-      std::vector<std::uint32_t> common;
-      for (const std::uint32_t v : base.triangles[homes[0]])
-        if (std::all_of(homes.begin(), homes.end(), [&](std::uint32_t t) {
-              const auto& tri = base.triangles[t];
-              return std::find(tri.begin(), tri.end(), v) != tri.end();
-            }))
-          common.push_back(v);
-      if (common.size() == 1)
-        for (const std::uint32_t t : star[common[0]])
-          if (std::find(homes.begin(), homes.end(), t) == homes.end()) homes.push_back(t);
-    }
+    const std::uint32_t from[3] = {base.denseTriangle[c[0]], base.denseTriangle[c[1]], base.denseTriangle[c[2]]};
+    const BaseDomain::Bary bary[3] = {base.denseBary[c[0]], base.denseBary[c[1]], base.denseBary[c[2]]};
+    BaseDomain::Point2 p[3];
+    if (!domain_.chartFor(from, bary, 3, from[0], chart)) continue;  // corners too far apart to image
+    bool charted = true;
+    for (int i = 0; i < 3; ++i) charted = charted && domain_.toChart(chart, from[i], bary[i], p[i]);
+    if (!charted) continue;
+    homes.assign(from, from + 3);
+    if (chart.vertex != BaseDomain::kNone) homes.insert(homes.end(), chart.star.begin(), chart.star.end());
+    std::sort(homes.begin(), homes.end());
+    homes.erase(std::unique(homes.begin(), homes.end()), homes.end());
     for (const std::uint32_t t : homes) {
       Image image{std::uint32_t(f), {}};
-      const std::uint32_t from[3] = {base.denseTriangle[c[0]], base.denseTriangle[c[1]], base.denseTriangle[c[2]]};
-      const BaseDomain::Bary bary[3] = {base.denseBary[c[0]], base.denseBary[c[1]], base.denseBary[c[2]]};
-      BaseDomain::Bary b[3];
-      const bool ok = domain_.transferAll(from, bary, 3, t, b);
-      for (int i = 0; i < 3; ++i) image.uv[i] = {b[i][1], b[i][2]};
+      bool ok = true;
+      for (int i = 0; i < 3 && ok; ++i) {
+        BaseDomain::Bary b;
+        ok = domain_.inFrame(chart, p[i], t, b);
+        image.uv[i] = {b[1], b[2]};
+      }
       if (ok) images_[t].push_back(image);
     }
   }

@@ -1,9 +1,11 @@
 // DenseSampler: the dense surface evaluated at a point of the base mesh (a base triangle and
 // barycentric coordinates), through the parametrisation: the dense triangle whose parametric image
 // holds the point, interpolated. A dense triangle whose corners lie in several base triangles is
-// imaged in each of their frames (BaseDomain::transfer), so points on base edges and around base
-// vertices are covered too. Where no image holds the point (rounding) the nearest image is used, and
-// the base triangle itself where it holds no image at all. Exact only where the parametrisation does
+// imaged, through the one chart that holds its corners (BaseDomain::chartFor), in each of their
+// frames (in a base vertex's whole star when the chart is that star), so points on base edges and
+// around base vertices are covered too. Where no image holds the point (rounding) the nearest image
+// is used, and the base triangle itself where it holds no image at all; a dense triangle no chart
+// holds is not imaged. Exact only where the parametrisation does
 // not fold (untangleParametrisation). Keeps references to both meshes.
 #pragma once
 #include <array>

@@ -5,7 +5,6 @@
 #include <memory>
 #include <cmath>
 #include <queue>
-#include <unordered_map>
 
 #include "core/error.h"
 #include "multires/dense_sampler.h"
@@ -14,23 +13,7 @@
 namespace isoatlas::multires {
 namespace {
 
-constexpr std::uint32_t kNone = ~0u;
-
-// Per triangle and corner i: the triangle across edge (corner i, corner i+1), or kNone on the boundary.
-std::vector<std::array<std::uint32_t, 3>> neighbours(const BaseMesh& base) {
-  std::unordered_map<std::uint64_t, std::uint32_t> halfedge;  // (from, to) -> triangle
-  halfedge.reserve(base.triangleCount() * 3);
-  auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
-  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
-    for (int i = 0; i < 3; ++i) halfedge[key(base.triangles[t][i], base.triangles[t][(i + 1) % 3])] = t;
-  std::vector<std::array<std::uint32_t, 3>> across(base.triangleCount());
-  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
-    for (int i = 0; i < 3; ++i) {
-      const auto it = halfedge.find(key(base.triangles[t][(i + 1) % 3], base.triangles[t][i]));
-      across[t][i] = it == halfedge.end() ? kNone : it->second;
-    }
-  return across;
-}
+constexpr std::uint32_t kNone = BaseMesh::kNoTriangle;
 
 // Edges per vertex: each halfedge counts for the vertex it leaves; a boundary edge, having one
 // halfedge, counts for both its ends.
@@ -61,7 +44,7 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
   const auto start = std::chrono::steady_clock::now();
   PairingStats stats;
   const std::uint32_t n = std::uint32_t(base.triangleCount());
-  std::vector<std::array<std::uint32_t, 3>> across = neighbours(base);
+  std::vector<std::array<std::uint32_t, 3>> across = base.triangleNeighbours();
 
   std::vector<std::uint32_t> degree = vertexDegrees(base, across);
 
@@ -104,7 +87,7 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
       densePoints.assign(base.triangleCount(), {});
       for (std::uint32_t d = 0; d < base.denseTriangle.size(); ++d) densePoints[base.denseTriangle[d]].push_back(d);
     }
-    across = neighbours(base);
+    across = base.triangleNeighbours();
     // Breadth-first over triangles reachable by alternating paths (a free edge, then a matched one).
     std::vector<std::uint32_t> parent(base.triangleCount(), kNone), via(base.triangleCount(), kNone);
     std::queue<std::uint32_t> queue;
@@ -176,7 +159,7 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
     if (mate[t] > t) base.tiles.push_back({t, mate[t]});
   }
   // Figures of the final tiling; zero-weight tiles: the shared edge has an end of degree 3.
-  const std::vector<std::uint32_t> finalDegree = vertexDegrees(base, neighbours(base));
+  const std::vector<std::uint32_t> finalDegree = vertexDegrees(base, base.triangleNeighbours());
   double orthoSum = 0;
   for (std::uint32_t i = 0; i < base.tiles.size(); ++i) {
     const BaseMesh::TileCorners c = base.tileCorners(i);

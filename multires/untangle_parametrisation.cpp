@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <limits>
-#include <span>
 
 #include "core/error.h"
 #include "multires/base_domain.h"
@@ -28,57 +27,18 @@ double imageArea(const Mesh& dense, const BaseMesh& base, const BaseDomain& doma
 
 constexpr double kFlat = 1e-14;
 
-struct Adjacency {
-  std::vector<std::uint32_t> offsets, items;
-  std::span<const std::uint32_t> of(std::size_t i) const { return {items.data() + offsets[i], offsets[i + 1] - offsets[i]}; }
-};
-
-// Per vertex: its neighbours (unique) and its faces.
-void buildAdjacency(const Mesh& dense, Adjacency& neighbours, Adjacency& faces, std::vector<char>& boundary) {
-  const std::size_t n = dense.vertexCount();
-  faces.offsets.assign(n + 1, 0);
+std::vector<std::uint32_t> foldedTriangles(const Mesh& dense, const BaseMesh& base, const BaseDomain& domain) {
+  BaseDomain::Chart chart;
+  std::vector<std::uint32_t> folded;
   for (std::size_t f = 0; f < dense.faceCount(); ++f)
-    for (const std::uint32_t v : dense.face(f)) ++faces.offsets[v + 1];
-  for (std::size_t i = 0; i < n; ++i) faces.offsets[i + 1] += faces.offsets[i];
-  faces.items.resize(faces.offsets[n]);
-  std::vector<std::uint32_t> fill(faces.offsets.begin(), faces.offsets.end() - 1);
-  for (std::size_t f = 0; f < dense.faceCount(); ++f)
-    for (const std::uint32_t v : dense.face(f)) faces.items[fill[v]++] = std::uint32_t(f);
-
-  // An edge used by one face only is a boundary edge: counted per vertex pair through the faces.
-  neighbours.offsets.assign(n + 1, 0);
-  neighbours.items.clear();
-  boundary.assign(n, 0);
-  std::vector<std::pair<std::uint32_t, int>> count;  // neighbour, faces using the edge
-  for (std::size_t v = 0; v < n; ++v) {
-    count.clear();
-    for (const std::uint32_t f : faces.of(v)) {
-      const auto c = dense.face(f);
-      for (std::size_t i = 0; i < c.size(); ++i) {
-        if (c[i] != v) continue;
-        for (const std::uint32_t w : {c[(i + 1) % c.size()], c[(i + c.size() - 1) % c.size()]}) {
-          auto it = std::find_if(count.begin(), count.end(), [&](const auto& e) { return e.first == w; });
-          if (it == count.end()) count.push_back({w, 1});
-          else ++it->second;
-        }
-      }
-    }
-    for (const auto& [w, uses] : count) {
-      neighbours.items.push_back(w);
-      if (uses == 1) boundary[v] = 1;
-    }
-    neighbours.offsets[v + 1] = std::uint32_t(neighbours.items.size());
-  }
+    if (imageArea(dense, base, domain, f, chart) <= kFlat) folded.push_back(std::uint32_t(f));
+  return folded;
 }
 
 }  // namespace
 
 std::size_t countFoldedTriangles(const Mesh& dense, const BaseMesh& base) {
-  const BaseDomain domain(base);
-  std::size_t folded = 0;
-  BaseDomain::Chart chart;
-  for (std::size_t f = 0; f < dense.faceCount(); ++f) folded += imageArea(dense, base, domain, f, chart) <= kFlat;
-  return folded;
+  return foldedTriangles(dense, base, BaseDomain(base)).size();
 }
 
 UntangleStats untangleParametrisation(const Mesh& dense, BaseMesh& base) {
@@ -87,17 +47,16 @@ UntangleStats untangleParametrisation(const Mesh& dense, BaseMesh& base) {
   for (std::size_t f = 0; f < dense.faceCount(); ++f)
     require(dense.face(f).size() == 3, "untangle: the dense mesh must be made of triangles");
   const BaseDomain domain(base);
-  Adjacency neighbours, faces;
-  std::vector<char> fixed;
-  buildAdjacency(dense, neighbours, faces, fixed);
+  const VertexAdjacency adjacency = vertexAdjacency(dense);
+  const Rows& neighbours = adjacency.neighbours;
+  const Rows& faces = adjacency.faces;
+  std::vector<char> fixed = adjacency.boundary;
   for (const std::int64_t d : base.denseVertex)
     if (d >= 0) fixed[std::size_t(d)] = 1;
 
   UntangleStats stats;
   BaseDomain::Chart chart;
-  std::vector<std::uint32_t> folded;
-  for (std::size_t f = 0; f < dense.faceCount(); ++f)
-    if (imageArea(dense, base, domain, f, chart) <= kFlat) folded.push_back(std::uint32_t(f));
+  std::vector<std::uint32_t> folded = foldedTriangles(dense, base, domain);
   stats.foldedBefore = folded.size();
 
   // A new place for v: inside the kernel of its link (where every face around it turns
