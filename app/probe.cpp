@@ -15,13 +15,13 @@ void addProbeCommand(CLI::App& app, int& exitCode) {
   auto at = std::make_shared<std::string>();
   auto radius = std::make_shared<double>(3);
   sub->add_option("volume", *volume, "input volume")->required();
-  sub->add_option("--at", *at, "centre X,Y,Z in voxel indices")->required();
+  sub->add_option("--at", *at, "centre X,Y,Z[,R] in voxel indices (R overrides --radius)")->required();
   sub->add_option("--radius", *radius, "radius in voxels")->capture_default_str();
   bindAction(*sub, [volume, at, radius](nlohmann::json& r) {
     const Volume v = readVolume(*volume);
     const Ball ball = parseBall(*at, "--at", *radius);
     requireInside(v, ball.centre, "--at");
-    const levelset::ProbeResult p = levelset::probeSphere(v, ball.centre, *radius);
+    const levelset::ProbeResult p = levelset::probeSphere(v, ball.centre, ball.radius);
     r["mean"] = p.mean;
     r["std"] = p.std;
     r["voxels"] = p.voxels;

@@ -278,8 +278,10 @@ int main(int argc, char** argv) {
     for (const std::string& ours : solvers) {
       if (ours.rfind("isoatlas", 0) != 0) continue;
       for (const std::string& peer : {std::string("itk-serial"), std::string("itk-parallel")}) {
-        const std::string peerName = peer == "itk-serial" ? "ITK 5.2 ThresholdSegmentationLevelSet (serial)"
-                                                          : "ITK 5.2 ParallelSparseField (2 threads)";
+        const std::string peerName =
+            peer == "itk-serial" ? "ITK 5.2 ThresholdSegmentationLevelSet (serial)"
+                                 : "ITK 5.2 ParallelSparseField (" +
+                                       std::to_string(itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads()) + " threads)";
         const auto& a = figures[ours];
         const auto& b = figures[peer];
         const std::string tag = c.name + ", " + ours;

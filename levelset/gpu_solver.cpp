@@ -6,6 +6,7 @@
 #include "core/gl/context.h"
 #include "core/gl/program.h"
 #include "core/gl/resources.h"
+#include "levelset/speed.h"
 
 namespace isoatlas::levelset {
 namespace {
@@ -46,7 +47,7 @@ public:
   void pagesChanged(const PageManager& pm, const std::vector<std::pair<std::int32_t, float>>& filled) override {
     if (P_ != pm.pageSize()) {
       P_ = pm.pageSize();
-      const gl::Defines defines{{"PAGE_SIZE", std::to_string(P_)}};
+      const gl::Defines defines{{"PAGE_SIZE", std::to_string(P_)}, {"CFL_FRACTION", std::to_string(kCflFraction)}};
       speed_ = gl::Program::compute("levelset/shaders/speed.comp", defines);
       update_ = gl::Program::compute("levelset/shaders/update.comp", defines);
       message_ = gl::Program::compute("levelset/shaders/message.comp", defines);

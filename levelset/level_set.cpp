@@ -22,11 +22,13 @@ LevelSet::LevelSet(const Volume& source, const SpeedParams& params, const LevelS
   validateParams(params);
   require(source.voxelCount() > 0, "the source volume is empty");
   require(source.dims[0] <= (1 << 20) && source.dims[1] <= (1 << 20), "volume too wide for the page table");
-  geometry_ = source;
-  geometry_.data.clear();
+  geometry_.dims = source.dims;  // the geometry only, not the voxels
+  geometry_.spacing = source.spacing;
+  geometry_.origin = source.origin;
+  geometry_.direction = source.direction;
   pages_ = std::make_unique<PageManager>(source.dims, options.pageSize, options.initialSlots);
+  requireFiniteVoxels(source, "the source volume");
   std::vector<float> intensities = source.toFloat();
-  for (float v : intensities) require(std::isfinite(v), "the source volume has NaN or infinite voxels");
   backend_ = options.backend == Backend::Gpu ? makeGpuSolver(std::move(intensities), source.dims)
                                              : makeCpuSolver(std::move(intensities), source.dims);
   mark_.assign(std::size_t(pages_->virtualPageCount()), 0);
@@ -85,7 +87,12 @@ void LevelSet::addSphere(const Vec3& centre, double radius, bool add) {
         }
         if (nearest >= radius + kClamp) continue;  // the sphere does not reach this page
         const std::int64_t page = pages_->pageIndex(px, py, pz);
-        if (farthest <= radius - kClamp && !pages_->isActive(page)) {
+        // Out of the volume is outside: where the inside meets the volume's edge there is a front,
+        // so a page on the edge keeps a band (as setMask does) instead of turning static inside.
+        const auto& dims = geometry_.dims;
+        const bool onEdge = px == 0 || py == 0 || pz == 0 || (px + 1) * P >= dims[0] || (py + 1) * P >= dims[1] ||
+                            pz + 1 >= dims[2];
+        if (farthest <= radius - kClamp && !pages_->isActive(page) && !(add && onEdge)) {
           pages_->setStatic(page, add);  // wholly inside the sphere's plateau
           continue;
         }
@@ -210,7 +217,6 @@ IterationResult LevelSet::step() {
   applyMessages(r);
   ++iterations_;
   simulatedTime_ += r.dt;
-  recentSignChanges_.push_back(r.signChanges);
   return r;
 }
 
@@ -218,20 +224,21 @@ RunStats LevelSet::run(const RunOptions& options) {
   RunStats stats;
   const auto start = std::chrono::steady_clock::now();
   std::uint64_t bytes = 0;
-  recentSignChanges_.clear();
+  std::deque<std::int64_t> recentSignChanges;  // over the last `window` iterations
   while (stats.iterations < options.maxIterations) {
     const IterationResult r = step();
     ++stats.iterations;
     bytes += r.bytesReadBack;
-    while (int(recentSignChanges_.size()) > options.window) recentSignChanges_.pop_front();
+    recentSignChanges.push_back(r.signChanges);
+    if (int(recentSignChanges.size()) > options.window) recentSignChanges.pop_front();
     if (options.progress) options.progress(stats.iterations, std::int64_t(pages_->activePages().size()));
     if (pages_->activePages().empty()) {
       stats.converged = true;  // nothing left that can move
       break;
     }
-    if (options.untilConverged && int(recentSignChanges_.size()) == options.window) {
+    if (options.untilConverged && int(recentSignChanges.size()) == options.window) {
       std::int64_t changes = 0;
-      for (std::int64_t c : recentSignChanges_) changes += c;
+      for (std::int64_t c : recentSignChanges) changes += c;
       if (changes < options.changedVoxels) {
         stats.converged = true;
         break;

@@ -78,7 +78,6 @@ private:
   std::unique_ptr<SolverBackend> backend_;
   std::vector<std::uint32_t> mark_;  // per virtual page: the iteration that last requested it
   std::uint32_t epoch_ = 0;
-  std::deque<std::int64_t> recentSignChanges_;
   int iterations_ = 0;
   double simulatedTime_ = 0;
   std::uint64_t physicalBytesPeak_ = 0;

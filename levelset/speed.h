@@ -85,8 +85,9 @@ inline VoxelUpdate evaluateVoxel(const float* u, float intensity, const SpeedPar
 // of a voxel (at a half, G_r cannot keep the band a distance ramp and the front speed wanders), and
 // the curvature term (parabolic) stays within its explicit-scheme limit. G_r is left out of the
 // speed: it is a restoring term bounded by the clamp, and counting it slows the front 3.5-fold.
+inline constexpr float kCflFraction = 0.25f;  // the GPU's speed.glsl gets it as CFL_FRACTION
 inline float timeStep(float maxSpeed, float alpha) {
-  float dt = maxSpeed > 0 ? 0.25f / maxSpeed : 1.0f;
+  float dt = maxSpeed > 0 ? kCflFraction / maxSpeed : 1.0f;
   if (alpha < 1) dt = std::min(dt, 0.25f / (1.0f - alpha));
   return std::min(dt, 1.0f);
 }

@@ -50,7 +50,7 @@ VoxelUpdate evaluateVoxel(float u[27], float intensity, float target, float widt
 }
 
 float timeStep(float maxSpeed, float alpha) {
-  float dt = maxSpeed > 0.0 ? 0.5 / maxSpeed : 1.0;
+  float dt = maxSpeed > 0.0 ? CFL_FRACTION / maxSpeed : 1.0;
   if (alpha < 1.0) dt = min(dt, 0.25 / (1.0 - alpha));
   return min(dt, 1.0);
 }

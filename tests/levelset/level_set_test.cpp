@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "levelset/level_set.h"
+#include "tests/test_util.h"
 #include "levelset/probe.h"
 
 namespace isoatlas::levelset {
@@ -232,6 +233,44 @@ TEST(LevelSet, GpuAgreesWithCpu) {
   const Volume gpu = segment(Backend::Gpu);
   EXPECT_GE(dice(cpu, gpu), 0.99);
   EXPECT_GE(dice(gpu, p.truth), 0.95);
+}
+
+// Step by step, not only where both converge: the same time steps and nearly the same phi.
+TEST(LevelSet, GpuStepsLikeCpu) {
+  const Phantom p = torusPhantom();
+  LevelSet cpu(p.image, {100, 30, 0.7f}, {.backend = Backend::Cpu});
+  LevelSet gpu(p.image, {100, 30, 0.7f}, {.backend = Backend::Gpu});
+  for (LevelSet* ls : {&cpu, &gpu}) ls->addSphere(p.seedA, 3);
+  for (int i = 0; i < 30; ++i) {
+    cpu.step();
+    gpu.step();
+    ASSERT_NEAR(gpu.simulatedTime(), cpu.simulatedTime(), 1e-4 * cpu.simulatedTime()) << "step " << i;
+  }
+  const Volume a = cpu.phi(), b = gpu.phi();
+  double worst = 0;
+  for (std::size_t i = 0; i < a.voxelCount(); ++i) worst = std::max(worst, std::abs(a.value(i) - b.value(i)));
+  EXPECT_LT(worst, 1e-3);
+}
+
+// A ball past the volume's corner: out of the volume is outside, so the pages where the inside
+// meets the volume's edge keep a band (are active), and both backends see the same edge.
+TEST(LevelSet, BallPastTheCornerKeepsABandAtTheEdge) {
+  const Volume image = test::fieldVolume({40, 40, 40}, [](double, double, double) { return 100.0; });
+  const Vec3 corner{39, 39, 20};
+  LevelSet cpu(image, {100, 30, 0.7f}, {.backend = Backend::Cpu});
+  LevelSet gpu(image, {100, 30, 0.7f}, {.backend = Backend::Gpu});
+  for (LevelSet* ls : {&cpu, &gpu}) ls->addSphere(corner, 30);
+  const PageManager& pages = cpu.pages();
+  const int P = pages.pageSize();
+  for (std::int64_t z = 0; z < 40; ++z) {
+    const std::int64_t page = pages.pageIndex(39 / P, 39 / P, z);
+    EXPECT_TRUE(pages.isActive(page)) << "z " << z;
+  }
+  for (int i = 0; i < 10; ++i) cpu.step(), gpu.step();
+  const Volume a = cpu.phi(), b = gpu.phi();
+  double worst = 0;
+  for (std::size_t i = 0; i < a.voxelCount(); ++i) worst = std::max(worst, std::abs(a.value(i) - b.value(i)));
+  EXPECT_LT(worst, 1e-3);
 }
 
 TEST(Probe, MeanAndSpreadOfAKnownBall) {
