@@ -32,7 +32,7 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("extract", "closed, manifold marching cubes over a level set, mask or scalar volume");
   auto o = std::make_shared<ExtractCommandOptions>();
   sub->add_option("input", o->input, "a mask, a phi volume (isoatlas segment --phi) or any scalar volume")->required();
-  sub->add_option("--iso", o->iso, "isovalue (default: 0.5 for a mask, else the middle of the value range; 0 for phi)");
+  sub->add_option("--iso", o->iso, "isovalue (default: 0.5 for a mask, else the middle of the value range; give 0 for a phi volume)");
   sub->add_flag("--largest", o->largest, "keep only the largest component");
   sub->add_option("--min-component", o->minComponent, "drop components of fewer triangles than this");
   sub->add_option("--smooth", o->smooth, "Taubin smoothing iterations")->capture_default_str();

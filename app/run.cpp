@@ -150,7 +150,10 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       pictures.push_back({"segmentation_slices.png", "the segmentation over the input, through the first seed"});
     }
 
-    for (const char* pending : {"build multiresolution model (issue 5)", "atlas", "render model"}) {
+    // The model is built by `isoatlas build SURFACE -o MODEL.isoatlas`; run does not chain it yet.
+    stages.push_back({"build multiresolution model", "skipped", "not chained into run yet: isoatlas build"});
+    logInfo("run: skipping the multiresolution model: not chained into run yet (isoatlas build does it)");
+    for (const char* pending : {"atlas", "render model"}) {
       stages.push_back({pending, "skipped", "stage not built yet"});
       logInfo(std::string("run: skipping ") + pending + ": stage not built yet");
     }

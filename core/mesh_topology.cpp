@@ -3,18 +3,10 @@
 #include <algorithm>
 #include <numeric>
 
+#include "core/union_find.h"
+
 namespace isoatlas {
 namespace {
-
-struct UnionFind {
-  std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) { parent[find(a)] = find(b); }
-};
 
 struct HalfEdge {
   std::uint64_t key;        // (min vertex << 32) | max vertex

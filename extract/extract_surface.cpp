@@ -46,9 +46,7 @@ void gaussianBlur(std::vector<float>& f, const std::array<std::int64_t, 3>& dims
 void toWorld(Mesh& mesh, const Volume& v) {
   for (Vec3& p : mesh.positions) p = v.indexToWorld(p);
   const Mat3& d = v.direction;
-  const double det = d.m[0][0] * (d.m[1][1] * d.m[2][2] - d.m[1][2] * d.m[2][1]) -
-                     d.m[0][1] * (d.m[1][0] * d.m[2][2] - d.m[1][2] * d.m[2][0]) +
-                     d.m[0][2] * (d.m[1][0] * d.m[2][1] - d.m[1][1] * d.m[2][0]);
+  const double det = dot(d.column(0), cross(d.column(1), d.column(2)));
   if (det < 0)
     for (std::size_t f = 0; f < mesh.faceCount(); ++f)
       std::swap(mesh.faceVertices[mesh.faceOffsets[f] + 1], mesh.faceVertices[mesh.faceOffsets[f] + 2]);

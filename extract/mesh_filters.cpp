@@ -3,44 +3,33 @@
 #include <algorithm>
 #include <numeric>
 
+#include "core/union_find.h"
+
 namespace isoatlas::extract {
 
 std::int64_t keepComponents(Mesh& mesh, bool largestOnly, std::int64_t minTriangles) {
   if (!largestOnly && minTriangles <= 0) return 0;
-  std::vector<std::uint32_t> parent(mesh.vertexCount());
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto find = [&](std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  UnionFind sets(mesh.vertexCount());
   for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
     const auto face = mesh.face(f);
-    for (std::size_t i = 1; i < face.size(); ++i) parent[find(face[i])] = find(face[0]);
+    for (std::size_t i = 1; i < face.size(); ++i) sets.unite(face[i], face[0]);
   }
-  std::vector<std::int64_t> size(mesh.vertexCount(), 0);
-  for (std::size_t f = 0; f < mesh.faceCount(); ++f) ++size[find(mesh.face(f)[0])];
+  std::vector<std::int64_t> size(mesh.vertexCount(), 0);  // triangles per component, at its root
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f) ++size[sets.find(mesh.face(f)[0])];
   const std::int64_t largest = size.empty() ? 0 : *std::max_element(size.begin(), size.end());
+  // Which components stay, decided once per root; ties for the largest: the first root only.
+  std::vector<char> keepRoot(mesh.vertexCount(), 0);
   std::int64_t components = 0, kept = 0;
-  for (std::uint32_t v = 0; v < parent.size(); ++v)
-    if (parent[v] == v && size[v] > 0) ++components;
-  auto keep = [&](std::uint32_t root) {
-    return largestOnly ? size[root] == largest : size[root] >= minTriangles;
-  };
   bool largestTaken = false;
-  std::uint32_t largestRoot = UINT32_MAX;
-  std::vector<char> rootKept(mesh.vertexCount(), 0);
-  Mesh out = selectFaces(mesh, [&](std::size_t f) {
-    const std::uint32_t root = find(mesh.face(f)[0]);
-    if (!keep(root)) return false;
-    if (largestOnly) {  // ties: the first largest component only
-      if (!largestTaken) largestTaken = true, largestRoot = root;
-      if (root != largestRoot) return false;
-    }
-    rootKept[root] = 1;
-    return true;
-  });
-  for (std::uint32_t v = 0; v < parent.size(); ++v) kept += rootKept[v];
-  mesh = std::move(out);
+  for (std::uint32_t v = 0; v < size.size(); ++v) {
+    if (sets.parent[v] != v || size[v] == 0) continue;
+    ++components;
+    const bool keep = largestOnly ? !largestTaken && size[v] == largest : size[v] >= minTriangles;
+    largestTaken |= keep && largestOnly;
+    keepRoot[v] = keep;
+    kept += keep;
+  }
+  mesh = selectFaces(mesh, [&](std::size_t f) { return keepRoot[sets.find(mesh.face(f)[0])] != 0; });
   return components - kept;
 }
 

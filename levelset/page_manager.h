@@ -38,7 +38,7 @@ public:
   std::int64_t pageOfSlot(std::int32_t slot) const { return inverseTable_[std::size_t(slot)]; }
 
   // Maps `page` to a free slot (growing the pool if needed) and returns it. The caller fills the
-  // slot with the value of the static page it was mapped to (see staticSlotBefore).
+  // slot with the value of the static page it was mapped to (see staticSlot).
   std::int32_t activate(std::int64_t page);
   // Maps an active page back to the static inside or outside page and frees its slot.
   void release(std::int64_t page, bool inside);

@@ -1,7 +1,7 @@
 #version 450
 // Exclusive prefix sums of uint values, in two entry points chosen by define:
 //   SCAN_BLOCKS: each work group scans 2 * 512 values in place and writes its total to blockSums
-//   ADD_OFFSETS: adds blockSums[group] to every value of the group (after blockSums were scanned)
+//   otherwise: adds blockSums[group] to every value of the group (after blockSums were scanned)
 layout(local_size_x = 512) in;
 layout(std430, binding = 0) buffer Values { uint values[]; };
 layout(std430, binding = 1) buffer BlockSums { uint blockSums[]; };
@@ -11,6 +11,9 @@ shared uint temp[1024];
 void main() {
   uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
   uint base = group * 1024u, t = gl_LocalInvocationID.x;
+  // The dispatch is a gx * gy grid, up to gx - 1 groups more than there are blocks: those stop here,
+  // the whole group at once (so the barriers below stay uniform), before writing blockSums[group].
+  if (base >= count) return;
 #ifdef SCAN_BLOCKS
   uint a = base + 2u * t, b = a + 1u;
   temp[2u * t] = a < count ? values[a] : 0u;

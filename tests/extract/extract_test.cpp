@@ -40,11 +40,6 @@ std::size_t degenerate(const Mesh& m) {
   return n;
 }
 
-template <class F>
-Volume field(std::array<std::int64_t, 3> dims, F f) {
-  return test::fieldVolume(dims, f);
-}
-
 void expectClosedManifold(const Mesh& m, long long genus) {
   const MeshTopology t = analyzeTopology(m);
   EXPECT_TRUE(t.closed) << t.firstProblem;
@@ -56,7 +51,7 @@ void expectClosedManifold(const Mesh& m, long long genus) {
 
 TEST(MarchingCubes, SphereAreaVolumeAndGenus) {
   const double R = 14;
-  const Volume v = field({40, 40, 40}, [&](double x, double y, double z) {
+  const Volume v = test::fieldVolume({40, 40, 40}, [&](double x, double y, double z) {
     return R - std::sqrt((x - 19.5) * (x - 19.5) + (y - 20.2) * (y - 20.2) + (z - 19.7) * (z - 19.7));
   });
   ExtractStats stats;
@@ -69,7 +64,7 @@ TEST(MarchingCubes, SphereAreaVolumeAndGenus) {
 
 TEST(MarchingCubes, TorusAreaVolumeAndGenus) {
   const double R = 12, r = 5;
-  const Volume v = field({44, 44, 20}, [&](double x, double y, double z) {
+  const Volume v = test::fieldVolume({44, 44, 20}, [&](double x, double y, double z) {
     const double q = std::hypot(x - 21.6, y - 21.3) - R;
     return r - std::sqrt(q * q + (z - 9.6) * (z - 9.6));
   });
@@ -84,7 +79,7 @@ TEST(MarchingCubes, RandomFieldsAreClosedManifoldAndOriented) {
   std::mt19937 rng(3);
   for (int trial = 0; trial < 30; ++trial) {
     std::uniform_int_distribution<int> value(-3, 3);
-    const Volume v = field({9 + trial % 4, 8, 7 + trial % 3}, [&](double, double, double) { return value(rng); });
+    const Volume v = test::fieldVolume({9 + trial % 4, 8, 7 + trial % 3}, [&](double, double, double) { return value(rng); });
     for (float iso : {0.0f, 0.5f, 2.0f}) {
       const Mesh m = extractSurface(v, {.iso = iso});
       if (m.faceCount() == 0) continue;
@@ -126,7 +121,7 @@ TEST(ExtractSurface, MaskTouchingTheBorderIsClosedAndSmooth) {
 }
 
 TEST(ExtractSurface, WorldCoordinatesThroughAMirroredFrame) {
-  Volume v = field({24, 24, 24}, [](double x, double y, double z) {
+  Volume v = test::fieldVolume({24, 24, 24}, [](double x, double y, double z) {
     return 8 - std::sqrt((x - 12) * (x - 12) + (y - 12) * (y - 12) + (z - 12) * (z - 12));
   });
   v.spacing = {0.5, 2.0, 1.0};
@@ -144,7 +139,7 @@ TEST(ExtractSurface, WorldCoordinatesThroughAMirroredFrame) {
 }
 
 TEST(ExtractSurface, ComponentsAndSmoothing) {
-  const Volume v = field({40, 20, 20}, [](double x, double y, double z) {
+  const Volume v = test::fieldVolume({40, 20, 20}, [](double x, double y, double z) {
     const double a = 6 - std::sqrt((x - 10) * (x - 10) + (y - 10) * (y - 10) + (z - 10) * (z - 10));
     const double b = 3 - std::sqrt((x - 30) * (x - 30) + (y - 10) * (y - 10) + (z - 10) * (z - 10));
     return std::max(a, b);
@@ -158,6 +153,10 @@ TEST(ExtractSurface, ComponentsAndSmoothing) {
   EXPECT_NEAR(enclosedVolume(largest), 4.0 / 3 * M_PI * 216, 0.03 * 4.0 / 3 * M_PI * 216);
   const Mesh smooth = extractSurface(v, {.iso = 0.0f, .largestComponent = true, .smoothIterations = 10});
   expectClosedManifold(smooth, 0);
+  ASSERT_EQ(smooth.vertexCount(), largest.vertexCount());  // smoothing moves vertices, keeps their order
+  double moved = 0;
+  for (std::size_t i = 0; i < smooth.vertexCount(); ++i) moved = std::max(moved, norm(smooth.positions[i] - largest.positions[i]));
+  EXPECT_GT(moved, 1e-3) << "smoothing moved nothing";
   EXPECT_NEAR(enclosedVolume(smooth), enclosedVolume(largest), 0.03 * enclosedVolume(largest)) << "Taubin keeps volume";
 }
 
@@ -178,7 +177,7 @@ void expectSameMesh(const Mesh& cpu, const Mesh& gpu) {
 }
 
 TEST(MarchingCubesGpu, GivesTheCpuMesh) {
-  const Volume torus = field({44, 44, 20}, [](double x, double y, double z) {
+  const Volume torus = test::fieldVolume({44, 44, 20}, [](double x, double y, double z) {
     const double q = std::hypot(x - 21.6, y - 21.3) - 12;
     return 5 - std::sqrt(q * q + (z - 9.6) * (z - 9.6));
   });
@@ -192,13 +191,13 @@ TEST(MarchingCubesGpu, GivesTheCpuMesh) {
   std::mt19937 rng(5);
   std::uniform_int_distribution<int> value(-2, 2);
   for (int trial = 0; trial < 6; ++trial) {
-    const Volume v = field({13, 11, 9}, [&](double, double, double) { return value(rng); });
+    const Volume v = test::fieldVolume({13, 11, 9}, [&](double, double, double) { return value(rng); });
     expectSameMesh(extractSurface(v, {.iso = 0.0f}), extractSurface(v, {.iso = 0.0f, .gpu = true}));
   }
 }
 
 TEST(ExtractLevelSet, ActivePagesGiveTheSameSurfaceForLessWork) {
-  Volume image = field({128, 128, 40}, [](double x, double y, double z) {
+  Volume image = test::fieldVolume({128, 128, 40}, [](double x, double y, double z) {
     return std::sqrt((x - 40) * (x - 40) + (y - 40) * (y - 40) + (z - 20) * (z - 20)) < 10 ? 100.0 : 20.0;
   });
   levelset::LevelSet ls(image, {100, 40, 0.8f});
