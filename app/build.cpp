@@ -38,7 +38,7 @@ Mesh prepareInput(Mesh mesh) {
             std::to_string(triangles.faceCount()) + " triangles");
     mesh = std::move(triangles);
   }
-  const Mesh used = selectFaces(mesh, [](std::size_t) { return true; });
+  const Mesh used = dropUnusedVertices(mesh);
   if (used.vertexCount() < mesh.vertexCount())
     logInfo("build: dropped " + std::to_string(mesh.vertexCount() - used.vertexCount()) + " vertices that no face uses");
   return used;
@@ -63,15 +63,14 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
     require(o->baseOnly.empty() || o->baseOnly.ends_with(".obj"), o->baseOnly + ": --base-only writes an .obj");
     require(o->baseRatio > 0 && o->baseRatio <= 1, "--base-ratio must be in (0, 1]");
     require(o->maxError >= 0, "--max-error must be positive");
-    require(o->chart >= 3 && o->chart <= 257 && ((o->chart - 1) & (o->chart - 2)) == 0,
-            "--chart must be 2^k + 1 between 3 and 257 (e.g. 33)");
+    require(o->chart > 0 && multires::isChartSize(std::uint32_t(o->chart)),
+            "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
 
     const Mesh dense = prepareInput(readMesh(o->input));
     multires::SimplifyOptions simplify{.vertexRatio = o->baseRatio, .targetVertices = o->baseVertices};
     if (o->maxError > 0) simplify.maxError = o->maxError;
     multires::SimplifyStats stats;
     multires::BaseMesh base = multires::simplifyStellar(dense, simplify, &stats);
-    const std::size_t baseTriangles = base.triangleCount();
     logInfo("build: " + std::to_string(stats.denseVertices) + " -> " + std::to_string(stats.baseVertices) +
             " vertices in " + std::to_string(stats.seconds) + " s");
     const multires::PairingStats pairing = multires::pairTriangles(base, dense);
@@ -82,7 +81,7 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
     r["dense_triangles"] = dense.faceCount();
     r["base_vertices"] = base.vertexCount();
     r["base_triangles"] = base.triangleCount();
-    r["base_triangles_before_matching"] = baseTriangles;
+    r["base_triangles_before_matching"] = stats.baseTriangles;
     r["target_vertices"] = stats.targetVertices;
     r["reached_target"] = stats.reachedTarget;
     r["tiles"] = pairing.tiles;
@@ -108,10 +107,11 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
       const multires::Hausdorff h = multires::hausdorffDistance(dense, base.triangleMesh());
       r["hausdorff_base"] = h.symmetric();
       r["hausdorff_base_mean"] = std::max(h.meanAToB, h.meanBToA);
-      r["psnr_base_db"] = multires::psnrDb(diagonal, h.symmetric());
+      const double psnr = multires::psnrDb(diagonal, h.symmetric());
+      r["psnr_base_db"] = psnr;
       r["seconds_hausdorff"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       logInfo("build: base mesh Hausdorff " + std::to_string(h.symmetric()) + " (PSNR " +
-              std::to_string(multires::psnrDb(diagonal, h.symmetric())) + " dB)");
+              std::to_string(psnr) + " dB)");
     }
     if (!o->baseOnly.empty()) writeMesh(o->baseOnly, base.quadMesh(), {.binary = false, .normals = false});
     if (!o->output.empty()) atlas::writeModel(o->output, {.chartSize = std::uint32_t(o->chart), .dense = dense, .base = base});

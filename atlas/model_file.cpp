@@ -6,6 +6,7 @@
 #include <iterator>
 
 #include "core/error.h"
+#include "multires/adaptive_mesh.h"
 
 namespace isoatlas::atlas {
 namespace {
@@ -81,6 +82,7 @@ private:
 }  // namespace
 
 void writeModel(const std::string& path, const Model& model) {
+  require(model.dense.allFacesHave(3), path + ": the dense mesh must be triangles");  // before the file is touched
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) throw Error(path + ": cannot open for writing");
   out.write(kMagic, 8);
@@ -93,7 +95,6 @@ void writeModel(const std::string& path, const Model& model) {
   Writer dense;
   dense.put(std::uint64_t(model.dense.vertexCount()));
   for (const Vec3& p : model.dense.positions) dense.putVec(p);
-  require(model.dense.allFacesHave(3), path + ": the dense mesh must be triangles");
   dense.put(std::uint64_t(model.dense.faceCount()));
   for (const std::uint32_t c : model.dense.faceVertices) dense.put(c);
   section(out, "DENS", dense);
@@ -137,9 +138,12 @@ Model readModel(const std::string& path) {
     if (size > bytes.size() - at)
       throw Error(path + ": byte " + std::to_string(at) + ": section " + tag + " runs past the end of the file");
     Reader r(path, bytes, at, at + size);
+    bool& seen = tag == "HEAD" ? head : tag == "DENS" ? dense : base;
+    const bool known = tag == "HEAD" || tag == "DENS" || tag == "BASE";
+    if (known && seen) r.fail("a second " + tag + " section");  // would mix two models' counts
     if (tag == "HEAD") {
       model.chartSize = r.get<std::uint32_t>();
-      if (model.chartSize < 3 || model.chartSize > 1025) r.fail("chart size " + std::to_string(model.chartSize));
+      if (!multires::isChartSize(model.chartSize)) r.fail("chart size " + std::to_string(model.chartSize));
       head = true;
     } else if (tag == "DENS") {
       Mesh& m = model.dense;
@@ -174,7 +178,7 @@ Model readModel(const std::string& path) {
       }
       base = true;
     }
-    if ((tag == "HEAD" || tag == "DENS" || tag == "BASE") && !r.done()) r.fail("section " + tag + " has trailing bytes");
+    if (known && !r.done()) r.fail("section " + tag + " has trailing bytes");
     at += size;
   }
   if (!head || !dense || !base) throw Error(path + ": the model lacks a HEAD, DENS or BASE section");

@@ -74,7 +74,7 @@ Mesh meshoptSimplify(const Mesh& dense, std::size_t faces, double& seconds) {
   Mesh m;  // the result's faces over all dense vertices, then only the vertices it uses
   m.positions = dense.positions;
   for (std::size_t i = 0; i < n; i += 3) m.addFace({out[i], out[i + 1], out[i + 2]});
-  return selectFaces(m, [](std::size_t) { return true; });
+  return dropUnusedVertices(m);
 }
 
 void compare(const std::string& name, const Mesh& dense) {

@@ -32,6 +32,10 @@ struct Mesh {
 // The faces for which keep(f) holds, in order, with only the vertices they use (and their normals),
 // renumbered in order of first use. keep is called once per face, in order.
 Mesh selectFaces(const Mesh& mesh, const std::function<bool(std::size_t face)>& keep);
+// All faces, without the vertices no face uses.
+inline Mesh dropUnusedVertices(const Mesh& mesh) {
+  return selectFaces(mesh, [](std::size_t) { return true; });
+}
 
 // Compressed rows: row i is items[offsets[i] .. offsets[i + 1]).
 struct Rows {

@@ -26,18 +26,16 @@ static_assert(sizeof(HalfedgeH) == AdaptiveMesh::kBytesPerFace);
 
 AdaptiveMesh::AdaptiveMesh(const BaseMesh& base, std::uint32_t chartSize, Sampler sampler)
     : chartSize_(chartSize), charts_(std::uint32_t(base.tiles.size())), sampler_(std::move(sampler)) {
-  require(chartSize >= 3 && chartSize <= 257 && ((chartSize - 1) & (chartSize - 2)) == 0,
-          "adaptive mesh: the chart size must be 2^k + 1 between 3 and 257");
+  require(isChartSize(chartSize), "adaptive mesh: the chart size must be 2^k + 1 between 3 and " +
+                                      std::to_string(kMaxChartSize));
   require(!base.tiles.empty() && base.tiles.size() * 2 == base.triangleCount(),
           "adaptive mesh: the base mesh must be paired into tiles first");
+  mesh_ = toStellarMesh(base.triangleMesh(), "adaptive mesh");  // the base's vertex and face indices
   mesh_.add_property(chart_);
   mesh_.add_property(uv_);
   mesh_.add_property(interior_);
   mesh_.add_property(level_);
-  for (const Vec3& p : base.positions) mesh_.property(level_, mesh_.add_vertex(toPoint(p))) = 0;
-  for (const auto& t : base.triangles)
-    if (!mesh_.add_face(VertexH(int(t[0])), VertexH(int(t[1])), VertexH(int(t[2]))).is_valid())
-      throw Error("adaptive mesh: the base mesh is not a manifold");
+  for (const VertexH v : mesh_.vertices()) mesh_.property(level_, v) = 0;
   const int n = int(chartSize - 1);
   for (std::uint32_t i = 0; i < base.tiles.size(); ++i) {
     const BaseMesh::TileCorners c = base.tileCorners(i);

@@ -33,12 +33,19 @@ struct Patch {
   std::uint8_t c;
 };
 
+// Chart sizes the adaptive mesh can address: 2^k + 1 texels a side, whose last texel index
+// (size - 1) fits the 8-bit (u, v) of a halfedge: 3 .. 129.
+inline constexpr std::uint32_t kMaxChartSize = 129;
+constexpr bool isChartSize(std::uint32_t size) {
+  return size >= 3 && size <= kMaxChartSize && ((size - 1) & (size - 2)) == 0;
+}
+
 class AdaptiveMesh {
 public:
   using Sampler = std::function<Vec3(const ChartPoint&)>;
   // Tile i is chart i: its quad (p, s, q, r), with the shared edge p -> q of its first triangle,
-  // maps to (0,0), (1,0), (1,1), (0,1). Throws Error(BadInput) for a chart size that is not 2^k + 1
-  // in [3, 257], or a base mesh without tiles.
+  // maps to (0,0), (1,0), (1,1), (0,1). Throws Error(BadInput) for a chart size that is not
+  // isChartSize, or a base mesh without tiles.
   AdaptiveMesh(const BaseMesh& base, std::uint32_t chartSize, Sampler sampler);
 
   bool canSplit(EdgeH e) const;

@@ -9,12 +9,6 @@
 namespace isoatlas::multires {
 namespace {
 
-void clampInside(BaseDomain::Bary& w) {
-  double sum = 0;
-  for (double& x : w) sum += (x = std::max(0.0, x));
-  for (double& x : w) x /= sum;  // weights sum to one, so at least one stays positive
-}
-
 int cornerOf(const std::array<std::uint32_t, 3>& t, std::uint32_t vertex) {
   for (int i = 0; i < 3; ++i)
     if (t[i] == vertex) return i;
@@ -217,7 +211,7 @@ void BaseDomain::locate(std::uint32_t& t, Bary& bary, int maxSteps) const {
     if (next == kNone || !unfold(t, bary, next, moved)) break;
     t = next, bary = moved;
   }
-  clampInside(bary);
+  clampToTriangle(bary);
 }
 
 }  // namespace isoatlas::multires

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "multires/base_mesh.h"
+#include "multires/vec2.h"
 
 namespace isoatlas::multires {
 
@@ -18,9 +19,7 @@ class BaseDomain {
 public:
   using Bary = std::array<double, 3>;
   static constexpr std::uint32_t kNone = BaseMesh::kNoTriangle;
-  struct Point2 {
-    double x = 0, y = 0;
-  };
+  using Point2 = Vec2;
   // A flat chart of part of the domain: a base triangle's frame with its neighbours unfolded into
   // it (vertex == kNone; chart point = weights 1 and 2), or a base vertex's star laid flat (the
   // vertex at the origin, its triangles counter-clockwise, each spanning `step` radians).

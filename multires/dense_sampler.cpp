@@ -42,30 +42,23 @@ DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base)
 }
 
 Vec3 DenseSampler::position(std::uint32_t triangle, const std::array<double, 3>& bary) const {
-  const double px = bary[1], py = bary[2];
+  const Vec2 point{bary[1], bary[2]};
   const Image* best = nullptr;
   std::array<double, 3> bestWeights{};
   double bestMin = -std::numeric_limits<double>::infinity();
   for (const Image& image : images_[triangle]) {
-    const auto& a = image.uv[0];
-    const auto& b = image.uv[1];
-    const auto& c = image.uv[2];
-    const double area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-    if (!(std::abs(area) > 1e-300)) continue;
-    const double wa = ((b[0] - px) * (c[1] - py) - (b[1] - py) * (c[0] - px)) / area;
-    const double wb = ((px - a[0]) * (c[1] - a[1]) - (py - a[1]) * (c[0] - a[0])) / area;
-    const std::array<double, 3> w{wa, wb, 1 - wa - wb};
+    if (orient2(image.uv[0], image.uv[1], image.uv[2]) == 0) continue;
+    const std::array<double, 3> w = barycentric2(point, image.uv[0], image.uv[1], image.uv[2]);
     const double lowest = std::min({w[0], w[1], w[2]});
     if (lowest > bestMin) bestMin = lowest, best = &image, bestWeights = w;
     if (lowest >= 0) break;
   }
   if (!best) return base_.pointAt(triangle, bary);
   // Outside every image (by rounding, or near a base vertex): clamp to the nearest one.
-  double sum = 0;
-  for (double& w : bestWeights) sum += (w = std::max(0.0, w));
+  clampToTriangle(bestWeights);
   const auto c = dense_.face(best->denseFace);
   Vec3 p;
-  for (int i = 0; i < 3; ++i) p = p + dense_.positions[c[i]] * (bestWeights[i] / sum);
+  for (int i = 0; i < 3; ++i) p = p + dense_.positions[c[i]] * bestWeights[i];
   return p;
 }
 

@@ -25,7 +25,7 @@ public:
 private:
   struct Image {
     std::uint32_t denseFace;
-    std::array<std::array<double, 2>, 3> uv;  // the corners in the base triangle's (bary1, bary2) frame
+    std::array<Vec2, 3> uv;  // the corners in the base triangle's (bary1, bary2) frame
   };
   const Mesh& dense_;
   const BaseMesh& base_;

@@ -5,12 +5,11 @@
 namespace isoatlas::multires {
 
 bool exponentialMap(const StellarMesh& mesh, VertexH v, const OneRing& ring, std::vector<Vec2>& plane) {
-  constexpr std::size_t kMax = 64;  // a vertex of higher degree is left in place
   const std::size_t k = ring.vertices.size();
-  if (k > kMax) return false;
+  if (k > kMaxDegree) return false;
   const Vec3 centre = toVec3(mesh.point(v));
-  Vec3 directions[kMax];
-  double radius[kMax], angle[kMax];
+  Vec3 directions[kMaxDegree];
+  double radius[kMaxDegree], angle[kMaxDegree];
   for (std::size_t i = 0; i < k; ++i) {
     const Vec3 d = toVec3(mesh.point(ring.vertices[i])) - centre;
     radius[i] = norm(d);
@@ -34,13 +33,6 @@ bool exponentialMap(const StellarMesh& mesh, VertexH v, const OneRing& ring, std
     if (i < ring.faces.size()) phi += scale * angle[i];
   }
   return true;
-}
-
-std::array<double, 3> barycentric2(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {
-  const double area = orient2(a, b, c);
-  if (area == 0) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
-  const double wa = orient2(p, b, c) / area, wb = orient2(a, p, c) / area;
-  return {wa, wb, 1 - wa - wb};
 }
 
 }  // namespace isoatlas::multires

@@ -19,14 +19,17 @@ StellarMesh toStellarMesh(const Mesh& mesh, const std::string& where) {
   StellarMesh out;
   out.reserve(mesh.vertexCount(), mesh.faceCount() * 3 / 2 + 8, mesh.faceCount());
   for (const Vec3& p : mesh.positions) out.add_vertex(toPoint(p));
-  omerr().disable();  // analyzeTopology has already named any problem
+  // analyzeTopology has already named any problem; OpenMesh's own messages stay off meanwhile.
+  struct QuietOpenMesh {
+    QuietOpenMesh() { omerr().disable(); }
+    ~QuietOpenMesh() { omerr().enable(); }
+  } quiet;
   for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
     const auto c = mesh.face(f);
     const FaceH fh = out.add_face(VertexH(int(c[0])), VertexH(int(c[1])), VertexH(int(c[2])));
     if (!fh.is_valid())
       throw Error(where + ": face " + std::to_string(f) + " cannot join the halfedge mesh (complex vertex or edge)");
   }
-  omerr().enable();
   return out;
 }
 

@@ -13,6 +13,7 @@ OneRing oneRing(const StellarMesh& mesh, VertexH v) {
 void oneRing(const StellarMesh& mesh, VertexH v, OneRing& ring) {
   ring.vertices.clear();
   ring.faces.clear();
+  ring.boundary = false;
   HalfedgeH start = mesh.halfedge_handle(v);
   if (!start.is_valid()) return;
   // OpenMesh keeps a boundary vertex's outgoing halfedge on the boundary: start just after it.
@@ -67,11 +68,11 @@ bool canWeldInto(const StellarMesh& mesh, VertexH v, VertexH u) {
   if (opposites == 2 && opposite[0] == opposite[1]) return false;
   // Link condition: v and u have no common neighbour but the opposite vertices (else the weld
   // would pinch the surface and change its topology).
-  int neighbours[64], count = 0;
+  int neighbours[kMaxDegree], count = 0;
   const HalfedgeH first = mesh.halfedge_handle(v);
   HalfedgeH g = first;
   do {
-    if (count == 64) return false;
+    if (count == int(kMaxDegree)) return false;
     neighbours[count++] = mesh.to_vertex_handle(g).idx();
     g = mesh.next_halfedge_handle(mesh.opposite_halfedge_handle(g));
   } while (g != first);

@@ -3,11 +3,16 @@
 // boundary weld (remove a boundary vertex of two faces, leaving its boundary edge) and edge split.
 // Each changes only the 1-ring of the vertex it removes or adds.
 #pragma once
+#include <cstddef>
 #include <vector>
 
 #include "multires/stellar_mesh.h"
 
 namespace isoatlas::multires {
+
+// The most neighbours a vertex may have for a weld (its 1-ring then fits fixed arrays); a vertex of
+// higher degree is left in place.
+inline constexpr std::size_t kMaxDegree = 64;
 
 // The 1-ring of v in the orientation of its faces: neighbours w_0 .. w_{k-1}, faces[i] = (v, w_i, w_i+1)
 // (indices mod k). For a boundary vertex w_0 and w_{k-1} are its boundary neighbours and faces has

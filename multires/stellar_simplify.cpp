@@ -100,8 +100,8 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
   double maxR2 = 0;
   for (const Vec2& p : plane) maxR2 = std::max(maxR2, p.x * p.x + p.y * p.y);
   const Vec3 pv = pointOf(mesh_, v);
-  Vec3 points[64], oldNormal[64];  // exponentialMap refuses rings of more than 64
-  double oldLength[64];
+  Vec3 points[kMaxDegree], oldNormal[kMaxDegree];  // exponentialMap refuses larger rings
+  double oldLength[kMaxDegree];
   for (std::size_t i = 0; i < k; ++i) points[i] = pointOf(mesh_, ring.vertices[i]);
   for (std::size_t i = 0; i < ring.faces.size(); ++i) {
     oldNormal[i] = cross(points[i] - pv, points[(i + 1) % k] - pv);
@@ -114,7 +114,7 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
     std::size_t t;
     bool operator<(const Option& o) const { return cost != o.cost ? cost < o.cost : length2 < o.length2; }
   };
-  Option options[64];
+  Option options[kMaxDegree];
   std::size_t count = 0;
   auto rank = [&](std::size_t t) {
     const Quadric q = quadric_[v.idx()] + quadric_[ring.vertices[t].idx()];
@@ -211,9 +211,7 @@ void Simplifier::removeVertex(VertexH v, VertexH u) {
       const double lowest = std::min({b[0], b[1], b[2]});
       if (lowest > bestMin) bestMin = lowest, bestFace = &nf, bestBary = b;
     }
-    double sum = 0;
-    for (double& w : bestBary) sum += (w = std::max(0.0, w));
-    for (double& w : bestBary) w /= sum;
+    clampToTriangle(bestBary);
     MappedPoint& m = mapped_[points[i]];
     m = {bestFace->face, bestFace->vertices, bestBary};
     facePoints_[bestFace->face].push_back(points[i]);

@@ -77,19 +77,23 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
   };
   std::vector<Frame> frame(n);
   for (std::uint32_t t = 0; t < n; ++t) frame[t] = {t, {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}};
+  std::unique_ptr<const BaseMesh> unsplit;  // the sampler reads the triangles before any split
   std::unique_ptr<DenseSampler> sampler;
+  std::vector<std::uint32_t> parent, via, visited;  // the search's tree, reset where it went
   std::vector<std::vector<std::uint32_t>> densePoints;  // per base triangle, filled on the first split
 
   for (std::uint32_t t0 = 0; t0 < base.triangleCount(); ++t0) {
     if (mate[t0] != kNone) continue;
     if (!sampler) {
-      sampler = std::make_unique<DenseSampler>(dense, base);
+      unsplit = std::make_unique<const BaseMesh>(base);
+      sampler = std::make_unique<DenseSampler>(dense, *unsplit);
       densePoints.assign(base.triangleCount(), {});
       for (std::uint32_t d = 0; d < base.denseTriangle.size(); ++d) densePoints[base.denseTriangle[d]].push_back(d);
     }
-    across = base.triangleNeighbours();
     // Breadth-first over triangles reachable by alternating paths (a free edge, then a matched one).
-    std::vector<std::uint32_t> parent(base.triangleCount(), kNone), via(base.triangleCount(), kNone);
+    for (const std::uint32_t t : visited) parent[t] = via[t] = kNone;
+    parent.resize(base.triangleCount(), kNone), via.resize(base.triangleCount(), kNone);
+    visited.assign(1, t0);
     std::queue<std::uint32_t> queue;
     queue.push(t0);
     parent[t0] = t0;
@@ -105,6 +109,7 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
         const std::uint32_t b = across[a][i];
         if (b == mate[a] || mate[b] == kNone || parent[mate[b]] != kNone) continue;
         parent[mate[b]] = a, via[mate[b]] = b;
+        visited.push_back(mate[b]);
         queue.push(mate[b]);
       }
     }
@@ -131,6 +136,14 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
     const std::uint32_t added = std::uint32_t(base.triangles.size());
     base.triangles[goal] = {p, s, r};
     base.triangles.push_back({s, q, r});
+    // Neighbours: goal (p, s, r) and added (s, q, r) meet at (s, r); the one across (q, r) now
+    // borders added.
+    const std::uint32_t acrossQR = across[goal][(goalCorner + 1) % 3], acrossRP = across[goal][(goalCorner + 2) % 3];
+    across[goal] = {kNone, added, acrossRP};
+    across.push_back({kNone, acrossQR, goal});
+    if (acrossQR != kNone)
+      for (std::uint32_t& t : across[acrossQR])
+        if (t == goal) t = added;
     frame[goal] = {f.original, {fp, fs, fr}};
     frame.push_back({f.original, {fs, fq, fr}});
     mate[goal] = added;
@@ -159,7 +172,7 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
     if (mate[t] > t) base.tiles.push_back({t, mate[t]});
   }
   // Figures of the final tiling; zero-weight tiles: the shared edge has an end of degree 3.
-  const std::vector<std::uint32_t> finalDegree = vertexDegrees(base, base.triangleNeighbours());
+  const std::vector<std::uint32_t> finalDegree = vertexDegrees(base, across);
   double orthoSum = 0;
   for (std::uint32_t i = 0; i < base.tiles.size(); ++i) {
     const BaseMesh::TileCorners c = base.tileCorners(i);

@@ -22,7 +22,7 @@ double imageArea(const Mesh& dense, const BaseMesh& base, const BaseDomain& doma
   if (!domain.chartFor(from, bary, 3, from[0], chart)) return -std::numeric_limits<double>::infinity();
   for (int i = 0; i < 3; ++i)
     if (!domain.toChart(chart, from[i], base.denseBary[c[i]], p[i])) return -std::numeric_limits<double>::infinity();
-  return (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+  return orient2(p[0], p[1], p[2]);
 }
 
 constexpr double kFlat = 1e-14;
@@ -88,7 +88,7 @@ UntangleStats untangleParametrisation(const Mesh& dense, BaseMesh& base) {
       BaseDomain::Point2 a, b;
       if (!at(c[(i + 1) % 3], a) || !at(c[(i + 2) % 3], b)) return false;
       // Keep the side where (a, b, p) turns counter-clockwise.
-      auto side = [&](const BaseDomain::Point2& q) { return (b.x - a.x) * (q.y - a.y) - (b.y - a.y) * (q.x - a.x); };
+      auto side = [&](const BaseDomain::Point2& q) { return orient2(a, b, q); };
       clipped.clear();
       for (std::size_t k = 0; k < kernel.size(); ++k) {
         const BaseDomain::Point2& q0 = kernel[k];

@@ -292,6 +292,7 @@ TEST(Cli, BuildRejectsBadInput) {
   expectBadInput("build " + bowtie + out, "not 2-manifold");
   expectBadInput("build " + (dir / "missing.off").string() + out, "no such file");
   expectBadInput("build " + torus + out + " --chart 32", "--chart must be 2^k + 1");
+  expectBadInput("build " + torus + out + " --chart 257", "--chart must be 2^k + 1");
   expectBadInput("build " + torus + out + " --base-ratio 0", "--base-ratio must be in (0, 1]");
   expectBadInput("build " + torus + " -o " + (dir / "m.obj").string(), "must end in .isoatlas");
   expectBadInput("build " + torus, "give -o MODEL.isoatlas");

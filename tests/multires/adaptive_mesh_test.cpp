@@ -3,9 +3,11 @@
 // a weld undone by a split gives the same faces back; patches tile every chart.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <random>
 #include <set>
 
+#include "core/error.h"
 #include "core/mesh_topology.h"
 #include "multires/adaptive_mesh.h"
 #include "multires/dense_sampler.h"
@@ -187,6 +189,43 @@ TEST(AdaptiveMesh, PatchesTileEveryChart) {
   EXPECT_EQ(area.size(), fx.base.tiles.size());
   for (const auto& [chart, covered] : area) EXPECT_EQ(covered, 32 * 32) << "chart " << chart;
   EXPECT_GE(count[0], 4) << "a tile with several odd-level vertices becomes four patches or more";
+
+  // The rule, recounted from the mesh: odd-level vertices strictly inside each chart; a patch holds
+  // at most one of them unless it cannot be halved (s < 4), its c is the finest level inside, and
+  // a patch smaller than the chart was split because its parent square held more than one.
+  std::map<std::uint32_t, std::vector<std::array<int, 3>>> odd;
+  std::set<std::pair<std::uint32_t, int>> seen;
+  for (const HalfedgeH h : a.mesh().halfedges()) {
+    if (a.mesh().is_boundary(h)) continue;
+    const VertexH v = a.mesh().from_vertex_handle(h);
+    const auto x = a.uv(h);
+    if (a.level(v) % 2 == 1 && x[0] > 0 && x[0] < 32 && x[1] > 0 && x[1] < 32 && seen.insert({a.chart(h), v.idx()}).second)
+      odd[a.chart(h)].push_back({x[0], x[1], a.level(v)});
+  }
+  auto within = [&](std::uint32_t chart, int u, int v, int s) {
+    std::pair<int, int> countAndFinest{0, 0};
+    for (const auto& p : odd[chart])
+      if (p[0] > u && p[0] < u + s && p[1] > v && p[1] < v + s)
+        ++countAndFinest.first, countAndFinest.second = std::max(countAndFinest.second, p[2]);
+    return countAndFinest;
+  };
+  for (const Patch& p : patches) {
+    const auto [n, finest] = within(p.chart, p.u, p.v, p.s);
+    if (p.s >= 4) {
+      EXPECT_LE(n, 1) << "chart " << p.chart << " patch " << p.u << "," << p.v << " s " << p.s;
+    }
+    EXPECT_EQ(int(p.c), finest);
+    if (p.s < 32) {
+      EXPECT_GT(within(p.chart, p.u - p.u % (2 * p.s), p.v - p.v % (2 * p.s), 2 * p.s).first, 1);
+    }
+  }
+}
+
+TEST(AdaptiveMesh, ChartSizesBeyondTheHalfedgeUvAreRefused) {
+  Fixture fx;
+  EXPECT_THROW(fx.adaptive(257), Error);  // its last texel, 256, does not fit 8 bits
+  EXPECT_THROW(fx.adaptive(32), Error);
+  EXPECT_NO_THROW(fx.adaptive(kMaxChartSize));
 }
 
 }  // namespace

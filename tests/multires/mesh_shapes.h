@@ -43,7 +43,7 @@ Mesh gridMesh(int w, int h, Hole hole) {
       mesh.addFace({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
       mesh.addFace({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
     }
-  return selectFaces(mesh, [](std::size_t) { return true; });  // drops the vertices inside holes
+  return dropUnusedVertices(mesh);  // the vertices inside holes
 }
 
 // Marching cubes of an implicit function sampled on a grid (positive inside).

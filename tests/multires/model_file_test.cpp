@@ -62,6 +62,8 @@ TEST(ModelFile, DamagedFilesAreRefused) {
   const std::size_t firstCorner = denseAt + 8 + 30 * 16 * 24 + 8;
   corner[firstCorner + 3] = char(0x7f);
   expectRefused(corner, "vertex index");
+  // A section given twice (here HEAD, 12 header bytes + 4): its counts would mix with the first's.
+  expectRefused(good.substr(0, 28) + good.substr(12, 16) + good.substr(28), "a second HEAD section");
 }
 
 }  // namespace

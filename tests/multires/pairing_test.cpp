@@ -9,6 +9,7 @@
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
 #include "tests/multires/mesh_shapes.h"
+#include "tests/multires/parametrisation_checks.h"
 
 namespace isoatlas::multires {
 namespace {
@@ -24,15 +25,6 @@ void expectTriquad(const BaseMesh& base) {
     EXPECT_EQ(shared, 2) << "a tile's triangles share an edge";
   }
   for (const int s : seen) EXPECT_EQ(s, 1) << "every triangle is in exactly one tile";
-}
-
-void expectParametrisationInside(const Mesh& dense, const BaseMesh& base, double tolerance) {
-  for (std::size_t d = 0; d < dense.vertexCount(); ++d) {
-    const auto& b = base.denseBary[d];
-    EXPECT_GE(std::min({b[0], b[1], b[2]}), 0.0);
-    EXPECT_NEAR(b[0] + b[1] + b[2], 1.0, 1e-9);
-    EXPECT_LT(norm(base.pointAt(base.denseTriangle[d], b) - dense.positions[d]), tolerance);
-  }
 }
 
 TEST(TrianglePairing, ClosedMeshIsPairedWithoutSplits) {
@@ -96,7 +88,7 @@ TEST(TrianglePairing, LeftoversAreSplitOnTheBoundary) {
   expectTriquad(base);
   EXPECT_EQ(base.triangleCount(), before + stats.splits);
   EXPECT_GE(stats.splits, 1u);
-  expectParametrisationInside(dense, base, 0.5);
+  test::expectParametrisationInside(dense, base, 0.5);
   const MeshTopology quads = analyzeTopology(base.quadMesh());
   EXPECT_TRUE(quads.manifold) << quads.firstProblem;
   EXPECT_EQ(quads.boundaryLoops, 2u);

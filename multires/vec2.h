@@ -1,0 +1,33 @@
+// Vec2: a point of a flat chart (an exponential map, a base-domain chart), with the orientation and
+// barycentric coordinates every flat test uses.
+#pragma once
+#include <array>
+
+namespace isoatlas::multires {
+
+struct Vec2 {
+  double x = 0, y = 0;
+  Vec2 operator+(const Vec2& o) const { return {x + o.x, y + o.y}; }
+  Vec2 operator-(const Vec2& o) const { return {x - o.x, y - o.y}; }
+  Vec2 operator*(double s) const { return {x * s, y * s}; }
+};
+inline double cross2(const Vec2& a, const Vec2& b) { return a.x * b.y - a.y * b.x; }
+// Twice the signed area of (a, b, c): positive when counter-clockwise.
+inline double orient2(const Vec2& a, const Vec2& b, const Vec2& c) { return cross2(b - a, c - a); }
+
+// Barycentric coordinates of p in triangle (a, b, c); any sign; thirds for a flat triangle.
+inline std::array<double, 3> barycentric2(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {
+  const double area = orient2(a, b, c);
+  if (area == 0) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
+  const double wa = orient2(p, b, c) / area, wb = orient2(a, p, c) / area;
+  return {wa, wb, 1 - wa - wb};
+}
+
+// Barycentric weights (summing to one) moved onto their triangle: negatives to zero, renormalised.
+inline void clampToTriangle(std::array<double, 3>& w) {
+  double sum = 0;
+  for (double& x : w) sum += (x = x > 0 ? x : 0);
+  for (double& x : w) x /= sum;  // they summed to one, so one at least stays positive
+}
+
+}  // namespace isoatlas::multires
