@@ -151,10 +151,10 @@ TEST(StellarSimplify, BoundariesAreWeldedAlongThemselves) {
   expectSameTopology(dense, base.triangleMesh());
   expectParametrisation(dense, base, 0.5);
   // The outer border keeps its course: all four corners of the sheet are still base vertices.
-  for (const auto& [x, y] : {std::pair{0.0, 0.0}, {40.0, 0.0}, {0.0, 30.0}, {40.0, 30.0}})
+  for (const auto& corner : {std::pair{0.0, 0.0}, {40.0, 0.0}, {0.0, 30.0}, {40.0, 30.0}})
     EXPECT_TRUE(std::any_of(base.positions.begin(), base.positions.end(),
-                            [&](const Vec3& p) { return p.x == x && p.y == y; }))
-        << "corner " << x << ", " << y;
+                            [&](const Vec3& p) { return p.x == corner.first && p.y == corner.second; }))
+        << "corner " << corner.first << ", " << corner.second;
 }
 
 TEST(StellarSimplify, ErrorBoundStopsEarly) {
