@@ -107,6 +107,8 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
       const multires::Hausdorff h = multires::hausdorffDistance(dense, base.triangleMesh());
       r["hausdorff_base"] = h.symmetric();
       r["hausdorff_base_mean"] = std::max(h.meanAToB, h.meanBToA);
+      r["hausdorff_dense_to_base"] = h.aToB;
+      r["hausdorff_base_to_dense"] = h.bToA;
       const double psnr = multires::psnrDb(diagonal, h.symmetric());
       r["psnr_base_db"] = psnr;
       r["seconds_hausdorff"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -116,10 +116,18 @@ void compare(const std::string& name, const Mesh& dense) {
 
 }  // namespace
 
+// bench_multires [DATA [NAME ...]]: NAME is a mesh in DATA/meshes (without .off) or "white-matter";
+// without names, the four.
 int main(int argc, char** argv) {
   const std::string data = argc > 1 ? argv[1] : "data";
-  for (const char* name : {"bunny00", "elephant", "fandisk"}) compare(name, readMesh(data + "/meshes/" + name + ".off"));
-  const Mesh wm = extract::extractSurface(bench::ch2betterWhiteMatterPhi(data), {.iso = 0.0f, .largestComponent = true});
-  compare("ch2better white matter", wm);
+  std::vector<std::string> names(argv + std::min(argc, 2), argv + argc);
+  if (names.empty()) names = {"bunny00", "elephant", "fandisk", "white-matter"};
+  for (const std::string& name : names) {
+    if (name == "white-matter")
+      compare("ch2better white matter",
+              extract::extractSurface(bench::ch2betterWhiteMatterPhi(data), {.iso = 0.0f, .largestComponent = true}));
+    else
+      compare(name, readMesh(data + "/meshes/" + name + ".off"));
+  }
   return 0;
 }

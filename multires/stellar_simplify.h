@@ -1,6 +1,7 @@
 // simplifyStellar: simplifies a dense 2-manifold triangle mesh with stellar operators only (edge flips,
 // then a face, edge or boundary weld), removing the vertex whose weld costs least by the quadric error
-// (Garland and Heckbert; boundary edges add perpendicular planes so borders keep their shape), and
+// (Garland and Heckbert; boundary edges add perpendicular planes so borders keep their shape) and,
+// near the target size, by the weld's measured largest distance (weldDistance2), and
 // keeps a local parametrisation as it goes (Maximo, Velho and Siqueira, section 4.1): the 1-ring of a
 // removed vertex is laid flat by an exponential map, and the removed vertex and every dense vertex
 // already mapped into that 1-ring are located in the new faces with barycentric coordinates. At the

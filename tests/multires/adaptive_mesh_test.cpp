@@ -132,8 +132,14 @@ std::multiset<std::array<double, 9>> facePositions(const AdaptiveMesh& a) {
     auto r = [](double x) { return std::round(x * 1e6) / 1e6; };
     for (const VertexH v : a.mesh().fv_range(f))
       c.push_back({r(a.mesh().point(v)[0]), r(a.mesh().point(v)[1]), r(a.mesh().point(v)[2])});
-    std::rotate(c.begin(), std::min_element(c.begin(), c.end()), c.end());
-    out.insert({c[0][0], c[0][1], c[0][2], c[1][0], c[1][1], c[1][2], c[2][0], c[2][1], c[2][2]});
+    // The least of the three rotations: canonical even when two corners sit at one place.
+    std::array<double, 9> least{};
+    for (int r = 0; r < 3; ++r) {
+      const std::array<double, 9> f{c[r][0], c[r][1], c[r][2], c[(r + 1) % 3][0], c[(r + 1) % 3][1],
+                                    c[(r + 1) % 3][2], c[(r + 2) % 3][0], c[(r + 2) % 3][1], c[(r + 2) % 3][2]};
+      if (r == 0 || f < least) least = f;
+    }
+    out.insert(least);
   }
   return out;
 }

@@ -88,7 +88,7 @@ TEST(TrianglePairing, LeftoversAreSplitOnTheBoundary) {
   expectTriquad(base);
   EXPECT_EQ(base.triangleCount(), before + stats.splits);
   EXPECT_GE(stats.splits, 1u);
-  test::expectParametrisationInside(dense, base, 0.5);
+  test::expectParametrisationInside(dense, base, 1.5);  // grid cells; untangled vertices move about one
   const MeshTopology quads = analyzeTopology(base.quadMesh());
   EXPECT_TRUE(quads.manifold) << quads.firstProblem;
   EXPECT_EQ(quads.boundaryLoops, 2u);

@@ -149,7 +149,8 @@ TEST(StellarSimplify, BoundariesAreWeldedAlongThemselves) {
   const BaseMesh base = simplifyStellar(dense, {.vertexRatio = 0.05}, &stats);
   EXPECT_GT(stats.operators.boundaryWelds, 50);
   expectSameTopology(dense, base.triangleMesh());
-  expectParametrisation(dense, base, 0.5);
+  // 1.5 grid cells: untangling moves a few vertices' parameters across a fold, about a cell.
+  expectParametrisation(dense, base, 1.5);
   // The outer border keeps its course: all four corners of the sheet are still base vertices.
   for (const auto& corner : {std::pair{0.0, 0.0}, {40.0, 0.0}, {0.0, 30.0}, {40.0, 30.0}})
     EXPECT_TRUE(std::any_of(base.positions.begin(), base.positions.end(),
