@@ -188,7 +188,8 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
     if (!valid(t)) continue;
     ++measured;
     const VertexH u = ring.vertices[t];
-    const double mean = kQuadricShare * options[i].cost / (quadric_[v.idx()] + quadric_[u.idx()]).weight;
+    const double weight = (quadric_[v.idx()] + quadric_[u.idx()]).weight;  // 0 where every face is degenerate
+    const double mean = weight > 0 ? kQuadricShare * options[i].cost / weight : 0;
     const double bound = found ? best.cost - mean : std::numeric_limits<double>::infinity();
     // The fan left behind: the ring from t's successor round to its predecessor (on a boundary the
     // ring is open and t one of its ends).
