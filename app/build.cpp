@@ -63,7 +63,7 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
     require(o->baseOnly.empty() || o->baseOnly.ends_with(".obj"), o->baseOnly + ": --base-only writes an .obj");
     require(o->baseRatio > 0 && o->baseRatio <= 1, "--base-ratio must be in (0, 1]");
     require(o->maxError >= 0, "--max-error must be positive");
-    require(o->chart > 0 && multires::isChartSize(std::uint32_t(o->chart)),
+    require(multires::isChartSize(std::uint32_t(o->chart)),
             "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
 
     const Mesh dense = prepareInput(readMesh(o->input));

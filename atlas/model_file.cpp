@@ -6,7 +6,6 @@
 #include <iterator>
 
 #include "core/error.h"
-#include "multires/adaptive_mesh.h"
 
 namespace isoatlas::atlas {
 namespace {
@@ -82,7 +81,11 @@ private:
 }  // namespace
 
 void writeModel(const std::string& path, const Model& model) {
-  require(model.dense.allFacesHave(3), path + ": the dense mesh must be triangles");  // before the file is touched
+  // Checked before the file is touched, so a refused model loses nothing already there.
+  require(model.dense.allFacesHave(3), path + ": the dense mesh must be triangles");
+  require(multires::isChartSize(model.chartSize), path + ": chart size " + std::to_string(model.chartSize) +
+                                                      " is not 2^k + 1 between 3 and " +
+                                                      std::to_string(multires::kMaxChartSize));
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) throw Error(path + ": cannot open for writing");
   out.write(kMagic, 8);

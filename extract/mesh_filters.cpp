@@ -1,7 +1,6 @@
 #include "extract/mesh_filters.h"
 
 #include <algorithm>
-#include <numeric>
 
 #include "core/union_find.h"
 

@@ -5,7 +5,6 @@
 // or a mask, read phi or the mask at any time.
 // Coordinates are voxel indices; phi is in voxel units, > 0 inside (see speed.h).
 #pragma once
-#include <deque>
 #include <functional>
 #include <memory>
 #include <string>

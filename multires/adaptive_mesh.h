@@ -33,13 +33,6 @@ struct Patch {
   std::uint8_t c;
 };
 
-// Chart sizes the adaptive mesh can address: 2^k + 1 texels a side, whose last texel index
-// (size - 1) fits the 8-bit (u, v) of a halfedge: 3 .. 129.
-inline constexpr std::uint32_t kMaxChartSize = 129;
-constexpr bool isChartSize(std::uint32_t size) {
-  return size >= 3 && size <= kMaxChartSize && ((size - 1) & (size - 2)) == 0;
-}
-
 class AdaptiveMesh {
 public:
   using Sampler = std::function<Vec3(const ChartPoint&)>;

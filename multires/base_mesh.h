@@ -10,6 +10,13 @@
 
 namespace isoatlas::multires {
 
+// Chart sizes a tile's chart can have: 2^k + 1 texels a side, whose last texel index (size - 1)
+// fits the adaptive mesh's 8-bit (u, v) per halfedge: 3 .. 129.
+inline constexpr std::uint32_t kMaxChartSize = 129;
+constexpr bool isChartSize(std::uint32_t size) {
+  return size >= 3 && size <= kMaxChartSize && ((size - 1) & (size - 2)) == 0;
+}
+
 struct BaseMesh {
   std::vector<Vec3> positions;
   std::vector<std::int64_t> denseVertex;  // per base vertex: its dense vertex, or -1 when made by a split

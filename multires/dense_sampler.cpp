@@ -4,12 +4,15 @@
 #include <limits>
 
 #include "core/error.h"
+#include "multires/base_domain.h"
 
 namespace isoatlas::multires {
 
 DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base)
-    : dense_(dense), base_(base), domain_(base), images_(base.triangleCount()) {
+    : dense_(dense), images_(base.triangleCount()) {
   require(base.denseTriangle.size() == dense.vertexCount(), "dense sampler: the parametrisation does not match the mesh");
+  for (const auto& t : base.triangles) baseCorners_.push_back({base.positions[t[0]], base.positions[t[1]], base.positions[t[2]]});
+  const BaseDomain domain(base);
   // Each dense triangle through the one chart that holds its corners (as untangling sees it),
   // imaged in its corners' base triangles; when that chart is a base vertex's star the image may
   // cross the triangles between them, so it goes into the whole star.
@@ -20,9 +23,9 @@ DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base)
     const std::uint32_t from[3] = {base.denseTriangle[c[0]], base.denseTriangle[c[1]], base.denseTriangle[c[2]]};
     const BaseDomain::Bary bary[3] = {base.denseBary[c[0]], base.denseBary[c[1]], base.denseBary[c[2]]};
     BaseDomain::Point2 p[3];
-    if (!domain_.chartFor(from, bary, 3, from[0], chart)) continue;  // corners too far apart to image
+    if (!domain.chartFor(from, bary, 3, from[0], chart)) continue;  // corners too far apart to image
     bool charted = true;
-    for (int i = 0; i < 3; ++i) charted = charted && domain_.toChart(chart, from[i], bary[i], p[i]);
+    for (int i = 0; i < 3; ++i) charted = charted && domain.toChart(chart, from[i], bary[i], p[i]);
     if (!charted) continue;
     homes.assign(from, from + 3);
     if (chart.vertex != BaseDomain::kNone) homes.insert(homes.end(), chart.star.begin(), chart.star.end());
@@ -33,7 +36,7 @@ DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base)
       bool ok = true;
       for (int i = 0; i < 3 && ok; ++i) {
         BaseDomain::Bary b;
-        ok = domain_.inFrame(chart, p[i], t, b);
+        ok = domain.inFrame(chart, p[i], t, b);
         image.uv[i] = {b[1], b[2]};
       }
       if (ok) images_[t].push_back(image);
@@ -42,23 +45,17 @@ DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base)
 }
 
 Vec3 DenseSampler::position(std::uint32_t triangle, const std::array<double, 3>& bary) const {
-  const Vec2 point{bary[1], bary[2]};
-  const Image* best = nullptr;
-  std::array<double, 3> bestWeights{};
-  double bestMin = -std::numeric_limits<double>::infinity();
-  for (const Image& image : images_[triangle]) {
-    if (orient2(image.uv[0], image.uv[1], image.uv[2]) == 0) continue;
-    const std::array<double, 3> w = barycentric2(point, image.uv[0], image.uv[1], image.uv[2]);
-    const double lowest = std::min({w[0], w[1], w[2]});
-    if (lowest > bestMin) bestMin = lowest, best = &image, bestWeights = w;
-    if (lowest >= 0) break;
+  const std::vector<Image>& images = images_[triangle];
+  const TriangleHit hit =
+      locateInTriangles({bary[1], bary[2]}, images.size(), [&](std::size_t i) { return images[i].uv; });
+  if (hit.triangle == kNoTriangleHit) {
+    const auto& c = baseCorners_[triangle];
+    return c[0] * bary[0] + c[1] * bary[1] + c[2] * bary[2];
   }
-  if (!best) return base_.pointAt(triangle, bary);
-  // Outside every image (by rounding, or near a base vertex): clamp to the nearest one.
-  clampToTriangle(bestWeights);
-  const auto c = dense_.face(best->denseFace);
+  // Outside every image (by rounding, or near a base vertex): the nearest one, clamped onto it.
+  const auto c = dense_.face(images[hit.triangle].denseFace);
   Vec3 p;
-  for (int i = 0; i < 3; ++i) p = p + dense_.positions[c[i]] * bestWeights[i];
+  for (int i = 0; i < 3; ++i) p = p + dense_.positions[c[i]] * hit.bary[i];
   return p;
 }
 

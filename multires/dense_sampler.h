@@ -6,13 +6,14 @@
 // around base vertices are covered too. Where no image holds the point (rounding) the nearest image
 // is used, and the base triangle itself where it holds no image at all; a dense triangle no chart
 // holds is not imaged. Exact only where the parametrisation does
-// not fold (untangleParametrisation). Keeps references to both meshes.
+// not fold (untangleParametrisation). Keeps a reference to the dense mesh and its own copy of the
+// base triangles' corners, so the base mesh may change afterwards (pairing splits it).
 #pragma once
 #include <array>
 #include <vector>
 
-#include "multires/base_domain.h"
 #include "multires/base_mesh.h"
+#include "multires/vec2.h"
 
 namespace isoatlas::multires {
 
@@ -28,9 +29,8 @@ private:
     std::array<Vec2, 3> uv;  // the corners in the base triangle's (bary1, bary2) frame
   };
   const Mesh& dense_;
-  const BaseMesh& base_;
-  BaseDomain domain_;
-  std::vector<std::vector<Image>> images_;  // per base triangle
+  std::vector<std::array<Vec3, 3>> baseCorners_;  // per base triangle, for points no image holds
+  std::vector<std::vector<Image>> images_;        // per base triangle
 };
 
 }  // namespace isoatlas::multires

@@ -46,6 +46,8 @@ public:
 private:
   void initQuadrics();
   bool evaluate(VertexH v, Candidate& best);
+  void ringPoints(VertexH v, const OneRing& ring, const std::vector<Vec2>& plane, std::vector<FanPoint>& points,
+                  std::vector<std::uint32_t>* ids) const;
   void push(VertexH v);
   void removeVertex(VertexH v, VertexH u);
   BaseMesh compact() const;
@@ -124,6 +126,7 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
   // Rank the candidates by cost first (cheap), then take the cheapest that passes the checks.
   struct Option {
     double cost, length2;  // ties (flat regions cost nothing) go to the nearer neighbour
+    double weight;         // the quadric's: cost / weight is its mean squared distance
     std::size_t t;
     bool operator<(const Option& o) const { return cost != o.cost ? cost < o.cost : length2 < o.length2; }
   };
@@ -134,7 +137,7 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
     const double cost = std::max(0.0, q.error(points[t]));
     if (cost > options_.maxError * options_.maxError * q.weight) return;
     const Vec3 d = points[t] - pv;
-    options[count++] = {cost, dot(d, d), t};
+    options[count++] = {cost, dot(d, d), q.weight, t};
   };
   if (ring.boundary) {
     rank(0);
@@ -168,19 +171,7 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
   // Measuring: the cost is the weld's largest distance (weldDistance2) plus a share of the quadric's
   // mean, over the quadric's kMeasuredTargets best valid targets.
   std::vector<FanPoint>& dense = denseBuffer_;
-  dense.assign(1, {pv, {0, 0}});
-  for (std::size_t i = 0; i < ring.faces.size(); ++i) {
-    const std::size_t i1 = (i + 1) % k;
-    auto planeOf = [&](int vertex) {
-      return vertex == v.idx() ? Vec2{0, 0} : vertex == ring.vertices[i].idx() ? plane[i] : plane[i1];
-    };
-    for (const std::uint32_t p : facePoints_[ring.faces[i].idx()]) {
-      const MappedPoint& m = mapped_[p];
-      dense.push_back({pointOf(mesh_, VertexH(int(p))), planeOf(m.vertices[0]) * m.bary[0] +
-                                                            planeOf(m.vertices[1]) * m.bary[1] +
-                                                            planeOf(m.vertices[2]) * m.bary[2]});
-    }
-  }
+  ringPoints(v, ring, plane, dense, nullptr);
   bool found = false;
   std::size_t measured = 0;
   for (std::size_t i = 0; i < count && measured < kMeasuredTargets; ++i) {
@@ -188,7 +179,7 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
     if (!valid(t)) continue;
     ++measured;
     const VertexH u = ring.vertices[t];
-    const double weight = (quadric_[v.idx()] + quadric_[u.idx()]).weight;  // 0 where every face is degenerate
+    const double weight = options[i].weight;  // 0 where every face is degenerate
     const double mean = weight > 0 ? kQuadricShare * options[i].cost / weight : 0;
     const double bound = found ? best.cost - mean : std::numeric_limits<double>::infinity();
     // The fan left behind: the ring from t's successor round to its predecessor (on a boundary the
@@ -207,6 +198,28 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
   return found;
 }
 
+// The points a weld of v maps again: v and every dense vertex mapped into its ring's faces, in space
+// and in the ring's flat map `plane`; `ids`, when given, gets their dense indices.
+void Simplifier::ringPoints(VertexH v, const OneRing& ring, const std::vector<Vec2>& plane,
+                            std::vector<FanPoint>& points, std::vector<std::uint32_t>* ids) const {
+  points.assign(1, {pointOf(mesh_, v), {0, 0}});
+  if (ids) ids->assign(1, std::uint32_t(v.idx()));
+  const std::size_t k = ring.vertices.size();
+  for (std::size_t i = 0; i < ring.faces.size(); ++i) {
+    // A point of ring face i is weighted on that face's corners: v, ring vertex i and i + 1.
+    auto planeOf = [&](int vertex) {
+      return vertex == v.idx() ? Vec2{0, 0} : vertex == ring.vertices[i].idx() ? plane[i] : plane[(i + 1) % k];
+    };
+    for (const std::uint32_t p : facePoints_[ring.faces[i].idx()]) {
+      const MappedPoint& m = mapped_[p];
+      points.push_back({pointOf(mesh_, VertexH(int(p))), planeOf(m.vertices[0]) * m.bary[0] +
+                                                             planeOf(m.vertices[1]) * m.bary[1] +
+                                                             planeOf(m.vertices[2]) * m.bary[2]});
+      if (ids) ids->push_back(p);
+    }
+  }
+}
+
 void Simplifier::push(VertexH v) {
   ++stamp_[v.idx()];
   Candidate c;
@@ -218,32 +231,23 @@ void Simplifier::removeVertex(VertexH v, VertexH u) {
   const OneRing ring = oneRing(mesh_, v);
   std::vector<Vec2> plane;
   exponentialMap(mesh_, v, ring, plane);
-  auto planeOf = [&](int vertex) -> Vec2 {
-    if (vertex == v.idx()) return {0, 0};
-    for (std::size_t i = 0; i < ring.vertices.size(); ++i)
-      if (ring.vertices[i].idx() == vertex) return plane[i];
-    throw Error("stellar simplify: a mapped point names a vertex outside the 1-ring", ErrorKind::Failure);
-  };
-
-  // The points to map again: v itself and every dense vertex mapped into the ring's faces.
-  std::vector<std::uint32_t> points{std::uint32_t(v.idx())};
-  std::vector<Vec2> where{{0, 0}};
-  for (const FaceH f : ring.faces) {
-    for (const std::uint32_t p : facePoints_[f.idx()]) {
-      const MappedPoint& m = mapped_[p];
-      points.push_back(p);
-      where.push_back(planeOf(m.vertices[0]) * m.bary[0] + planeOf(m.vertices[1]) * m.bary[1] +
-                      planeOf(m.vertices[2]) * m.bary[2]);
-    }
-    facePoints_[f.idx()].clear();
-  }
+  std::vector<FanPoint> points;
+  std::vector<std::uint32_t> ids;
+  ringPoints(v, ring, plane, points, &ids);
+  for (const FaceH f : ring.faces) facePoints_[f.idx()].clear();
 
   operators_ += weldInto(mesh_, v, u);
 
+  // The faces left where the ring was, with their corners in the same flat map.
+  auto planeOf = [&](int vertex) -> Vec2 {
+    for (std::size_t i = 0; i < ring.vertices.size(); ++i)
+      if (ring.vertices[i].idx() == vertex) return plane[i];
+    throw Error("stellar simplify: a face after the weld has a corner outside the 1-ring", ErrorKind::Failure);
+  };
   struct NewFace {
     int face;
     std::array<int, 3> vertices;
-    Vec2 corner[3];
+    std::array<Vec2, 3> corners;
   };
   std::vector<NewFace> faces;
   for (const FaceH f : ring.faces) {
@@ -252,25 +256,21 @@ void Simplifier::removeVertex(VertexH v, VertexH u) {
     int i = 0;
     for (const VertexH w : mesh_.fv_range(f)) {
       nf.vertices[i] = w.idx();
-      nf.corner[i] = planeOf(w.idx());
+      nf.corners[i] = planeOf(w.idx());
       ++i;
     }
     faces.push_back(nf);
   }
+  auto cornersOf = [&](std::size_t f) { return faces[f].corners; };
+  std::size_t hint = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    // The face that holds the point best (largest smallest weight); outside all only by rounding.
-    const NewFace* bestFace = nullptr;
-    std::array<double, 3> bestBary{};
-    double bestMin = -std::numeric_limits<double>::infinity();
-    for (const NewFace& nf : faces) {
-      const auto b = barycentric2(where[i], nf.corner[0], nf.corner[1], nf.corner[2]);
-      const double lowest = std::min({b[0], b[1], b[2]});
-      if (lowest > bestMin) bestMin = lowest, bestFace = &nf, bestBary = b;
-    }
-    clampToTriangle(bestBary);
-    MappedPoint& m = mapped_[points[i]];
-    m = {bestFace->face, bestFace->vertices, bestBary};
-    facePoints_[bestFace->face].push_back(points[i]);
+    const TriangleHit hit = locateInTriangles(points[i].plane, faces.size(), cornersOf, hint);
+    if (hit.triangle == kNoTriangleHit)  // evaluate() refuses welds that leave flat faces
+      throw Error("stellar simplify: a weld left no face to map a point into", ErrorKind::Failure);
+    hint = hit.triangle;
+    const NewFace& face = faces[hit.triangle];
+    mapped_[ids[i]] = {face.face, face.vertices, hit.bary};
+    facePoints_[face.face].push_back(ids[i]);
   }
 
   quadric_[u.idx()] += quadric_[v.idx()];

@@ -77,16 +77,14 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
   };
   std::vector<Frame> frame(n);
   for (std::uint32_t t = 0; t < n; ++t) frame[t] = {t, {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}};
-  std::unique_ptr<const BaseMesh> unsplit;  // the sampler reads the triangles before any split
-  std::unique_ptr<DenseSampler> sampler;
+  std::unique_ptr<DenseSampler> sampler;  // of the unsplit base (it keeps its own corners)
   std::vector<std::uint32_t> parent, via, visited;  // the search's tree, reset where it went
   std::vector<std::vector<std::uint32_t>> densePoints;  // per base triangle, filled on the first split
 
   for (std::uint32_t t0 = 0; t0 < base.triangleCount(); ++t0) {
     if (mate[t0] != kNone) continue;
     if (!sampler) {
-      unsplit = std::make_unique<const BaseMesh>(base);
-      sampler = std::make_unique<DenseSampler>(dense, *unsplit);
+      sampler = std::make_unique<DenseSampler>(dense, base);
       densePoints.assign(base.triangleCount(), {});
       for (std::uint32_t d = 0; d < base.denseTriangle.size(); ++d) densePoints[base.denseTriangle[d]].push_back(d);
     }

@@ -44,8 +44,7 @@ std::size_t countFoldedTriangles(const Mesh& dense, const BaseMesh& base) {
 UntangleStats untangleParametrisation(const Mesh& dense, BaseMesh& base) {
   const auto start = std::chrono::steady_clock::now();
   require(base.denseTriangle.size() == dense.vertexCount(), "untangle: the parametrisation does not match the mesh");
-  for (std::size_t f = 0; f < dense.faceCount(); ++f)
-    require(dense.face(f).size() == 3, "untangle: the dense mesh must be made of triangles");
+  require(dense.allFacesHave(3), "untangle: the dense mesh must be made of triangles");
   const BaseDomain domain(base);
   const VertexAdjacency adjacency = vertexAdjacency(dense);
   const Rows& neighbours = adjacency.neighbours;
@@ -160,7 +159,6 @@ UntangleStats untangleParametrisation(const Mesh& dense, BaseMesh& base) {
     recheck.erase(std::unique(recheck.begin(), recheck.end()), recheck.end());
     for (const std::uint32_t f : recheck)
       if (imageArea(dense, base, domain, f, chart) <= kFlat) folded.push_back(f);
-    stats.rounds = pass + 1;
     if (!changed && pass < kPasses / 2) pass = kPasses / 2 - 1;  // stuck: widen to the rings
     else if (!changed) break;
   }

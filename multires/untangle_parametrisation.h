@@ -18,7 +18,6 @@ namespace isoatlas::multires {
 struct UntangleStats {
   std::size_t foldedBefore = 0, foldedAfter = 0;  // dense triangles whose image is clockwise or flat
   std::size_t movedVertices = 0;                  // dense vertices moved at least once
-  int rounds = 0;                                 // passes over the folded triangles
   double seconds = 0;
 };
 

@@ -2,6 +2,8 @@
 // barycentric coordinates every flat test uses.
 #pragma once
 #include <array>
+#include <cstddef>
+#include <limits>
 
 namespace isoatlas::multires {
 
@@ -28,6 +30,32 @@ inline void clampToTriangle(std::array<double, 3>& w) {
   double sum = 0;
   for (double& x : w) sum += (x = x > 0 ? x : 0);
   for (double& x : w) x /= sum;  // they summed to one, so one at least stays positive
+}
+
+// Which of `count` flat triangles holds p best (largest smallest weight; outside all only by
+// rounding), tried from `hint` on and stopping at the first that holds it; the weights are clamped
+// onto that triangle. corners(i) gives triangle i's three corners; flat ones are passed over, and
+// kNoTriangleHit says that none was left.
+inline constexpr std::size_t kNoTriangleHit = ~std::size_t(0);
+struct TriangleHit {
+  std::size_t triangle = kNoTriangleHit;
+  std::array<double, 3> bary{};
+};
+template <class Corners>
+TriangleHit locateInTriangles(const Vec2& p, std::size_t count, const Corners& corners, std::size_t hint = 0) {
+  TriangleHit hit;
+  double bestLowest = -std::numeric_limits<double>::infinity();
+  for (std::size_t m = 0; m < count; ++m) {
+    const std::size_t t = (hint + m) % count;
+    const std::array<Vec2, 3> c = corners(t);
+    if (orient2(c[0], c[1], c[2]) == 0) continue;
+    const auto b = barycentric2(p, c[0], c[1], c[2]);
+    const double lowest = b[0] < b[1] ? (b[0] < b[2] ? b[0] : b[2]) : (b[1] < b[2] ? b[1] : b[2]);
+    if (lowest > bestLowest) bestLowest = lowest, hit = {t, b};
+    if (lowest >= 0) break;
+  }
+  if (hit.triangle != kNoTriangleHit) clampToTriangle(hit.bary);
+  return hit;
 }
 
 }  // namespace isoatlas::multires

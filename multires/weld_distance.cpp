@@ -10,22 +10,16 @@ double weldDistance2(const FanPoint& apex, std::span<const FanPoint> rim, std::s
   const std::size_t faces = rim.size() < 2 ? 0 : rim.size() - 1;
   if (faces == 0) return 0;
   double worst = 0;
-  // Dense vertices to their images: the face holding each best (largest smallest weight; outside
-  // all only by rounding), searched from the face that held the last one (the list runs face by
-  // face, so most searches end at the first try).
+  // Dense vertices to their images, each located from the face that held the last one (the list
+  // runs face by face, so most searches end at the first try).
+  auto fanFace = [&](std::size_t f) { return std::array<Vec2, 3>{apex.plane, rim[f].plane, rim[f + 1].plane}; };
   std::size_t faceHint = 0;
   for (const FanPoint& p : dense) {
-    std::array<double, 3> best{};
-    double bestLowest = -std::numeric_limits<double>::infinity();
-    for (std::size_t m = 0; m < faces; ++m) {
-      const std::size_t f = (faceHint + m) % faces;
-      const auto b = barycentric2(p.plane, apex.plane, rim[f].plane, rim[f + 1].plane);
-      const double lowest = std::min({b[0], b[1], b[2]});
-      if (lowest > bestLowest) bestLowest = lowest, best = b, faceHint = f;
-      if (lowest >= 0) break;
-    }
-    clampToTriangle(best);
-    const Vec3 image = apex.position * best[0] + rim[faceHint].position * best[1] + rim[faceHint + 1].position * best[2];
+    const TriangleHit hit = locateInTriangles(p.plane, faces, fanFace, faceHint);
+    if (hit.triangle == kNoTriangleHit) return std::numeric_limits<double>::infinity();  // a flat fan
+    faceHint = hit.triangle;
+    const Vec3 image = apex.position * hit.bary[0] + rim[hit.triangle].position * hit.bary[1] +
+                       rim[hit.triangle + 1].position * hit.bary[2];
     worst = std::max(worst, dot(image - p.position, image - p.position));
     if (worst >= bound) return worst;
   }

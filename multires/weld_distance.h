@@ -22,7 +22,8 @@ struct FanPoint {
 // the dense vertices the weld maps again, each imaged through the fan face holding it in the plane
 // (the apex and the rim's corners count as dense vertices too); `bound`, a squared distance past
 // which the exact figure does not matter.
-// Output: the largest squared distance, or some value >= bound as soon as it is known to reach it.
+// Output: the largest squared distance, or some value >= bound as soon as it is known to reach it
+// (infinity for a fan whose faces are all flat in the plane).
 double weldDistance2(const FanPoint& apex, std::span<const FanPoint> rim, std::span<const FanPoint> dense,
                      double bound);
 

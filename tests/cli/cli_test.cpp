@@ -266,9 +266,14 @@ TEST(Cli, BuildMakesATriquadBaseMeshAndAModel) {
   const auto j = nlohmann::json::parse(test::readBytes(report));
   for (const char* key : {"dense_vertices", "base_vertices", "base_triangles", "tiles", "splits_for_matching",
                           "seconds_simplify", "seconds_match", "hausdorff_base", "psnr_base_db",
-                          "folded_before_untangle", "folded_after_untangle"})
+                          "hausdorff_dense_to_base", "hausdorff_base_to_dense", "bounding_box_diagonal",
+                          "folded_before_untangle", "folded_after_untangle", "untangled_vertices", "seconds_untangle"})
     EXPECT_TRUE(j.contains(key)) << key;
-  EXPECT_LE(j["folded_after_untangle"].get<int>(), j["folded_before_untangle"].get<int>());
+  // The symmetric distance is the larger side, and the PSNR follows from it and the diagonal.
+  EXPECT_EQ(j["hausdorff_base"].get<double>(),
+            std::max(j["hausdorff_dense_to_base"].get<double>(), j["hausdorff_base_to_dense"].get<double>()));
+  EXPECT_NEAR(j["psnr_base_db"].get<double>(),
+              20 * std::log10(j["bounding_box_diagonal"].get<double>() / j["hausdorff_base"].get<double>()), 1e-9);
   EXPECT_EQ(j["dense_vertices"], 1800);
   EXPECT_EQ(j["base_vertices"], 54);
   EXPECT_EQ(j["tiles"].get<int>() * 2, j["base_triangles"].get<int>());

@@ -9,7 +9,6 @@
 
 #include "core/error.h"
 #include "levelset/level_set.h"
-#include "tests/test_util.h"
 #include "levelset/probe.h"
 
 namespace isoatlas::levelset {
@@ -19,6 +18,12 @@ Volume uniformVolume(std::array<std::int64_t, 3> dims, float value) {
   Volume v = Volume::zeros(dims, ScalarType::Float32);
   for (std::size_t n = 0; n < v.voxelCount(); ++n) v.setValue(n, value);
   return v;
+}
+
+double largestDifference(const Volume& a, const Volume& b) {
+  double worst = 0;
+  for (std::size_t i = 0; i < a.voxelCount(); ++i) worst = std::max(worst, std::abs(a.value(i) - b.value(i)));
+  return worst;
 }
 
 // Sub-voxel volume of the model: phi is a distance near the front, so clamp(phi + 1/2, 0, 1) is the
@@ -246,16 +251,13 @@ TEST(LevelSet, GpuStepsLikeCpu) {
     gpu.step();
     ASSERT_NEAR(gpu.simulatedTime(), cpu.simulatedTime(), 1e-4 * cpu.simulatedTime()) << "step " << i;
   }
-  const Volume a = cpu.phi(), b = gpu.phi();
-  double worst = 0;
-  for (std::size_t i = 0; i < a.voxelCount(); ++i) worst = std::max(worst, std::abs(a.value(i) - b.value(i)));
-  EXPECT_LT(worst, 1e-3);
+  EXPECT_LT(largestDifference(cpu.phi(), gpu.phi()), 1e-3);
 }
 
 // A ball past the volume's corner: out of the volume is outside, so the pages where the inside
 // meets the volume's edge keep a band (are active), and both backends see the same edge.
 TEST(LevelSet, BallPastTheCornerKeepsABandAtTheEdge) {
-  const Volume image = test::fieldVolume({40, 40, 40}, [](double, double, double) { return 100.0; });
+  const Volume image = uniformVolume({40, 40, 40}, 100);
   const Vec3 corner{39, 39, 20};
   LevelSet cpu(image, {100, 30, 0.7f}, {.backend = Backend::Cpu});
   LevelSet gpu(image, {100, 30, 0.7f}, {.backend = Backend::Gpu});
@@ -267,10 +269,7 @@ TEST(LevelSet, BallPastTheCornerKeepsABandAtTheEdge) {
     EXPECT_TRUE(pages.isActive(page)) << "z " << z;
   }
   for (int i = 0; i < 10; ++i) cpu.step(), gpu.step();
-  const Volume a = cpu.phi(), b = gpu.phi();
-  double worst = 0;
-  for (std::size_t i = 0; i < a.voxelCount(); ++i) worst = std::max(worst, std::abs(a.value(i) - b.value(i)));
-  EXPECT_LT(worst, 1e-3);
+  EXPECT_LT(largestDifference(cpu.phi(), gpu.phi()), 1e-3);
 }
 
 TEST(Probe, MeanAndSpreadOfAKnownBall) {

@@ -36,6 +36,21 @@ TEST(ModelFile, RoundTripKeepsEverything) {
   EXPECT_EQ(b.base.denseBary, a.base.denseBary);
 }
 
+TEST(ModelFile, AModelTheReaderWouldRefuseIsNotWrittenAndTheOldFileStays) {
+  const auto dir = test::scratchDir();
+  const std::string path = (dir / "t.isoatlas").string();
+  test::writeBytes(path, "kept");
+  Model badChart = torusModel();
+  badChart.chartSize = 257;
+  Model quads = torusModel();
+  quads.dense.faceVertices.pop_back();  // the last face loses a corner: no longer all triangles
+  quads.dense.faceOffsets.back() -= 1;
+  for (const Model* m : {&badChart, &quads}) {
+    EXPECT_THROW(writeModel(path, *m), Error);
+    EXPECT_EQ(test::readBytes(path), "kept");
+  }
+}
+
 TEST(ModelFile, DamagedFilesAreRefused) {
   const auto dir = test::scratchDir();
   const std::string path = (dir / "t.isoatlas").string();

@@ -14,7 +14,9 @@
 namespace isoatlas::multires {
 namespace {
 
-// Each base triangle cut into n x n triangles; dense vertex i sits at its lattice point's weights.
+// Each base triangle cut into n x n triangles; dense vertex i has its lattice point's weights and
+// sits off the base mesh (but for the base vertices), so a sampler that falls back to the base
+// triangle instead of imaging the dense mesh misses it.
 Mesh subdivide(BaseMesh& base, int n) {
   Mesh dense;
   std::map<std::vector<std::pair<std::uint32_t, int>>, std::uint32_t> index;  // (base vertex, weight)
@@ -29,7 +31,8 @@ Mesh subdivide(BaseMesh& base, int n) {
       const auto [it, added] = index.insert({key, std::uint32_t(dense.positions.size())});
       if (added) {
         const std::array<double, 3> b{double(w[0]) / n, double(w[1]) / n, double(w[2]) / n};
-        dense.positions.push_back(base.pointAt(t, b));
+        const double lift = 0.3 * (1 - *std::max_element(b.begin(), b.end()));  // 0 on base vertices
+        dense.positions.push_back(base.pointAt(t, b) + Vec3{0.36, 0.48, 0.8} * lift);
         base.denseTriangle.push_back(t);
         base.denseBary.push_back(b);
         if (key.size() == 1) base.denseVertex[c[std::find(w, w + 3, n) - w]] = it->second;
