@@ -17,8 +17,9 @@ namespace {
 // a base mesh is judged by (PSNR from the Hausdorff distance): there the welds are ranked by their
 // measured distance (weldDistance2) plus this share of the quadric's mean. Measured on 13 meshes of
 // data/meshes at 1 %: from 10 x the target size, the 2 best targets by quadric, share 0.5, base PSNR
-// went from 0.9-4.9 dB below CGAL's optimal-placement edge collapse to 3.3 above .. 1.3 below (11 of
-// 13 above) for about 1.5 x the simplify time; measuring every target from the start cost 3 x.
+// went from 0.9-4.9 dB below CGAL's optimal-placement edge collapse to 3.9 above .. 0.5 below (12 of
+// 13 above; bench/RESULTS.md) for about 1.2 x the simplify time; measuring every target from the
+// start cost 3 x.
 constexpr double kMeasureFromTimesTarget = 10;
 constexpr std::size_t kMeasuredTargets = 2;
 constexpr double kQuadricShare = 0.5;
