@@ -134,10 +134,12 @@ std::multiset<std::array<double, 9>> facePositions(const AdaptiveMesh& a) {
       c.push_back({r(a.mesh().point(v)[0]), r(a.mesh().point(v)[1]), r(a.mesh().point(v)[2])});
     // The least of the three rotations: canonical even when two corners sit at one place.
     std::array<double, 9> least{};
-    for (int r = 0; r < 3; ++r) {
-      const std::array<double, 9> f{c[r][0], c[r][1], c[r][2], c[(r + 1) % 3][0], c[(r + 1) % 3][1],
-                                    c[(r + 1) % 3][2], c[(r + 2) % 3][0], c[(r + 2) % 3][1], c[(r + 2) % 3][2]};
-      if (r == 0 || f < least) least = f;
+    for (int k = 0; k < 3; ++k) {
+      const auto& a = c[k];
+      const auto& b = c[(k + 1) % 3];
+      const auto& d = c[(k + 2) % 3];
+      const std::array<double, 9> rotated{a[0], a[1], a[2], b[0], b[1], b[2], d[0], d[1], d[2]};
+      if (k == 0 || rotated < least) least = rotated;
     }
     out.insert(least);
   }
