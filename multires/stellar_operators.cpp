@@ -43,7 +43,15 @@ unsigned degree(const StellarMesh& mesh, VertexH v) {
 }
 }  // namespace
 
-bool canWeldInto(const StellarMesh& mesh, VertexH v, VertexH u) {
+DegreeTable degreeTable(const StellarMesh& mesh) {
+  DegreeTable degrees(mesh.n_vertices(), 0);
+  for (const VertexH v : mesh.vertices())
+    if (mesh.halfedge_handle(v).is_valid()) degrees[v.idx()] = degree(mesh, v);
+  return degrees;
+}
+
+bool canWeldInto(const StellarMesh& mesh, VertexH v, VertexH u, const DegreeTable* degrees) {
+  auto degreeOf = [&](VertexH w) { return degrees ? (*degrees)[w.idx()] : degree(mesh, w); };
   const HalfedgeH h = mesh.find_halfedge(v, u);
   if (!h.is_valid()) return false;
   const bool boundary = mesh.is_boundary(v);
@@ -52,7 +60,7 @@ bool canWeldInto(const StellarMesh& mesh, VertexH v, VertexH u) {
     if (!mesh.is_boundary(mesh.edge_handle(h))) return false;
     const HalfedgeH hb = mesh.is_boundary(h) ? h : mesh.opposite_halfedge_handle(h);
     if (mesh.next_halfedge_handle(mesh.next_halfedge_handle(mesh.next_halfedge_handle(hb))) == hb) return false;
-  } else if (mesh.is_boundary(u) && degree(mesh, u) <= 2) {
+  } else if (mesh.is_boundary(u) && degreeOf(u) <= 2) {
     return false;
   }
   // The opposite vertices (one or two) lose a neighbour: keep every vertex at degree >= 3 (2 on a
@@ -62,7 +70,7 @@ bool canWeldInto(const StellarMesh& mesh, VertexH v, VertexH u) {
   for (const HalfedgeH side : {h, mesh.opposite_halfedge_handle(h)}) {
     if (mesh.is_boundary(side)) continue;
     const VertexH o = mesh.to_vertex_handle(mesh.next_halfedge_handle(side));
-    if (degree(mesh, o) <= (mesh.is_boundary(o) ? 2u : 3u)) return false;
+    if (degreeOf(o) <= (mesh.is_boundary(o) ? 2u : 3u)) return false;
     opposite[opposites++] = o;
   }
   if (opposites == 2 && opposite[0] == opposite[1]) return false;
@@ -91,7 +99,7 @@ bool canWeldInto(const StellarMesh& mesh, VertexH v, VertexH u) {
   return common == opposites;
 }
 
-WeldCounts weldInto(StellarMesh& mesh, VertexH v, VertexH u) {
+WeldCounts weldInto(StellarMesh& mesh, VertexH v, VertexH u, DegreeTable* degrees) {
   WeldCounts counts;
   const bool boundary = mesh.is_boundary(v);
   // An interior vertex goes down to degree 4 (then an edge weld, or a face weld if it had 3); a
@@ -112,6 +120,11 @@ WeldCounts weldInto(StellarMesh& mesh, VertexH v, VertexH u) {
   else if (degree(mesh, v) == 3) ++counts.faceWelds;
   else ++counts.edgeWelds;
   mesh.collapse(mesh.find_halfedge(v, u));
+  if (degrees) {
+    (*degrees)[v.idx()] = 0;
+    (*degrees)[u.idx()] = degree(mesh, u);
+    for (const VertexH w : mesh.vv_range(u)) (*degrees)[w.idx()] = degree(mesh, w);
+  }
   return counts;
 }
 

@@ -4,6 +4,7 @@
 // Each changes only the 1-ring of the vertex it removes or adds.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "multires/stellar_mesh.h"
@@ -25,10 +26,17 @@ struct OneRing {
 OneRing oneRing(const StellarMesh& mesh, VertexH v);
 void oneRing(const StellarMesh& mesh, VertexH v, OneRing& ring);  // reuses ring's storage
 
+// Per vertex, its number of neighbours. On a big mesh, walking round a vertex to count them is a
+// chain of cache misses; a simplifier that asks canWeldInto millions of times keeps this table
+// instead (weldInto updates it) and passes it along.
+using DegreeTable = std::vector<std::uint32_t>;
+DegreeTable degreeTable(const StellarMesh& mesh);
+
 // Whether weldInto(v, u) keeps the mesh a 2-manifold of the same topology: u a neighbour of v
 // (along the boundary when v is a boundary vertex), the link condition holds, no boundary loop drops
-// below three edges and no vertex drops below three neighbours.
-bool canWeldInto(const StellarMesh& mesh, VertexH v, VertexH u);
+// below three edges and no vertex drops below three neighbours. `degrees`, when given, must be
+// current.
+bool canWeldInto(const StellarMesh& mesh, VertexH v, VertexH u, const DegreeTable* degrees = nullptr);
 
 struct WeldCounts {
   int flips = 0, faceWelds = 0, edgeWelds = 0, boundaryWelds = 0;
@@ -42,7 +50,8 @@ struct WeldCounts {
 // degree 4 (an interior vertex) or to two faces (a boundary vertex), then an edge weld, or a face weld
 // when v already had degree 3, or a boundary weld. Requires canWeldInto(mesh, v, u). The faces of
 // the 1-ring that remain keep their handles; v and two faces (one at the boundary) are deleted.
-WeldCounts weldInto(StellarMesh& mesh, VertexH v, VertexH u);
+// `degrees`, when given, is kept current (only u and its neighbours change).
+WeldCounts weldInto(StellarMesh& mesh, VertexH v, VertexH u, DegreeTable* degrees = nullptr);
 
 // Splits edge e at a new vertex placed at `position`, joined to the opposite vertices (the inverse
 // of an edge weld or, on the boundary, of a boundary weld). Returns the new vertex.

@@ -96,6 +96,33 @@ TEST(StellarOperators, RandomFlipsKeepTheMeshManifoldAndItsGenus) {
   EXPECT_EQ(t.genus, 1);
 }
 
+TEST(StellarOperators, WeldsKeepTheDegreeTableCurrent) {
+  // A torus and a sheet with holes (boundary welds): random valid welds, each checked with and
+  // without the table, which must then equal a fresh count.
+  for (StellarMesh m : {toStellarMesh(torusMesh(14, 10), "torus"),
+                        toStellarMesh(test::gridMesh(9, 9, [](int i, int j) { return (i == 3 || i == 6) && j == 4; }), "grid")}) {
+    DegreeTable degrees = degreeTable(m);
+    std::mt19937 rng(11);
+    int welds = 0;
+    for (int attempt = 0; attempt < 4000 && welds < 60; ++attempt) {
+      const VertexH v(int(rng() % m.n_vertices()));
+      if (m.status(v).deleted()) continue;
+      const OneRing ring = oneRing(m, v);
+      if (ring.vertices.empty()) continue;
+      const VertexH u = ring.vertices[rng() % ring.vertices.size()];
+      const bool can = canWeldInto(m, v, u);
+      ASSERT_EQ(canWeldInto(m, v, u, &degrees), can);
+      if (!can) continue;
+      weldInto(m, v, u, &degrees);
+      ++welds;
+      ASSERT_EQ(degrees, degreeTable(m)) << "after weld " << welds;  // both 0 for welded vertices
+    }
+    EXPECT_EQ(welds, 60);
+    const MeshTopology t = analyzeTopology(toMesh(m));
+    EXPECT_TRUE(t.manifold && t.oriented) << t.firstProblem;
+  }
+}
+
 void expectParametrisation(const Mesh& dense, const BaseMesh& base, double tolerance) {
   test::expectParametrisationInside(dense, base, tolerance);
   for (std::size_t i = 0; i < base.vertexCount(); ++i) {
