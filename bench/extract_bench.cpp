@@ -1,6 +1,6 @@
 // bench/extract: isoatlas's marching cubes beside OpenVDB's volumeToMesh on the same field: the
 // white-matter level set of data/volumes/ch2better.nii.gz (301 x 370 x 316, 0.5 mm), segmented once
-// by isoatlas's CPU solver and kept in data/derived/. Seconds (median of 3) and triangles (an OpenVDB
+// by isoatlas's CPU solver and kept in data/derived/. Seconds (median of 7) and triangles (an OpenVDB
 // quad counts as two). OpenVDB gets the same field as its own narrow-band level set, built outside
 // the timing.
 #include <openvdb/openvdb.h>
@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   const Volume phi = bench::ch2betterWhiteMatterPhi(data);
 
   std::size_t ours = 0;
-  const double oursSeconds = bench::medianSeconds(3, [&] {
+  const double oursSeconds = bench::medianSeconds(7, [&] {
     ours = extract::extractSurface(phi, {.iso = 0.0f}).faceCount();
   });
 
@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
   }
   openvdb::tools::signedFloodFill(grid->tree());
   std::size_t theirs = 0;
-  const double theirSeconds = bench::medianSeconds(3, [&] {
+  const double theirSeconds = bench::medianSeconds(7, [&] {
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> triangles;
     std::vector<openvdb::Vec4I> quads;

@@ -91,9 +91,11 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
     for (float& x : field) x = x > float(r.min) || r.min == r.max ? (x > 0 ? 1.0f : 0.0f) : 0.0f;
     gaussianBlur(field, volume.dims);
     s.iso = o.iso.value_or(0.5f);
+  } else if (o.iso) {
+    s.iso = *o.iso;
   } else {
     const ValueRange r = valueRange(volume);
-    s.iso = o.iso.value_or(float(0.5 * (r.min + r.max)));
+    s.iso = float(0.5 * (r.min + r.max));
   }
   require(std::isfinite(s.iso), "the isovalue must be finite");
   // Taken only now: the blur swaps the field's buffer.
@@ -102,18 +104,17 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
   // values, so a block on the border holds surface exactly when some corner is inside.
   const auto d = volume.dims;
   auto visit = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) {
-    bool above = false, below = false;
+    const std::int64_t x0 = std::max<std::int64_t>(0, bx * kBlock - 1), x1 = std::min(d[0] - 1, bx * kBlock - 1 + kBlock);
+    std::int64_t inside = 0, corners = 0;
     for (std::int64_t z = std::max<std::int64_t>(0, bz * kBlock - 1); z <= std::min(d[2] - 1, bz * kBlock - 1 + kBlock); ++z)
-      for (std::int64_t y = std::max<std::int64_t>(0, by * kBlock - 1); y <= std::min(d[1] - 1, by * kBlock - 1 + kBlock); ++y)
-        for (std::int64_t x = std::max<std::int64_t>(0, bx * kBlock - 1); x <= std::min(d[0] - 1, bx * kBlock - 1 + kBlock); ++x) {
-          const bool in = grid.at(x, y, z) > s.iso;
-          above |= in;
-          below |= !in;
-          if (above && below) return true;
-        }
+      for (std::int64_t y = std::max<std::int64_t>(0, by * kBlock - 1); y <= std::min(d[1] - 1, by * kBlock - 1 + kBlock); ++y) {
+        const float* row = &grid.values[std::size_t((z * d[1] + y) * d[0])];
+        for (std::int64_t x = x0; x <= x1; ++x) inside += row[x] > s.iso;
+        corners += x1 - x0 + 1;
+      }
     const bool border = bx == 0 || by == 0 || bz == 0 || (bx + 1) * kBlock - 1 >= d[0] || (by + 1) * kBlock - 1 >= d[1] ||
                         (bz + 1) * kBlock - 1 >= d[2];
-    return above && border;
+    return inside > 0 && (inside < corners || border);
   };
   return finish(o.gpu ? marchingCubesGpu(grid, s.iso, kBlock, visit) : marchingCubes(grid, s.iso, kBlock, visit), volume,
                 o, s, start);

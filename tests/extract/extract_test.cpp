@@ -8,6 +8,7 @@
 
 #include "core/mesh_topology.h"
 #include "extract/extract_surface.h"
+#include "extract/gpu_marching_cubes.h"
 #include "extract/marching_cubes.h"
 #include "levelset/level_set.h"
 #include "tests/test_util.h"
@@ -194,6 +195,30 @@ TEST(MarchingCubesGpu, GivesTheCpuMesh) {
     const Volume v = test::fieldVolume({13, 11, 9}, [&](double, double, double) { return value(rng); });
     expectSameMesh(extractSurface(v, {.iso = 0.0f}), extractSurface(v, {.iso = 0.0f, .gpu = true}));
   }
+}
+
+// Skipped blocks cut the surface open; both paths must still agree on which vertices exist (an edge
+// has one when any of the four cells around it is visited) and on every triangle.
+TEST(MarchingCubesGpu, GivesTheCpuMeshWhenBlocksAreSkipped) {
+  const Volume torus = test::fieldVolume({37, 30, 21}, [](double x, double y, double z) {
+    const double q = std::hypot(x - 17.6, y - 14.3) - 10;
+    return 5 - std::sqrt(q * q + (z - 10.4) * (z - 10.4));
+  });
+  const Grid grid{torus.dims, reinterpret_cast<const float*>(torus.data.data())};
+  // Blocks visited at random, so that every way of visiting some of the four cells around an edge
+  // occurs (a pattern like a checkerboard never visits one cell of four alone).
+  std::mt19937 rng(6);  // a draw under which dropping any one of the four cells from the rule fails
+  std::vector<char> visit(5 * 4 * 3);
+  for (char& v : visit) v = rng() % 5 < 2;
+  auto scattered = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) { return visit[std::size_t((bz * 4 + by) * 5 + bx)] != 0; };
+  const MarchingResult cpu = marchingCubes(grid, 0.0f, 8, scattered);
+  const MarchingResult all = marchingCubes(grid, 0.0f, 8);
+  ASSERT_GT(cpu.mesh.faceCount(), all.mesh.faceCount() / 5);
+  ASSERT_LT(cpu.mesh.faceCount(), all.mesh.faceCount() * 4 / 5);
+  const MarchingResult gpu = marchingCubesGpu(grid, 0.0f, 8, scattered);
+  expectSameMesh(cpu.mesh, gpu.mesh);
+  EXPECT_EQ(cpu.cellsVisited, gpu.cellsVisited);
+  EXPECT_LT(cpu.cellsVisited, all.cellsVisited);
 }
 
 TEST(ExtractLevelSet, ActivePagesGiveTheSameSurfaceForLessWork) {
