@@ -302,15 +302,16 @@ private:
     const bool cellsHere = cells[0] != nullptr;
     for (const std::uint8_t*& c : cells) c = c ? c : zeros_.data() + 1;
     const std::uint8_t *c0 = cells[0], *c1 = cells[1], *c2 = cells[2], *c3 = cells[3];
+    const std::uint8_t *c0Before = c0 - 1, *c1Before = c1 - 1, *c2Before = c2 - 1;  // cell x - 1 at i
     const std::uint8_t *in0 = insideRow(y, z), *in1 = insideRow(y + 1, z), *in2 = insideRow(y, z + 1);
     std::uint8_t* flags = flagRow(r);
     std::uint32_t count = 0;
     const std::size_t points = std::size_t(px_);  // a local: the byte stores could alias a member
-    for (std::size_t i = 0; i < points; ++i) {     // point x = i - 1; cells x - 1 and x at i - 1 and i
+    for (std::size_t i = 0; i < points; ++i) {     // point x = i - 1; cell x at i
       const std::uint8_t here = in0[i];
       const unsigned alongX = (here ^ in0[i + 1]) & (c0[i] | c1[i] | c2[i] | c3[i]);
-      const unsigned alongY = (here ^ in1[i]) & (c0[i] | c0[i - 1] | c2[i] | c2[i - 1]);
-      const unsigned alongZ = (here ^ in2[i]) & (c0[i] | c0[i - 1] | c1[i] | c1[i - 1]);
+      const unsigned alongY = (here ^ in1[i]) & (c0[i] | c0Before[i] | c2[i] | c2Before[i]);
+      const unsigned alongZ = (here ^ in2[i]) & (c0[i] | c0Before[i] | c1[i] | c1Before[i]);
       flags[i] = std::uint8_t(alongX | alongY << 1 | alongZ << 2);
       count += alongX + alongY + alongZ;
     }
