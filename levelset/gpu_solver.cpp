@@ -47,7 +47,10 @@ public:
   void pagesChanged(const PageManager& pm, const std::vector<std::pair<std::int32_t, float>>& filled) override {
     if (P_ != pm.pageSize()) {
       P_ = pm.pageSize();
-      const gl::Defines defines{{"PAGE_SIZE", std::to_string(P_)}, {"CFL_FRACTION", std::to_string(kCflFraction)}};
+      const gl::Defines defines{{"PAGE_SIZE", std::to_string(P_)},
+                                {"CLAMP", std::to_string(kClamp)},
+                                {"CFL_FRACTION", std::to_string(kCflFraction)},
+                                {"CURVATURE_LIMIT", std::to_string(kCurvatureLimit)}};
       speed_ = gl::Program::compute("levelset/shaders/speed.comp", defines);
       update_ = gl::Program::compute("levelset/shaders/update.comp", defines);
       message_ = gl::Program::compute("levelset/shaders/message.comp", defines);

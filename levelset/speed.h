@@ -15,7 +15,7 @@
 
 namespace isoatlas::levelset {
 
-constexpr float kClamp = 3.0f;  // |phi| <= 3 voxels: a band of 6 voxels around the front
+constexpr float kClamp = 3.0f;  // |phi| <= 3 voxels: a band of 6 voxels around the front (speed.glsl: CLAMP)
 
 struct SpeedParams {
   float target = 0;  // T
@@ -85,10 +85,11 @@ inline VoxelUpdate evaluateVoxel(const float* u, float intensity, const SpeedPar
 // of a voxel (at a half, G_r cannot keep the band a distance ramp and the front speed wanders), and
 // the curvature term (parabolic) stays within its explicit-scheme limit. G_r is left out of the
 // speed: it is a restoring term bounded by the clamp, and counting it slows the front 3.5-fold.
-inline constexpr float kCflFraction = 0.25f;  // the GPU's speed.glsl gets it as CFL_FRACTION
+inline constexpr float kCflFraction = 0.25f;     // speed.glsl gets it as CFL_FRACTION
+inline constexpr float kCurvatureLimit = 0.25f;  // dt (1 - alpha) within it; speed.glsl: CURVATURE_LIMIT
 inline float timeStep(float maxSpeed, float alpha) {
   float dt = maxSpeed > 0 ? kCflFraction / maxSpeed : 1.0f;
-  if (alpha < 1) dt = std::min(dt, 0.25f / (1.0f - alpha));
+  if (alpha < 1) dt = std::min(dt, kCurvatureLimit / (1.0f - alpha));
   return std::min(dt, 1.0f);
 }
 
