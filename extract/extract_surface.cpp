@@ -90,7 +90,7 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
     const ValueRange r = valueRange(volume);
     for (float& x : field) x = x > float(r.min) || r.min == r.max ? (x > 0 ? 1.0f : 0.0f) : 0.0f;
     gaussianBlur(field, volume.dims);
-    s.iso = o.iso.value_or(0.5f);
+    s.iso = 0.5f;  // the blurred 0/1 field's midpoint (an explicit --iso means a scalar field)
   } else if (o.iso) {
     s.iso = *o.iso;
   } else {
@@ -103,13 +103,14 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
   // Blocks with every corner on one side of iso hold no surface. The padding outside mirrors inside
   // values, so a block on the border holds surface exactly when some corner is inside.
   const auto d = volume.dims;
+  const float iso = s.iso;  // a local: read in the inner loop
   auto visit = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) {
     const std::int64_t x0 = std::max<std::int64_t>(0, bx * kBlock - 1), x1 = std::min(d[0] - 1, bx * kBlock - 1 + kBlock);
     std::int64_t inside = 0, corners = 0;
     for (std::int64_t z = std::max<std::int64_t>(0, bz * kBlock - 1); z <= std::min(d[2] - 1, bz * kBlock - 1 + kBlock); ++z)
       for (std::int64_t y = std::max<std::int64_t>(0, by * kBlock - 1); y <= std::min(d[1] - 1, by * kBlock - 1 + kBlock); ++y) {
         const float* row = &grid.values[std::size_t((z * d[1] + y) * d[0])];
-        for (std::int64_t x = x0; x <= x1; ++x) inside += row[x] > s.iso;
+        for (std::int64_t x = x0; x <= x1; ++x) inside += row[x] > iso;
         corners += x1 - x0 + 1;
       }
     const bool border = bx == 0 || by == 0 || bz == 0 || (bx + 1) * kBlock - 1 >= d[0] || (by + 1) * kBlock - 1 >= d[1] ||

@@ -2,7 +2,7 @@
 // (extract/shaders/): classify the cells of the visited blocks (triangle and centre counts, the grid
 // edges used), compact by prefix sums, make each vertex once on the edge it lies on, then write the
 // triangles. It gives the CPU's mesh: the same vertices in the same order (positions equal to float
-// rounding), the same triangles (in cell order rather than block order).
+// rounding), the same triangles in the same (cell) order.
 // Creates its own headless GL context (a GPU through EGL, else Mesa's llvmpipe).
 #pragma once
 #include "extract/marching_cubes.h"

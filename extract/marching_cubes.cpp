@@ -7,6 +7,9 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
+
+#include "core/error.h"
 
 namespace isoatlas::extract {
 namespace {
@@ -181,7 +184,7 @@ public:
     markCells();
     markInside();
     flags_.assign(std::size_t(px_) * rows_, 0);
-    std::vector<std::uint32_t> edgeStart(rows_ + 1, 0), triangleStart(rows_ + 1, 0), centreStart(rows_ + 1, 0);
+    std::vector<std::uint64_t> edgeStart(rows_ + 1, 0), triangleStart(rows_ + 1, 0), centreStart(rows_ + 1, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows_), [&](const auto& range) {
       std::vector<std::uint8_t> column;
       for (std::size_t r = range.begin(); r != range.end(); ++r)
@@ -192,7 +195,11 @@ public:
       triangleStart[r + 1] += triangleStart[r];
       centreStart[r + 1] += centreStart[r];
     }
-    const std::uint32_t edgeVertices = edgeStart[rows_];
+    // Summed in 64 bits and checked before anything is written: a mesh indexes with 32.
+    const std::uint64_t edgeVertices = edgeStart[rows_];
+    if (edgeVertices + centreStart[rows_] > std::numeric_limits<std::uint32_t>::max() ||
+        3 * triangleStart[rows_] > std::numeric_limits<std::uint32_t>::max())
+      throw Error("the surface has too many vertices or triangles for one mesh (2^32 indices)", ErrorKind::Failure);
     MarchingResult result;
     Mesh& mesh = result.mesh;
     mesh.positions.resize(std::size_t(edgeVertices) + centreStart[rows_]);
@@ -293,8 +300,8 @@ private:
   // Pass 1 for row r: its points' edge flags and counts, its cells' triangles and centres. An edge
   // that crosses gets a vertex when one of the four cells around it is visited (those cells exist:
   // a crossing edge has an end inside the grid).
-  void countRow(std::size_t r, std::vector<std::uint8_t>& column, std::uint32_t& edges, std::uint32_t& triangles,
-                std::uint32_t& centres) {
+  void countRow(std::size_t r, std::vector<std::uint8_t>& column, std::uint64_t& edges, std::uint64_t& triangles,
+                std::uint64_t& centres) {
     const std::int64_t y = rowY(r), z = rowZ(r);
     // The cells around this row's edges: cell rows (y, z), (y-1, z), (y, z-1), (y-1, z-1).
     const std::uint8_t* cells[4] = {cellRow(y, z), cellRow(y - 1, z), cellRow(y, z - 1), cellRow(y - 1, z - 1)};
@@ -329,7 +336,7 @@ private:
   }
 
   // Pass 3: row r's vertices, in (x, axis) order, numbered first .. end - 1.
-  void emitVertices(std::size_t r, std::uint32_t first, std::uint32_t end, Mesh& mesh) const {
+  void emitVertices(std::size_t r, std::uint64_t first, std::uint64_t end, Mesh& mesh) const {
     const std::uint8_t* flags = flagRow(r);
     const std::int64_t y = rowY(r), z = rowZ(r);
     for (std::int64_t x = -1; first < end; ++x) {
@@ -341,7 +348,7 @@ private:
 
   // Pass 3: cell row r's triangles from `triangle`, its centre vertices from `centre`.
   void emitTriangles(std::size_t r, std::vector<std::uint8_t>& column, std::vector<std::uint8_t>& vertexAt,
-                     const std::vector<std::uint32_t>& edgeStart, std::uint32_t triangle, std::uint32_t centre,
+                     const std::vector<std::uint64_t>& edgeStart, std::uint64_t triangle, std::uint64_t centre,
                      Mesh& mesh) const {
     const std::int64_t y = rowY(r), z = rowZ(r);
     const std::size_t rows[4] = {r, r + 1, r + std::size_t(py_), r + std::size_t(py_) + 1};
@@ -349,7 +356,7 @@ private:
     std::uint32_t next[4];  // per point row: the index of the first vertex at the current x
     for (int i = 0; i < 4; ++i) {
       flags[i] = flagRow(rows[i]);
-      next[i] = edgeStart[rows[i]];
+      next[i] = std::uint32_t(edgeStart[rows[i]]);  // run() checked that indices fit
     }
     const std::uint8_t* visited = cellRow(y, z);  // not null: this row has triangles
     columns(y, z, column);
@@ -396,7 +403,7 @@ private:
           }
           mesh.positions[centre] = mean * (1.0 / double(n));
           for (std::size_t k = 0; k < n; ++k)
-            for (std::uint32_t id : {centre, ids[cycle[k]], ids[cycle[(k + 1) % n]]}) *out++ = id;
+            for (std::uint32_t id : {std::uint32_t(centre), ids[cycle[k]], ids[cycle[(k + 1) % n]]}) *out++ = id;
           ++centre;
         }
       }

@@ -48,9 +48,9 @@ public:
     if (P_ != pm.pageSize()) {
       P_ = pm.pageSize();
       const gl::Defines defines{{"PAGE_SIZE", std::to_string(P_)},
-                                {"CLAMP", std::to_string(kClamp)},
-                                {"CFL_FRACTION", std::to_string(kCflFraction)},
-                                {"CURVATURE_LIMIT", std::to_string(kCurvatureLimit)}};
+                                {"CLAMP", gl::glslFloat(kClamp)},
+                                {"CFL_FRACTION", gl::glslFloat(kCflFraction)},
+                                {"CURVATURE_LIMIT", gl::glslFloat(kCurvatureLimit)}};
       speed_ = gl::Program::compute("levelset/shaders/speed.comp", defines);
       update_ = gl::Program::compute("levelset/shaders/update.comp", defines);
       message_ = gl::Program::compute("levelset/shaders/message.comp", defines);

@@ -32,7 +32,7 @@ struct MappedPoint {
   std::array<double, 3> bary{};
 };
 
-// A vertex's cheapest weld. The heap holds at most one per vertex and updates it in place (a heap
+// A vertex's cheapest weld. The heap holds at most one per vertex, replaced when it is ranked again (a heap
 // of every ranking ever made grew to 12 million entries on a 3-million-triangle mesh, and its cache
 // misses took a sixth of the time).
 struct Candidate {

@@ -5,6 +5,8 @@
 #include "core/gl/shader_library.h"
 #include "core/gz_file.h"
 
+#include <cstdio>
+
 namespace isoatlas::gl {
 namespace {
 
@@ -47,6 +49,14 @@ GLuint compile(const std::string& path, const Defines& defines) {
 }
 
 }  // namespace
+
+std::string glslFloat(float value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", double(value));
+  std::string literal = text;
+  if (literal.find_first_of(".e") == std::string::npos) literal += ".0";
+  return literal;
+}
 
 Program Program::compute(const std::string& path, const Defines& defines) { return link({path}, defines, {}); }
 

@@ -12,6 +12,10 @@ namespace isoatlas::gl {
 
 using Defines = std::vector<std::pair<std::string, std::string>>;
 
+// A float as a GLSL float literal that reads back as the same value (std::to_string keeps six
+// decimals, so 1e-7 would arrive as 0.000000).
+std::string glslFloat(float value);
+
 class Program {
 public:
   static Program compute(const std::string& path, const Defines& defines = {});

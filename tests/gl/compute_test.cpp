@@ -1,6 +1,8 @@
 // A compute shader with a known result, on whatever GL the machine has (llvmpipe in CI).
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include "core/gl/context.h"
 #include "core/gl/program.h"
 #include "core/gl/resources.h"
@@ -13,6 +15,14 @@ TEST(GlCompute, ContextIsOpenGL45Core) {
   EXPECT_GE(ctx->info().major * 10 + ctx->info().minor, 45);
   EXPECT_GE(ctx->info().maxComputeWorkGroupInvocations, 1024);  // the spec's minimum
   EXPECT_GE(ctx->info().maxTessellationLevel, 64);
+}
+
+TEST(GlCompute, FloatDefinesReadBackExactly) {
+  for (const float value : {3.0f, 0.25f, 1e-7f, 1.0f / 3.0f, -2.5e10f, 0.0f}) {
+    const std::string literal = glslFloat(value);
+    EXPECT_EQ(std::strtof(literal.c_str(), nullptr), value) << literal;
+    EXPECT_NE(literal.find_first_of(".e"), std::string::npos) << literal << " would be an int in GLSL";
+  }
 }
 
 TEST(GlCompute, ScrambleMatchesTheCpu) {
