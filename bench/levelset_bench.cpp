@@ -5,7 +5,8 @@
 // (ITK-SNAP's snake mode drives the same filter with a function of its own.)
 // Convergence as issue 3 defines it: a solver has converged at N iterations when its mask at N and at
 // 2N agree with Dice >= 0.999; its time to convergence is the wall time of those N iterations.
-//   bench_levelset [DATA]                      every case and solver, one process each; JSON lines
+//   bench_levelset [DATA [CASE ...]]           every case (or the named ones) and solver, one process
+//                                              each; JSON lines
 //   bench_levelset --one SOLVER CASE DATA OUT  one solver on one case: writes OUT.nii.gz, prints JSON
 #include <itkImage.h>
 #include <itkImportImageFilter.h>
@@ -15,6 +16,7 @@
 #include <itkCommand.h>
 #include <itkMultiThreaderBase.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -252,12 +254,14 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string data = argc > 1 ? argv[1] : "data";
+  const std::vector<std::string> only(argv + std::min(argc, 2), argv + argc);  // case names; none: all
   const auto tmp = std::filesystem::temp_directory_path() / "isoatlas-bench-levelset";
   std::filesystem::create_directories(tmp);
   const std::string self = std::filesystem::canonical("/proc/self/exe").string();
   std::vector<std::string> solvers = {"isoatlas-cpu", "itk-serial", "itk-parallel"};
   if (std::getenv("ISOATLAS_BENCH_GPU")) solvers.insert(solvers.begin() + 1, "isoatlas-gpu");
   for (const Case& c : kCases) {
+    if (!only.empty() && std::find(only.begin(), only.end(), c.name) == only.end()) continue;
     std::map<std::string, nlohmann::json> figures;
     std::map<std::string, Volume> masks;
     for (const std::string& s : solvers) {
