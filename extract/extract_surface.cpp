@@ -105,16 +105,24 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
   const auto d = volume.dims;
   const float iso = s.iso;  // a local: read in the inner loop
   auto visit = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) {
-    const std::int64_t x0 = std::max<std::int64_t>(0, bx * kBlock - 1), x1 = std::min(d[0] - 1, bx * kBlock - 1 + kBlock);
+    // The grid points at the block's cells' corners, clipped to the grid; the block touches the
+    // padding when its cells reach past the grid on some side.
+    std::int64_t lo[3], hi[3];
+    bool border = false;
+    const std::int64_t b[3] = {bx, by, bz};
+    for (int a = 0; a < 3; ++a) {
+      const BlockCells cells = blockCells(b[a], kBlock, d[a]);
+      lo[a] = std::max<std::int64_t>(0, cells.first);
+      hi[a] = std::min(d[a] - 1, cells.last + 1);
+      border |= cells.first < 0 || cells.last + 1 > d[a] - 1;
+    }
     std::int64_t inside = 0, corners = 0;
-    for (std::int64_t z = std::max<std::int64_t>(0, bz * kBlock - 1); z <= std::min(d[2] - 1, bz * kBlock - 1 + kBlock); ++z)
-      for (std::int64_t y = std::max<std::int64_t>(0, by * kBlock - 1); y <= std::min(d[1] - 1, by * kBlock - 1 + kBlock); ++y) {
+    for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
+      for (std::int64_t y = lo[1]; y <= hi[1]; ++y) {
         const float* row = &grid.values[std::size_t((z * d[1] + y) * d[0])];
-        for (std::int64_t x = x0; x <= x1; ++x) inside += row[x] > iso;
-        corners += x1 - x0 + 1;
+        for (std::int64_t x = lo[0]; x <= hi[0]; ++x) inside += row[x] > iso;
+        corners += hi[0] - lo[0] + 1;
       }
-    const bool border = bx == 0 || by == 0 || bz == 0 || (bx + 1) * kBlock - 1 >= d[0] || (by + 1) * kBlock - 1 >= d[1] ||
-                        (bz + 1) * kBlock - 1 >= d[2];
     return inside > 0 && (inside < corners || border);
   };
   return finish(o.gpu ? marchingCubesGpu(grid, s.iso, kBlock, visit) : marchingCubes(grid, s.iso, kBlock, visit), volume,
@@ -132,7 +140,7 @@ Mesh extractLevelSet(const levelset::LevelSet& ls, const ExtractOptions& o, Extr
   const levelset::PageManager& pm = ls.pages();
   const int P = pm.pageSize();
   const auto d = phi.dims;
-  const std::int64_t blocks[3] = {(d[0] + kBlock) / kBlock, (d[1] + kBlock) / kBlock, (d[2] + kBlock) / kBlock};
+  const std::int64_t blocks[3] = {blockCount(d[0], kBlock), blockCount(d[1], kBlock), blockCount(d[2], kBlock)};
   std::vector<char> mark(std::size_t(blocks[0] * blocks[1] * blocks[2]), 0);
   for (std::int64_t page : pm.activePages()) {
     const auto [px, py, pz] = pm.pageCoords(page);

@@ -36,8 +36,7 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
     throw Error("the volume is too large for the GPU extraction path; use --backend cpu", ErrorKind::Failure);
 
   std::vector<std::int32_t> blocks;
-  const std::int64_t nb[3] = {(d[0] + 1 + blockSize - 1) / blockSize, (d[1] + 1 + blockSize - 1) / blockSize,
-                              (d[2] + 1 + blockSize - 1) / blockSize};
+  const std::int64_t nb[3] = {blockCount(d[0], blockSize), blockCount(d[1], blockSize), blockCount(d[2], blockSize)};
   for (std::int64_t bz = 0; bz < nb[2]; ++bz)
     for (std::int64_t by = 0; by < nb[1]; ++by)
       for (std::int64_t bx = 0; bx < nb[0]; ++bx)

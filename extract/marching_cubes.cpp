@@ -165,7 +165,7 @@ public:
   RowMarcher(const Grid& grid, float iso, int blockSize, const std::function<bool(std::int64_t, std::int64_t, std::int64_t)>& visitBlock)
       : grid_(grid), iso_(iso), block_(blockSize), d_(grid.dims), px_(d_[0] + 2), py_(d_[1] + 2), pz_(d_[2] + 2),
         rows_(std::size_t(py_ * pz_)), zeros_(std::size_t(px_) + 2, 0) {
-    for (int a = 0; a < 3; ++a) blocks_[a] = (d_[a] + 1 + block_ - 1) / block_;
+    for (int a = 0; a < 3; ++a) blocks_[a] = blockCount(d_[a], blockSize);
     visited_.assign(std::size_t(blocks_[0] * blocks_[1] * blocks_[2]), 1);
     if (visitBlock)
       tbb::parallel_for(std::int64_t(0), blocks_[2], [&](std::int64_t bz) {
@@ -238,8 +238,8 @@ private:
       for (std::int64_t bx = 0; bx < blocks_[0]; ++bx) {
         if (!visited_[row * std::size_t(blocks_[0]) + std::size_t(bx)]) continue;
         blockRowVisited_[row] = 1;
-        const std::int64_t end = std::min(bx * block_ + block_ - 2, d_[0] - 1);
-        for (std::int64_t x = bx * block_ - 1; x <= end; ++x) mask[x + 1] = 1;
+        const BlockCells cells = blockCells(bx, int(block_), d_[0]);
+        for (std::int64_t x = cells.first; x <= cells.last; ++x) mask[x + 1] = 1;
       }
     }
   }
@@ -412,7 +412,10 @@ private:
 
   std::int64_t cellsVisited() const {
     std::int64_t cells = 0;
-    auto extent = [&](std::int64_t b, int axis) { return std::min<std::int64_t>(block_, d_[axis] + 1 - b * block_); };
+    auto extent = [&](std::int64_t b, int axis) {
+      const BlockCells cells = blockCells(b, int(block_), d_[axis]);
+      return cells.last - cells.first + 1;
+    };
     for (std::int64_t bz = 0; bz < blocks_[2]; ++bz)
       for (std::int64_t by = 0; by < blocks_[1]; ++by)
         for (std::int64_t bx = 0; bx < blocks_[0]; ++bx)

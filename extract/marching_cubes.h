@@ -11,6 +11,7 @@
 //   Triangles are oriented counter-clockwise seen from outside (normals point out of {f > iso}).
 // Positions are in voxel index coordinates (the caller maps them to the world).
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -32,6 +33,16 @@ struct MarchingResult {
   Mesh mesh;
   std::int64_t cellsVisited = 0;
 };
+
+// Blocks of blockSize cells along an axis of `points` grid points: block b holds cells
+// b * blockSize - 1 .. first + blockSize - 1, the last block clipped at cell points - 1.
+struct BlockCells {
+  std::int64_t first, last;
+};
+inline std::int64_t blockCount(std::int64_t points, int blockSize) { return (points + blockSize) / blockSize; }
+inline BlockCells blockCells(std::int64_t b, int blockSize, std::int64_t points) {
+  return {b * blockSize - 1, std::min(b * blockSize + blockSize - 2, points - 1)};
+}
 
 // Cells are the cubes between grid points, from (-1,-1,-1) to dims-1 (the padding included).
 // `visitBlock`, when given, says which blocks of blockSize^3 cells can hold surface (e.g. those

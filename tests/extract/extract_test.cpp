@@ -202,9 +202,10 @@ TEST(MarchingCubesGpu, GivesTheCpuMeshWhenBlocksAreSkipped) {
   // Blocks visited at random, so that every way of visiting some of the four cells around an edge
   // occurs (a pattern like a checkerboard never visits one cell of four alone).
   std::mt19937 rng(6);  // a draw under which dropping any one of the four cells from the rule fails
-  std::vector<char> visit(5 * 4 * 3);
+  const std::int64_t nx = blockCount(37, 8), ny = blockCount(30, 8), nz = blockCount(21, 8);
+  std::vector<char> visit(std::size_t(nx * ny * nz));
   for (char& v : visit) v = rng() % 5 < 2;
-  auto scattered = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) { return visit[std::size_t((bz * 4 + by) * 5 + bx)] != 0; };
+  auto scattered = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) { return visit[std::size_t((bz * ny + by) * nx + bx)] != 0; };
   const MarchingResult cpu = marchingCubes(grid, 0.0f, 8, scattered);
   const MarchingResult all = marchingCubes(grid, 0.0f, 8);
   ASSERT_GT(cpu.mesh.faceCount(), all.mesh.faceCount() / 5);
