@@ -122,6 +122,20 @@ bool BaseDomain::chartFor(const std::uint32_t* triangles, const Bary* bary, std:
   return false;
 }
 
+bool BaseDomain::chartDenseTriangle(std::span<const std::uint32_t> corners, Chart& chart,
+                                    std::array<Point2, 3>& points) const {
+  std::uint32_t from[3];
+  Bary bary[3];
+  for (int i = 0; i < 3; ++i) {
+    from[i] = base_.denseTriangle[corners[std::size_t(i)]];
+    bary[i] = base_.denseBary[corners[std::size_t(i)]];
+  }
+  if (!chartFor(from, bary, 3, from[0], chart)) return false;
+  for (int i = 0; i < 3; ++i)
+    if (!toChart(chart, from[i], bary[i], points[std::size_t(i)])) return false;
+  return true;
+}
+
 namespace {
 // Triangle k of a star chart: its outer corners' directions.
 void starPiece(const BaseDomain::Chart& chart, std::size_t k, double (&a)[2], double (&b)[2]) {

@@ -8,6 +8,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "multires/base_mesh.h"
@@ -43,6 +44,10 @@ public:
   // triangle that holds it. False when they share no vertex.
   bool chartFor(const std::uint32_t* triangles, const Bary* bary, std::size_t n, std::uint32_t home, Chart& chart) const;
   bool toChart(const Chart& chart, std::uint32_t t, const Bary& bary, Point2& out) const;
+  // A dense triangle (three dense vertex indices) in the one chart that holds its corners (chartFor,
+  // homed at the first corner's base triangle): the chart and the corners' points in it. False when
+  // the corners share no chart.
+  bool chartDenseTriangle(std::span<const std::uint32_t> corners, Chart& chart, std::array<Point2, 3>& points) const;
   // Weights of chart point p in triangle t's frame (any sign); t must lie in the chart.
   bool inFrame(const Chart& chart, const Point2& p, std::uint32_t t, Bary& out) const;
   // The triangle holding chart point p, and p's weights there (walked and clamped as in locate).

@@ -20,14 +20,9 @@ DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base)
   std::vector<std::uint32_t> homes;
   for (std::size_t f = 0; f < dense.faceCount(); ++f) {
     const auto c = dense.face(f);
-    const std::uint32_t from[3] = {base.denseTriangle[c[0]], base.denseTriangle[c[1]], base.denseTriangle[c[2]]};
-    const BaseDomain::Bary bary[3] = {base.denseBary[c[0]], base.denseBary[c[1]], base.denseBary[c[2]]};
-    BaseDomain::Point2 p[3];
-    if (!domain.chartFor(from, bary, 3, from[0], chart)) continue;  // corners too far apart to image
-    bool charted = true;
-    for (int i = 0; i < 3; ++i) charted = charted && domain.toChart(chart, from[i], bary[i], p[i]);
-    if (!charted) continue;
-    homes.assign(from, from + 3);
+    std::array<BaseDomain::Point2, 3> p;
+    if (!domain.chartDenseTriangle(c, chart, p)) continue;  // corners too far apart to image
+    homes = {base.denseTriangle[c[0]], base.denseTriangle[c[1]], base.denseTriangle[c[2]]};
     if (chart.vertex != BaseDomain::kNone) homes.insert(homes.end(), chart.star.begin(), chart.star.end());
     std::sort(homes.begin(), homes.end());
     homes.erase(std::unique(homes.begin(), homes.end()), homes.end());

@@ -13,32 +13,26 @@ namespace {
 // Twice the signed area of a dense triangle's image in one chart that holds its corners (a base
 // triangle's own frame has area 1 in these units; the other frames that hold the image are affine
 // images of it, so the sign holds there too); -inf when its corners share no chart.
-double imageArea(const Mesh& dense, const BaseMesh& base, const BaseDomain& domain, std::size_t face,
-                 BaseDomain::Chart& chart) {
-  const auto c = dense.face(face);
-  const std::uint32_t from[3] = {base.denseTriangle[c[0]], base.denseTriangle[c[1]], base.denseTriangle[c[2]]};
-  const BaseDomain::Bary bary[3] = {base.denseBary[c[0]], base.denseBary[c[1]], base.denseBary[c[2]]};
-  BaseDomain::Point2 p[3];
-  if (!domain.chartFor(from, bary, 3, from[0], chart)) return -std::numeric_limits<double>::infinity();
-  for (int i = 0; i < 3; ++i)
-    if (!domain.toChart(chart, from[i], base.denseBary[c[i]], p[i])) return -std::numeric_limits<double>::infinity();
+double imageArea(const Mesh& dense, const BaseDomain& domain, std::size_t face, BaseDomain::Chart& chart) {
+  std::array<BaseDomain::Point2, 3> p;
+  if (!domain.chartDenseTriangle(dense.face(face), chart, p)) return -std::numeric_limits<double>::infinity();
   return orient2(p[0], p[1], p[2]);
 }
 
 constexpr double kFlat = 1e-14;
 
-std::vector<std::uint32_t> foldedTriangles(const Mesh& dense, const BaseMesh& base, const BaseDomain& domain) {
+std::vector<std::uint32_t> foldedTriangles(const Mesh& dense, const BaseDomain& domain) {
   BaseDomain::Chart chart;
   std::vector<std::uint32_t> folded;
   for (std::size_t f = 0; f < dense.faceCount(); ++f)
-    if (imageArea(dense, base, domain, f, chart) <= kFlat) folded.push_back(std::uint32_t(f));
+    if (imageArea(dense, domain, f, chart) <= kFlat) folded.push_back(std::uint32_t(f));
   return folded;
 }
 
 }  // namespace
 
 std::size_t countFoldedTriangles(const Mesh& dense, const BaseMesh& base) {
-  return foldedTriangles(dense, base, BaseDomain(base)).size();
+  return foldedTriangles(dense, BaseDomain(base)).size();
 }
 
 UntangleStats untangleParametrisation(const Mesh& dense, BaseMesh& base) {
@@ -55,7 +49,7 @@ UntangleStats untangleParametrisation(const Mesh& dense, BaseMesh& base) {
 
   UntangleStats stats;
   BaseDomain::Chart chart;
-  std::vector<std::uint32_t> folded = foldedTriangles(dense, base, domain);
+  std::vector<std::uint32_t> folded = foldedTriangles(dense, domain);
   stats.foldedBefore = folded.size();
 
   // A new place for v: inside the kernel of its link (where every face around it turns
@@ -116,7 +110,7 @@ UntangleStats untangleParametrisation(const Mesh& dense, BaseMesh& base) {
   auto foldsAround = [&](std::uint32_t v) {
     std::pair<int, double> score{0, 0};
     for (const std::uint32_t f : faces.of(v)) {
-      const double area = imageArea(dense, base, domain, f, chart);
+      const double area = imageArea(dense, domain, f, chart);
       if (area <= kFlat) ++score.first, score.second = std::max(score.second, kFlat - area);
     }
     return score;
@@ -158,7 +152,7 @@ UntangleStats untangleParametrisation(const Mesh& dense, BaseMesh& base) {
     std::sort(recheck.begin(), recheck.end());
     recheck.erase(std::unique(recheck.begin(), recheck.end()), recheck.end());
     for (const std::uint32_t f : recheck)
-      if (imageArea(dense, base, domain, f, chart) <= kFlat) folded.push_back(f);
+      if (imageArea(dense, domain, f, chart) <= kFlat) folded.push_back(f);
     if (!changed && pass < kPasses / 2) pass = kPasses / 2 - 1;  // stuck: widen to the rings
     else if (!changed) break;
   }
