@@ -13,15 +13,8 @@ bool Mesh::allFacesHave(std::size_t corners) const {
 VertexAdjacency vertexAdjacency(const Mesh& mesh) {
   const std::size_t n = mesh.vertexCount();
   VertexAdjacency a;
-  Rows& faces = a.faces;
-  faces.offsets.assign(n + 1, 0);
-  for (std::size_t f = 0; f < mesh.faceCount(); ++f)
-    for (const std::uint32_t v : mesh.face(f)) ++faces.offsets[v + 1];
-  for (std::size_t i = 0; i < n; ++i) faces.offsets[i + 1] += faces.offsets[i];
-  faces.items.resize(faces.offsets[n]);
-  std::vector<std::uint32_t> fill(faces.offsets.begin(), faces.offsets.end() - 1);
-  for (std::size_t f = 0; f < mesh.faceCount(); ++f)
-    for (const std::uint32_t v : mesh.face(f)) faces.items[fill[v]++] = std::uint32_t(f);
+  a.faces = vertexFaces(n, mesh.faceCount(), [&](std::size_t f) { return mesh.face(f); });
+  const Rows& faces = a.faces;
 
   // Each edge at v is seen once per face using it; an edge seen once is a boundary edge.
   Rows& neighbours = a.neighbours;

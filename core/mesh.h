@@ -42,6 +42,21 @@ struct Rows {
   std::vector<std::uint32_t> offsets, items;
   std::span<const std::uint32_t> of(std::size_t i) const { return {items.data() + offsets[i], offsets[i + 1] - offsets[i]}; }
 };
+// Per vertex, the faces that use it, in face order; faceOf(f) gives face f's vertices.
+template <class FaceOf>
+Rows vertexFaces(std::size_t vertexCount, std::size_t faceCount, const FaceOf& faceOf) {
+  Rows faces;
+  faces.offsets.assign(vertexCount + 1, 0);
+  for (std::size_t f = 0; f < faceCount; ++f)
+    for (const std::uint32_t v : faceOf(f)) ++faces.offsets[v + 1];
+  for (std::size_t i = 0; i < vertexCount; ++i) faces.offsets[i + 1] += faces.offsets[i];
+  faces.items.resize(faces.offsets[vertexCount]);
+  std::vector<std::uint32_t> fill(faces.offsets.begin(), faces.offsets.end() - 1);
+  for (std::size_t f = 0; f < faceCount; ++f)
+    for (const std::uint32_t v : faceOf(f)) faces.items[fill[v]++] = std::uint32_t(f);
+  return faces;
+}
+
 // Per vertex: the vertices it shares an edge with (each once), the faces that use it, and whether
 // it lies on a boundary edge (an edge of one face only).
 struct VertexAdjacency {

@@ -17,24 +17,17 @@ int cornerOf(const std::array<std::uint32_t, 3>& t, std::uint32_t vertex) {
 
 }  // namespace
 
-BaseDomain::BaseDomain(const BaseMesh& base) : base_(base), across_(base.triangleNeighbours()) {
-  starOffsets_.assign(base.vertexCount() + 1, 0);
-  for (const auto& t : base.triangles)
-    for (const std::uint32_t v : t) ++starOffsets_[v + 1];
-  for (std::size_t v = 0; v < base.vertexCount(); ++v) starOffsets_[v + 1] += starOffsets_[v];
-  starTriangles_.resize(starOffsets_.back());
-  std::vector<std::uint32_t> fill(starOffsets_.begin(), starOffsets_.end() - 1);
-  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
-    for (const std::uint32_t v : base.triangles[t]) starTriangles_[fill[v]++] = t;
-}
+BaseDomain::BaseDomain(const BaseMesh& base)
+    : base_(base),
+      across_(base.triangleNeighbours()),
+      stars_(vertexFaces(base.vertexCount(), base.triangleCount(), [&](std::size_t t) { return base.triangles[t]; })) {}
 
 bool BaseDomain::inStar(std::uint32_t vertex, std::uint32_t t, const Bary& bary, std::uint32_t& into, Bary& out) const {
   if (cornerOf(base_.triangles[t], vertex) >= 0) {
     into = t, out = bary;
     return true;
   }
-  for (std::uint32_t k = starOffsets_[vertex]; k < starOffsets_[vertex + 1]; ++k) {
-    const std::uint32_t s = starTriangles_[k];
+  for (const std::uint32_t s : stars_.of(vertex)) {
     Bary w{0, 0, 0};
     bool holds = true;
     for (int i = 0; i < 3 && holds; ++i) {

@@ -67,7 +67,7 @@ private:
 
   const BaseMesh& base_;
   std::vector<std::array<std::uint32_t, 3>> across_;
-  std::vector<std::uint32_t> starOffsets_, starTriangles_;  // base vertex -> its triangles
+  Rows stars_;  // per base vertex, its triangles
 };
 
 }  // namespace isoatlas::multires
