@@ -6,6 +6,7 @@
 
 #include "app/command.h"
 #include "app/options.h"
+#include "app/segmentation.h"
 #include "levelset/level_set.h"
 #include "core/error.h"
 #include "core/image.h"
@@ -105,31 +106,23 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       logInfo("run: skipping segment: give --seed X,Y,Z[,R] --target T --width EPS");
     } else {
       for (const Ball& b : seeds) requireInside(volume, b.centre, "--seed");
-      std::string renderer;
-      const levelset::Backend backend = chooseBackend(options->backend, renderer);
-      levelset::LevelSet ls(volume, params, {.backend = backend});
-      for (const Ball& b : seeds) ls.addSphere(b.centre, b.radius);
-      Progress progress("run: segment", kDemoMaxIterations, "iterations");
-      const levelset::RunStats stats = ls.run(
-          {.maxIterations = kDemoMaxIterations, .progress = [&](int i, std::int64_t) { progress.update(std::uint64_t(i)); }});
-      progress.finish();
-      const Volume mask = ls.mask();
-      writeVolume((dir / "mask.nii.gz").string(), mask);
-      writeVolume((dir / "phi.nii.gz").string(), ls.phi());
-      std::int64_t inside = 0;
-      for (std::size_t n = 0; n < mask.voxelCount(); ++n) inside += mask.data[n] != std::byte{0};
-      r["segment"] = {{"backend", backend == levelset::Backend::Gpu ? "gpu" : "cpu"}, {"renderer", renderer},
-                      {"target", params.target}, {"width", params.width}, {"alpha", params.alpha},
-                      {"iterations", stats.iterations}, {"converged", stats.converged}, {"seconds", stats.seconds},
-                      {"inside_voxels", inside}, {"active_pages_peak", ls.pages().stats().peakActive},
-                      {"physical_bytes_peak", ls.physicalBytesPeak()}};
+      const Segmentation s = segmentVolume(volume, {.params = params,
+                                                    .seeds = seeds,
+                                                    .backend = options->backend,
+                                                    .maxIterations = kDemoMaxIterations,
+                                                    .label = "run: segment"});
+      writeVolume((dir / "mask.nii.gz").string(), s.mask);
+      writeVolume((dir / "phi.nii.gz").string(), s.phi);
+      r["segment"] = s.figures();
+      r["segment"].update({{"target", params.target}, {"width", params.width}, {"alpha", params.alpha}});
       stages.push_back({"segment", "done",
-                        std::to_string(inside) + " voxels in " + std::to_string(stats.iterations) + " iterations (" +
-                            (stats.converged ? "converged" : "not converged") + "): mask.nii.gz, phi.nii.gz"});
+                        std::to_string(s.insideVoxels) + " voxels in " + std::to_string(s.stats.iterations) +
+                            " iterations (" + (s.stats.converged ? "converged" : "not converged") +
+                            "): mask.nii.gz, phi.nii.gz"});
       // Extract: marching cubes over the level set's active pages.
       extract::ExtractStats extractStats;
       const Mesh surface = extract::extractLevelSet(
-          ls, {.largestComponent = true, .gpu = backend == levelset::Backend::Gpu}, &extractStats);
+          *s.levelSet, s.phi, {.largestComponent = true, .gpu = s.backend == levelset::Backend::Gpu}, &extractStats);
       writeMesh((dir / "surface.ply").string(), surface);
       r["extract"] = meshFigures(surface, extractStats);
       stages.push_back({"extract", "done",
@@ -143,7 +136,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       pictures.push_back({"surface_left.png", "the extracted surface seen from the left"});
       pictures.push_back({"surface_top.png", "the extracted surface seen from above (anterior up)"});
       viewer::SliceOptions overlay;
-      overlay.mask = &mask;
+      overlay.mask = &s.mask;
       // Through the first seed, so the slices cut the structure.
       writePng((dir / "segmentation_slices.png").string(),
                viewer::renderSlices(volume, volume.indexToWorld(seeds.front().centre), overlay));

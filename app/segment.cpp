@@ -3,6 +3,7 @@
 
 #include "app/command.h"
 #include "app/options.h"
+#include "app/segmentation.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/volume_io.h"
@@ -52,37 +53,23 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
       require(seedMask.dims == volume.dims, o->seedMask + ": its dimensions differ from " + o->volume + "'s");
     }
 
-    std::string renderer;
-    const levelset::Backend backend = chooseBackend(o->backend, renderer);
-    levelset::LevelSet ls(volume, params, {.backend = backend, .pageSize = o->page});
-    if (!o->seedMask.empty()) ls.setMask(seedMask);
-    for (const Ball& b : seeds) ls.addSphere(b.centre, b.radius);
+    const Segmentation s = segmentVolume(volume, {.params = params,
+                                                  .seeds = seeds,
+                                                  .seedMask = o->seedMask.empty() ? nullptr : &seedMask,
+                                                  .backend = o->backend,
+                                                  .pageSize = o->page,
+                                                  .maxIterations = o->iterations,
+                                                  .untilConverged = o->converge});
+    writeVolume(o->output, s.mask);
+    if (!o->phi.empty()) writeVolume(o->phi, s.phi);
 
-    Progress progress("segment", std::uint64_t(o->iterations), "iterations");
-    const levelset::RunStats stats =
-        ls.run({.maxIterations = o->iterations, .untilConverged = o->converge,
-                .progress = [&](int i, std::int64_t) { progress.update(std::uint64_t(i)); }});
-    progress.finish();
-    const Volume mask = ls.mask();
-    writeVolume(o->output, mask);
-    if (!o->phi.empty()) writeVolume(o->phi, ls.phi());
-
-    std::int64_t inside = 0;
-    for (std::size_t n = 0; n < mask.voxelCount(); ++n) inside += mask.data[n] != std::byte{0};
-    r["backend"] = backend == levelset::Backend::Gpu ? "gpu" : "cpu";
-    r["renderer"] = renderer;
-    r["iterations"] = stats.iterations;
-    r["seconds"] = stats.seconds;
-    r["steps_per_second"] = stats.seconds > 0 ? stats.iterations / stats.seconds : 0.0;
-    r["converged"] = stats.converged;
-    r["inside_voxels"] = inside;
-    r["active_pages_peak"] = ls.pages().stats().peakActive;
-    r["active_pages_final"] = std::int64_t(ls.pages().activePages().size());
-    r["physical_bytes_peak"] = ls.physicalBytesPeak();
-    r["readback_bytes_per_iteration"] = stats.bytesReadBackPerIteration;
+    r.update(s.figures());
+    r["steps_per_second"] = s.stats.seconds > 0 ? s.stats.iterations / s.stats.seconds : 0.0;
+    r["active_pages_final"] = std::int64_t(s.levelSet->pages().activePages().size());
+    r["readback_bytes_per_iteration"] = s.stats.bytesReadBackPerIteration;
     r["params"] = {{"target", o->target}, {"width", o->width}, {"alpha", o->alpha}, {"page", o->page}};
-    logInfo("segment: " + std::to_string(inside) + " voxels inside after " + std::to_string(stats.iterations) +
-            " iterations (" + (stats.converged ? "converged" : "not converged") + "), " + o->output);
+    logInfo("segment: " + std::to_string(s.insideVoxels) + " voxels inside after " + std::to_string(s.stats.iterations) +
+            " iterations (" + (s.stats.converged ? "converged" : "not converged") + "), " + o->output);
     return 0;
   }, exitCode);
 }

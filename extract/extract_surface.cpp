@@ -130,11 +130,14 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
 }
 
 Mesh extractLevelSet(const levelset::LevelSet& ls, const ExtractOptions& o, ExtractStats* stats) {
+  return extractLevelSet(ls, ls.phi(), o, stats);
+}
+
+Mesh extractLevelSet(const levelset::LevelSet& ls, const Volume& phi, const ExtractOptions& o, ExtractStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   ExtractStats local;
   ExtractStats& s = stats ? *stats : local;
   s.iso = o.iso.value_or(0.0f);
-  const Volume phi = ls.phi();
   const auto* values = reinterpret_cast<const float*>(phi.data.data());
   // Visit only blocks of cells that touch an active page: everywhere else phi is flat.
   const levelset::PageManager& pm = ls.pages();

@@ -37,6 +37,9 @@ struct ExtractStats {
 
 Mesh extractSurface(const Volume& volume, const ExtractOptions& options, ExtractStats* stats = nullptr);
 Mesh extractLevelSet(const levelset::LevelSet& levelSet, const ExtractOptions& options, ExtractStats* stats = nullptr);
+// The same from phi already read back (levelSet.phi(), which reads the GPU's pages).
+Mesh extractLevelSet(const levelset::LevelSet& levelSet, const Volume& phi, const ExtractOptions& options,
+                     ExtractStats* stats = nullptr);
 
 // Whether a volume is a mask: integer voxels with at most two distinct values.
 bool isBinaryMask(const Volume& volume);

@@ -280,10 +280,11 @@ Volume LevelSet::phi() const {
   return out;
 }
 
-Volume LevelSet::mask() const {
-  const Volume p = phi();
-  Volume out = geometry_.sameGeometry(ScalarType::UInt8);
-  const auto* phiData = reinterpret_cast<const float*>(p.data.data());
+Volume LevelSet::mask() const { return maskOf(phi()); }
+
+Volume maskOf(const Volume& phi) {
+  Volume out = phi.sameGeometry(ScalarType::UInt8);
+  const auto* phiData = reinterpret_cast<const float*>(phi.data.data());
   for (std::size_t n = 0; n < out.voxelCount(); ++n) out.data[n] = std::byte(phiData[n] > 0 ? 1 : 0);
   return out;
 }

@@ -58,7 +58,7 @@ public:
   RunStats run(const RunOptions& options);
 
   Volume phi() const;   // float32, the source's geometry; inactive pages read as +-kClamp
-  Volume mask() const;  // uint8, 1 inside (phi > 0), 0 outside
+  Volume mask() const;  // maskOf(phi())
 
   const PageManager& pages() const { return *pages_; }
   std::string backendName() const { return backend_->name(); }
@@ -84,5 +84,8 @@ private:
 
 // Checks T, eps and alpha; throws Error (bad input) naming the value.
 void validateParams(const SpeedParams& params);
+
+// uint8, 1 inside (phi > 0), 0 outside, in phi's geometry.
+Volume maskOf(const Volume& phi);
 
 }  // namespace isoatlas::levelset

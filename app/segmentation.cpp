@@ -1,0 +1,36 @@
+#include "app/segmentation.h"
+
+#include "core/progress.h"
+
+namespace isoatlas::app {
+
+Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& request) {
+  Segmentation s;
+  s.backend = chooseBackend(request.backend, s.renderer);
+  s.levelSet = std::make_unique<levelset::LevelSet>(volume, request.params,
+                                                    levelset::LevelSetOptions{.backend = s.backend, .pageSize = request.pageSize});
+  if (request.seedMask) s.levelSet->setMask(*request.seedMask);
+  for (const Ball& b : request.seeds) s.levelSet->addSphere(b.centre, b.radius);
+  Progress progress(request.label, std::uint64_t(request.maxIterations), "iterations");
+  s.stats = s.levelSet->run({.maxIterations = request.maxIterations,
+                             .untilConverged = request.untilConverged,
+                             .progress = [&](int i, std::int64_t) { progress.update(std::uint64_t(i)); }});
+  progress.finish();
+  s.phi = s.levelSet->phi();
+  s.mask = levelset::maskOf(s.phi);
+  for (std::size_t n = 0; n < s.mask.voxelCount(); ++n) s.insideVoxels += s.mask.data[n] != std::byte{0};
+  return s;
+}
+
+nlohmann::json Segmentation::figures() const {
+  return {{"backend", backend == levelset::Backend::Gpu ? "gpu" : "cpu"},
+          {"renderer", renderer},
+          {"iterations", stats.iterations},
+          {"seconds", stats.seconds},
+          {"converged", stats.converged},
+          {"inside_voxels", insideVoxels},
+          {"active_pages_peak", levelSet->pages().stats().peakActive},
+          {"physical_bytes_peak", levelSet->physicalBytesPeak()}};
+}
+
+}  // namespace isoatlas::app

@@ -1,0 +1,40 @@
+// The segmentation `segment` and `run` share: a level set on the chosen backend, seeded by balls (and
+// a mask), run with progress on stderr, phi and the mask read back once.
+#pragma once
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/options.h"
+#include "levelset/level_set.h"
+
+namespace isoatlas::app {
+
+struct SegmentationRequest {
+  levelset::SpeedParams params;
+  std::vector<Ball> seeds;
+  const Volume* seedMask = nullptr;  // same grid as the volume; voxels > 0 start inside
+  std::string backend = "auto";      // gpu, cpu or auto (chooseBackend)
+  int pageSize = 16;
+  int maxIterations = 1000;
+  bool untilConverged = true;
+  std::string label = "segment";  // the progress line's name
+};
+
+struct Segmentation {
+  std::unique_ptr<levelset::LevelSet> levelSet;  // kept for extraction over its active pages
+  levelset::Backend backend = levelset::Backend::Cpu;
+  std::string renderer;
+  levelset::RunStats stats;
+  Volume phi, mask;
+  std::int64_t insideVoxels = 0;
+  // backend, renderer, iterations, seconds, converged, inside_voxels, active_pages_peak,
+  // physical_bytes_peak
+  nlohmann::json figures() const;
+};
+
+Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& request);
+
+}  // namespace isoatlas::app
