@@ -167,6 +167,27 @@ TEST(Cli, ProbeSuggestsTheBallsIntensity) {
   EXPECT_GT(j["voxels"].get<int>(), 100);
 }
 
+// R in --at X,Y,Z,R overrides --radius: a ball of 12 voxels around the bright ball (radius 9, 200)
+// takes in the dark shell too; mean and count against voxels counted here (distance <= R).
+TEST(Cli, ProbeRadiusInTheCentreOverridesTheOption) {
+  const auto dir = test::scratchDir();
+  const auto ball = ballVolume(dir);
+  const Result r = run("probe " + ball.string() + " --at 20,18,15,12 --radius 3");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  std::int64_t bright = 0, dark = 0;
+  for (int z = 3; z <= 27; ++z)
+    for (int y = 6; y <= 30; ++y)
+      for (int x = 8; x <= 32; ++x) {
+        const double d2 = (x - 20.0) * (x - 20.0) + (y - 18.0) * (y - 18.0) + (z - 15.0) * (z - 15.0);
+        if (d2 > 144) continue;
+        (d2 < 81 ? bright : dark) += 1;
+      }
+  EXPECT_EQ(j["voxels"].get<std::int64_t>(), bright + dark);
+  EXPECT_NEAR(j["mean"].get<double>(), (200.0 * double(bright) + 50.0 * double(dark)) / double(bright + dark), 1e-9);
+  EXPECT_GT(j["std"].get<double>(), 10);
+}
+
 TEST(Cli, SegmentFindsTheBallAndKeepsTheGeometry) {
   const auto dir = test::scratchDir();
   const auto ball = ballVolume(dir);
