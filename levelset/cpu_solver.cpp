@@ -5,6 +5,7 @@
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 
 namespace isoatlas::levelset {
@@ -64,15 +65,21 @@ public:
           if (vy >= dims_[1]) break;  // past the volume's edge: kept outside
           apron.flatRow(y, flat);
           const int xEnd = int(std::min<std::int64_t>(P_, dims_[0] - page.coords[0] * P_));
+          if (std::all_of(flat, flat + xEnd, [](bool f) { return f; })) continue;  // no voxel can change
+          // The whole row at once, flat voxels too (their rate is 0): one branch-free loop the
+          // compiler vectorises, which is faster than evaluating only the voxels that can move.
+          const float* intensity = &source_[std::size_t((vz * dims_[1] + vy) * dims_[0] + page.coords[0] * P_)];
+          float speed[32], rate[32];
           for (int x = 0; x < xEnd; ++x) {
-            if (flat[x]) continue;  // every one-sided difference zero: no change
-            const std::int64_t vx = page.coords[0] * P_ + x;
-            const float intensity = source_[std::size_t((vz * dims_[1] + vy) * dims_[0] + vx)];
             const VoxelUpdate update = evaluateVoxelAt(
-                [&](int dx, int dy, int dz) { return apron.at(x + dx, y + dy, dz); }, intensity, params);
-            if (update.rate == 0) continue;
-            moving.push_back({std::uint32_t(texelOf(page.neighbourOrigins[13], x, y)), update.rate});
-            localMax = std::max(localMax, std::fabs(update.speed));
+                [&](int dx, int dy, int dz) { return apron.at(x + dx, y + dy, dz); }, intensity[x], params);
+            speed[x] = update.speed;
+            rate[x] = update.rate;
+          }
+          for (int x = 0; x < xEnd; ++x) {
+            if (flat[x] || rate[x] == 0) continue;  // every one-sided difference zero: no change
+            moving.push_back({std::uint32_t(texelOf(page.neighbourOrigins[13], x, y)), rate[x]});
+            localMax = std::max(localMax, std::fabs(speed[x]));
           }
         }
       }
