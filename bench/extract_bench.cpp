@@ -4,10 +4,10 @@
 // quad counts as two). OpenVDB gets the same field as its own narrow-band level set, built outside
 // the timing. With ISOATLAS_BENCH_GPU set, the GPU path beside the CPU path too.
 #include <openvdb/openvdb.h>
-
-#include <cstdlib>
 #include <openvdb/tools/SignedFloodFill.h>
 #include <openvdb/tools/VolumeToMesh.h>
+
+#include <cstdlib>
 
 #include "bench/bench_util.h"
 #include "bench/derived_data.h"
