@@ -134,6 +134,8 @@ Mesh extractLevelSet(const levelset::LevelSet& ls, const ExtractOptions& o, Extr
 }
 
 Mesh extractLevelSet(const levelset::LevelSet& ls, const Volume& phi, const ExtractOptions& o, ExtractStats* stats) {
+  require(phi.type == ScalarType::Float32 && phi.dims == ls.pages().dims(),
+          "extractLevelSet: phi must be the level set's own (float, its dimensions)");
   const auto start = std::chrono::steady_clock::now();
   ExtractStats local;
   ExtractStats& s = stats ? *stats : local;

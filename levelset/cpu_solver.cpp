@@ -53,7 +53,7 @@ public:
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pages_.size()), [&](const auto& range) {
       float& localMax = maxSpeed.local();
       Apron apron(P_);
-      bool flat[32];
+      bool flat[kMaxPageSize];
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         const PageInfo& page = pages_[i];
         auto& moving = moving_[i];
@@ -69,7 +69,7 @@ public:
           // The whole row at once, flat voxels too (their rate is 0): one branch-free loop the
           // compiler vectorises, which is faster than evaluating only the voxels that can move.
           const float* intensity = &source_[std::size_t((vz * dims_[1] + vy) * dims_[0] + page.coords[0] * P_)];
-          float speed[32], rate[32];
+          float speed[kMaxPageSize], rate[kMaxPageSize];
           for (int x = 0; x < xEnd; ++x) {
             const VoxelUpdate update = evaluateVoxelAt(
                 [&](int dx, int dy, int dz) { return apron.at(x + dx, y + dy, dz); }, intensity[x], params);
@@ -77,7 +77,7 @@ public:
             rate[x] = update.rate;
           }
           for (int x = 0; x < xEnd; ++x) {
-            if (flat[x] || rate[x] == 0) continue;  // every one-sided difference zero: no change
+            if (flat[x] || rate[x] == 0) continue;  // flat (every one-sided difference zero) or not moving
             moving.push_back({std::uint32_t(texelOf(page.neighbourOrigins[13], x, y)), rate[x]});
             localMax = std::max(localMax, std::fabs(speed[x]));
           }
@@ -165,7 +165,7 @@ private:
   // reads them into shared memory); voxels are then evaluated without further lookups.
   struct Apron {
     int side;
-    std::array<float, 3 * 34 * 34> v;  // [dz][y + 1][x + 1]; pages are at most 32 wide
+    std::array<float, 3 * (kMaxPageSize + 2) * (kMaxPageSize + 2)> v;  // [dz][y + 1][x + 1]
     explicit Apron(int P) : side(P + 2) {}
     float at(int x, int y, int dz) const { return v[std::size_t(((dz + 1) * side + y + 1) * side + x + 1)]; }
     void load(const CpuSolver& s, const std::vector<float>& phi, const PageInfo& page) {

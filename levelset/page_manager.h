@@ -15,6 +15,9 @@
 
 namespace isoatlas::levelset {
 
+// Pages are P x P voxels, P a power of two from 4 to this (the CPU backend's fixed-size scratch).
+inline constexpr int kMaxPageSize = 32;
+
 constexpr std::int32_t kOutsideSlot = 0, kInsideSlot = 1;
 
 class PageManager {

@@ -11,6 +11,7 @@ namespace isoatlas::multires {
 DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base)
     : dense_(dense), images_(base.triangleCount()) {
   require(base.denseTriangle.size() == dense.vertexCount(), "dense sampler: the parametrisation does not match the mesh");
+  require(dense.allFacesHave(3), "dense sampler: the dense mesh must be made of triangles");
   for (const auto& t : base.triangles) baseCorners_.push_back({base.positions[t[0]], base.positions[t[1]], base.positions[t[2]]});
   const BaseDomain domain(base);
   // Each dense triangle through the one chart that holds its corners (as untangling sees it),
