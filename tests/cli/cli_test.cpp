@@ -155,12 +155,16 @@ std::filesystem::path ballVolume(const std::filesystem::path& dir) {
   return dir / "ball.nii.gz";
 }
 
+// `isoatlas probe` on ballVolume with the given options; its JSON.
+nlohmann::json probeBall(const std::string& options) {
+  const Result r = run("probe " + ballVolume(test::scratchDir()).string() + " " + options);
+  EXPECT_EQ(r.code, 0) << r.err;
+  return r.code == 0 ? nlohmann::json::parse(r.out) : nlohmann::json::object();
+}
+
 TEST(Cli, ProbeSuggestsTheBallsIntensity) {
-  const auto dir = test::scratchDir();
-  const auto ball = ballVolume(dir);
-  const Result r = run("probe " + ball.string() + " --at 20,18,15 --radius 3");
-  ASSERT_EQ(r.code, 0) << r.err;
-  const auto j = nlohmann::json::parse(r.out);
+  const auto j = probeBall("--at 20,18,15 --radius 3");
+  ASSERT_TRUE(j.contains("mean"));
   EXPECT_DOUBLE_EQ(j["mean"].get<double>(), 200);
   EXPECT_DOUBLE_EQ(j["std"].get<double>(), 0);
   EXPECT_DOUBLE_EQ(j["suggested_T"].get<double>(), 200);
@@ -170,11 +174,8 @@ TEST(Cli, ProbeSuggestsTheBallsIntensity) {
 // R in --at X,Y,Z,R overrides --radius: a ball of 12 voxels around the bright ball (radius 9, 200)
 // takes in the dark shell too; mean and count against voxels counted here (distance <= R).
 TEST(Cli, ProbeRadiusInTheCentreOverridesTheOption) {
-  const auto dir = test::scratchDir();
-  const auto ball = ballVolume(dir);
-  const Result r = run("probe " + ball.string() + " --at 20,18,15,12 --radius 3");
-  ASSERT_EQ(r.code, 0) << r.err;
-  const auto j = nlohmann::json::parse(r.out);
+  const auto j = probeBall("--at 20,18,15,12 --radius 3");
+  ASSERT_TRUE(j.contains("voxels"));
   std::int64_t bright = 0, dark = 0;
   for (int z = 3; z <= 27; ++z)
     for (int y = 6; y <= 30; ++y)
