@@ -17,9 +17,9 @@ struct SegmentationRequest {
   std::vector<Ball> seeds;
   const Volume* seedMask = nullptr;  // same grid as the volume; voxels > 0 start inside
   std::string backend = "auto";      // gpu, cpu or auto (chooseBackend)
-  int pageSize = 16;
-  int maxIterations = 1000;
-  bool untilConverged = true;
+  int pageSize = levelset::LevelSetOptions{}.pageSize;
+  int maxIterations = levelset::RunOptions{}.maxIterations;
+  bool untilConverged = levelset::RunOptions{}.untilConverged;
   std::string label = "segment";  // the progress line's name
 };
 

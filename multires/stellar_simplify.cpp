@@ -195,6 +195,7 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
     if (!valid(t)) continue;
     ++measured;
     const VertexH u = ring.vertices[t];
+    if (!canWeldInto(mesh_, v, u, &degrees_)) continue;  // cheaper than measuring, so first
     const double weight = options[i].weight;  // 0 where every face is degenerate
     const double mean = weight > 0 ? kQuadricShare * options[i].cost / weight : 0;
     const double bound = found ? best.cost - mean : std::numeric_limits<double>::infinity();
@@ -207,7 +208,7 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
       rim[rimSize++] = {points[r], plane[r]};
     }
     const double distance2 = weldDistance2({points[t], plane[t]}, {rim, rimSize}, dense, bound);
-    if (distance2 >= bound || !canWeldInto(mesh_, v, u, &degrees_)) continue;
+    if (distance2 >= bound) continue;
     best = {distance2 + mean, std::uint32_t(v.idx()), std::uint32_t(u.idx())};
     found = true;
   }

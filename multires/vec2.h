@@ -1,6 +1,7 @@
 // Vec2: a point of a flat chart (an exponential map, a base-domain chart), with the orientation and
 // barycentric coordinates every flat test uses.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <limits>
@@ -50,7 +51,7 @@ TriangleHit locateInTriangles(const Vec2& p, std::size_t count, const Corners& c
     const std::array<Vec2, 3> c = corners(t);
     if (orient2(c[0], c[1], c[2]) == 0) continue;
     const auto b = barycentric2(p, c[0], c[1], c[2]);
-    const double lowest = b[0] < b[1] ? (b[0] < b[2] ? b[0] : b[2]) : (b[1] < b[2] ? b[1] : b[2]);
+    const double lowest = std::min({b[0], b[1], b[2]});
     if (lowest > bestLowest) bestLowest = lowest, hit = {t, b};
     if (lowest >= 0) break;
   }
