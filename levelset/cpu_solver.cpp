@@ -107,11 +107,7 @@ public:
     // Pass 3: the activation message of every page, from the new phi.
     result.messages.assign(pages_.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pages_.size()), [&](const auto& range) {
-      Apron apron(P_);
-      for (std::size_t i = range.begin(); i != range.end(); ++i) {
-        apron.load(*this, phi, pages_[i]);
-        result.messages[i] = message(apron, pages_[i]);
-      }
+      for (std::size_t i = range.begin(); i != range.end(); ++i) result.messages[i] = message(phi, pages_[i]);
     });
     return result;
   }
@@ -191,27 +187,36 @@ private:
   };
 
   // Which pages must be active next: this one if any voxel differs from a face neighbour; a
-  // neighbour page if a voxel on the shared border differs from its voxel across it.
-  std::uint8_t message(const Apron& a, const PageInfo&) const {
-    bool self = false, px = false, mx = false, py = false, my = false, pz = false, mz = false;
-    for (int y = 0; y < P_; ++y) {
-      const float *c = a.row(y, 0), *ym = a.row(y - 1, 0), *yp = a.row(y + 1, 0), *zm = a.row(y, -1), *zp = a.row(y, 1);
-      bool rowSelf = false, rowPz = false, rowMz = false;
-      for (int x = 0; x < P_; ++x) {
-        rowSelf |= (c[x + 1] != c[x]) | (c[x - 1] != c[x]) | (yp[x] != c[x]) | (ym[x] != c[x]);
+  // neighbour page if a voxel on the shared border differs from its voxel across it. Rows are read
+  // in place through the neighbour table (no apron: only face neighbours are compared), and the
+  // comparisons accumulate in integers so that each row's loop vectorises.
+  std::uint8_t message(const std::vector<float>& phi, const PageInfo& page) const {
+    const Origin* o = page.neighbourOrigins;  // [(dz+1)*9 + (dy+1)*3 + (dx+1)]
+    const int P = P_;
+    unsigned self = 0, px = 0, mx = 0, py = 0, my = 0, pz = 0, mz = 0;
+    for (int y = 0; y < P; ++y) {
+      const float* c = &phi[texelOf(o[13], 0, y)];
+      const float* zp = &phi[texelOf(o[22], 0, y)];
+      const float* zm = &phi[texelOf(o[4], 0, y)];
+      const float* yp = y + 1 < P ? c + width_ : &phi[texelOf(o[16], 0, 0)];
+      const float* ym = y > 0 ? c - width_ : &phi[texelOf(o[10], 0, P - 1)];
+      unsigned rowSelf = 0, rowPz = 0, rowMz = 0, rowYp = 0, rowYm = 0;
+      for (int x = 0; x < P; ++x) {
         rowPz |= zp[x] != c[x];
         rowMz |= zm[x] != c[x];
+        rowYp |= yp[x] != c[x];
+        rowYm |= ym[x] != c[x];
       }
-      self |= rowSelf | rowPz | rowMz;
+      for (int x = 0; x + 1 < P; ++x) rowSelf |= c[x + 1] != c[x];
+      self |= rowSelf | rowPz | rowMz | rowYp | rowYm;
       pz |= rowPz;
       mz |= rowMz;
-      px |= c[P_] != c[P_ - 1];
-      mx |= c[-1] != c[0];
-      if (y == 0)
-        for (int x = 0; x < P_; ++x) my |= ym[x] != c[x];
-      if (y == P_ - 1)
-        for (int x = 0; x < P_; ++x) py |= yp[x] != c[x];
+      if (y == P - 1) py = rowYp;
+      if (y == 0) my = rowYm;
+      px |= phi[texelOf(o[14], 0, y)] != c[P - 1];
+      mx |= phi[texelOf(o[12], P - 1, y)] != c[0];
     }
+    self |= px | mx;
     std::uint8_t bits = 0;
     if (self) bits |= kSelfActive;
     if (px) bits |= kNeedPlusX;
@@ -220,7 +225,7 @@ private:
     if (my) bits |= kNeedMinusY;
     if (pz) bits |= kNeedPlusZ;
     if (mz) bits |= kNeedMinusZ;
-    if (a.at(0, 0, 0) > 0) bits |= kInside;
+    if (phi[texelOf(o[13], 0, 0)] > 0) bits |= kInside;
     return bits;
   }
 
