@@ -50,7 +50,8 @@ public:
       const gl::Defines defines{{"PAGE_SIZE", std::to_string(P_)},
                                 {"CLAMP", gl::glslFloat(kClamp)},
                                 {"CFL_FRACTION", gl::glslFloat(kCflFraction)},
-                                {"CURVATURE_LIMIT", gl::glslFloat(kCurvatureLimit)}};
+                                {"CURVATURE_LIMIT", gl::glslFloat(kCurvatureLimit)},
+                                {"RESCALE_SPEED", gl::glslFloat(kRescaleSpeed)}};
       speed_ = gl::Program::compute("levelset/shaders/speed.comp", defines);
       update_ = gl::Program::compute("levelset/shaders/update.comp", defines);
       message_ = gl::Program::compute("levelset/shaders/message.comp", defines);

@@ -81,16 +81,19 @@ inline VoxelUpdate evaluateVoxel(const float* u, float intensity, const SpeedPar
   return evaluateVoxelAt([u](int dx, int dy, int dz) { return u[(dz + 1) * 9 + (dy + 1) * 3 + (dx + 1)]; }, intensity, p);
 }
 
-// The time step from the CFL condition: the fastest physical speed moves the front at most a quarter
-// of a voxel (at a half, G_r cannot keep the band a distance ramp and the front speed wanders), and
-// the curvature term (parabolic) stays within its explicit-scheme limit. G_r is left out of the
-// speed: it is a restoring term bounded by the clamp, and counting it slows the front 3.5-fold.
-inline constexpr float kCflFraction = 0.25f;     // speed.glsl gets it as CFL_FRACTION
+// The time step from the CFL condition: the fastest voxel moves at most half a voxel per step (the
+// upwind scheme's limit in 3D is 1/sqrt(3)). Its speed is bounded by the largest physical speed plus
+// kRescaleSpeed, a bound on G_r where the band is a distance ramp. Taking G_r's largest value instead
+// slows the front 3.5-fold (it is large only where the band is being rebuilt); leaving G_r out lets it
+// overshoot (at half a voxel per step from the physical speed alone, the propagation test's front
+// ran 7 % off and left gradient outside the band). The curvature term (parabolic) also stays within its explicit-scheme limit.
+inline constexpr float kCflFraction = 0.5f;      // speed.glsl gets it as CFL_FRACTION
+inline constexpr float kRescaleSpeed = 0.5f;     // speed.glsl: RESCALE_SPEED
 inline constexpr float kCurvatureLimit = 0.25f;  // dt (1 - alpha) within it; speed.glsl: CURVATURE_LIMIT
 inline float timeStep(float maxSpeed, float alpha) {
-  float dt = maxSpeed > 0 ? kCflFraction / maxSpeed : 1.0f;
+  float dt = kCflFraction / (maxSpeed + kRescaleSpeed);
   if (alpha < 1) dt = std::min(dt, kCurvatureLimit / (1.0f - alpha));
-  return std::min(dt, 1.0f);
+  return dt;
 }
 
 }  // namespace isoatlas::levelset

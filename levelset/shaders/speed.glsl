@@ -1,5 +1,5 @@
 // The GLSL twin of levelset/speed.h: evaluateVoxel and timeStep, line for line. Its constants come
-// from speed.h as defines (CLAMP, CFL_FRACTION, CURVATURE_LIMIT), so the two cannot drift apart.
+// from speed.h as defines (CLAMP, CFL_FRACTION, RESCALE_SPEED, CURVATURE_LIMIT), so the two cannot drift apart.
 const float kClamp = CLAMP;
 
 struct VoxelUpdate { float speed; float rate; };
@@ -51,7 +51,7 @@ VoxelUpdate evaluateVoxel(float u[27], float intensity, float target, float widt
 }
 
 float timeStep(float maxSpeed, float alpha) {
-  float dt = maxSpeed > 0.0 ? CFL_FRACTION / maxSpeed : 1.0;
+  float dt = CFL_FRACTION / (maxSpeed + RESCALE_SPEED);
   if (alpha < 1.0) dt = min(dt, CURVATURE_LIMIT / (1.0 - alpha));
-  return min(dt, 1.0);
+  return dt;
 }
