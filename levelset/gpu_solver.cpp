@@ -19,6 +19,8 @@ struct PageEntry {
 };
 static_assert(sizeof(PageEntry) == 240);
 
+using Origin = std::array<std::int32_t, 2>;  // std430 ivec2
+
 struct Fill {
   std::int32_t origin[2];
   float value, unused;
@@ -26,19 +28,8 @@ struct Fill {
 
 class GpuSolver final : public SolverBackend {
 public:
-  GpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims) : dims_(dims) {
+  GpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims) : source_(std::move(source)), dims_(dims) {
     ctx_ = gl::Context::headless();
-    const gl::Info& info = ctx_->info();
-    if (dims[0] > info.max3DTextureSize || dims[1] > info.max3DTextureSize || dims[2] > info.max3DTextureSize)
-      throw Error("the volume is larger than this GPU's 3D textures (" + std::to_string(info.max3DTextureSize) +
-                      " voxels a side); use --backend cpu",
-                  ErrorKind::Failure);
-    source_ = gl::Texture::texture3D(GL_R32F, int(dims[0]), int(dims[1]), int(dims[2]));
-    glTextureParameteri(source_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(source_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureSubImage3D(source_.id(), 0, 0, 0, 0, int(dims[0]), int(dims[1]), int(dims[2]), GL_RED, GL_FLOAT,
-                        source.data());
-    gl::checkErrors("uploading the source volume");
     counters_ = gl::Buffer(16);
   }
 
@@ -56,6 +47,7 @@ public:
       update_ = gl::Program::compute("levelset/shaders/update.comp", defines);
       message_ = gl::Program::compute("levelset/shaders/message.comp", defines);
       fill_ = gl::Program::compute("levelset/shaders/fill.comp", defines);
+      writePages_ = gl::Program::compute("levelset/shaders/write_pages.comp", defines);
     }
     growPool(pm);
     if (!filled.empty()) {
@@ -67,6 +59,7 @@ public:
       fillPages(phi_[current_], fills);
     }
     const auto& active = pm.activePages();
+    uploadSourcePages(pm);
     std::vector<PageEntry> entries(std::max<std::size_t>(active.size(), 1));
     for (std::size_t i = 0; i < active.size(); ++i) {
       PageEntry& e = entries[i];
@@ -104,7 +97,7 @@ public:
     glUniform1f(speed_.uniform("alpha"), params.alpha);
     glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    glBindTextureUnit(0, source_.id());
+    glBindImageTexture(2, sourcePool_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     speed_.dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 
     setCommon(update_);
@@ -159,17 +152,14 @@ public:
   }
 
   void writeSlots(const PageManager& pm, const std::vector<std::int32_t>& slots, const std::vector<float>& values) override {
-    const std::size_t area = std::size_t(P_) * std::size_t(P_);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    for (std::size_t s = 0; s < slots.size(); ++s) {
-      const auto o = pm.slotOrigin(slots[s]);
-      glTextureSubImage2D(phi_[current_].id(), 0, o[0], o[1], P_, P_, GL_RED, GL_FLOAT, &values[s * area]);
-    }
-    gl::checkErrors("writing phi pages");
+    std::vector<Origin> origins;
+    for (std::int32_t slot : slots) origins.push_back(pm.slotOrigin(slot));
+    writePages(phi_[current_], origins, values);
   }
 
   std::uint64_t physicalBytes() const override {
-    return std::uint64_t(poolWidth_) * std::uint64_t(poolHeight_) * 4 * 3 + pageTable_.bytes() + messages_.bytes();
+    // Four pool textures (phi twice, rate, source): the memory follows the active pages, not the volume.
+    return std::uint64_t(poolWidth_) * std::uint64_t(poolHeight_) * 4 * 4 + pageTable_.bytes() + messages_.bytes();
   }
 
 private:
@@ -187,11 +177,10 @@ private:
     if (height > ctx_->info().maxTextureSize)
       throw Error("the GPU's physical page pool is full (" + std::to_string(pm.capacity()) + " pages); use --backend cpu",
                   ErrorKind::Failure);
-    for (int copy = 0; copy < 3; ++copy) {
-      gl::Texture& t = copy < 2 ? phi_[copy] : rate_;
+    for (gl::Texture* t : {&phi_[0], &phi_[1], &rate_, &sourcePool_}) {
       gl::Texture grown = gl::Texture::texture2D(GL_R32F, width, height);
-      if (poolHeight_ > 0) glCopyImageSubData(t.id(), GL_TEXTURE_2D, 0, 0, 0, 0, grown.id(), GL_TEXTURE_2D, 0, 0, 0, 0, width, poolHeight_, 1);
-      t = std::move(grown);
+      if (poolHeight_ > 0) glCopyImageSubData(t->id(), GL_TEXTURE_2D, 0, 0, 0, 0, grown.id(), GL_TEXTURE_2D, 0, 0, 0, 0, width, poolHeight_, 1);
+      *t = std::move(grown);
     }
     if (poolHeight_ == 0) {
       const auto out = pm.slotOrigin(kOutsideSlot), in = pm.slotOrigin(kInsideSlot);
@@ -202,6 +191,44 @@ private:
     poolWidth_ = width;
     poolHeight_ = height;
     gl::checkErrors("growing the page pool");
+  }
+
+  // The source's intensities live in pages too, in the slot beside phi's: each slot holding a page
+  // other than the one it last received gets that page's intensities (padding past the volume's edge
+  // is 0 and never read). Slots keep their content while a page stays active.
+  void uploadSourcePages(const PageManager& pm) {
+    slotPage_.resize(std::size_t(pm.capacity()), -1);
+    const std::size_t area = std::size_t(P_) * std::size_t(P_);
+    std::vector<Origin> origins;
+    std::vector<float> values;
+    for (std::int64_t page : pm.activePages()) {
+      const std::int32_t slot = pm.slotOf(page);
+      if (slotPage_[std::size_t(slot)] == page) continue;
+      slotPage_[std::size_t(slot)] = page;
+      origins.push_back(pm.slotOrigin(slot));
+      values.resize(values.size() + area, 0.0f);
+      float* out = &values[values.size() - area];
+      const auto c = pm.pageCoords(page);
+      const std::int64_t x0 = c[0] * P_, n = std::min<std::int64_t>(P_, dims_[0] - x0);
+      for (int y = 0; y < P_ && c[1] * P_ + y < dims_[1]; ++y)
+        std::copy_n(&source_[std::size_t((c[2] * dims_[1] + c[1] * P_ + y) * dims_[0] + x0)], n, out + y * P_);
+    }
+    writePages(sourcePool_, origins, values);
+  }
+
+  // values: P x P per origin, rows in order.
+  void writePages(const gl::Texture& target, const std::vector<Origin>& origins, const std::vector<float>& values) {
+    if (origins.empty()) return;
+    gl::Buffer originBuffer = gl::Buffer::of(origins), valueBuffer = gl::Buffer::of(values);
+    originBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
+    valueBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 4);
+    writePages_.use();
+    glUniform1i(writePages_.uniform("pageCount"), int(origins.size()));
+    glBindImageTexture(0, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    const int n = int(origins.size());
+    writePages_.dispatch(GLuint(std::min(n, 65535)), GLuint((n + 65534) / 65535), 1,
+                         GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    gl::checkErrors("writing pages");
   }
 
   void fillPages(const gl::Texture& target, const std::vector<Fill>& fills) {
@@ -215,10 +242,12 @@ private:
   }
 
   std::unique_ptr<gl::Context> ctx_;
+  std::vector<float> source_;  // the whole volume, in host memory; the GPU holds active pages only
   std::array<std::int64_t, 3> dims_;
-  gl::Texture source_, phi_[2], rate_;
+  std::vector<std::int64_t> slotPage_;  // per slot: the page whose intensities sourcePool_ holds there
+  gl::Texture phi_[2], rate_, sourcePool_;
   gl::Buffer pageTable_, counters_, messages_;
-  gl::Program speed_, update_, message_, fill_;
+  gl::Program speed_, update_, message_, fill_, writePages_;
   int current_ = 0, P_ = 0, poolWidth_ = 0, poolHeight_ = 0;
   std::int32_t pageCount_ = 0;
 };

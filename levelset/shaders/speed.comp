@@ -6,7 +6,7 @@ layout(r32f, binding = 0) readonly uniform image2D phi;
 #include "speed.glsl"
 #include "counters.glsl"
 layout(r32f, binding = 1) writeonly uniform image2D rate;
-layout(binding = 0) uniform sampler3D source;
+layout(r32f, binding = 2) readonly uniform image2D source;  // the source's pages, beside phi's
 uniform float target, width, alpha;
 shared uint groupMax;
 
@@ -22,7 +22,7 @@ void main() {
   if (voxel.x < dims.x && voxel.y < dims.y) {
     float u[27];
     neighbourhood(local, u);
-    VoxelUpdate v = evaluateVoxel(u, texelFetch(source, voxel, 0).r, target, width, alpha);
+    VoxelUpdate v = evaluateVoxel(u, imageLoad(source, texel).r, target, width, alpha);
     r = v.rate;
     if (r != 0.0) atomicMax(groupMax, floatBitsToUint(abs(v.speed)));
   }
