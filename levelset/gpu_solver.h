@@ -1,9 +1,9 @@
 // GpuSolver: the paged solver in GL 4.5 compute shaders (levelset/shaders/). phi lives in two r32f
 // pool textures (ping-pong) laid out exactly as PageManager says; the source's intensities sit in a
-// third pool texture, page for page beside phi's, uploaded when a page is placed in a slot, so GPU
-// memory follows the active pages and not the volume. The speed reads them, so changing T/eps/alpha
-// costs nothing. Per iteration the CPU uploads the active-page
-// table when the active set changed and reads back one byte per active page plus 16 bytes of counters.
+// third pool texture, page for page beside phi's, written when a page takes a slot, so GPU memory
+// follows the active pages and not the volume. The speed reads them, so changing T/eps/alpha costs
+// nothing. Per iteration the CPU uploads the active-page table when the active set changed and reads
+// back one byte per active page plus 16 bytes of counters.
 // Creates its own headless GL context (a GPU through EGL, else Mesa's llvmpipe).
 #pragma once
 #include <memory>
