@@ -177,6 +177,7 @@ private:
     if (height > ctx_->info().maxTextureSize)
       throw Error("the GPU's physical page pool is full (" + std::to_string(pm.capacity()) + " pages); use --backend cpu",
                   ErrorKind::Failure);
+    glMemoryBarrier(GL_ALL_BARRIER_BITS);  // image stores before the copies below read the texels
     for (gl::Texture* t : {&phi_[0], &phi_[1], &rate_, &sourcePool_}) {
       gl::Texture grown = gl::Texture::texture2D(GL_R32F, width, height);
       if (poolHeight_ > 0) glCopyImageSubData(t->id(), GL_TEXTURE_2D, 0, 0, 0, 0, grown.id(), GL_TEXTURE_2D, 0, 0, 0, 0, width, poolHeight_, 1);
@@ -217,17 +218,21 @@ private:
   }
 
   // values: P x P per origin, rows in order.
+  // Batches of at most 128 MiB of values, the storage block size every GL 4.5 driver allows.
   void writePages(const gl::Texture& target, const std::vector<Origin>& origins, const std::vector<float>& values) {
-    if (origins.empty()) return;
-    gl::Buffer originBuffer = gl::Buffer::of(origins), valueBuffer = gl::Buffer::of(values);
-    originBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
-    valueBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 4);
+    const std::size_t area = std::size_t(P_) * std::size_t(P_);
+    const std::size_t batch = (std::size_t(128) << 20) / (area * sizeof(float));
     writePages_.use();
-    glUniform1i(writePages_.uniform("pageCount"), int(origins.size()));
     glBindImageTexture(0, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    const int n = int(origins.size());
-    writePages_.dispatch(GLuint(std::min(n, 65535)), GLuint((n + 65534) / 65535), 1,
-                         GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    for (std::size_t first = 0; first < origins.size(); first += batch) {
+      const std::size_t n = std::min(batch, origins.size() - first);
+      gl::Buffer originBuffer(n * sizeof(Origin), &origins[first]), valueBuffer(n * area * sizeof(float), &values[first * area]);
+      originBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
+      valueBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 4);
+      glUniform1i(writePages_.uniform("pageCount"), int(n));
+      writePages_.dispatch(GLuint(std::min<std::size_t>(n, 65535)), GLuint((n + 65534) / 65535), 1,
+                           GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+    }
     gl::checkErrors("writing pages");
   }
 
