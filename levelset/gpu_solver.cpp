@@ -21,10 +21,6 @@ static_assert(sizeof(PageEntry) == 240);
 
 using Origin = std::array<std::int32_t, 2>;  // std430 ivec2
 
-struct Fill {
-  std::int32_t origin[2];
-  float value, unused;
-};
 
 class GpuSolver final : public SolverBackend {
 public:
@@ -46,16 +42,12 @@ public:
       speed_ = gl::Program::compute("levelset/shaders/speed.comp", defines);
       update_ = gl::Program::compute("levelset/shaders/update.comp", defines);
       message_ = gl::Program::compute("levelset/shaders/message.comp", defines);
-      fill_ = gl::Program::compute("levelset/shaders/fill.comp", defines);
       writePages_ = gl::Program::compute("levelset/shaders/write_pages.comp", defines);
     }
     growPool(pm);
     if (!filled.empty()) {
-      std::vector<Fill> fills;
-      for (const auto& [slot, value] : filled) {
-        const auto o = pm.slotOrigin(slot);
-        fills.push_back({{o[0], o[1]}, value, 0});
-      }
+      std::vector<std::pair<Origin, float>> fills;
+      for (const auto& [slot, value] : filled) fills.push_back({pm.slotOrigin(slot), value});
       fillPages(phi_[current_], fills);
     }
     const auto& active = pm.activePages();
@@ -185,7 +177,7 @@ private:
     }
     if (poolHeight_ == 0) {
       const auto out = pm.slotOrigin(kOutsideSlot), in = pm.slotOrigin(kInsideSlot);
-      const std::vector<Fill> statics{{{out[0], out[1]}, -kClamp, 0}, {{in[0], in[1]}, kClamp, 0}};
+      const std::vector<std::pair<Origin, float>> statics{{out, -kClamp}, {in, kClamp}};
       fillPages(phi_[0], statics);
       fillPages(phi_[1], statics);
     }
@@ -217,8 +209,8 @@ private:
     writePages(sourcePool_, origins, values);
   }
 
-  // values: P x P per origin, rows in order.
-  // Batches of at most 128 MiB of values, the storage block size every GL 4.5 driver allows.
+  // values: P x P per origin, rows in order; sent in batches of at most 128 MiB, the storage block
+  // size every GL 4.5 driver allows.
   void writePages(const gl::Texture& target, const std::vector<Origin>& origins, const std::vector<float>& values) {
     const std::size_t area = std::size_t(P_) * std::size_t(P_);
     const std::size_t batch = (std::size_t(128) << 20) / (area * sizeof(float));
@@ -236,14 +228,16 @@ private:
     gl::checkErrors("writing pages");
   }
 
-  void fillPages(const gl::Texture& target, const std::vector<Fill>& fills) {
-    gl::Buffer buffer = gl::Buffer::of(fills);
-    buffer.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
-    fill_.use();
-    glUniform1i(fill_.uniform("fillCount"), int(fills.size()));
-    glBindImageTexture(0, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    const int n = int(fills.size());
-    fill_.dispatch(GLuint(std::min(n, 65535)), GLuint((n + 65534) / 65535), 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  // Each page filled with one value (a newly activated page starts as the static page it was).
+  void fillPages(const gl::Texture& target, const std::vector<std::pair<Origin, float>>& fills) {
+    const std::size_t area = std::size_t(P_) * std::size_t(P_);
+    std::vector<Origin> origins;
+    std::vector<float> values;
+    for (const auto& [origin, value] : fills) {
+      origins.push_back(origin);
+      values.insert(values.end(), area, value);
+    }
+    writePages(target, origins, values);
   }
 
   std::unique_ptr<gl::Context> ctx_;
@@ -252,7 +246,7 @@ private:
   std::vector<std::int64_t> slotPage_;  // per slot: the page whose intensities sourcePool_ holds there
   gl::Texture phi_[2], rate_, sourcePool_;
   gl::Buffer pageTable_, counters_, messages_;
-  gl::Program speed_, update_, message_, fill_, writePages_;
+  gl::Program speed_, update_, message_, writePages_;
   int current_ = 0, P_ = 0, poolWidth_ = 0, poolHeight_ = 0;
   std::int32_t pageCount_ = 0;
 };

@@ -86,7 +86,8 @@ inline VoxelUpdate evaluateVoxel(const float* u, float intensity, const SpeedPar
 // kRescaleSpeed, a bound on G_r where the band is a distance ramp. Taking G_r's largest value instead
 // slows the front 3.5-fold (it is large only where the band is being rebuilt); leaving G_r out lets it
 // overshoot (at half a voxel per step from the physical speed alone, the propagation test's front
-// ran 7 % off and left gradient outside the band). The curvature term (parabolic) also stays within its explicit-scheme limit.
+// ran 7 % off and left gradient outside the band). The curvature term (parabolic) also stays within
+// its explicit-scheme limit.
 inline constexpr float kCflFraction = 0.5f;      // speed.glsl gets it as CFL_FRACTION
 inline constexpr float kRescaleSpeed = 0.5f;     // speed.glsl: RESCALE_SPEED
 inline constexpr float kCurvatureLimit = 0.25f;  // dt (1 - alpha) within it; speed.glsl: CURVATURE_LIMIT

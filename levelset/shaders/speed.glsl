@@ -1,5 +1,6 @@
 // The GLSL twin of levelset/speed.h: evaluateVoxel and timeStep, line for line. Its constants come
-// from speed.h as defines (CLAMP, CFL_FRACTION, RESCALE_SPEED, CURVATURE_LIMIT), so the two cannot drift apart.
+// from speed.h as defines (CLAMP, CFL_FRACTION, RESCALE_SPEED, CURVATURE_LIMIT), so the two cannot
+// drift apart.
 const float kClamp = CLAMP;
 
 struct VoxelUpdate { float speed; float rate; };
