@@ -1,5 +1,4 @@
 // isoatlas segment: the paged narrow-band level-set segmentation of a volume from seeds or a mask.
-#include <chrono>
 
 #include "app/command.h"
 #include "app/options.h"
@@ -15,7 +14,7 @@ struct SegmentOptions {
   std::string volume, seedMask, output, phi, backend = "auto";
   std::vector<std::string> seeds;
   double target = 0, width = 0, alpha = 0.5;
-  int iterations = 1000, page = 16;
+  int iterations = levelset::RunOptions{}.maxIterations, page = levelset::LevelSetOptions{}.pageSize;
   bool converge = false;
 };
 

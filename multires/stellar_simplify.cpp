@@ -189,11 +189,13 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
   std::vector<FanPoint>& dense = denseBuffer_;
   ringPoints(v, ring, plane, dense, nullptr);
   bool found = false;
-  std::size_t measured = 0;
-  for (std::size_t i = 0; i < count && measured < kMeasuredTargets; ++i) {
+  // Valid targets, whether measured or refused by canWeldInto: the same targets as when the
+  // measuring came first.
+  std::size_t considered = 0;
+  for (std::size_t i = 0; i < count && considered < kMeasuredTargets; ++i) {
     const std::size_t t = options[i].t;
     if (!valid(t)) continue;
-    ++measured;
+    ++considered;
     const VertexH u = ring.vertices[t];
     if (!canWeldInto(mesh_, v, u, &degrees_)) continue;  // cheaper than measuring, so first
     const double weight = options[i].weight;  // 0 where every face is degenerate

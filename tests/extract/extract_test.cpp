@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/error.h"
 #include "core/mesh_topology.h"
 #include "extract/extract_surface.h"
 #include "extract/gpu_marching_cubes.h"
@@ -230,6 +231,9 @@ TEST(ExtractLevelSet, ActivePagesGiveTheSameSurfaceForLessWork) {
   EXPECT_EQ(a.faceCount(), b.faceCount());
   EXPECT_EQ(a.positions, b.positions);
   EXPECT_LT(paged.cellsVisited, paged.cellsTotal / 10) << "the cost follows the surface";
+  // A phi that is not the level set's own (other dimensions, or not float) is refused.
+  EXPECT_THROW(extractLevelSet(ls, Volume::zeros({64, 128, 40}, ScalarType::Float32), {}), Error);
+  EXPECT_THROW(extractLevelSet(ls, ls.mask(), {}), Error);
 }
 
 }  // namespace
