@@ -25,7 +25,7 @@ nlohmann::json meshFigures(const Mesh& mesh, const extract::ExtractStats& stats)
   return {{"vertices", mesh.vertexCount()}, {"triangles", mesh.faceCount()}, {"components", t.components},
           {"closed", t.closed}, {"manifold", t.manifold}, {"euler", t.euler}, {"genus", t.genus},
           {"seconds", stats.seconds}, {"cells_visited", stats.cellsVisited}, {"cells_total", stats.cellsTotal},
-          {"iso", stats.iso}, {"binary_input", stats.binaryInput}};
+          {"iso", stats.iso}, {"binary_input", stats.binaryInput}, {"path", stats.path}, {"gpu_bytes", stats.gpuBytes}};
 }
 
 void addExtractCommand(CLI::App& app, int& exitCode) {
@@ -42,8 +42,8 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
     require(isMeshPath(o->output) && !endsWith(o->output, ".stl"), o->output + ": write the mesh as .ply, .off or .obj");
     require(o->smooth >= 0, "--smooth must be >= 0");
     const Volume v = readVolume(o->input);
-    std::string renderer;
-    const bool gpu = chooseBackend(o->backend, renderer) == levelset::Backend::Gpu;
+    const Gpu backend = chooseBackend(o->backend);
+    const bool gpu = backend.backend == levelset::Backend::Gpu;
     extract::ExtractOptions options{.largestComponent = o->largest, .minComponentTriangles = o->minComponent,
                                     .smoothIterations = o->smooth, .gpu = gpu};
     if (o->iso) options.iso = float(*o->iso);
@@ -55,7 +55,8 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
     writeMesh(o->output, mesh);
     r.update(meshFigures(mesh, stats));
     r["backend"] = gpu ? "gpu" : "cpu";
-    r["renderer"] = renderer;
+    r["renderer"] = backend.renderer;
+    r["gl_contexts"] = gl::Context::made();
     logInfo("extract: " + std::to_string(mesh.faceCount()) + " triangles, " + std::to_string(mesh.vertexCount()) +
             " vertices at iso " + std::to_string(stats.iso) + " -> " + o->output);
     return 0;

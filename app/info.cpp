@@ -83,6 +83,7 @@ int glInfo(nlohmann::json& r) {
   r["max_3d_texture_size"] = i.max3DTextureSize;
   r["max_tessellation_level"] = i.maxTessellationLevel;
   r["max_patch_vertices"] = i.maxPatchVertices;
+  r["gl_contexts"] = gl::Context::made();
   std::printf("platform   %s\nvendor     %s\nrenderer   %s\nversion    %s (OpenGL %d.%d core)\nGLSL       %s\n",
               i.platform.c_str(), i.vendor.c_str(), i.renderer.c_str(), i.version.c_str(), i.major, i.minor,
               i.glsl.c_str());

@@ -34,26 +34,28 @@ void requireInside(const Volume& v, const Vec3& p, const std::string& what) {
                   std::to_string(v.dims[1] - 1) + ", 0.." + std::to_string(v.dims[2] - 1));
 }
 
-levelset::Backend chooseBackend(const std::string& choice, std::string& renderer) {
-  if (choice == "cpu") {
-    renderer = "cpu";
-    return levelset::Backend::Cpu;
-  }
+gl::Context& Gpu::needGl() {
+  if (!context) context = gl::Context::headless();
+  return *context;
+}
+
+Gpu chooseBackend(const std::string& choice) {
+  Gpu gpu;
+  if (choice == "cpu") return gpu;
   if (choice != "gpu" && choice != "auto") throw Error("--backend " + choice + ": expected gpu, cpu or auto");
   try {
-    auto ctx = gl::Context::headless();
-    renderer = ctx->info().renderer;
-    if (choice == "auto" && ctx->info().software()) {
-      logInfo("no GPU: using the CPU backend (--backend gpu runs the GPU path on " + renderer + ")");
-      renderer = "cpu";
-      return levelset::Backend::Cpu;
+    const gl::Info& info = gpu.needGl().info();
+    if (choice == "auto" && info.software()) {
+      logInfo("no GPU: using the CPU backend (--backend gpu runs the GPU path on " + info.renderer + ")");
+      return gpu;
     }
-    return levelset::Backend::Gpu;
+    gpu.backend = levelset::Backend::Gpu;
+    gpu.renderer = info.renderer;
+    return gpu;
   } catch (const Error& e) {
     if (choice == "gpu") throw Error(std::string(e.what()) + "; --backend cpu runs without a GPU", ErrorKind::Failure);
     logInfo(std::string("no OpenGL 4.5: using the CPU backend (") + e.what() + ")");
-    renderer = "cpu";
-    return levelset::Backend::Cpu;
+    return gpu;
   }
 }
 

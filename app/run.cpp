@@ -24,6 +24,11 @@ namespace {
 // centrum semiovale of each hemisphere. White matter reads about 110 there (isoatlas probe
 // data/volumes/ch2.nii.gz --at 64,115,101 --radius 4), grey matter about 75.
 constexpr const char* kDefaultVolume = "data/volumes/ch2.nii.gz";
+// The demo's seeds apply to Colin27's T1 however its path is written: the file's name and its grid.
+bool isDemoVolume(const std::string& path, const Volume& v) {
+  return std::filesystem::path(path).filename() == std::filesystem::path(kDefaultVolume).filename() &&
+         v.dims == std::array<std::int64_t, 3>{181, 217, 181} && v.spacing.x == 1 && v.spacing.y == 1 && v.spacing.z == 1;
+}
 const levelset::SpeedParams kDemoParams{112, 14, 0.8f};
 const Vec3 kDemoSeeds[] = {{64, 115, 101}, {116, 115, 101}};
 constexpr double kDemoSeedRadius = 4;
@@ -79,6 +84,8 @@ void addRunCommand(CLI::App& app, int& exitCode) {
     std::filesystem::create_directories(dir, ec);
     require(!ec, *outDir + ": cannot create the output folder: " + ec.message());
 
+    // The process's one GL context: the solver, the extraction from its pages and the renders share it.
+    Gpu gpu = chooseBackend(options->backend);
     std::vector<Stage> stages;
     std::vector<std::pair<std::string, std::string>> pictures;
     logInfo("run: reading " + *input);
@@ -97,7 +104,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
     std::vector<Ball> seeds;
     for (const std::string& s : options->seeds) seeds.push_back(parseBall(s, "--seed", kDemoSeedRadius));
     levelset::SpeedParams params{float(options->target), float(options->width), float(options->alpha)};
-    if (seeds.empty() && *input == kDefaultVolume) {
+    if (seeds.empty() && isDemoVolume(*input, volume)) {
       for (const Vec3& seed : kDemoSeeds) seeds.push_back({seed, kDemoSeedRadius});
       params = kDemoParams;
     }
@@ -108,7 +115,8 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       for (const Ball& b : seeds) requireInside(volume, b.centre, "--seed");
       const Segmentation s = segmentVolume(volume, {.params = params,
                                                     .seeds = seeds,
-                                                    .backend = options->backend,
+                                                    .backend = gpu.backend,
+                                                    .renderer = gpu.renderer,
                                                     .maxIterations = kDemoMaxIterations,
                                                     .label = "run: segment"});
       writeVolume((dir / "mask.nii.gz").string(), s.mask);
@@ -119,10 +127,10 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                         std::to_string(s.insideVoxels) + " voxels in " + std::to_string(s.stats.iterations) +
                             " iterations (" + (s.stats.converged ? "converged" : "not converged") +
                             "): mask.nii.gz, phi.nii.gz"});
-      // Extract: marching cubes over the level set's active pages.
+      // Extract: marching cubes over the level set's active pages, read where the solver keeps them.
       extract::ExtractStats extractStats;
       const Mesh surface = extract::extractLevelSet(
-          *s.levelSet, s.phi, {.largestComponent = true, .gpu = s.backend == levelset::Backend::Gpu}, &extractStats);
+          *s.levelSet, {.largestComponent = true, .gpu = s.backend == levelset::Backend::Gpu}, &extractStats);
       writeMesh((dir / "surface.ply").string(), surface);
       r["extract"] = meshFigures(surface, extractStats);
       stages.push_back({"extract", "done",
@@ -130,6 +138,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                             std::to_string(r["extract"]["genus"].get<long long>()) + ", " +
                             (r["extract"]["closed"].get<bool>() ? "closed" : "NOT closed") + ": surface.ply"});
       // Seen from the left (RAS -x) and from above, as a reader of an atlas would look.
+      gpu.needGl();
       writePng((dir / "surface_left.png").string(), viewer::renderMesh(surface, {.viewDirection = {1, 0, 0}}));
       writePng((dir / "surface_top.png").string(),
                viewer::renderMesh(surface, {.viewDirection = {0, 0, -1}, .up = {0, 1, 0}}));
@@ -152,6 +161,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
     }
     r["stages"] = nlohmann::json::array();
     for (const Stage& s : stages) r["stages"].push_back({{"name", s.name}, {"status", s.status}, {"detail", s.detail}});
+    r["gl_contexts"] = gl::Context::made();
     r["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     writeJsonFile((dir / "report.json").string(), r);
     writeIndexHtml(dir, *input, stages, pictures);

@@ -52,10 +52,12 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
       require(seedMask.dims == volume.dims, o->seedMask + ": its dimensions differ from " + o->volume + "'s");
     }
 
+    const Gpu gpu = chooseBackend(o->backend);  // before the level set: its context outlives it
     const Segmentation s = segmentVolume(volume, {.params = params,
                                                   .seeds = seeds,
                                                   .seedMask = o->seedMask.empty() ? nullptr : &seedMask,
-                                                  .backend = o->backend,
+                                                  .backend = gpu.backend,
+                                                  .renderer = gpu.renderer,
                                                   .pageSize = o->page,
                                                   .maxIterations = o->iterations,
                                                   .untilConverged = o->converge});
@@ -66,6 +68,7 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
     r["steps_per_second"] = s.stats.seconds > 0 ? s.stats.iterations / s.stats.seconds : 0.0;
     r["active_pages_final"] = std::int64_t(s.levelSet->pages().activePages().size());
     r["readback_bytes_per_iteration"] = s.stats.bytesReadBackPerIteration;
+    r["gl_contexts"] = gl::Context::made();
     r["params"] = {{"target", o->target}, {"width", o->width}, {"alpha", o->alpha}, {"page", o->page}};
     logInfo("segment: " + std::to_string(s.insideVoxels) + " voxels inside after " + std::to_string(s.stats.iterations) +
             " iterations (" + (s.stats.converged ? "converged" : "not converged") + "), " + o->output);

@@ -6,7 +6,8 @@ namespace isoatlas::app {
 
 Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& request) {
   Segmentation s;
-  s.backend = chooseBackend(request.backend, s.renderer);
+  s.backend = request.backend;
+  s.renderer = request.renderer;
   s.levelSet = std::make_unique<levelset::LevelSet>(volume, request.params,
                                                     levelset::LevelSetOptions{.backend = s.backend, .pageSize = request.pageSize});
   if (request.seedMask) s.levelSet->setMask(*request.seedMask);

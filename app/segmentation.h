@@ -1,5 +1,6 @@
-// The segmentation `segment` and `run` share: a level set on the chosen backend, seeded by balls (and
-// a mask), run with progress on stderr, phi and the mask read back once.
+// The segmentation `segment` and `run` share: a level set on the chosen backend (its GL context current
+// when it is the GPU), seeded by balls (and a mask), run with progress on stderr, phi and the mask read
+// back once.
 #pragma once
 #include <nlohmann/json.hpp>
 
@@ -16,7 +17,8 @@ struct SegmentationRequest {
   levelset::SpeedParams params;
   std::vector<Ball> seeds;
   const Volume* seedMask = nullptr;  // same grid as the volume; voxels > 0 start inside
-  std::string backend = "auto";      // gpu, cpu or auto (chooseBackend)
+  levelset::Backend backend = levelset::Backend::Cpu;  // chooseBackend's
+  std::string renderer = "cpu";
   int pageSize = levelset::LevelSetOptions{}.pageSize;
   int maxIterations = levelset::RunOptions{}.maxIterations;
   bool untilConverged = levelset::RunOptions{}.untilConverged;

@@ -25,6 +25,7 @@
 #include <map>
 
 #include "bench/bench_util.h"
+#include "core/gl/context.h"
 #include "core/volume_io.h"
 #include "levelset/level_set.h"
 
@@ -174,6 +175,8 @@ Convergence runItk(Filter* filter, int maxIterations, float insideSign) {
 }
 
 Convergence runOurs(const Volume& v, const Case& c, levelset::Backend backend) {
+  // The GPU solver runs in the caller's context, made here before it (so destroyed after it).
+  const auto context = backend == levelset::Backend::Gpu ? gl::Context::headless() : nullptr;
   levelset::LevelSet ls(v, c.params, {.backend = backend});
   for (const auto& s : c.seeds) ls.addSphere({s[0], s[1], s[2]}, s[3]);
   Convergence conv;

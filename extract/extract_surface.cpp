@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <set>
 
 #include "core/error.h"
@@ -55,6 +56,7 @@ void toWorld(Mesh& mesh, const Volume& v) {
 Mesh finish(MarchingResult result, const Volume& geometry, const ExtractOptions& o, ExtractStats& s,
             std::chrono::steady_clock::time_point start) {
   s.cellsVisited = result.cellsVisited;
+  s.gpuBytes = result.gpuBytes;
   s.cellsTotal = (geometry.dims[0] + 1) * (geometry.dims[1] + 1) * (geometry.dims[2] + 1);
   Mesh mesh = std::move(result.mesh);
   s.componentsRemoved = keepComponents(mesh, o.largestComponent, o.minComponentTriangles);
@@ -125,12 +127,49 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
       }
     return inside > 0 && (inside < corners || border);
   };
+  s.path = o.gpu ? "gpu dense" : "cpu dense";
   return finish(o.gpu ? marchingCubesGpu(grid, s.iso, kBlock, visit) : marchingCubes(grid, s.iso, kBlock, visit), volume,
                 o, s, start);
 }
 
+namespace {
+
+// The blocks of cells that touch an active page: everywhere else phi is flat.
+std::function<bool(std::int64_t, std::int64_t, std::int64_t)> activeBlocks(const levelset::PageManager& pm) {
+  const int P = pm.pageSize();
+  const auto d = pm.dims();
+  const std::array<std::int64_t, 3> blocks{blockCount(d[0], kBlock), blockCount(d[1], kBlock), blockCount(d[2], kBlock)};
+  auto mark = std::make_shared<std::vector<char>>(std::size_t(blocks[0] * blocks[1] * blocks[2]), 0);
+  for (std::int64_t page : pm.activePages()) {
+    const auto [px, py, pz] = pm.pageCoords(page);
+    // Cells c - 1 and c touch voxel c, and cell c lies in block (c + 1) / kBlock: so the page's
+    // voxels [v0, v1] are touched by the blocks [v0 / kBlock, (v1 + 1) / kBlock] on each axis.
+    for (std::int64_t z = pz / kBlock; z <= std::min(blocks[2] - 1, (pz + 1) / kBlock); ++z)
+      for (std::int64_t y = (py * P) / kBlock; y <= std::min(blocks[1] - 1, (py * P + P) / kBlock); ++y)
+        for (std::int64_t x = (px * P) / kBlock; x <= std::min(blocks[0] - 1, (px * P + P) / kBlock); ++x)
+          (*mark)[std::size_t((z * blocks[1] + y) * blocks[0] + x)] = 1;
+  }
+  return [mark, blocks](std::int64_t bx, std::int64_t by, std::int64_t bz) {
+    return (*mark)[std::size_t((bz * blocks[1] + by) * blocks[0] + bx)] != 0;
+  };
+}
+
+}  // namespace
+
 Mesh extractLevelSet(const levelset::LevelSet& ls, const ExtractOptions& o, ExtractStats* stats) {
-  return extractLevelSet(ls, ls.phi(), o, stats);
+  const auto start = std::chrono::steady_clock::now();
+  ExtractStats local;
+  ExtractStats& s = stats ? *stats : local;
+  s.iso = o.iso.value_or(0.0f);
+  const bool gpu = o.gpu && ls.phiPoolTexture() != 0;
+  Grid grid{ls.pages().dims()};
+  grid.paged.pages = &ls.pages();
+  if (gpu) grid.paged.texture = ls.phiPoolTexture();
+  else grid.paged.pool = ls.phiPoolOnHost();
+  s.path = gpu ? "gpu pages" : "cpu pages";
+  const auto visit = activeBlocks(ls.pages());
+  MarchingResult r = gpu ? marchingCubesGpu(grid, s.iso, kBlock, visit) : marchingCubes(grid, s.iso, kBlock, visit);
+  return finish(std::move(r), ls.geometry(), o, s, start);
 }
 
 Mesh extractLevelSet(const levelset::LevelSet& ls, const Volume& phi, const ExtractOptions& o, ExtractStats* stats) {
@@ -140,28 +179,11 @@ Mesh extractLevelSet(const levelset::LevelSet& ls, const Volume& phi, const Extr
   ExtractStats local;
   ExtractStats& s = stats ? *stats : local;
   s.iso = o.iso.value_or(0.0f);
-  const auto* values = reinterpret_cast<const float*>(phi.data.data());
-  // Visit only blocks of cells that touch an active page: everywhere else phi is flat.
-  const levelset::PageManager& pm = ls.pages();
-  const int P = pm.pageSize();
-  const auto d = phi.dims;
-  const std::int64_t blocks[3] = {blockCount(d[0], kBlock), blockCount(d[1], kBlock), blockCount(d[2], kBlock)};
-  std::vector<char> mark(std::size_t(blocks[0] * blocks[1] * blocks[2]), 0);
-  for (std::int64_t page : pm.activePages()) {
-    const auto [px, py, pz] = pm.pageCoords(page);
-    // Cells c - 1 and c touch voxel c, and cell c lies in block (c + 1) / kBlock: so the page's
-    // voxels [v0, v1] are touched by the blocks [v0 / kBlock, (v1 + 1) / kBlock] on each axis.
-    for (std::int64_t z = pz / kBlock; z <= std::min(blocks[2] - 1, (pz + 1) / kBlock); ++z)
-      for (std::int64_t y = (py * P) / kBlock; y <= std::min(blocks[1] - 1, (py * P + P) / kBlock); ++y)
-        for (std::int64_t x = (px * P) / kBlock; x <= std::min(blocks[0] - 1, (px * P + P) / kBlock); ++x)
-          mark[std::size_t((z * blocks[1] + y) * blocks[0] + x)] = 1;
-  }
-  auto visit = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) {
-    return mark[std::size_t((bz * blocks[1] + by) * blocks[0] + bx)] != 0;
-  };
-  const Grid grid{d, values};
-  return finish(o.gpu ? marchingCubesGpu(grid, s.iso, kBlock, visit) : marchingCubes(grid, s.iso, kBlock, visit), phi, o,
-                s, start);
+  s.path = o.gpu ? "gpu dense" : "cpu dense";
+  const Grid grid{phi.dims, reinterpret_cast<const float*>(phi.data.data())};
+  const auto visit = activeBlocks(ls.pages());
+  MarchingResult r = o.gpu ? marchingCubesGpu(grid, s.iso, kBlock, visit) : marchingCubes(grid, s.iso, kBlock, visit);
+  return finish(std::move(r), phi, o, s, start);
 }
 
 }  // namespace isoatlas::extract

@@ -9,6 +9,7 @@
 #pragma once
 #include <cstdint>
 #include <optional>
+#include <string>
 
 #include "core/mesh.h"
 #include "core/volume.h"
@@ -30,14 +31,20 @@ struct ExtractOptions {
 struct ExtractStats {
   float iso = 0;
   bool binaryInput = false;
+  std::string path;  // "gpu pages", "cpu pages" (from a level set's pages), "gpu dense", "cpu dense"
   std::int64_t cellsVisited = 0, cellsTotal = 0;
   std::int64_t componentsRemoved = 0;
+  std::uint64_t gpuBytes = 0;  // GPU memory the extraction allocated (GPU paths)
   double seconds = 0;
 };
 
 Mesh extractSurface(const Volume& volume, const ExtractOptions& options, ExtractStats* stats = nullptr);
+// From the level set's pages, where its backend keeps them, with no dense phi on the host or the
+// GPU: on the GPU (options.gpu and a GPU level set) the shaders read the solver's pool texture in the
+// current GL context; otherwise the CPU reads the pool on the host (the GPU's read back once).
 Mesh extractLevelSet(const levelset::LevelSet& levelSet, const ExtractOptions& options, ExtractStats* stats = nullptr);
-// The same from phi already read back (levelSet.phi(), which reads the GPU's pages).
+// The same from a dense phi (levelSet.phi()), over the same blocks: the reference the paged path is
+// tested and benchmarked against.
 Mesh extractLevelSet(const levelset::LevelSet& levelSet, const Volume& phi, const ExtractOptions& options,
                      ExtractStats* stats = nullptr);
 

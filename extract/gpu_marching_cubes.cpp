@@ -7,6 +7,7 @@
 #include "core/gl/program.h"
 #include "core/gl/resources.h"
 #include "extract/gpu_scan.h"
+#include "kExtractShaders.h"
 
 namespace isoatlas::extract {
 namespace {
@@ -19,8 +20,47 @@ struct GpuVertex {
 };
 static_assert(sizeof(GpuVertex) == 32);
 
-std::pair<GLuint, GLuint> groupsFor(std::uint64_t n) {
-  return {GLuint(std::min<std::uint64_t>(n, 65535)), GLuint((n + 65534) / 65535)};
+// The blocks that get storage (see marching.glsl): the visited ones first, then those that only hold
+// corners of visited cells (a visited block's upper neighbours); and the table from block to slot.
+struct BlockStorage {
+  std::vector<std::int32_t> blocks;  // x, y, z, 0 per block
+  std::int32_t visited = 0;
+  std::array<std::int64_t, 3> grid{};  // blocks per axis in `slots`: the grid points' blocks
+  std::vector<std::int32_t> slots;     // per block of `grid`: its index in `blocks`, or -1
+  std::int32_t count() const { return std::int32_t(blocks.size() / 4); }
+};
+
+BlockStorage blockStorage(const std::array<std::int64_t, 3>& d, int blockSize,
+                          const std::function<bool(std::int64_t, std::int64_t, std::int64_t)>& visitBlock) {
+  BlockStorage s;
+  // Grid points run from -1 to dims: they reach one block past the cells' last on some axes.
+  for (int a = 0; a < 3; ++a) s.grid[a] = (d[a] + 1) / blockSize + 1;
+  s.slots.assign(std::size_t(s.grid[0] * s.grid[1] * s.grid[2]), -1);
+  auto slotOf = [&](std::int64_t x, std::int64_t y, std::int64_t z) -> std::int32_t& {
+    return s.slots[std::size_t((z * s.grid[1] + y) * s.grid[0] + x)];
+  };
+  auto add = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+    std::int32_t& slot = slotOf(x, y, z);
+    if (slot >= 0) return;
+    slot = s.count();
+    s.blocks.insert(s.blocks.end(), {std::int32_t(x), std::int32_t(y), std::int32_t(z), 0});
+  };
+  const std::int64_t nb[3] = {blockCount(d[0], blockSize), blockCount(d[1], blockSize), blockCount(d[2], blockSize)};
+  std::vector<std::array<std::int64_t, 3>> visited;
+  for (std::int64_t bz = 0; bz < nb[2]; ++bz)
+    for (std::int64_t by = 0; by < nb[1]; ++by)
+      for (std::int64_t bx = 0; bx < nb[0]; ++bx)
+        if (!visitBlock || visitBlock(bx, by, bz)) {
+          add(bx, by, bz);
+          visited.push_back({bx, by, bz});
+        }
+  s.visited = s.count();
+  for (const auto& b : visited)
+    for (int k = 1; k < 8; ++k) {
+      const std::int64_t x = b[0] + (k & 1), y = b[1] + ((k >> 1) & 1), z = b[2] + ((k >> 2) & 1);
+      if (x < s.grid[0] && y < s.grid[1] && z < s.grid[2]) add(x, y, z);
+    }
+  return s;
 }
 
 }  // namespace
@@ -28,34 +68,40 @@ std::pair<GLuint, GLuint> groupsFor(std::uint64_t n) {
 MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
                                 const std::function<bool(std::int64_t, std::int64_t, std::int64_t)>& visitBlock) {
   require(blockSize == 8, "the GPU extraction works in blocks of 8^3 cells");
-  auto ctx = gl::Context::headless();
+  const bool paged = grid.paged.texture != 0;
+  require(paged || grid.values, "marchingCubesGpu: the grid has neither values nor a GPU page pool");
+  gl::Context& ctx = gl::Context::current();
   const auto d = grid.dims;
-  const std::uint64_t cells = std::uint64_t(d[0] + 1) * std::uint64_t(d[1] + 1) * std::uint64_t(d[2] + 1);
-  const std::uint64_t points = std::uint64_t(d[0] + 2) * std::uint64_t(d[1] + 2) * std::uint64_t(d[2] + 2);
-  if (points >= (std::uint64_t(1) << 31))
-    throw Error("the volume is too large for the GPU extraction path; use --backend cpu", ErrorKind::Failure);
-
-  std::vector<std::int32_t> blocks;
-  const std::int64_t nb[3] = {blockCount(d[0], blockSize), blockCount(d[1], blockSize), blockCount(d[2], blockSize)};
-  for (std::int64_t bz = 0; bz < nb[2]; ++bz)
-    for (std::int64_t by = 0; by < nb[1]; ++by)
-      for (std::int64_t bx = 0; bx < nb[0]; ++bx)
-        if (!visitBlock || visitBlock(bx, by, bz))
-          blocks.insert(blocks.end(), {std::int32_t(bx), std::int32_t(by), std::int32_t(bz), 0});
+  const BlockStorage storage = blockStorage(d, blockSize, visitBlock);
   MarchingResult result;
-  const std::int32_t blockCount = std::int32_t(blocks.size() / 4);
-  if (blockCount == 0) return result;
+  if (storage.visited == 0) return result;
+  const std::uint64_t blockCells = std::uint64_t(blockSize) * std::uint64_t(blockSize) * std::uint64_t(blockSize);
+  const std::uint64_t cells = std::uint64_t(storage.visited) * blockCells;
+  const std::uint64_t points = std::uint64_t(storage.count()) * blockCells;
+  if (points >= (std::uint64_t(1) << 31))
+    throw Error("the surface is too large for the GPU extraction path; use --backend cpu", ErrorKind::Failure);
 
-  const gl::Defines defines{{"BLOCK_SIZE", std::to_string(blockSize)}};
-  gl::Program classify = gl::Program::compute("extract/shaders/mc_classify.comp", defines);
-  gl::Program countEdges = gl::Program::compute("extract/shaders/mc_count_edges.comp");
-  gl::Program makeVertices = gl::Program::compute("extract/shaders/mc_vertices.comp", defines);
-  gl::Program makeTriangles = gl::Program::compute("extract/shaders/mc_triangles.comp", defines);
-  GpuScan scan;
+  gl::Defines defines{{"BLOCK_SIZE", std::to_string(blockSize)}};
+  if (paged) defines.insert(defines.end(), {{"FIELD_PAGES", "1"}, {"PAGE_SIZE", std::to_string(grid.paged.pages->pageSize())}});
+  const gl::Program& classify = ctx.compute(gl::kExtractShaders, "extract/shaders/mc_classify.comp", defines);
+  const gl::Program& countEdges = ctx.compute(gl::kExtractShaders, "extract/shaders/mc_count_edges.comp");
+  const gl::Program& makeVertices = ctx.compute(gl::kExtractShaders, "extract/shaders/mc_vertices.comp", defines);
+  const gl::Program& makeTriangles = ctx.compute(gl::kExtractShaders, "extract/shaders/mc_triangles.comp", defines);
+  GpuScan scan(ctx);
 
+  // The field: the dense values, or the page table through which the shaders read the pool.
+  gl::Buffer field;
+  if (paged) {
+    const levelset::PageManager& pm = *grid.paged.pages;
+    std::vector<std::int32_t> pageSlots(std::size_t(pm.virtualPageCount()));
+    for (std::size_t page = 0; page < pageSlots.size(); ++page) pageSlots[page] = pm.slotOf(std::int64_t(page));
+    field = gl::Buffer::of(pageSlots);
+    glBindImageTexture(0, grid.paged.texture, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+  } else {
+    field = gl::Buffer(grid.voxels() * sizeof(float), grid.values);
+  }
   const PackedCaseTable& table = packedCaseTable();
-  gl::Buffer field(grid.voxels() * sizeof(float), grid.values);
-  gl::Buffer blockBuffer = gl::Buffer::of(blocks);
+  gl::Buffer blockBuffer = gl::Buffer::of(storage.blocks), slotBuffer = gl::Buffer::of(storage.slots);
   gl::Buffer caseIndex = gl::Buffer::of(table.index), polygons = gl::Buffer::of(table.polygons);
   gl::Buffer cellTriangles(cells * 4), cellCentres(cells * 4), edgeBits(points * 4), edgeOffset(points * 4), visited(16);
   for (gl::Buffer* b : {&cellTriangles, &cellCentres, &edgeBits, &visited}) b->fillZero();
@@ -66,19 +112,26 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
     for (const gl::Buffer* b : {&field, &blockBuffer, &caseIndex, &polygons, &cellTriangles, &cellCentres, &edgeBits,
                                 &visited, &edgeOffset})
       b->bindBase(GL_SHADER_STORAGE_BUFFER, GLuint(binding++));
+    slotBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 11);
   };
   bindAll();
   auto common = [&](const gl::Program& p) {
     p.use();
     glUniform3i(p.uniform("dims"), int(d[0]), int(d[1]), int(d[2]));
     glUniform1f(p.uniform("iso"), iso);
-    glUniform1i(p.uniform("blockCount"), blockCount);
+    glUniform1i(p.uniform("visitedBlocks"), storage.visited);
+    glUniform3i(p.uniform("blockGrid"), int(storage.grid[0]), int(storage.grid[1]), int(storage.grid[2]));
+    if (paged) {
+      const levelset::PageManager& pm = *grid.paged.pages;
+      glUniform1i(p.uniform("poolPagesX"), pm.poolPagesX());
+      glUniform2i(p.uniform("pagesXY"), int(pm.pages()[0]), int(pm.pages()[1]));
+    }
   };
-  const auto [bx, by] = groupsFor(std::uint64_t(blockCount));
+  const auto [bx, by] = gl::dispatchGrid(std::uint64_t(storage.visited));
   common(classify);
   classify.dispatch(bx, by, 1, GL_SHADER_STORAGE_BARRIER_BIT);
 
-  const auto [px, py] = groupsFor((points + 255) / 256);
+  const auto [px, py] = gl::dispatchGrid((points + 255) / 256);
   countEdges.use();
   glUniform1ui(countEdges.uniform("pointCount"), GLuint(points));
   countEdges.dispatch(px, py, 1, GL_SHADER_STORAGE_BARRIER_BIT);
@@ -106,6 +159,9 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   std::uint32_t visitedCells = 0;
   visited.download(&visitedCells, 4);
   result.cellsVisited = visitedCells;
+  for (const gl::Buffer* b : {&field, &blockBuffer, &slotBuffer, &caseIndex, &polygons, &cellTriangles, &cellCentres,
+                              &edgeBits, &edgeOffset, &visited, &vertices, &triangles})
+    result.gpuBytes += b->bytes();
   Mesh& mesh = result.mesh;
   mesh.positions.resize(std::size_t(edgeVertexCount) + centreCount, Vec3{0, 0, 0});
   for (std::uint32_t i = 0; i < edgeVertexCount; ++i) {

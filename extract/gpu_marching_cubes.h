@@ -1,9 +1,13 @@
 // marchingCubesGpu: the GPU twin of marchingCubes (marching_cubes.h), in GL 4.5 compute shaders
 // (extract/shaders/): classify the cells of the visited blocks (triangle and centre counts, the grid
 // edges used), compact by prefix sums, make each vertex once on the edge it lies on, then write the
-// triangles. It gives the CPU's mesh: the same vertices in the same order (positions equal to float
-// rounding), the same triangles in the same (cell) order.
-// Creates its own headless GL context (a GPU through EGL, else Mesa's llvmpipe).
+// triangles. It gives the CPU's mesh: the same vertices (positions equal to float rounding) and the
+// same triangles, numbered block by block (visited blocks in order, cells and points in each block
+// in order) where the CPU numbers them across the whole grid.
+// The field is the grid's dense values (uploaded), or, for a Grid whose paged.texture is set, phi in
+// a GPU level set's page pool, read in place through its page table: no dense copy of phi on the host
+// or the GPU, and GPU memory (the field's besides) follows the visited blocks, not the grid.
+// Runs in the current GL context (gl::Context::current(), checked); a paged texture must belong to it.
 #pragma once
 #include "extract/marching_cubes.h"
 

@@ -2,17 +2,19 @@
 
 #include <algorithm>
 
+#include "kExtractShaders.h"
+
 namespace isoatlas::extract {
 
-GpuScan::GpuScan()
-    : scanBlocks_(gl::Program::compute("extract/shaders/scan.comp", {{"SCAN_BLOCKS", "1"}})),
-      addOffsets_(gl::Program::compute("extract/shaders/scan.comp")) {}
+GpuScan::GpuScan(gl::Context& context)
+    : scanBlocks_(context.compute(gl::kExtractShaders, "extract/shaders/scan.comp", {{"SCAN_BLOCKS", "1"}})),
+      addOffsets_(context.compute(gl::kExtractShaders, "extract/shaders/scan.comp")) {}
 
 std::uint32_t GpuScan::exclusive(gl::Buffer& values, std::uint32_t count) {
   if (count == 0) return 0;
   const std::uint32_t groups = (count + 1023) / 1024;
   gl::Buffer sums(std::size_t(groups) * 4 + 4);
-  const GLuint gx = std::min<GLuint>(groups, 65535), gy = (groups + 65534) / 65535;
+  const auto [gx, gy] = gl::dispatchGrid(groups);
   values.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
   sums.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
   scanBlocks_.use();

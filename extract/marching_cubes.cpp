@@ -131,6 +131,29 @@ const PackedCaseTable& packedCaseTable() {
   return packed;
 }
 
+float Grid::at(std::int64_t x, std::int64_t y, std::int64_t z) const {
+  if (values) return values[std::size_t((z * dims[1] + y) * dims[0] + x)];
+  const levelset::PageManager& pm = *paged.pages;
+  const int P = pm.pageSize();
+  const auto origin = pm.slotOrigin(pm.slotOf(pm.pageIndex(x / P, y / P, z)));
+  const std::size_t width = std::size_t(pm.poolPagesX()) * std::size_t(P);
+  return paged.pool[std::size_t(origin[1] + y % P) * width + std::size_t(origin[0] + x % P)];
+}
+
+const float* Grid::row(std::int64_t y, std::int64_t z, std::vector<float>& scratch) const {
+  if (values) return values + std::size_t((z * dims[1] + y) * dims[0]);
+  const levelset::PageManager& pm = *paged.pages;
+  const int P = pm.pageSize();
+  const std::size_t width = std::size_t(pm.poolPagesX()) * std::size_t(P);
+  scratch.resize(std::size_t(dims[0]));
+  for (std::int64_t x0 = 0; x0 < dims[0]; x0 += P) {
+    const auto origin = pm.slotOrigin(pm.slotOf(pm.pageIndex(x0 / P, y / P, z)));
+    const float* from = paged.pool + std::size_t(origin[1] + y % P) * width + std::size_t(origin[0]);
+    std::copy_n(from, std::min<std::int64_t>(P, dims[0] - x0), scratch.data() + x0);
+  }
+  return scratch.data();
+}
+
 namespace {
 
 constexpr float kOffCorner = 1e-3f;  // crossing points stay this far (in voxels) from grid points
@@ -256,8 +279,9 @@ private:
     inside_.assign(rows_ * width, 0);
     const float iso = iso_;  // a local: the byte stores could alias a member
     tbb::parallel_for(std::int64_t(0), d_[2], [&](std::int64_t z) {
+      std::vector<float> scratch;
       for (std::int64_t y = 0; y < d_[1]; ++y) {
-        const float* v = grid_.values + std::size_t((z * d_[1] + y) * d_[0]);
+        const float* v = grid_.row(y, z, scratch);
         std::uint8_t* out = inside_.data() + std::size_t((z + 1) * py_ + y + 1) * width + 1;
         for (std::int64_t x = 0, n = d_[0]; x < n; ++x) out[x] = v[x] > iso;
       }

@@ -17,21 +17,33 @@
 #include <vector>
 
 #include "core/mesh.h"
+#include "levelset/page_manager.h"
 
 namespace isoatlas::extract {
 
+// phi where a level set's pages hold it: its pool (rows of poolPagesX * P texels), each voxel found
+// through the page table (inactive pages read the static inside/outside slots).
+struct PagedPhi {
+  const levelset::PageManager* pages = nullptr;
+  const float* pool = nullptr;  // on the host: what the CPU path reads
+  unsigned texture = 0;         // on the GPU (r32f, in the current GL context): what the GPU path reads
+};
+
+// A scalar field on dims grid points, x fastest: dense `values`, or `paged` (no dense copy anywhere).
 struct Grid {
   std::array<std::int64_t, 3> dims;
-  const float* values;  // x fastest
+  const float* values = nullptr;
+  PagedPhi paged = {};
   std::size_t voxels() const { return std::size_t(dims[0]) * std::size_t(dims[1]) * std::size_t(dims[2]); }
-  float at(std::int64_t x, std::int64_t y, std::int64_t z) const {
-    return values[std::size_t((z * dims[1] + y) * dims[0] + x)];
-  }
+  float at(std::int64_t x, std::int64_t y, std::int64_t z) const;
+  // Row (y, z): dims[0] values, copied into `scratch` when paged.
+  const float* row(std::int64_t y, std::int64_t z, std::vector<float>& scratch) const;
 };
 
 struct MarchingResult {
   Mesh mesh;
   std::int64_t cellsVisited = 0;
+  std::uint64_t gpuBytes = 0;  // GPU memory the extraction allocated (the GPU path; a paged field's pool not counted)
 };
 
 // Blocks of blockSize cells along an axis of `points` grid points: block b holds cells

@@ -132,10 +132,13 @@ public:
     }
   }
 
+  const float* phiPoolOnHost() override { return phi_.data(); }
+
   std::uint64_t physicalBytes() const override {
     std::size_t moving = 0;
     for (const auto& m : moving_) moving += m.capacity();
-    return phi_.size() * sizeof(float) + moving * sizeof(Moving) + pages_.size() * sizeof(PageInfo);
+    return phi_.size() * sizeof(float) + moving * sizeof(Moving) + pages_.size() * sizeof(PageInfo) +
+           source_.size() * sizeof(float);
   }
 
 private:

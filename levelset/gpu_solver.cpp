@@ -6,6 +6,7 @@
 #include "core/gl/context.h"
 #include "core/gl/program.h"
 #include "core/gl/resources.h"
+#include "kLevelsetShaders.h"
 #include "levelset/speed.h"
 
 namespace isoatlas::levelset {
@@ -24,12 +25,10 @@ using Origin = std::array<std::int32_t, 2>;  // std430 ivec2
 
 class GpuSolver final : public SolverBackend {
 public:
-  GpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims) : source_(std::move(source)), dims_(dims) {
-    ctx_ = gl::Context::headless();
-    counters_ = gl::Buffer(16);
-  }
+  GpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims)
+      : ctx_(gl::Context::current()), source_(std::move(source)), dims_(dims), counters_(16) {}
 
-  std::string name() const override { return "gpu (" + ctx_->info().renderer + ")"; }
+  std::string name() const override { return "gpu (" + ctx_.info().renderer + ")"; }
 
   void pagesChanged(const PageManager& pm, const std::vector<std::pair<std::int32_t, float>>& filled) override {
     if (P_ != pm.pageSize()) {
@@ -39,10 +38,10 @@ public:
                                 {"CFL_FRACTION", gl::glslFloat(kCflFraction)},
                                 {"CURVATURE_LIMIT", gl::glslFloat(kCurvatureLimit)},
                                 {"RESCALE_SPEED", gl::glslFloat(kRescaleSpeed)}};
-      speed_ = gl::Program::compute("levelset/shaders/speed.comp", defines);
-      update_ = gl::Program::compute("levelset/shaders/update.comp", defines);
-      message_ = gl::Program::compute("levelset/shaders/message.comp", defines);
-      writePages_ = gl::Program::compute("levelset/shaders/write_pages.comp", defines);
+      speed_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/speed.comp", defines);
+      update_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/update.comp", defines);
+      message_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/message.comp", defines);
+      writePages_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/write_pages.comp", defines);
     }
     growPool(pm);
     if (!filled.empty()) {
@@ -81,28 +80,28 @@ public:
     pageTable_.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
     counters_.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
     messages_.bindBase(GL_SHADER_STORAGE_BUFFER, 2);
-    const GLuint groupsX = GLuint(std::min(pageCount_, 65535)), groupsY = GLuint((pageCount_ + 65534) / 65535);
+    const auto [groupsX, groupsY] = gl::dispatchGrid(std::uint64_t(pageCount_));
 
-    setCommon(speed_);
-    glUniform1f(speed_.uniform("target"), params.target);
-    glUniform1f(speed_.uniform("width"), params.width);
-    glUniform1f(speed_.uniform("alpha"), params.alpha);
+    setCommon(*speed_);
+    glUniform1f(speed_->uniform("target"), params.target);
+    glUniform1f(speed_->uniform("width"), params.width);
+    glUniform1f(speed_->uniform("alpha"), params.alpha);
     glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     glBindImageTexture(2, sourcePool_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-    speed_.dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    speed_->dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 
-    setCommon(update_);
-    glUniform1f(update_.uniform("alpha"), params.alpha);
+    setCommon(*update_);
+    glUniform1f(update_->uniform("alpha"), params.alpha);
     glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     glBindImageTexture(2, phi_[1 - current_].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    update_.dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    update_->dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     current_ = 1 - current_;
 
-    setCommon(message_);
+    setCommon(*message_);
     glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-    message_.dispatch(groupsX, groupsY, 1, GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    message_->dispatch(groupsX, groupsY, 1, GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 
     // The only read back: 16 bytes of counters and one byte per active page.
     std::uint32_t counters[4];
@@ -124,8 +123,7 @@ public:
     if (slots.empty()) return out;
     // Many pages: one read of the whole pool; few: one read per page.
     if (slots.size() > 64) {
-      std::vector<float> pool(std::size_t(poolWidth_) * std::size_t(poolHeight_));
-      glGetTextureImage(phi_[current_].id(), 0, GL_RED, GL_FLOAT, GLsizei(pool.size() * 4), pool.data());
+      const float* pool = phiPoolOnHost();
       for (std::size_t s = 0; s < slots.size(); ++s) {
         const auto o = pm.slotOrigin(slots[s]);
         for (int y = 0; y < P_; ++y)
@@ -149,8 +147,18 @@ public:
     writePages(phi_[current_], origins, values);
   }
 
+  const float* phiPoolOnHost() override {
+    hostPool_.resize(std::size_t(poolWidth_) * std::size_t(poolHeight_));
+    glGetTextureImage(phi_[current_].id(), 0, GL_RED, GL_FLOAT, GLsizei(hostPool_.size() * 4), hostPool_.data());
+    gl::checkErrors("reading the phi pool");
+    return hostPool_.data();
+  }
+
+  unsigned phiPoolTexture() const override { return phi_[current_].id(); }
+
   std::uint64_t physicalBytes() const override {
-    // Four pool textures (phi twice, rate, source): the memory follows the active pages, not the volume.
+    // GPU memory: four pool textures (phi twice, rate, source) and the tables, following the active
+    // pages, not the volume (the host keeps the source's intensities for pages yet to come).
     return std::uint64_t(poolWidth_) * std::uint64_t(poolHeight_) * 4 * 4 + pageTable_.bytes() + messages_.bytes();
   }
 
@@ -166,7 +174,7 @@ private:
   void growPool(const PageManager& pm) {
     const int width = pm.poolPagesX() * P_, height = pm.capacity() / pm.poolPagesX() * P_;
     if (height <= poolHeight_) return;
-    if (height > ctx_->info().maxTextureSize)
+    if (height > ctx_.info().maxTextureSize)
       throw Error("the GPU's physical page pool is full (" + std::to_string(pm.capacity()) + " pages); use --backend cpu",
                   ErrorKind::Failure);
     glMemoryBarrier(GL_ALL_BARRIER_BITS);  // image stores before the copies below read the texels
@@ -214,16 +222,16 @@ private:
   void writePages(const gl::Texture& target, const std::vector<Origin>& origins, const std::vector<float>& values) {
     const std::size_t area = std::size_t(P_) * std::size_t(P_);
     const std::size_t batch = (std::size_t(128) << 20) / (area * sizeof(float));
-    writePages_.use();
+    writePages_->use();
     glBindImageTexture(0, target.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     for (std::size_t first = 0; first < origins.size(); first += batch) {
       const std::size_t n = std::min(batch, origins.size() - first);
       gl::Buffer originBuffer(n * sizeof(Origin), &origins[first]), valueBuffer(n * area * sizeof(float), &values[first * area]);
       originBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
       valueBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 4);
-      glUniform1i(writePages_.uniform("pageCount"), int(n));
-      writePages_.dispatch(GLuint(std::min<std::size_t>(n, 65535)), GLuint((n + 65534) / 65535), 1,
-                           GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+      glUniform1i(writePages_->uniform("pageCount"), int(n));
+      const auto [x, y] = gl::dispatchGrid(n);
+      writePages_->dispatch(x, y, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
     }
     gl::checkErrors("writing pages");
   }
@@ -240,13 +248,14 @@ private:
     writePages(target, origins, values);
   }
 
-  std::unique_ptr<gl::Context> ctx_;
+  gl::Context& ctx_;
   std::vector<float> source_;  // the whole volume, in host memory; the GPU holds active pages only
   std::array<std::int64_t, 3> dims_;
   std::vector<std::int64_t> slotPage_;  // per slot: the page whose intensities sourcePool_ holds there
   gl::Texture phi_[2], rate_, sourcePool_;
   gl::Buffer pageTable_, counters_, messages_;
-  gl::Program speed_, update_, message_, writePages_;
+  const gl::Program *speed_ = nullptr, *update_ = nullptr, *message_ = nullptr, *writePages_ = nullptr;  // ctx_'s
+  std::vector<float> hostPool_;  // phiPoolOnHost's copy
   int current_ = 0, P_ = 0, poolWidth_ = 0, poolHeight_ = 0;
   std::int32_t pageCount_ = 0;
 };

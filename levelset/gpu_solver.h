@@ -4,7 +4,8 @@
 // follows the active pages and not the volume. The speed reads them, so changing T/eps/alpha costs
 // nothing. Per iteration the CPU uploads the active-page table when the active set changed and reads
 // back one byte per active page plus 16 bytes of counters.
-// Creates its own headless GL context (a GPU through EGL, else Mesa's llvmpipe).
+// Runs in the GL context current when it is made (gl::Context::current(), checked); that context
+// must be current whenever the solver is used or destroyed.
 #pragma once
 #include <memory>
 

@@ -58,9 +58,14 @@ public:
   RunStats run(const RunOptions& options);
 
   Volume phi() const;   // float32, the source's geometry; inactive pages read as +-kClamp
+  // phi where the backend keeps it, for readers that follow the pages (extraction): the pool on the
+  // host (the GPU's read back) and, on the GPU, its texture (0 on the CPU). See SolverBackend.
+  const float* phiPoolOnHost() const { return backend_->phiPoolOnHost(); }
+  unsigned phiPoolTexture() const { return backend_->phiPoolTexture(); }
   Volume mask() const;  // maskOf(phi())
 
   const PageManager& pages() const { return *pages_; }
+  const Volume& geometry() const { return geometry_; }  // the source's dims, spacing, origin, direction; no voxels
   std::string backendName() const { return backend_->name(); }
   std::uint64_t physicalBytes() const { return backend_->physicalBytes(); }
   std::uint64_t physicalBytesPeak() const { return physicalBytesPeak_; }

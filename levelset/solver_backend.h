@@ -31,7 +31,16 @@ public:
   // P*P values per slot, row-major, from the current phi.
   virtual std::vector<float> readSlots(const PageManager& pm, const std::vector<std::int32_t>& slots) = 0;
   virtual void writeSlots(const PageManager& pm, const std::vector<std::int32_t>& slots, const std::vector<float>& values) = 0;
-  virtual std::uint64_t physicalBytes() const = 0;  // phi storage (both copies) and per-page tables
+  // The whole current phi pool for readers in this process (extraction from the pages): rows of
+  // poolPagesX * P texels, capacity / poolPagesX * P rows, slots where PageManager says (the static
+  // pages included). On the host: the CPU's own storage, or the GPU's read back once per call; valid
+  // until the backend is next used.
+  virtual const float* phiPoolOnHost() = 0;
+  // The GL texture (r32f) holding that pool, in the context the solver was made in; 0 on the CPU.
+  virtual unsigned phiPoolTexture() const { return 0; }
+  // The solver's memory: phi (both copies on the GPU), per-page tables, and the source it reads where
+  // that lives in the same memory (the CPU's volume; the GPU's source pages).
+  virtual std::uint64_t physicalBytes() const = 0;
 };
 
 }  // namespace isoatlas::levelset

@@ -7,6 +7,7 @@
 #include "core/gl/context.h"
 #include "core/gl/program.h"
 #include "core/gl/resources.h"
+#include "kViewerShaders.h"
 
 namespace isoatlas::viewer {
 
@@ -29,7 +30,7 @@ std::vector<Vec3> vertexNormals(const Mesh& m) {
 Image renderMesh(const Mesh& mesh, const MeshRenderOptions& o) {
   require(mesh.faceCount() > 0, "nothing to render: the mesh has no faces");
   require(o.width > 0 && o.height > 0 && o.width <= 8192 && o.height <= 8192, "image size out of range");
-  auto ctx = gl::Context::headless();
+  gl::Context& ctx = gl::Context::current();
 
   // Triangles as flat arrays of floats: position and normal per corner.
   const std::vector<Vec3> normals = vertexNormals(mesh);
@@ -87,7 +88,7 @@ Image renderMesh(const Mesh& mesh, const MeshRenderOptions& o) {
   glClearColor(float(o.background.x), float(o.background.y), float(o.background.z), 1);
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  gl::Program program = gl::Program::graphics({"viewer/shaders/mesh.vert", "viewer/shaders/mesh.frag"});
+  const gl::Program& program = ctx.program({gl::kViewerShaders, {"viewer/shaders/mesh.vert", "viewer/shaders/mesh.frag"}, {}, {}});
   program.use();
   glUniformMatrix4fv(program.uniform("viewProjection"), 1, GL_FALSE, m);
   glUniform3f(program.uniform("viewDirection"), float(forward.x), float(forward.y), float(forward.z));

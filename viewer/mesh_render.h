@@ -1,5 +1,6 @@
-// renderMesh: a headless picture of a triangle mesh (EGL; a GPU or Mesa's llvmpipe), lit, framed on
-// its bounding box, seen from a direction.
+// renderMesh: a picture of a triangle mesh, lit, framed on its bounding box, seen from a direction,
+// drawn offscreen in the current GL context (gl::Context::current(), checked: headless EGL on a GPU or
+// Mesa's llvmpipe, or a window's).
 //   mesh:      triangles in world coordinates (normals are computed from the faces)
 //   options:   image size, view direction (from the camera into the scene), up vector, colours
 // Returns an RGB image, rows top to bottom.

@@ -5,6 +5,7 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
@@ -16,6 +17,8 @@ namespace isoatlas::gl {
 namespace {
 
 std::string g_debugError;  // first error message from GL debug output since the last checkErrors()
+thread_local Context* t_current = nullptr;  // the context of ours this thread last made current
+std::atomic<int> g_made{0};
 
 [[maybe_unused]] void GLAPIENTRY onDebugMessage(GLenum, GLenum type, GLuint, GLenum severity, GLsizei, const GLchar* message,
                                const void*) {
@@ -177,6 +180,8 @@ std::unique_ptr<Context> Context::window(int width, int height, const std::strin
 }
 
 void Context::finishSetup(const std::string& platform) {
+  ++g_made;
+  t_current = this;
   queryInfo(info_);
   info_.platform = platform;
   if (epoxy_gl_version() < 45)
@@ -193,9 +198,43 @@ void Context::finishSetup(const std::string& platform) {
 void Context::makeCurrent() {
   if (window_) glfwMakeContextCurrent(window_);
   else eglMakeCurrent(static_cast<EGLDisplay>(display_), EGL_NO_SURFACE, EGL_NO_SURFACE, static_cast<EGLContext>(context_));
+  t_current = this;
+}
+
+void Context::releaseCurrent() {
+  if (window_) glfwMakeContextCurrent(nullptr);
+  else eglMakeCurrent(static_cast<EGLDisplay>(display_), EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  if (t_current == this) t_current = nullptr;
+}
+
+bool Context::isCurrent() const {
+  if (window_) return glfwGetCurrentContext() == window_;
+  return eglGetCurrentContext() == static_cast<EGLContext>(context_);
+}
+
+Context& Context::current() {
+  if (!t_current || !t_current->isCurrent())
+    throw Error("no OpenGL context is current: make one (gl::Context::headless() or window()) before any GPU work",
+                ErrorKind::Failure);
+  return *t_current;
+}
+
+int Context::made() { return g_made; }
+
+const Program& Context::program(const ProgramSource& source) {
+  const std::string key = source.key();
+  if (auto it = programs_.find(key); it != programs_.end()) return it->second;
+  if (!isCurrent()) throw Error("compiling " + source.paths.at(0) + ": its GL context is not current", ErrorKind::Failure);
+  Program compiled(source);
+  ++programsCompiled_;
+  return programs_.emplace(key, std::move(compiled)).first->second;
 }
 
 Context::~Context() {
+  // The cached programs go first, while this context is current.
+  makeCurrent();
+  programs_.clear();
+  if (t_current == this) t_current = nullptr;
   if (window_) {
     // No glfwTerminate, for the same reason as no eglTerminate below: it unloads the GL driver.
     glfwDestroyWindow(window_);

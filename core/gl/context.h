@@ -3,10 +3,17 @@
 //               (llvmpipe on a machine without a GPU). There is no default framebuffer: bind an FBO
 //               before drawing. ISOATLAS_EGL=device|surfaceless forces one platform.
 //   window():   a GLFW window (needs a display; Xvfb in tests).
+// The caller makes the context and keeps it current; GPU algorithms take the current one
+// (Context::current(), checked) and never open their own, as OpenSubdiv's GL evaluators do. A process
+// makes one unless it asks for more. GL objects made in a context must be destroyed before it, while
+// it is current.
 // In debug builds GL debug output is on and errors it reports are thrown by checkErrors().
 #pragma once
+#include <map>
 #include <memory>
 #include <string>
+
+#include "core/gl/program.h"
 
 struct GLFWwindow;
 
@@ -32,6 +39,22 @@ public:
   Context& operator=(const Context&) = delete;
 
   void makeCurrent();
+  // No context current on this thread afterwards (the viewer hands its window to another thread).
+  void releaseCurrent();
+  bool isCurrent() const;  // asks EGL or GLFW, not a flag of ours
+  // The context of ours current on this thread; throws Error (Failure) when there is none.
+  static Context& current();
+  // Contexts this process has made so far (reported as gl_contexts).
+  static int made();
+
+  // The program compiled from `source` in this context: compiled on the first request, the same
+  // object afterwards. Lives as long as the context.
+  const Program& program(const ProgramSource& source);
+  const Program& compute(const EmbeddedShader* files, const std::string& path, const Defines& defines = {}) {
+    return program({files, {path}, defines, {}});
+  }
+  int programsCompiled() const { return programsCompiled_; }
+
   const Info& info() const { return info_; }
   GLFWwindow* glfwWindow() const { return window_; }
 
@@ -39,6 +62,8 @@ private:
   Context() = default;
   void finishSetup(const std::string& platform);
   Info info_;
+  std::map<std::string, Program> programs_;
+  int programsCompiled_ = 0;
   void* display_ = nullptr;  // EGLDisplay
   void* context_ = nullptr;  // EGLContext
   GLFWwindow* window_ = nullptr;

@@ -5,6 +5,8 @@
 #include "core/gl/shader_library.h"
 #include "core/gz_file.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
 
 namespace isoatlas::gl {
@@ -29,8 +31,8 @@ std::string withDefines(std::string source, const Defines& defines) {
   return source;
 }
 
-GLuint compile(const std::string& path, const Defines& defines) {
-  const std::string source = withDefines(shaderSource(path), defines);
+GLuint compile(const EmbeddedShader* files, const std::string& path, const Defines& defines) {
+  const std::string source = withDefines(shaderSource(files, path), defines);
   const GLuint shader = glCreateShader(stageOf(path));
   const char* text = source.c_str();
   glShaderSource(shader, 1, &text, nullptr);
@@ -58,44 +60,40 @@ std::string glslFloat(float value) {
   return literal;
 }
 
-Program Program::compute(const std::string& path, const Defines& defines) { return link({path}, defines, {}); }
-
-Program Program::graphics(const std::vector<std::string>& paths, const Defines& defines) {
-  return link(paths, defines, {});
+std::string ProgramSource::key() const {
+  std::string k = std::to_string(reinterpret_cast<std::uintptr_t>(files));
+  for (const auto& p : paths) k += "|" + p;
+  for (const auto& [name, value] : defines) k += "|" + name + "=" + value;
+  for (const char* v : varyings) k += std::string("|out ") + v;
+  return k;
 }
 
-Program Program::graphicsWithFeedback(const std::vector<std::string>& paths, const std::vector<const char*>& varyings,
-                                      const Defines& defines) {
-  return link(paths, defines, varyings);
-}
-
-Program Program::link(const std::vector<std::string>& paths, const Defines& defines,
-                      const std::vector<const char*>& varyings) {
-  Program p;
-  p.id_ = glCreateProgram();
+Program::Program(const ProgramSource& source) : context_(&Context::current()), name_(source.paths.at(0)) {
+  id_ = glCreateProgram();
   std::vector<GLuint> shaders;
   try {
-    for (const auto& path : paths) shaders.push_back(compile(path, defines));
+    for (const auto& path : source.paths) shaders.push_back(compile(source.files, path, source.defines));
   } catch (...) {
     for (GLuint s : shaders) glDeleteShader(s);
+    glDeleteProgram(std::exchange(id_, 0));
     throw;
   }
-  for (GLuint s : shaders) glAttachShader(p.id_, s);
-  if (!varyings.empty())
-    glTransformFeedbackVaryings(p.id_, GLsizei(varyings.size()), varyings.data(), GL_INTERLEAVED_ATTRIBS);
-  glLinkProgram(p.id_);
+  for (GLuint s : shaders) glAttachShader(id_, s);
+  if (!source.varyings.empty())
+    glTransformFeedbackVaryings(id_, GLsizei(source.varyings.size()), source.varyings.data(), GL_INTERLEAVED_ATTRIBS);
+  glLinkProgram(id_);
   for (GLuint s : shaders) glDeleteShader(s);
   GLint ok = 0;
-  glGetProgramiv(p.id_, GL_LINK_STATUS, &ok);
+  glGetProgramiv(id_, GL_LINK_STATUS, &ok);
   if (!ok) {
     GLint length = 0;
-    glGetProgramiv(p.id_, GL_INFO_LOG_LENGTH, &length);
+    glGetProgramiv(id_, GL_INFO_LOG_LENGTH, &length);
     std::string log(std::size_t(length > 0 ? length : 1), '\0');
-    glGetProgramInfoLog(p.id_, length, nullptr, log.data());
-    throw Error("shader program " + paths.front() + " does not link: " + log.c_str(), ErrorKind::Failure);
+    glGetProgramInfoLog(id_, length, nullptr, log.data());
+    glDeleteProgram(std::exchange(id_, 0));
+    throw Error("shader program " + name_ + " does not link: " + log.c_str(), ErrorKind::Failure);
   }
   checkErrors("linking shader program");
-  return p;
 }
 
 Program::~Program() {
@@ -106,8 +104,17 @@ Program& Program::operator=(Program&& o) noexcept {
   if (this != &o) {
     if (id_) glDeleteProgram(id_);
     id_ = std::exchange(o.id_, 0);
+    context_ = std::exchange(o.context_, nullptr);
+    name_ = std::move(o.name_);
   }
   return *this;
+}
+
+void Program::use() const {
+  if (!context_ || !context_->isCurrent())
+    throw Error("shader program " + name_ + " is used while the GL context it was made in is not current",
+                ErrorKind::Failure);
+  glUseProgram(id_);
 }
 
 void Program::dispatch(GLuint x, GLuint y, GLuint z, GLbitfield barrier) const {
@@ -115,6 +122,10 @@ void Program::dispatch(GLuint x, GLuint y, GLuint z, GLbitfield barrier) const {
   glDispatchCompute(x, y, z);
   if (barrier) glMemoryBarrier(barrier);
   checkErrors("compute dispatch");
+}
+
+std::array<GLuint, 2> dispatchGrid(std::uint64_t groups) {
+  return {GLuint(std::min<std::uint64_t>(groups, 65535)), GLuint((groups + 65534) / 65535)};
 }
 
 }  // namespace isoatlas::gl

@@ -1,5 +1,9 @@
 // Program: a linked GL program from embedded shader files (see shader_library.h). `defines` are
 // inserted after the #version line of every stage, as "#define NAME VALUE" lines.
+// A program belongs to the context current when it was linked; use() and dispatch() check that this
+// context is current and throw Error otherwise (a GL call made in another context, or none, would
+// silently act on the wrong objects). GPU algorithms get their programs from Context::program(),
+// which compiles each once per context.
 #pragma once
 #include <epoxy/gl.h>
 
@@ -8,38 +12,52 @@
 #include <utility>
 #include <vector>
 
+#include "core/gl/shader_library.h"
+
 namespace isoatlas::gl {
 
+class Context;
 using Defines = std::vector<std::pair<std::string, std::string>>;
 
 // A float as a GLSL float literal that reads back as the same value (std::to_string keeps six
 // decimals, so 1e-7 would arrive as 0.000000).
 std::string glslFloat(float value);
 
+// What to compile: shader files from one library's table, stages by file extension (.comp alone, or
+// .vert .tesc .tese .geom .frag), defines, and outputs to record with transform feedback (interleaved).
+struct ProgramSource {
+  const EmbeddedShader* files;
+  std::vector<std::string> paths;
+  Defines defines;
+  std::vector<const char*> varyings;
+  std::string key() const;  // equal for sources that compile to the same program
+};
+
 class Program {
 public:
-  static Program compute(const std::string& path, const Defines& defines = {});
-  // Stages by file extension: .vert .tesc .tese .geom .frag.
-  static Program graphics(const std::vector<std::string>& paths, const Defines& defines = {});
-  // Like graphics(), recording the named outputs with transform feedback (interleaved).
-  static Program graphicsWithFeedback(const std::vector<std::string>& paths, const std::vector<const char*>& varyings,
-                                      const Defines& defines = {});
-
+  // Compiles and links in the current context (Context::current(), checked).
+  explicit Program(const ProgramSource& source);
   Program() = default;
   ~Program();
-  Program(Program&& o) noexcept : id_(std::exchange(o.id_, 0)) {}
+  Program(Program&& o) noexcept
+      : id_(std::exchange(o.id_, 0)), context_(std::exchange(o.context_, nullptr)), name_(std::move(o.name_)) {}
   Program& operator=(Program&& o) noexcept;
 
   GLuint id() const { return id_; }
-  void use() const { glUseProgram(id_); }
+  void use() const;
   GLint uniform(const char* name) const { return glGetUniformLocation(id_, name); }
   // Runs a compute program over `groups` work groups and waits for its writes to be visible.
   void dispatch(GLuint x, GLuint y = 1, GLuint z = 1, GLbitfield barrier = GL_ALL_BARRIER_BITS) const;
 
 private:
-  static Program link(const std::vector<std::string>& paths, const Defines& defines,
-                      const std::vector<const char*>& varyings);
   GLuint id_ = 0;
+  const Context* context_ = nullptr;
+  std::string name_;  // the first file, for messages
 };
+
+// The work-group grid for `groups` groups: at most 65535 along x (the limit every GL 4.5 driver
+// allows), the rest along y. Shaders number their group gl_WorkGroupID.y * gl_NumWorkGroups.x +
+// gl_WorkGroupID.x and return past the count.
+std::array<GLuint, 2> dispatchGrid(std::uint64_t groups);
 
 }  // namespace isoatlas::gl

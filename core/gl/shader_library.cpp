@@ -9,15 +9,15 @@
 namespace isoatlas::gl {
 namespace {
 
-const char* find(const std::string& path) {
-  for (const EmbeddedShader* s = kEmbeddedShaders; s->path; ++s)
+const char* find(const EmbeddedShader* files, const std::string& path) {
+  for (const EmbeddedShader* s = files; s->path; ++s)
     if (path == s->path) return s->source;
   return nullptr;
 }
 
-std::string expand(const std::string& path, std::set<std::string>& open) {
-  const char* source = find(path);
-  if (!source) throw Error("shader " + path + " is not embedded in this build", ErrorKind::Failure);
+std::string expand(const EmbeddedShader* files, const std::string& path, std::set<std::string>& open) {
+  const char* source = find(files, path);
+  if (!source) throw Error("shader " + path + " is not embedded in this library", ErrorKind::Failure);
   if (!open.insert(path).second) throw Error("shader " + path + " includes itself", ErrorKind::Failure);
   const std::string folder = path.substr(0, path.rfind('/') + 1);
   std::istringstream in(source);
@@ -32,8 +32,8 @@ std::string expand(const std::string& path, std::set<std::string>& open) {
       if (a == std::string::npos || b <= a)
         throw Error(path + ":" + std::to_string(number) + ": malformed #include", ErrorKind::Failure);
       const std::string name = line.substr(a + 1, b - a - 1);
-      const std::string target = find(folder + name) ? folder + name : name;
-      out << expand(target, open) << "\n";
+      const std::string target = find(files, folder + name) ? folder + name : name;
+      out << expand(files, target, open) << "\n";
     } else {
       out << line << "\n";
     }
@@ -44,9 +44,9 @@ std::string expand(const std::string& path, std::set<std::string>& open) {
 
 }  // namespace
 
-std::string shaderSource(const std::string& path) {
+std::string shaderSource(const EmbeddedShader* files, const std::string& path) {
   std::set<std::string> open;
-  return expand(path, open);
+  return expand(files, path, open);
 }
 
 }  // namespace isoatlas::gl

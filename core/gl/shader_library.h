@@ -1,6 +1,6 @@
-// The shaders embedded at build time (cmake/EmbedShaders.cmake), looked up by their path from the
-// repository root, e.g. "levelset/shaders/update.comp". `#include "file"` in a shader is resolved
-// against the including file's folder first, then the repository root.
+// Shaders embedded at build time, one table per library (cmake/EmbedShaders.cmake), looked up by
+// their path from the repository root, e.g. "levelset/shaders/update.comp". `#include "file"` in a
+// shader is resolved in the same table, against the including file's folder first, then the root.
 #pragma once
 #include <string>
 
@@ -10,9 +10,9 @@ struct EmbeddedShader {
   const char* path;
   const char* source;
 };
-extern const EmbeddedShader kEmbeddedShaders[];  // ends with {nullptr, nullptr}
 
-// Source of `path` with every #include expanded; throws Error if a file is missing or includes loop.
-std::string shaderSource(const std::string& path);
+// Source of `path` from `files` (a table ending with {nullptr, nullptr}) with every #include expanded;
+// throws Error if a file is missing from the table or includes loop.
+std::string shaderSource(const EmbeddedShader* files, const std::string& path);
 
 }  // namespace isoatlas::gl

@@ -23,10 +23,10 @@ void main() {
     for (int i = 0; i < n; ++i) {
       int e = polygons[at + 2 + i];
       ivec3 p0 = cell + cornerOffset(kEdgeCorner[2 * e]);
-      atomicOr(edgeBits[pointIndex(p0)], 1u << kEdgeAxis[e]);
+      atomicOr(edgeBits[storageIndex(p0)], 1u << kEdgeAxis[e]);
     }
     at += 2 + n;
   }
-  cellTriangles[cellIndex(cell)] = triangles;
-  cellCentres[cellIndex(cell)] = centres;
+  cellTriangles[storageIndex(cell)] = triangles;
+  cellCentres[storageIndex(cell)] = centres;
 }

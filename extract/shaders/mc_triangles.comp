@@ -12,7 +12,7 @@ uniform uint edgeVertexCount;
 
 uint vertexOf(ivec3 cell, int e) {
   ivec3 p = cell + cornerOffset(kEdgeCorner[2 * e]);
-  int point = pointIndex(p);
+  int point = storageIndex(p);
   uint below = edgeBits[point] & ((1u << kEdgeAxis[e]) - 1u);
   return edgeOffset[point] + uint(bitCount(below));
 }
@@ -23,8 +23,8 @@ void main() {
   int pattern = 0;
   for (int k = 0; k < 8; ++k) pattern |= (sampleField(cell + cornerOffset(k)) > iso ? 1 : 0) << k;
   if (pattern == 0 || pattern == 255) return;
-  uint out_ = triangleOffset[cellIndex(cell)] * 3u;
-  uint centre = edgeVertexCount + centreOffset[cellIndex(cell)];
+  uint out_ = triangleOffset[storageIndex(cell)] * 3u;
+  uint centre = edgeVertexCount + centreOffset[storageIndex(cell)];
   int at = caseIndex[pattern].x;
   for (int p = 0; p < caseIndex[pattern].y; ++p) {
     int apex = polygons[at], n = polygons[at + 1];

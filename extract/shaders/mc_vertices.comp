@@ -14,9 +14,7 @@ void main() {
   if (i >= pointCount) return;
   uint bits = edgeBits[i];
   if (bits == 0u) return;
-  int x = int(i % uint(dims.x + 2)) - 1, y = int((i / uint(dims.x + 2)) % uint(dims.y + 2)) - 1;
-  int z = int(i / uint((dims.x + 2) * (dims.y + 2))) - 1;
-  ivec3 p = ivec3(x, y, z);
+  ivec3 p = pointAt(i);
   uint slot = edgeOffset[i];
   float a = sampleField(p);
   for (int axis = 0; axis < 3; ++axis) {

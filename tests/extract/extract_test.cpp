@@ -3,7 +3,9 @@
 // the extractor); masks touching the border; world coordinates through a mirrored frame.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include "core/error.h"
@@ -12,6 +14,7 @@
 #include "extract/gpu_marching_cubes.h"
 #include "extract/marching_cubes.h"
 #include "levelset/level_set.h"
+#include "tests/gl_context.h"
 #include "tests/test_util.h"
 
 namespace isoatlas::extract {
@@ -162,17 +165,65 @@ TEST(ExtractSurface, ComponentsAndSmoothing) {
   EXPECT_NEAR(enclosedVolume(smooth), enclosedVolume(largest), 0.03 * enclosedVolume(largest)) << "Taubin keeps volume";
 }
 
-// The GPU path gives the CPU's mesh: the same vertices in the same order (positions to 1e-5), the
-// same triangles in the same order (both write them in cell order).
+// Both paths number vertices by grid edge and triangles by cell, the CPU across the grid and the GPU
+// block by block. So a mesh is put in a canonical numbering first: edge vertices in (point, axis)
+// order (the axis is the coordinate off the grid: crossings stay 1e-3 from grid points), centre
+// vertices after them by cell and position; each triangle rotated to start at its least vertex, the
+// list sorted.
+struct CanonicalMesh {
+  std::vector<Vec3> positions;
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+};
+CanonicalMesh canonical(const Mesh& m) {
+  auto key = [](const Vec3& p) {
+    std::array<double, 5> k{};  // z, y, x of the lower grid point or cell, axis (3: a centre), then x
+    int offGrid = 0, axis = 3;
+    for (int a = 0; a < 3; ++a)
+      if (std::fabs(p[a] - std::round(p[a])) > 1e-4) ++offGrid, axis = a;
+    if (offGrid > 1) axis = 3;
+    for (int a = 0; a < 3; ++a) k[std::size_t(2 - a)] = axis == a || axis == 3 ? std::floor(p[a]) : std::round(p[a]);
+    k[3] = axis;
+    k[4] = axis == 3 ? p.x + 1e3 * p.y : 0;  // centres sharing a cell, apart by position
+    return k;
+  };
+  std::vector<std::uint32_t> order(m.vertexCount());
+  std::vector<std::array<double, 5>> keys(m.vertexCount());
+  for (std::uint32_t v = 0; v < order.size(); ++v) order[v] = v, keys[v] = key(m.positions[v]);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
+  CanonicalMesh c;
+  std::vector<std::uint32_t> rank(order.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) rank[order[i]] = i, c.positions.push_back(m.positions[order[i]]);
+  for (std::size_t f = 0; f < m.faceCount(); ++f) {
+    const auto t = m.face(f);
+    std::array<std::uint32_t, 3> r{rank[t[0]], rank[t[1]], rank[t[2]]};
+    std::rotate(r.begin(), std::min_element(r.begin(), r.end()), r.end());
+    c.triangles.push_back(r);
+  }
+  std::sort(c.triangles.begin(), c.triangles.end());
+  return c;
+}
+
+// The same mesh up to numbering: the same vertices (positions to 1e-5) and the same oriented triangles.
 void expectSameMesh(const Mesh& cpu, const Mesh& gpu) {
   ASSERT_EQ(cpu.vertexCount(), gpu.vertexCount());
   ASSERT_EQ(cpu.faceCount(), gpu.faceCount());
-  for (std::size_t v = 0; v < cpu.vertexCount(); ++v)
-    for (int a = 0; a < 3; ++a) ASSERT_NEAR(cpu.positions[v][a], gpu.positions[v][a], 1e-5) << "vertex " << v;
-  EXPECT_TRUE(cpu.faceVertices == gpu.faceVertices);
+  const CanonicalMesh a = canonical(cpu), b = canonical(gpu);
+  for (std::size_t v = 0; v < a.positions.size(); ++v)
+    for (int k = 0; k < 3; ++k) ASSERT_NEAR(a.positions[v][k], b.positions[v][k], 1e-5) << "vertex " << v;
+  EXPECT_TRUE(a.triangles == b.triangles);
+}
+
+// The same mesh in the same numbering (one path, two ways of reading the field).
+void expectIdenticalMesh(const Mesh& a, const Mesh& b) {
+  ASSERT_EQ(a.vertexCount(), b.vertexCount());
+  ASSERT_EQ(a.faceCount(), b.faceCount());
+  for (std::size_t v = 0; v < a.vertexCount(); ++v)
+    for (int k = 0; k < 3; ++k) ASSERT_NEAR(a.positions[v][k], b.positions[v][k], 1e-5) << "vertex " << v;
+  EXPECT_TRUE(a.faceVertices == b.faceVertices);
 }
 
 TEST(MarchingCubesGpu, GivesTheCpuMesh) {
+  test::glContext();
   const Volume torus = test::fieldVolume({44, 44, 20}, [](double x, double y, double z) {
     const double q = std::hypot(x - 21.6, y - 21.3) - 12;
     return 5 - std::sqrt(q * q + (z - 9.6) * (z - 9.6));
@@ -195,6 +246,7 @@ TEST(MarchingCubesGpu, GivesTheCpuMesh) {
 // Skipped blocks cut the surface open; both paths must still agree on which vertices exist (an edge
 // has one when any of the four cells around it is visited) and on every triangle.
 TEST(MarchingCubesGpu, GivesTheCpuMeshWhenBlocksAreSkipped) {
+  test::glContext();
   const Volume torus = test::fieldVolume({37, 30, 21}, [](double x, double y, double z) {
     const double q = std::hypot(x - 17.6, y - 14.3) - 10;
     return 5 - std::sqrt(q * q + (z - 10.4) * (z - 10.4));
@@ -234,6 +286,53 @@ TEST(ExtractLevelSet, ActivePagesGiveTheSameSurfaceForLessWork) {
   // A phi that is not the level set's own (other dimensions, or not float) is refused.
   EXPECT_THROW(extractLevelSet(ls, Volume::zeros({64, 128, 40}, ScalarType::Float32), {}), Error);
   EXPECT_THROW(extractLevelSet(ls, ls.mask(), {}), Error);
+}
+
+// A phantom cut by the volume's edge: a bright slab-like blob that crosses the +x face (where 45 is
+// no multiple of the page size, so edge pages are cut) and the -z face, segmented on `backend`.
+std::unique_ptr<levelset::LevelSet> edgePhantomLevelSet(levelset::Backend backend, int pageSize, int iterations) {
+  const Volume image = test::fieldVolume({45, 38, 17}, [](double x, double y, double z) {
+    const double r = std::sqrt((x - 34) * (x - 34) / 2 + (y - 18) * (y - 18) + (z - 2) * (z - 2));
+    return r < 11 ? 100.0 : 20.0;
+  });
+  auto ls = std::make_unique<levelset::LevelSet>(image, levelset::SpeedParams{100, 40, 0.8f},
+                                                 levelset::LevelSetOptions{.backend = backend, .pageSize = pageSize, .initialSlots = 64});
+  ls->addSphere({34, 18, 3}, 3);
+  ls->run({.maxIterations = iterations, .untilConverged = false});
+  return ls;
+}
+
+// Extraction from the pages gives the mesh the dense phi gives, on both backends, on both paths,
+// while the front still moves (iterations 12) and once it has stopped at the volume's edges (200).
+TEST(ExtractLevelSet, PagesGiveTheDensePhisMeshOnBothBackends) {
+  test::glContext();
+  for (const auto backend : {levelset::Backend::Cpu, levelset::Backend::Gpu})
+    for (const int iterations : {12, 200})
+      for (const int pageSize : {8, 16}) {
+        SCOPED_TRACE(std::string(backend == levelset::Backend::Cpu ? "cpu" : "gpu") + " level set, " +
+                     std::to_string(iterations) + " iterations, pages of " + std::to_string(pageSize));
+        const auto ls = edgePhantomLevelSet(backend, pageSize, iterations);
+        const Volume phi = ls->phi();
+        // The dense phi over every block: the whole truth, with no page in sight.
+        const Mesh truth = extractSurface(phi, {.iso = 0.0f});
+        ASSERT_GT(truth.faceCount(), 100u);
+        expectClosedManifold(truth, 0);
+        ExtractStats cpuPages, gpuPages, gpuDense;
+        const Mesh onCpu = extractLevelSet(*ls, {}, &cpuPages);
+        EXPECT_EQ(cpuPages.path, "cpu pages");
+        expectIdenticalMesh(onCpu, truth);
+        const Mesh onGpu = extractLevelSet(*ls, {.gpu = true}, &gpuPages);
+        EXPECT_EQ(gpuPages.path, backend == levelset::Backend::Gpu ? "gpu pages" : "cpu pages");
+        expectSameMesh(onGpu, truth);
+        if (backend == levelset::Backend::Gpu) {
+          // The GPU reads the pool in place: its memory is the visited blocks' scratch and the page
+          // table, against the dense path's upload of the whole phi besides the same scratch.
+          const Mesh dense = extractLevelSet(*ls, phi, {.gpu = true}, &gpuDense);
+          expectIdenticalMesh(onGpu, dense);
+          EXPECT_EQ(gpuDense.gpuBytes - gpuPages.gpuBytes,
+                    phi.voxelCount() * sizeof(float) - std::size_t(ls->pages().virtualPageCount()) * 4);
+        }
+      }
 }
 
 }  // namespace

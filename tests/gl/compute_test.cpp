@@ -6,15 +6,17 @@
 #include "core/gl/context.h"
 #include "core/gl/program.h"
 #include "core/gl/resources.h"
+#include "kTestShaders.h"
+#include "tests/gl_context.h"
 
 namespace isoatlas::gl {
 namespace {
 
 TEST(GlCompute, ContextIsOpenGL45Core) {
-  auto ctx = Context::headless();
-  EXPECT_GE(ctx->info().major * 10 + ctx->info().minor, 45);
-  EXPECT_GE(ctx->info().maxComputeWorkGroupInvocations, 1024);  // the spec's minimum
-  EXPECT_GE(ctx->info().maxTessellationLevel, 64);
+  const Context& ctx = test::glContext();
+  EXPECT_GE(ctx.info().major * 10 + ctx.info().minor, 45);
+  EXPECT_GE(ctx.info().maxComputeWorkGroupInvocations, 1024);  // the spec's minimum
+  EXPECT_GE(ctx.info().maxTessellationLevel, 64);
 }
 
 TEST(GlCompute, FloatDefinesReadBackExactly) {
@@ -26,12 +28,12 @@ TEST(GlCompute, FloatDefinesReadBackExactly) {
 }
 
 TEST(GlCompute, ScrambleMatchesTheCpu) {
-  auto ctx = Context::headless();
+  Context& ctx = test::glContext();
   const std::uint32_t count = 10007;  // not a multiple of the work-group size
   std::vector<std::uint32_t> input(count);
   for (std::uint32_t i = 0; i < count; ++i) input[i] = i * 7919u + 13u;
   Buffer src = Buffer::of(input), dst(count * sizeof(std::uint32_t));
-  Program p = Program::compute("tests/gl/shaders/scramble.comp", {{"OFFSET", "5u"}});
+  const Program& p = ctx.compute(kTestShaders, "tests/gl/shaders/scramble.comp", {{"OFFSET", "5u"}});
   src.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
   dst.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
   p.use();
@@ -47,10 +49,10 @@ TEST(GlCompute, ScrambleMatchesTheCpu) {
 }
 
 TEST(GlCompute, CompileErrorsAreReported) {
-  auto ctx = Context::headless();
+  Context& ctx = test::glContext();
   // Without OFFSET defined the shader does not compile; the error names the file.
   try {
-    Program::compute("tests/gl/shaders/scramble.comp");
+    ctx.compute(kTestShaders, "tests/gl/shaders/scramble.comp");
     ADD_FAILURE() << "compiled without OFFSET";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("scramble.comp"), std::string::npos);

@@ -8,14 +8,15 @@
 #include "core/gl/context.h"
 #include "core/gl/program.h"
 #include "core/gl/resources.h"
+#include "kTestShaders.h"
+#include "tests/gl_context.h"
 
 namespace isoatlas::gl {
 namespace {
 
 TEST(GlTessellation, QuadPatchTriangleCountsAndCoordinates) {
-  auto ctx = Context::headless();
-  Program p = Program::graphicsWithFeedback(
-      {"tests/gl/shaders/patch.vert", "tests/gl/shaders/levels.tesc", "tests/gl/shaders/quad.tese"}, {"uvw"});
+  const Program& p = test::glContext().program(
+      {kTestShaders, {"tests/gl/shaders/patch.vert", "tests/gl/shaders/levels.tesc", "tests/gl/shaders/quad.tese"}, {}, {"uvw"}});
   Framebuffer fbo(8, 8);  // EGL surfaceless has no default framebuffer, even with rasterizer discard
   fbo.bind();
   VertexArray vao;

@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <random>
 
 #include "core/error.h"
 #include "levelset/level_set.h"
 #include "levelset/probe.h"
+#include "tests/gl_context.h"
 
 namespace isoatlas::levelset {
 namespace {
@@ -175,6 +177,7 @@ TEST(LevelSet, PagesAreReleasedBehindTheFrontAndReused) {
 
 // On both backends: growing keeps every slot's content (phi and, on the GPU, the source's pages).
 TEST(LevelSet, PoolGrowsWhenItMustAndTheAnswerDoesNotChange) {
+  test::glContext();
   const Phantom p = torusPhantom();
   for (const Backend backend : {Backend::Cpu, Backend::Gpu}) {
     auto segment = [&](std::int32_t slots) {
@@ -230,6 +233,7 @@ TEST(LevelSet, StartsFromAMaskTouchingTheBorder) {
 }
 
 TEST(LevelSet, GpuAgreesWithCpu) {
+  test::glContext();
   const Phantom p = torusPhantom();
   auto segment = [&](Backend b) {
     LevelSet ls(p.image, {100, 30, 0.7f}, {.backend = b});
@@ -249,6 +253,7 @@ TEST(LevelSet, GpuAgreesWithCpu) {
 
 // Step by step, not only where both converge: the same time steps and nearly the same phi.
 TEST(LevelSet, GpuStepsLikeCpu) {
+  test::glContext();
   const Phantom p = torusPhantom();
   LevelSet cpu(p.image, {100, 30, 0.7f}, {.backend = Backend::Cpu});
   LevelSet gpu(p.image, {100, 30, 0.7f}, {.backend = Backend::Gpu});
@@ -267,6 +272,7 @@ TEST(LevelSet, GpuStepsLikeCpu) {
 // reaches the +x edge, in pages half outside); a model-off sphere frees pages, new fronts take the
 // slots; CPU and GPU must still step alike.
 TEST(LevelSet, GpuSourcePagesFollowReusedSlots) {
+  test::glContext();
   const Phantom p = torusPhantom(58);
   auto options = [](Backend b) { return LevelSetOptions{.backend = b, .pageSize = 4}; };
   LevelSet cpu(p.image, {100, 30, 0.7f}, options(Backend::Cpu));
@@ -294,6 +300,7 @@ TEST(LevelSet, GpuSourcePagesFollowReusedSlots) {
 // A ball past the volume's corner: out of the volume is outside, so the pages where the inside
 // meets the volume's edge keep a band (are active), and both backends see the same edge.
 TEST(LevelSet, BallPastTheCornerKeepsABandAtTheEdge) {
+  test::glContext();
   const Volume image = uniformVolume({40, 40, 40}, 100);
   const Vec3 corner{39, 39, 20};
   LevelSet cpu(image, {100, 30, 0.7f}, {.backend = Backend::Cpu});
@@ -307,6 +314,27 @@ TEST(LevelSet, BallPastTheCornerKeepsABandAtTheEdge) {
   }
   for (int i = 0; i < 10; ++i) cpu.step(), gpu.step();
   EXPECT_LT(largestDifference(cpu.phi(), gpu.phi()), 1e-3);
+}
+
+// Two GPU solvers in one context, used in turn and destroyed in either order: each keeps its own pool
+// (the same steps give the same phi), and whichever goes first leaves the other working.
+TEST(LevelSet, TwoGpuSolversShareOneContextAndDieInAnyOrder) {
+  gl::Context& ctx = test::glContext();
+  const Phantom p = torusPhantom(40);
+  for (const bool firstDiesFirst : {true, false}) {
+    auto first = std::make_unique<LevelSet>(p.image, SpeedParams{100, 30, 0.7f}, LevelSetOptions{.backend = Backend::Gpu});
+    auto second = std::make_unique<LevelSet>(p.image, SpeedParams{100, 30, 0.7f}, LevelSetOptions{.backend = Backend::Gpu});
+    LevelSet cpu(p.image, {100, 30, 0.7f});
+    for (LevelSet* ls : {first.get(), second.get(), &cpu}) ls->addSphere(p.seedA, 3);
+    const int compiled = ctx.programsCompiled();
+    for (int i = 0; i < 6; ++i) first->step(), second->step(), cpu.step();
+    EXPECT_EQ(ctx.programsCompiled(), compiled) << "the second solver compiled its programs again";
+    (firstDiesFirst ? first : second).reset();
+    LevelSet& survivor = firstDiesFirst ? *second : *first;
+    for (int i = 0; i < 6; ++i) survivor.step(), cpu.step();
+    EXPECT_LT(largestDifference(cpu.phi(), survivor.phi()), 1e-3);
+    gl::checkErrors("after the solvers");
+  }
 }
 
 TEST(Probe, MeanAndSpreadOfAKnownBall) {

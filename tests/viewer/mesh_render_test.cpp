@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "tests/gl_context.h"
 #include "viewer/mesh_render.h"
 
 namespace isoatlas::viewer {
@@ -26,6 +27,7 @@ Mesh uvSphere(int rings, int segments, double r) {
 }
 
 TEST(MeshRender, SphereSilhouetteAndShading) {
+  test::glContext();
   const Mesh sphere = uvSphere(48, 96, 2.0);
   const Image img = renderMesh(sphere, {.width = 200, .height = 200});
   ASSERT_EQ(img.width, 200);

@@ -1,0 +1,78 @@
+// The one-context rules: programs compiled once per context, GL work refused when the context it was
+// made in is not current, contexts counted.
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "core/gl/context.h"
+#include "core/gl/program.h"
+#include "core/gl/resources.h"
+#include "kTestShaders.h"
+
+namespace isoatlas::gl {
+namespace {
+
+const char* kScramble = "tests/gl/shaders/scramble.comp";
+
+// Runs `p` (scramble.comp) over one value and returns the result.
+std::uint32_t scrambleOne(const Program& p, std::uint32_t value) {
+  Buffer src(4, &value), dst(4);
+  src.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
+  dst.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
+  p.use();
+  glUniform1ui(p.uniform("count"), 1);
+  p.dispatch(1);
+  return dst.read<std::uint32_t>(1)[0];
+}
+
+TEST(GlContext, ProgramsCompileOncePerContext) {
+  auto ctx = Context::headless();
+  EXPECT_EQ(ctx->programsCompiled(), 0);
+  const Program& a = ctx->compute(kTestShaders, kScramble, {{"OFFSET", "5u"}});
+  const Program& again = ctx->compute(kTestShaders, kScramble, {{"OFFSET", "5u"}});
+  EXPECT_EQ(&a, &again);
+  EXPECT_EQ(ctx->programsCompiled(), 1);
+  const Program& other = ctx->compute(kTestShaders, kScramble, {{"OFFSET", "6u"}});
+  EXPECT_NE(a.id(), other.id());
+  EXPECT_EQ(ctx->programsCompiled(), 2);
+  EXPECT_EQ(scrambleOne(other, 3) - scrambleOne(a, 3), 1u);  // each keeps its own define
+  EXPECT_EQ(ctx->programsCompiled(), 2);
+}
+
+TEST(GlContext, WorkWithoutItsContextCurrentFails) {
+  auto ctx = Context::headless();
+  const Program& p = ctx->compute(kTestShaders, kScramble, {{"OFFSET", "0u"}});
+  EXPECT_EQ(&Context::current(), ctx.get());
+  ctx->releaseCurrent();
+  EXPECT_FALSE(ctx->isCurrent());
+  EXPECT_THROW(Context::current(), Error);
+  EXPECT_THROW(p.use(), Error);
+  EXPECT_THROW(p.dispatch(1), Error);
+  ctx->makeCurrent();
+  EXPECT_NO_THROW(scrambleOne(p, 7));
+}
+
+TEST(GlContext, AProgramRefusesAnotherContext) {
+  const int before = Context::made();
+  auto first = Context::headless();
+  const Program& p = first->compute(kTestShaders, kScramble, {{"OFFSET", "0u"}});
+  auto second = Context::headless();  // current now
+  EXPECT_EQ(Context::made(), before + 2);
+  EXPECT_TRUE(second->isCurrent());
+  EXPECT_THROW(p.dispatch(1), Error);
+  // The second context compiles its own copy.
+  const Program& q = second->compute(kTestShaders, kScramble, {{"OFFSET", "0u"}});
+  EXPECT_EQ(second->programsCompiled(), 1);
+  const std::uint32_t expected = scrambleOne(q, 11);
+  first->makeCurrent();
+  EXPECT_EQ(scrambleOne(p, 11), expected);
+  // Destroyed in the order they were made: each goes with its own programs.
+  first.reset();
+  EXPECT_THROW(Context::current(), Error);
+  second->makeCurrent();
+  EXPECT_EQ(scrambleOne(q, 11), expected);
+  second.reset();
+  EXPECT_THROW(Context::current(), Error);
+}
+
+}  // namespace
+}  // namespace isoatlas::gl
