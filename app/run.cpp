@@ -44,8 +44,23 @@ struct Stage {
   std::string name, status, detail;  // status: "done" or "skipped"
 };
 
+// The files run writes into its folder, each named with what it holds; pictures are also shown.
+struct Products {
+  struct Product {
+    std::string file, what;
+    bool picture;
+  };
+  std::filesystem::path dir;
+  std::vector<Product> all;
+  // Records `file` and returns its path in the folder, to write to.
+  std::string add(const std::string& file, const std::string& what, bool picture = false) {
+    all.push_back({file, what, picture});
+    return (dir / file).string();
+  }
+};
+
 void writeIndexHtml(const std::filesystem::path& dir, const std::string& input, const std::vector<Stage>& stages,
-                    const std::vector<std::pair<std::string, std::string>>& pictures) {
+                    const Products& products) {
   std::ofstream html(dir / "index.html");
   html << "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>isoatlas run</title>\n"
        << "<style>body{font-family:sans-serif;max-width:1000px;margin:2em auto}td,th{padding:4px 10px;text-align:left}"
@@ -55,10 +70,13 @@ void writeIndexHtml(const std::filesystem::path& dir, const std::string& input, 
   for (const Stage& s : stages)
     html << "<tr class=\"" << s.status << "\"><td>" << s.name << "</td><td>" << s.status << "</td><td>" << s.detail
          << "</td></tr>\n";
-  html << "</table>\n";
-  for (const auto& [file, caption] : pictures)
-    html << "<figure><img src=\"" << file << "\" alt=\"" << caption << "\"><figcaption>" << caption
-         << "</figcaption></figure>\n";
+  html << "</table>\n<h2>Products</h2>\n<ul>\n";
+  for (const auto& p : products.all) html << "<li><a href=\"" << p.file << "\">" << p.file << "</a>: " << p.what << "</li>\n";
+  html << "</ul>\n";
+  for (const auto& p : products.all)
+    if (p.picture)
+      html << "<figure><img src=\"" << p.file << "\" alt=\"" << p.what << "\"><figcaption>" << p.what
+           << "</figcaption></figure>\n";
   html << "<p>Figures: <a href=\"report.json\">report.json</a></p>\n</body></html>\n";
   if (!html) throw Error((dir / "index.html").string() + ": could not write", ErrorKind::Failure);
 }
@@ -87,7 +105,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
     // The process's one GL context: the solver, the extraction from its pages and the renders share it.
     Gpu gpu = chooseBackend(options->backend);
     std::vector<Stage> stages;
-    std::vector<std::pair<std::string, std::string>> pictures;
+    Products products{dir, {}};
     logInfo("run: reading " + *input);
     const Volume volume = readVolume(*input);
     stages.push_back({"read", "done", std::to_string(volume.dims[0]) + " x " + std::to_string(volume.dims[1]) + " x " +
@@ -95,8 +113,8 @@ void addRunCommand(CLI::App& app, int& exitCode) {
     r["input"] = {{"file", *input}, {"dims", {volume.dims[0], volume.dims[1], volume.dims[2]}},
                   {"spacing", {volume.spacing.x, volume.spacing.y, volume.spacing.z}}};
 
-    writePng((dir / "input_slices.png").string(), viewer::renderSlices(volume, viewer::volumeCentre(volume)));
-    pictures.push_back({"input_slices.png", "the input: axial, coronal and sagittal slices through its centre"});
+    writePng(products.add("input_slices.png", "the input: axial, coronal and sagittal slices through its centre", true),
+             viewer::renderSlices(volume, viewer::volumeCentre(volume)));
     stages.push_back({"render input slices", "done", "input_slices.png"});
 
     // Segment: the demo's seeds and parameters when the input is the default volume; otherwise the
@@ -119,8 +137,8 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                                                     .renderer = gpu.renderer,
                                                     .maxIterations = kDemoMaxIterations,
                                                     .label = "run: segment"});
-      writeVolume((dir / "mask.nii.gz").string(), s.mask);
-      writeVolume((dir / "phi.nii.gz").string(), s.phi);
+      writeVolume(products.add("mask.nii.gz", "the segmentation: uint8, 1 inside, on the input's grid"), s.mask);
+      writeVolume(products.add("phi.nii.gz", "the level set phi: float, > 0 inside, in voxels"), s.phi);
       r["segment"] = s.figures();
       r["segment"].update({{"target", params.target}, {"width", params.width}, {"alpha", params.alpha}});
       stages.push_back({"segment", "done",
@@ -131,7 +149,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       extract::ExtractStats extractStats;
       const Mesh surface = extract::extractLevelSet(
           *s.levelSet, {.largestComponent = true, .gpu = s.backend == levelset::Backend::Gpu}, &extractStats);
-      writeMesh((dir / "surface.ply").string(), surface);
+      writeMesh(products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), surface);
       r["extract"] = meshFigures(surface, extractStats);
       stages.push_back({"extract", "done",
                         std::to_string(surface.faceCount()) + " triangles, genus " +
@@ -139,17 +157,15 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                             (r["extract"]["closed"].get<bool>() ? "closed" : "NOT closed") + ": surface.ply"});
       // Seen from the left (RAS -x) and from above, as a reader of an atlas would look.
       gpu.needGl();
-      writePng((dir / "surface_left.png").string(), viewer::renderMesh(surface, {.viewDirection = {1, 0, 0}}));
-      writePng((dir / "surface_top.png").string(),
+      writePng(products.add("surface_left.png", "the extracted surface seen from the left", true),
+               viewer::renderMesh(surface, {.viewDirection = {1, 0, 0}}));
+      writePng(products.add("surface_top.png", "the extracted surface seen from above (anterior up)", true),
                viewer::renderMesh(surface, {.viewDirection = {0, 0, -1}, .up = {0, 1, 0}}));
-      pictures.push_back({"surface_left.png", "the extracted surface seen from the left"});
-      pictures.push_back({"surface_top.png", "the extracted surface seen from above (anterior up)"});
       viewer::SliceOptions overlay;
       overlay.mask = &s.mask;
       // Through the first seed, so the slices cut the structure.
-      writePng((dir / "segmentation_slices.png").string(),
+      writePng(products.add("segmentation_slices.png", "the segmentation over the input, through the first seed", true),
                viewer::renderSlices(volume, volume.indexToWorld(seeds.front().centre), overlay));
-      pictures.push_back({"segmentation_slices.png", "the segmentation over the input, through the first seed"});
     }
 
     // The model is built by `isoatlas build SURFACE -o MODEL.isoatlas`; run does not chain it yet.
@@ -163,8 +179,10 @@ void addRunCommand(CLI::App& app, int& exitCode) {
     for (const Stage& s : stages) r["stages"].push_back({{"name", s.name}, {"status", s.status}, {"detail", s.detail}});
     r["gl_contexts"] = gl::Context::made();
     r["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r["products"] = nlohmann::json::array();
+    for (const auto& p : products.all) r["products"].push_back({{"file", p.file}, {"what", p.what}});
     writeJsonFile((dir / "report.json").string(), r);
-    writeIndexHtml(dir, *input, stages, pictures);
+    writeIndexHtml(dir, *input, stages, products);
     logInfo("run: wrote " + (dir / "index.html").string());
     return 0;
   }, exitCode);

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/gl/context.h"
+#include "core/gl/resources.h"
 #include "core/gl/shader_library.h"
 #include "core/gz_file.h"
 
@@ -97,12 +98,12 @@ Program::Program(const ProgramSource& source) : context_(&Context::current()), n
 }
 
 Program::~Program() {
-  if (id_) glDeleteProgram(id_);
+  if (id_ && canDelete(context_)) glDeleteProgram(id_);
 }
 
 Program& Program::operator=(Program&& o) noexcept {
   if (this != &o) {
-    if (id_) glDeleteProgram(id_);
+    if (id_ && canDelete(context_)) glDeleteProgram(id_);
     id_ = std::exchange(o.id_, 0);
     context_ = std::exchange(o.context_, nullptr);
     name_ = std::move(o.name_);

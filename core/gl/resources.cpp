@@ -3,7 +3,29 @@
 #include "core/error.h"
 #include "core/gl/context.h"
 
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+
 namespace isoatlas::gl {
+
+namespace {
+std::atomic<int> g_orphans{0};
+}  // namespace
+
+const Context* contextForNewObject() { return &Context::current(); }
+
+bool canDelete(const Context* owner) {
+  if (owner && owner->isCurrent()) return true;
+  ++g_orphans;
+#ifndef NDEBUG
+  std::fprintf(stderr, "isoatlas: a GL object is destroyed while the context it was made in is not current\n");
+  std::abort();
+#endif
+  return false;
+}
+
+int orphanedObjects() { return g_orphans; }
 
 void deleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
 void deleteTexture(GLuint id) { glDeleteTextures(1, &id); }
@@ -13,6 +35,7 @@ void deleteQuery(GLuint id) { glDeleteQueries(1, &id); }
 
 namespace {
 GLuint create(void (*fn)(GLsizei, GLuint*)) {
+  contextForNewObject();
   GLuint id = 0;
   fn(1, &id);
   return id;
@@ -38,6 +61,7 @@ void Buffer::download(void* data, std::size_t bytes, std::size_t offset) const {
 void Buffer::fillZero() { glClearNamedBufferData(id(), GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, nullptr); }
 
 Texture::Texture(GLenum target, int w, int h, int d) : target_(target), size_{w, h, d} {
+  contextForNewObject();
   GLuint tex = 0;
   glCreateTextures(target, 1, &tex);
   static_cast<Handle&>(*this) = Handle(tex);
@@ -93,6 +117,7 @@ std::vector<unsigned char> Framebuffer::readRgba() const {
 VertexArray::VertexArray() : Handle(create(glCreateVertexArrays)) {}
 
 TimerQuery::TimerQuery() {
+  contextForNewObject();
   GLuint id = 0;
   glCreateQueries(GL_TIME_ELAPSED, 1, &id);
   static_cast<Handle&>(*this) = Handle(id);

@@ -1,5 +1,6 @@
-// RAII owners of GL objects: Buffer, Texture, Framebuffer, VertexArray, TimerQuery. Each deletes its
-// object when destroyed and is movable, not copyable. Uses DSA (GL 4.5) throughout.
+// RAII owners of GL objects: Buffer, Texture, Framebuffer, VertexArray, TimerQuery. Each is made in the
+// current context (checked), deletes its object when destroyed and is movable, not copyable. Uses DSA
+// (GL 4.5) throughout.
 #pragma once
 #include <epoxy/gl.h>
 
@@ -9,26 +10,39 @@
 
 namespace isoatlas::gl {
 
+class Context;
+// The current context, for a GL object about to be made (Context::current(): throws when none is).
+const Context* contextForNewObject();
+// Whether an object made in `owner` can be deleted now: its context is current. Otherwise the object
+// is left to go with its context (counted by orphanedObjects()), as a GL call now would act on no
+// context or on another one; debug builds say so and abort, so a test catches it.
+bool canDelete(const Context* owner);
+int orphanedObjects();
+
 template <void (*Delete)(GLuint)>
 class Handle {
 public:
   Handle() = default;
-  explicit Handle(GLuint id) : id_(id) {}
-  ~Handle() {
-    if (id_) Delete(id_);
-  }
-  Handle(Handle&& o) noexcept : id_(std::exchange(o.id_, 0)) {}
+  explicit Handle(GLuint id) : id_(id), context_(contextForNewObject()) {}
+  ~Handle() { release(); }
+  Handle(Handle&& o) noexcept : id_(std::exchange(o.id_, 0)), context_(std::exchange(o.context_, nullptr)) {}
   Handle& operator=(Handle&& o) noexcept {
     if (this != &o) {
-      if (id_) Delete(id_);
+      release();
       id_ = std::exchange(o.id_, 0);
+      context_ = std::exchange(o.context_, nullptr);
     }
     return *this;
   }
   GLuint id() const { return id_; }
 
 private:
+  void release() {
+    if (id_ && canDelete(context_)) Delete(id_);
+    id_ = 0;
+  }
   GLuint id_ = 0;
+  const Context* context_ = nullptr;
 };
 
 void deleteBuffer(GLuint id);

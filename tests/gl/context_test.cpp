@@ -2,6 +2,8 @@
 // made in is not current, contexts counted.
 #include <gtest/gtest.h>
 
+#include <memory>
+
 #include "core/error.h"
 #include "core/gl/context.h"
 #include "core/gl/program.h"
@@ -72,6 +74,26 @@ TEST(GlContext, AProgramRefusesAnotherContext) {
   EXPECT_EQ(scrambleOne(q, 11), expected);
   second.reset();
   EXPECT_THROW(Context::current(), Error);
+}
+
+// Objects are made only in a current context, and destroyed only while theirs is current: otherwise a
+// debug build aborts (so a test that leaves an object to outlive its context fails), and a release
+// build leaves the object to its context and counts it.
+TEST(GlContext, ObjectsNeedTheirContextCurrent) {
+  auto ctx = Context::headless();
+  auto buffer = std::make_unique<Buffer>(16);
+  ctx->releaseCurrent();
+  EXPECT_THROW(Buffer(16), Error);
+  EXPECT_THROW(Texture::texture2D(GL_R32F, 4, 4), Error);
+#ifdef NDEBUG
+  const int before = orphanedObjects();
+  buffer.reset();
+  EXPECT_EQ(orphanedObjects(), before + 1);
+#else
+  EXPECT_DEATH(buffer.reset(), "context it was made in is not current");
+  ctx->makeCurrent();
+  buffer.reset();
+#endif
 }
 
 }  // namespace
