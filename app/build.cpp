@@ -7,7 +7,6 @@
 #include "core/error.h"
 #include "core/mesh_io.h"
 #include "core/progress.h"
-#include "multires/adaptive_mesh.h"
 #include "multires/mesh_distance.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
@@ -90,10 +89,6 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
     r["mean_tile_orthogonality"] = pairing.meanOrthogonality;
     r["operators"] = {{"flips", stats.operators.flips}, {"face_welds", stats.operators.faceWelds},
                       {"edge_welds", stats.operators.edgeWelds}, {"boundary_welds", stats.operators.boundaryWelds}};
-    // Storage of the specialised halfedge the model is refined with (multires/adaptive_mesh.h).
-    r["halfedge_bytes"] = multires::AdaptiveMesh::kBytesPerHalfedge;
-    r["vertex_bytes"] = multires::AdaptiveMesh::kBytesPerVertex;
-    r["face_bytes"] = multires::AdaptiveMesh::kBytesPerFace;
     r["folded_before_untangle"] = stats.untangle.foldedBefore;
     r["folded_after_untangle"] = stats.untangle.foldedAfter;
     r["untangled_vertices"] = stats.untangle.movedVertices;

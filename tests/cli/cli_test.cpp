@@ -238,22 +238,22 @@ TEST(Cli, ProbeSuggestsTheBallsIntensity) {
   EXPECT_GT(j["voxels"].get<int>(), 100);
 }
 
-// R in --at X,Y,Z,R overrides --radius: a ball of 12 voxels around the bright ball (radius 9, 200)
-// takes in the dark shell too; mean and count against voxels counted here (distance <= R).
+// R in --at X,Y,Z,R overrides --radius. Balls whose voxels are known by hand: radius 1 holds the
+// centre and its 6 face neighbours, radius 1.5 adds the 12 edge neighbours (at sqrt 2), radius 1.8 the
+// 8 corners (at sqrt 3). At (29,18,15), on the bright ball's edge (its voxels have d^2 < 81 from
+// (20,18,15)), only the -x neighbour (28,18,15) is bright: 1 voxel of 200 and 6 of 50.
 TEST(Cli, ProbeRadiusInTheCentreOverridesTheOption) {
-  const auto j = probeBall("--at 20,18,15,12 --radius 3");
-  ASSERT_TRUE(j.contains("voxels"));
-  std::int64_t bright = 0, dark = 0;
-  for (int z = 3; z <= 27; ++z)
-    for (int y = 6; y <= 30; ++y)
-      for (int x = 8; x <= 32; ++x) {
-        const double d2 = (x - 20.0) * (x - 20.0) + (y - 18.0) * (y - 18.0) + (z - 15.0) * (z - 15.0);
-        if (d2 > 144) continue;
-        (d2 < 81 ? bright : dark) += 1;
-      }
-  EXPECT_EQ(j["voxels"].get<std::int64_t>(), bright + dark);
-  EXPECT_NEAR(j["mean"].get<double>(), (200.0 * double(bright) + 50.0 * double(dark)) / double(bright + dark), 1e-9);
-  EXPECT_GT(j["std"].get<double>(), 10);
+  for (const auto& [radius, voxels] : {std::pair{"1", 7}, {"1.5", 19}, {"1.8", 27}}) {
+    const auto j = probeBall(std::string("--at 20,18,15,") + radius + " --radius 5");
+    ASSERT_TRUE(j.contains("voxels"));
+    EXPECT_EQ(j["voxels"], voxels) << "radius " << radius;
+    EXPECT_DOUBLE_EQ(j["mean"].get<double>(), 200);
+  }
+  const auto edge = probeBall("--at 29,18,15,1 --radius 5");
+  ASSERT_TRUE(edge.contains("voxels"));
+  EXPECT_EQ(edge["voxels"], 7);
+  EXPECT_NEAR(edge["mean"].get<double>(), 500.0 / 7, 1e-9);
+  EXPECT_NEAR(edge["std"].get<double>(), std::sqrt(135000.0) / 7, 1e-9);  // sqrt(55000/7 - (500/7)^2)
 }
 
 TEST(Cli, SegmentFindsTheBallAndKeepsTheGeometry) {

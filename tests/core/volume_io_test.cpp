@@ -78,6 +78,41 @@ TEST(VolumeIo, WorldCoordinatesFollowTheAffine) {
   EXPECT_NEAR(back.z, 1, 1e-12);
 }
 
+// Files written by other tools (tests/core/fixtures: nibabel 5.0 for the NIfTI files, teem's unu for
+// the NRRD file; tests/core/fixtures/README.md says how): world coordinates of known voxels as those
+// tools give them (nibabel's affine; the NRRD's origin and space directions, LPS turned to RAS).
+struct KnownVoxel {
+  std::int64_t i, j, k;
+  Vec3 world;
+  double value;
+};
+void expectKnownVoxels(const std::string& file, std::array<std::int64_t, 3> dims, const std::vector<KnownVoxel>& voxels) {
+  SCOPED_TRACE(file);
+  const Volume v = readVolume(std::string(ISOATLAS_SOURCE_DIR) + "/tests/core/fixtures/" + file);
+  ASSERT_EQ(v.dims, dims);
+  for (const KnownVoxel& k : voxels) {
+    const Vec3 w = v.indexToWorld(Vec3{double(k.i), double(k.j), double(k.k)});
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(w[a], k.world[a], 1e-4) << "voxel " << k.i << "," << k.j << "," << k.k;
+    EXPECT_EQ(v.value(v.index(k.i, k.j, k.k)), k.value);
+  }
+}
+
+TEST(VolumeIo, FilesOfOtherToolsGiveTheirWorldCoordinates) {
+  // An oblique, sheared sform (scanner), no qform.
+  expectKnownVoxels("nibabel_oblique_sform.nii.gz", {5, 4, 3},
+                    {{0, 0, 0, {-40.5, 22.25, -7.0}, 0},
+                     {4, 1, 2, {-36.9858608544, 24.3647428751, -1.8999999985}, 49},
+                     {1, 2, 1, {-40.0903416127, 24.617708534, -4.299999997}, 31}});
+  // A qform alone: a rotation about z and qfac -1.
+  expectKnownVoxels("nibabel_qform_only.nii", {4, 3, 5},
+                    {{0, 0, 0, {10.0, -5.0, 30.0}, 0},
+                     {3, 1, 2, {12.775756886, -2.572001903, 27.0}, 15.5},
+                     {1, 2, 1, {10.2860182219, -3.0205572078, 28.5}, 10.5}});
+  // NRRD in LPS with oblique, non-orthogonal space directions.
+  expectKnownVoxels("teem_oblique_lps.nrrd", {3, 4, 2},
+                    {{0, 0, 0, {-10, -20, -30}, 1000}, {2, 3, 1, {-11.2, -23.8, -28}, 1023}, {1, 0, 1, {-10.9, -20.4, -28}, 1013}});
+}
+
 TEST(VolumeIo, NrrdIsWrittenInLpsAndReadBackAsRas) {
   const auto dir = scratchDir();
   Volume v = test::rampVolume(ScalarType::UInt8);

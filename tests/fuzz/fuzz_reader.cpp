@@ -19,10 +19,17 @@ const std::string& scratchPath() {
 }
 }  // namespace
 
+// A detached NRRD header (.nhdr) names its data file: the seeds name this one, beside the input.
+constexpr const char* kNhdrData = "/tmp/isoatlas-fuzz-nhdr.raw";
+
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   // Keep every allocation far below libFuzzer's memory limit: a lying header must fail on its
   // size check or its short read, never by exhausting memory.
   isoatlas::setVolumeByteLimit(std::uint64_t(64) << 20);
+  if (std::string(FUZZ_EXT) == ".nhdr") {
+    std::ofstream raw(kNhdrData, std::ios::binary | std::ios::trunc);
+    for (int i = 0; i < 4096; ++i) raw.put(char(i * 37));
+  }
   return 0;
 }
 

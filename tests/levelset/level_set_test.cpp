@@ -131,7 +131,10 @@ TEST(LevelSet, CurvatureFlowShrinksASphereAsTheAnalyticLaw) {
   EXPECT_NEAR(start, r0, 0.2);
   while (ls.simulatedTime() < 30) ls.step();
   const double expected = std::sqrt(start * start - 2 * ls.simulatedTime());
-  EXPECT_NEAR(equivalentRadius(ls), expected, 0.05 * expected) << "t = " << ls.simulatedTime();
+  // The shrink itself (about 2.8 voxels) is what the law predicts, to 5 % (the scheme gives 3.8 % more);
+  // a bound on the radius alone would let a sixth of it be wrong.
+  const double shrink = start - equivalentRadius(ls), expectedShrink = start - expected;
+  EXPECT_NEAR(shrink, expectedShrink, 0.05 * expectedShrink) << "t = " << ls.simulatedTime();
 }
 
 TEST(LevelSet, PropagationMovesTheFrontAtTheSpeedOfD) {

@@ -117,6 +117,35 @@ TEST(Untangle, ScrambledParametrisationIsUntangled) {
   }
 }
 
+// Folds counted by hand: in base triangle t cut 6 x 6, the centroid's dense vertex (lattice (2, 2))
+// is pushed to lattice (2.6, 2.6), past the line i + j = 5 through its neighbours (3, 2) and (2, 3).
+// Of its six triangles exactly one turns over: ((2,2), (3,2), (2,3)); the other five keep their
+// orientation (each checked by hand: their signed areas stay 0.4 to 2.2).
+void pushCentrePastItsRing(const Mesh& dense, BaseMesh& base, std::uint32_t t) {
+  for (std::size_t v = 0; v < dense.vertexCount(); ++v) {
+    const auto& b = base.denseBary[v];
+    if (base.denseTriangle[v] == t && std::abs(b[0] - 1.0 / 3) < 1e-12 && std::abs(b[1] - 1.0 / 3) < 1e-12) {
+      base.denseBary[v] = {0.8 / 6, 2.6 / 6, 2.6 / 6};
+      return;
+    }
+  }
+  FAIL() << "no centroid vertex in base triangle " << t;
+}
+
+TEST(Untangle, FoldsCountedByHand) {
+  BaseMesh base = octahedron();
+  const Mesh dense = subdivide(base, 6);
+  pushCentrePastItsRing(dense, base, 0);
+  EXPECT_EQ(countFoldedTriangles(dense, base), 1u);
+  pushCentrePastItsRing(dense, base, 5);
+  EXPECT_EQ(countFoldedTriangles(dense, base), 2u);
+  const UntangleStats stats = untangleParametrisation(dense, base);
+  EXPECT_EQ(stats.foldedBefore, 2u);
+  EXPECT_EQ(stats.foldedAfter, 0u);
+  EXPECT_EQ(stats.movedVertices, 2u) << "only the two pushed vertices need to move";
+  EXPECT_EQ(countFoldedTriangles(dense, base), 0u);
+}
+
 // On simplified surfaces untangling is local and greedy: it never adds folds and removes most; the
 // few left are dense triangles too long for one chart (their corners' base triangles share no
 // vertex). Nearly every dense vertex then comes back exactly at its own parameter.
