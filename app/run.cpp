@@ -136,7 +136,8 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                                                     .backend = gpu.backend,
                                                     .renderer = gpu.renderer,
                                                     .maxIterations = kDemoMaxIterations,
-                                                    .label = "run: segment"});
+                                                    .label = "run: segment",
+                                                    .readPhi = true});
       writeVolume(products.add("mask.nii.gz", "the segmentation: uint8, 1 inside, on the input's grid"), s.mask);
       writeVolume(products.add("phi.nii.gz", "the level set phi: float, > 0 inside, in voxels"), s.phi);
       r["segment"] = s.figures();

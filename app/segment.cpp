@@ -60,7 +60,8 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
                                                   .renderer = gpu.renderer,
                                                   .pageSize = o->page,
                                                   .maxIterations = o->iterations,
-                                                  .untilConverged = o->converge});
+                                                  .untilConverged = o->converge,
+                                                  .readPhi = !o->phi.empty()});
     writeVolume(o->output, s.mask);
     if (!o->phi.empty()) writeVolume(o->phi, s.phi);
 

@@ -17,8 +17,12 @@ Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& requ
                              .untilConverged = request.untilConverged,
                              .progress = [&](int i, std::int64_t) { progress.update(std::uint64_t(i)); }});
   progress.finish();
-  s.phi = s.levelSet->phi();
-  s.mask = levelset::maskOf(s.phi);
+  if (request.readPhi) {
+    s.phi = s.levelSet->phi();
+    s.mask = levelset::maskOf(s.phi);
+  } else {
+    s.mask = s.levelSet->mask();
+  }
   for (std::size_t n = 0; n < s.mask.voxelCount(); ++n) s.insideVoxels += s.mask.data[n] != std::byte{0};
   return s;
 }

@@ -1,6 +1,6 @@
 // The segmentation `segment` and `run` share: a level set on the chosen backend (its GL context current
-// when it is the GPU), seeded by balls (and a mask), run with progress on stderr, phi and the mask read
-// back once.
+// when it is the GPU), seeded by balls (and a mask), run with progress on stderr, the mask read back
+// once (and phi, when asked for: the mask is then made from it).
 #pragma once
 #include <nlohmann/json.hpp>
 
@@ -23,6 +23,7 @@ struct SegmentationRequest {
   int maxIterations = levelset::RunOptions{}.maxIterations;
   bool untilConverged = levelset::RunOptions{}.untilConverged;
   std::string label = "segment";  // the progress line's name
+  bool readPhi = false;           // read phi back whole (for a phi file)
 };
 
 struct Segmentation {
@@ -30,7 +31,7 @@ struct Segmentation {
   levelset::Backend backend = levelset::Backend::Cpu;
   std::string renderer;
   levelset::RunStats stats;
-  Volume phi, mask;
+  Volume phi, mask;  // phi: empty unless asked for
   std::int64_t insideVoxels = 0;
   // backend, renderer, iterations, seconds, converged, inside_voxels, active_pages_peak,
   // physical_bytes_peak

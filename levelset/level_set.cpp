@@ -252,9 +252,10 @@ RunStats LevelSet::run(const RunOptions& options) {
   return stats;
 }
 
-Volume LevelSet::phi() const {
-  Volume out = geometry_.sameGeometry(ScalarType::Float32);
-  auto* data = reinterpret_cast<float*>(out.data.data());
+template <class T, class Convert>
+Volume LevelSet::dense(ScalarType type, Convert convert) const {
+  Volume out = geometry_.sameGeometry(type);
+  auto* data = reinterpret_cast<T*>(out.data.data());
   const int P = pages_->pageSize();
   const auto dims = geometry_.dims;
   std::vector<std::int32_t> slots;
@@ -265,7 +266,7 @@ Volume LevelSet::phi() const {
     for (int y = 0; y < P; ++y)
       for (int x = 0; x < P; ++x) {
         const std::int64_t vx = px * P + x, vy = py * P + y;
-        if (vx < dims[0] && vy < dims[1]) data[std::size_t((pz * dims[1] + vy) * dims[0] + vx)] = valueAt(x, y);
+        if (vx < dims[0] && vy < dims[1]) data[std::size_t((pz * dims[1] + vy) * dims[0] + vx)] = convert(valueAt(x, y));
       }
   };
   for (std::int64_t page = 0; page < pages_->virtualPageCount(); ++page)
@@ -280,7 +281,13 @@ Volume LevelSet::phi() const {
   return out;
 }
 
-Volume LevelSet::mask() const { return maskOf(phi()); }
+Volume LevelSet::phi() const {
+  return dense<float>(ScalarType::Float32, [](float v) { return v; });
+}
+
+Volume LevelSet::mask() const {
+  return dense<std::uint8_t>(ScalarType::UInt8, [](float v) { return std::uint8_t(v > 0 ? 1 : 0); });
+}
 
 Volume maskOf(const Volume& phi) {
   Volume out = phi.sameGeometry(ScalarType::UInt8);

@@ -58,11 +58,11 @@ public:
   RunStats run(const RunOptions& options);
 
   Volume phi() const;   // float32, the source's geometry; inactive pages read as +-kClamp
+  Volume mask() const;  // maskOf(phi()), made page by page with no dense phi
   // phi where the backend keeps it, for readers that follow the pages (extraction): the pool on the
   // host (the GPU's read back) and, on the GPU, its texture (0 on the CPU). See SolverBackend.
   const float* phiPoolOnHost() const { return backend_->phiPoolOnHost(); }
   unsigned phiPoolTexture() const { return backend_->phiPoolTexture(); }
-  Volume mask() const;  // maskOf(phi())
 
   const PageManager& pages() const { return *pages_; }
   const Volume& geometry() const { return geometry_; }  // the source's dims, spacing, origin, direction; no voxels
@@ -74,6 +74,10 @@ public:
 
 private:
   void applyMessages(const IterationResult& r);
+  // A volume of the source's geometry from the pages: static pages as +-kClamp, active ones as read
+  // back (one read of the active slots), each value through convert.
+  template <class T, class Convert>
+  Volume dense(ScalarType type, Convert convert) const;
   void commit(const std::vector<std::pair<std::int32_t, float>>& filled);
 
   Volume geometry_;  // the source's geometry, no data

@@ -176,6 +176,10 @@ TEST(LevelSet, PagesAreReleasedBehindTheFrontAndReused) {
   EXPECT_GT(stats.releases, 0);
   EXPECT_LT(stats.peakActive, stats.activations) << "freed slots were taken again";
   EXPECT_EQ(ls.pages().staticSlot(ls.pages().pageIndex(6, 6, 24)), kInsideSlot) << "the centre page went static inside";
+  // The CPU backend's memory counts the source volume it reads (48^3 floats), the pool of phi and
+  // the per-page tables besides.
+  const std::uint64_t pool = std::uint64_t(ls.pages().capacity()) * 4 * 4 * sizeof(float);
+  EXPECT_GE(ls.physicalBytes(), std::uint64_t(48 * 48 * 48) * sizeof(float) + pool);
 }
 
 // On both backends: growing keeps every slot's content (phi and, on the GPU, the source's pages).
@@ -267,6 +271,8 @@ TEST(LevelSet, GpuStepsLikeCpu) {
     ASSERT_NEAR(gpu.simulatedTime(), cpu.simulatedTime(), 1e-4 * cpu.simulatedTime()) << "step " << i;
   }
   EXPECT_LT(largestDifference(cpu.phi(), gpu.phi()), 1e-3);
+  // The mask made page by page is the dense phi's.
+  for (const LevelSet* ls : {&cpu, &gpu}) EXPECT_TRUE(ls->mask().data == maskOf(ls->phi()).data);
 }
 
 // The GPU keeps the source's intensities in pages beside phi's: a slot released by one page and
