@@ -36,6 +36,7 @@ void requireInside(const Volume& v, const Vec3& p, const std::string& what) {
 
 gl::Context& Gpu::needGl() {
   if (!context) context = gl::Context::headless();
+  if (!context->isCurrent()) context->makeCurrent();
   return *context;
 }
 

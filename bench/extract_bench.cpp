@@ -64,7 +64,11 @@ double heapPeakMiB(const std::function<void()>& work) {
   return double(g_heapPeak - before) / kMiB;
 }
 
-void openVdbComparison(const std::string& data) {
+// The GPU's name for the table.
+std::string deviceName(const gl::Context& context) { return context.info().renderer + ", " + bench::machineName(); }
+
+// gpu: the process's GL context, when the GPU path is measured too (ISOATLAS_BENCH_GPU).
+void openVdbComparison(const std::string& data, const gl::Context* gpu) {
   const Volume phi = bench::ch2betterWhiteMatterPhi(data);
 
   std::size_t ours = 0;
@@ -106,9 +110,8 @@ void openVdbComparison(const std::string& data) {
   // The GPU path beside the CPU path (issue 4: at least 10x on a real GPU), when asked: on llvmpipe
   // the figure says nothing. In the process's one context, its programs compiled by an untimed first
   // call, as in a session that extracts more than once.
-  if (std::getenv("ISOATLAS_BENCH_GPU")) {
-    const auto context = gl::Context::headless();
-    const std::string device = context->info().renderer + ", " + bench::machineName();
+  if (gpu) {
+    const std::string device = deviceName(*gpu);
     extract::extractSurface(phi, {.iso = 0.0f, .gpu = true});
     std::size_t gpuTriangles = 0;
     const double gpuSeconds = bench::medianSeconds(7, [&] {
@@ -154,14 +157,13 @@ void pagesAgainstDense(const Volume& ch2, levelset::Backend backend, const std::
 int main(int argc, char** argv) {
   const std::string data = argc > 1 ? argv[1] : "data";
   const std::string only = argc > 2 ? argv[2] : "";
-  if (only.empty() || only == "openvdb") openVdbComparison(data);
+  // One context for the process, made before any GPU object and destroyed after them all.
+  const auto gpu = std::getenv("ISOATLAS_BENCH_GPU") ? gl::Context::headless() : nullptr;
+  if (only.empty() || only == "openvdb") openVdbComparison(data, gpu.get());
   if (only.empty() || only == "pages") {
     const Volume ch2 = readVolume(data + "/volumes/ch2.nii.gz");
     pagesAgainstDense(ch2, levelset::Backend::Cpu, "");
-    if (std::getenv("ISOATLAS_BENCH_GPU")) {
-      const auto context = gl::Context::headless();  // before the level set, which it outlives
-      pagesAgainstDense(ch2, levelset::Backend::Gpu, context->info().renderer + ", " + bench::machineName());
-    }
+    if (gpu) pagesAgainstDense(ch2, levelset::Backend::Gpu, deviceName(*gpu));
   }
   return 0;
 }

@@ -3,8 +3,7 @@
 # can compile only its own shaders (the dependency rule of DESIGN.md holds in the build too).
 #   isoatlas_embed_shaders(TARGET SYMBOL [FOLDER])
 # adds to TARGET a table `isoatlas::gl::SYMBOL` of the files in FOLDER (default: the calling folder's
-# shaders/), looked up
-# by their path from the repository root (e.g. "levelset/shaders/update.comp"), and a header
+# shaders/), looked up by their path from the repository root (e.g. "levelset/shaders/update.comp"), and a header
 # <SYMBOL.h> declaring it.
 set(ISOATLAS_SHADER_EXTENSIONS glsl comp vert frag tesc tese geom)
 

@@ -53,8 +53,15 @@ void toWorld(Mesh& mesh, const Volume& v) {
       std::swap(mesh.faceVertices[mesh.faceOffsets[f] + 1], mesh.faceVertices[mesh.faceOffsets[f] + 2]);
 }
 
-Mesh finish(MarchingResult result, const Volume& geometry, const ExtractOptions& o, ExtractStats& s,
-            std::chrono::steady_clock::time_point start) {
+using VisitBlock = std::function<bool(std::int64_t, std::int64_t, std::int64_t)>;
+
+// Marching cubes on the GPU or the CPU over the visited blocks, then what every extraction does
+// after it: components, world coordinates, smoothing, figures. `field` says where the values came
+// from ("dense" or "pages") in s.path.
+Mesh march(const Grid& grid, bool gpu, const char* field, const VisitBlock& visit, const Volume& geometry,
+           const ExtractOptions& o, ExtractStats& s, std::chrono::steady_clock::time_point start) {
+  s.path = std::string(gpu ? "gpu " : "cpu ") + field;
+  MarchingResult result = gpu ? marchingCubesGpu(grid, s.iso, kBlock, visit) : marchingCubes(grid, s.iso, kBlock, visit);
   s.cellsVisited = result.cellsVisited;
   s.gpuBytes = result.gpuBytes;
   s.cellsTotal = (geometry.dims[0] + 1) * (geometry.dims[1] + 1) * (geometry.dims[2] + 1);
@@ -127,15 +134,13 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
       }
     return inside > 0 && (inside < corners || border);
   };
-  s.path = o.gpu ? "gpu dense" : "cpu dense";
-  return finish(o.gpu ? marchingCubesGpu(grid, s.iso, kBlock, visit) : marchingCubes(grid, s.iso, kBlock, visit), volume,
-                o, s, start);
+  return march(grid, o.gpu, "dense", visit, volume, o, s, start);
 }
 
 namespace {
 
 // The blocks of cells that touch an active page: everywhere else phi is flat.
-std::function<bool(std::int64_t, std::int64_t, std::int64_t)> activeBlocks(const levelset::PageManager& pm) {
+VisitBlock activeBlocks(const levelset::PageManager& pm) {
   const int P = pm.pageSize();
   const auto d = pm.dims();
   const std::array<std::int64_t, 3> blocks{blockCount(d[0], kBlock), blockCount(d[1], kBlock), blockCount(d[2], kBlock)};
@@ -166,10 +171,7 @@ Mesh extractLevelSet(const levelset::LevelSet& ls, const ExtractOptions& o, Extr
   grid.paged.pages = &ls.pages();
   if (gpu) grid.paged.texture = ls.phiPoolTexture();
   else grid.paged.pool = ls.phiPoolOnHost();
-  s.path = gpu ? "gpu pages" : "cpu pages";
-  const auto visit = activeBlocks(ls.pages());
-  MarchingResult r = gpu ? marchingCubesGpu(grid, s.iso, kBlock, visit) : marchingCubes(grid, s.iso, kBlock, visit);
-  return finish(std::move(r), ls.geometry(), o, s, start);
+  return march(grid, gpu, "pages", activeBlocks(ls.pages()), ls.geometry(), o, s, start);
 }
 
 Mesh extractLevelSet(const levelset::LevelSet& ls, const Volume& phi, const ExtractOptions& o, ExtractStats* stats) {
@@ -179,11 +181,8 @@ Mesh extractLevelSet(const levelset::LevelSet& ls, const Volume& phi, const Extr
   ExtractStats local;
   ExtractStats& s = stats ? *stats : local;
   s.iso = o.iso.value_or(0.0f);
-  s.path = o.gpu ? "gpu dense" : "cpu dense";
   const Grid grid{phi.dims, reinterpret_cast<const float*>(phi.data.data())};
-  const auto visit = activeBlocks(ls.pages());
-  MarchingResult r = o.gpu ? marchingCubesGpu(grid, s.iso, kBlock, visit) : marchingCubes(grid, s.iso, kBlock, visit);
-  return finish(std::move(r), phi, o, s, start);
+  return march(grid, o.gpu, "dense", activeBlocks(ls.pages()), phi, o, s, start);
 }
 
 }  // namespace isoatlas::extract

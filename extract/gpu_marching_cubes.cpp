@@ -78,7 +78,11 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   const std::uint64_t blockCells = std::uint64_t(blockSize) * std::uint64_t(blockSize) * std::uint64_t(blockSize);
   const std::uint64_t cells = std::uint64_t(storage.visited) * blockCells;
   const std::uint64_t points = std::uint64_t(storage.count()) * blockCells;
-  if (points >= (std::uint64_t(1) << 31))
+  // Counts and indices are 32-bit, and the scans would wrap silently: bound them first. A cell's
+  // polygons use at most its 12 edges, so it has at most 12 triangles and 4 centre vertices; a grid
+  // point has at most 3 edge vertices.
+  if (points >= (std::uint64_t(1) << 31) || 3 * points + 4 * cells >= (std::uint64_t(1) << 32) ||
+      36 * cells >= (std::uint64_t(1) << 32))
     throw Error("the surface is too large for the GPU extraction path; use --backend cpu", ErrorKind::Failure);
 
   gl::Defines defines{{"BLOCK_SIZE", std::to_string(blockSize)}};
@@ -106,12 +110,12 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   gl::Buffer cellTriangles(cells * 4), cellCentres(cells * 4), edgeBits(points * 4), edgeOffset(points * 4), visited(16);
   for (gl::Buffer* b : {&cellTriangles, &cellCentres, &edgeBits, &visited}) b->fillZero();
 
-  // The shaders' bindings (marching.glsl and the passes); the scans reuse 0 and 1, so this runs again.
+  // The shaders' bindings (marching.glsl and the passes), in binding order; the scans reuse 0 and 1,
+  // so this runs again after them.
+  const gl::Buffer* bound[] = {&field, &blockBuffer, &caseIndex, &polygons, &cellTriangles, &cellCentres,
+                               &edgeBits, &visited, &edgeOffset};
   auto bindAll = [&] {
-    int binding = 0;
-    for (const gl::Buffer* b : {&field, &blockBuffer, &caseIndex, &polygons, &cellTriangles, &cellCentres, &edgeBits,
-                                &visited, &edgeOffset})
-      b->bindBase(GL_SHADER_STORAGE_BUFFER, GLuint(binding++));
+    for (GLuint binding = 0; binding < std::size(bound); ++binding) bound[binding]->bindBase(GL_SHADER_STORAGE_BUFFER, binding);
     slotBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 11);
   };
   bindAll();
@@ -159,9 +163,8 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   std::uint32_t visitedCells = 0;
   visited.download(&visitedCells, 4);
   result.cellsVisited = visitedCells;
-  for (const gl::Buffer* b : {&field, &blockBuffer, &slotBuffer, &caseIndex, &polygons, &cellTriangles, &cellCentres,
-                              &edgeBits, &edgeOffset, &visited, &vertices, &triangles})
-    result.gpuBytes += b->bytes();
+  for (const gl::Buffer* b : bound) result.gpuBytes += b->bytes();
+  for (const gl::Buffer* b : {&slotBuffer, &vertices, &triangles}) result.gpuBytes += b->bytes();
   Mesh& mesh = result.mesh;
   mesh.positions.resize(std::size_t(edgeVertexCount) + centreCount, Vec3{0, 0, 0});
   for (std::uint32_t i = 0; i < edgeVertexCount; ++i) {

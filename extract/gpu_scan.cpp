@@ -19,7 +19,7 @@ std::uint32_t GpuScan::exclusive(gl::Buffer& values, std::uint32_t count) {
   sums.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
   scanBlocks_.use();
   glUniform1ui(scanBlocks_.uniform("count"), count);
-  scanBlocks_.dispatch(gx, gy, 1, GL_SHADER_STORAGE_BARRIER_BIT);
+  scanBlocks_.dispatch(gx, gy, 1, GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
   std::uint32_t total = 0;
   if (groups == 1) {
     sums.download(&total, 4);

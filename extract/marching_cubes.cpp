@@ -133,24 +133,15 @@ const PackedCaseTable& packedCaseTable() {
 
 float Grid::at(std::int64_t x, std::int64_t y, std::int64_t z) const {
   if (values) return values[std::size_t((z * dims[1] + y) * dims[0] + x)];
-  const levelset::PageManager& pm = *paged.pages;
-  const int P = pm.pageSize();
-  const auto origin = pm.slotOrigin(pm.slotOf(pm.pageIndex(x / P, y / P, z)));
-  const std::size_t width = std::size_t(pm.poolPagesX()) * std::size_t(P);
-  return paged.pool[std::size_t(origin[1] + y % P) * width + std::size_t(origin[0] + x % P)];
+  return paged.pool[paged.pages->poolTexel(x, y, z)];
 }
 
 const float* Grid::row(std::int64_t y, std::int64_t z, std::vector<float>& scratch) const {
   if (values) return values + std::size_t((z * dims[1] + y) * dims[0]);
-  const levelset::PageManager& pm = *paged.pages;
-  const int P = pm.pageSize();
-  const std::size_t width = std::size_t(pm.poolPagesX()) * std::size_t(P);
+  const int P = paged.pages->pageSize();
   scratch.resize(std::size_t(dims[0]));
-  for (std::int64_t x0 = 0; x0 < dims[0]; x0 += P) {
-    const auto origin = pm.slotOrigin(pm.slotOf(pm.pageIndex(x0 / P, y / P, z)));
-    const float* from = paged.pool + std::size_t(origin[1] + y % P) * width + std::size_t(origin[0]);
-    std::copy_n(from, std::min<std::int64_t>(P, dims[0] - x0), scratch.data() + x0);
-  }
+  for (std::int64_t x0 = 0; x0 < dims[0]; x0 += P)  // a page's row lies contiguous in the pool
+    std::copy_n(paged.pool + paged.pages->poolTexel(x0, y, z), std::min<std::int64_t>(P, dims[0] - x0), scratch.data() + x0);
   return scratch.data();
 }
 
@@ -182,7 +173,7 @@ int cellCase(unsigned side, unsigned nextSide) {
 //      plus the vertices before it in the row, counted while walking the four point rows a cell
 //      row touches.
 // So vertices come in (point, axis) order, centre vertices after them in cell order, triangles in
-// cell order: the GPU path's numbering.
+// cell order (the GPU path numbers the same way within each block, block by block).
 class RowMarcher {
 public:
   RowMarcher(const Grid& grid, float iso, int blockSize, const std::function<bool(std::int64_t, std::int64_t, std::int64_t)>& visitBlock)

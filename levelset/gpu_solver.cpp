@@ -31,6 +31,7 @@ public:
   std::string name() const override { return "gpu (" + ctx_.info().renderer + ")"; }
 
   void pagesChanged(const PageManager& pm, const std::vector<std::pair<std::int32_t, float>>& filled) override {
+    requireCurrent();
     if (P_ != pm.pageSize()) {
       P_ = pm.pageSize();
       const gl::Defines defines{{"PAGE_SIZE", std::to_string(P_)},
@@ -72,6 +73,7 @@ public:
   }
 
   IterationResult iterate(const PageManager&, const SpeedParams& params) override {
+    requireCurrent();
     IterationResult result;
     if (pageCount_ == 0) return result;
     const std::uint32_t zeros[4] = {0, 0, 0, 0};
@@ -118,12 +120,14 @@ public:
   }
 
   std::vector<float> readSlots(const PageManager& pm, const std::vector<std::int32_t>& slots) override {
+    requireCurrent();
     const std::size_t area = std::size_t(P_) * std::size_t(P_);
     std::vector<float> out(slots.size() * area);
     if (slots.empty()) return out;
     // Many pages: one read of the whole pool; few: one read per page.
     if (slots.size() > 64) {
-      const float* pool = phiPoolOnHost();
+      std::vector<float> pool;
+      readPool(pool);
       for (std::size_t s = 0; s < slots.size(); ++s) {
         const auto o = pm.slotOrigin(slots[s]);
         for (int y = 0; y < P_; ++y)
@@ -131,6 +135,7 @@ public:
                       std::size_t(P_) * 4);
       }
     } else {
+      glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);  // the image stores of the last step, before the reads
       for (std::size_t s = 0; s < slots.size(); ++s) {
         const auto o = pm.slotOrigin(slots[s]);
         glGetTextureSubImage(phi_[current_].id(), 0, o[0], o[1], 0, P_, P_, 1, GL_RED, GL_FLOAT, GLsizei(area * 4),
@@ -142,19 +147,23 @@ public:
   }
 
   void writeSlots(const PageManager& pm, const std::vector<std::int32_t>& slots, const std::vector<float>& values) override {
+    requireCurrent();
     std::vector<Origin> origins;
     for (std::int32_t slot : slots) origins.push_back(pm.slotOrigin(slot));
     writePages(phi_[current_], origins, values);
   }
 
   const float* phiPoolOnHost() override {
-    hostPool_.resize(std::size_t(poolWidth_) * std::size_t(poolHeight_));
-    glGetTextureImage(phi_[current_].id(), 0, GL_RED, GL_FLOAT, GLsizei(hostPool_.size() * 4), hostPool_.data());
-    gl::checkErrors("reading the phi pool");
+    requireCurrent();
+    readPool(hostPool_);
     return hostPool_.data();
   }
 
-  unsigned phiPoolTexture() const override { return phi_[current_].id(); }
+  // Handed out only while the solver's context is current, for work in that context.
+  unsigned phiPoolTexture() const override {
+    requireCurrent();
+    return phi_[current_].id();
+  }
 
   std::uint64_t physicalBytes() const override {
     // GPU memory: four pool textures (phi twice, rate, source) and the tables, following the active
@@ -163,6 +172,20 @@ public:
   }
 
 private:
+  // Every GL call below acts on the current context: it must be the one the solver was made in.
+  void requireCurrent() const {
+    if (!ctx_.isCurrent())
+      throw Error("the GPU level set is used while the GL context it was made in is not current", ErrorKind::Failure);
+  }
+
+  // The whole current phi pool into `out`, after the image stores of the last step.
+  void readPool(std::vector<float>& out) const {
+    out.resize(std::size_t(poolWidth_) * std::size_t(poolHeight_));
+    glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
+    glGetTextureImage(phi_[current_].id(), 0, GL_RED, GL_FLOAT, GLsizei(out.size() * 4), out.data());
+    gl::checkErrors("reading the phi pool");
+  }
+
   void setCommon(const gl::Program& p) const {
     p.use();
     glUniform1i(p.uniform("pageCount"), pageCount_);

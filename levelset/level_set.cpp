@@ -286,13 +286,13 @@ Volume LevelSet::phi() const {
 }
 
 Volume LevelSet::mask() const {
-  return dense<std::uint8_t>(ScalarType::UInt8, [](float v) { return std::uint8_t(v > 0 ? 1 : 0); });
+  return dense<std::uint8_t>(ScalarType::UInt8, maskValue);
 }
 
 Volume maskOf(const Volume& phi) {
   Volume out = phi.sameGeometry(ScalarType::UInt8);
   const auto* phiData = reinterpret_cast<const float*>(phi.data.data());
-  for (std::size_t n = 0; n < out.voxelCount(); ++n) out.data[n] = std::byte(phiData[n] > 0 ? 1 : 0);
+  for (std::size_t n = 0; n < out.voxelCount(); ++n) out.data[n] = std::byte(maskValue(phiData[n]));
   return out;
 }
 

@@ -94,7 +94,9 @@ private:
 // Checks T, eps and alpha; throws Error (bad input) naming the value.
 void validateParams(const SpeedParams& params);
 
-// uint8, 1 inside (phi > 0), 0 outside, in phi's geometry.
+// A mask voxel from phi: 1 inside (phi > 0), 0 outside.
+inline std::uint8_t maskValue(float phi) { return phi > 0 ? 1 : 0; }
+// uint8, maskValue of every voxel, in phi's geometry.
 Volume maskOf(const Volume& phi);
 
 }  // namespace isoatlas::levelset

@@ -19,6 +19,7 @@ namespace {
 std::string g_debugError;  // first error message from GL debug output since the last checkErrors()
 thread_local Context* t_current = nullptr;  // the context of ours this thread last made current
 std::atomic<int> g_made{0};
+std::atomic<std::uint64_t> g_serials{0};
 
 [[maybe_unused]] void GLAPIENTRY onDebugMessage(GLenum, GLenum type, GLuint, GLenum severity, GLsizei, const GLchar* message,
                                const void*) {
@@ -180,13 +181,14 @@ std::unique_ptr<Context> Context::window(int width, int height, const std::strin
 }
 
 void Context::finishSetup(const std::string& platform) {
-  ++g_made;
   t_current = this;
   queryInfo(info_);
   info_.platform = platform;
   if (epoxy_gl_version() < 45)
     throw Error("OpenGL 4.5 core is needed; this driver gives " + info_.version + " (" + info_.renderer + ")",
                 ErrorKind::Failure);
+  ++g_made;
+  serial_ = ++g_serials;
 #ifndef NDEBUG
   glEnable(GL_DEBUG_OUTPUT);
   glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
@@ -221,6 +223,10 @@ Context& Context::current() {
 
 int Context::made() { return g_made; }
 
+bool Context::isCurrentSerial(std::uint64_t serial) {
+  return serial != 0 && t_current && t_current->serial_ == serial && t_current->isCurrent();
+}
+
 const Program& Context::program(const ProgramSource& source) {
   const std::string key = source.key();
   if (auto it = programs_.find(key); it != programs_.end()) return it->second;
@@ -231,10 +237,12 @@ const Program& Context::program(const ProgramSource& source) {
 }
 
 Context::~Context() {
-  // The cached programs go first, while this context is current.
+  // The cached programs go first, while this context is current; the context that was current
+  // before (another one) is current again afterwards.
+  Context* previous = t_current != this && t_current && t_current->isCurrent() ? t_current : nullptr;
   makeCurrent();
   programs_.clear();
-  if (t_current == this) t_current = nullptr;
+  t_current = nullptr;
   if (window_) {
     // No glfwTerminate, for the same reason as no eglTerminate below: it unloads the GL driver.
     glfwDestroyWindow(window_);
@@ -244,6 +252,7 @@ Context::~Context() {
     // No eglTerminate: it unloads the driver, which leak checkers then cannot name. The display is
     // shared by every context of the process and ends with it.
   }
+  if (previous) previous->makeCurrent();
 }
 
 void checkErrors(const char* where) {

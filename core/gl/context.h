@@ -9,6 +9,7 @@
 // it is current.
 // In debug builds GL debug output is on and errors it reports are thrown by checkErrors().
 #pragma once
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
@@ -46,6 +47,11 @@ public:
   static Context& current();
   // Contexts this process has made so far (reported as gl_contexts).
   static int made();
+  // This context's number in the process (1, 2, ...; never reused), by which GL objects name the
+  // context they were made in: a pointer could outlive the context or name a newer one.
+  std::uint64_t serial() const { return serial_; }
+  // Whether the context numbered `serial` is current on this thread (false once it is destroyed).
+  static bool isCurrentSerial(std::uint64_t serial);
 
   // The program compiled from `source` in this context: compiled on the first request, the same
   // object afterwards. Lives as long as the context.
@@ -64,6 +70,7 @@ private:
   Info info_;
   std::map<std::string, Program> programs_;
   int programsCompiled_ = 0;
+  std::uint64_t serial_ = 0;
   void* display_ = nullptr;  // EGLDisplay
   void* context_ = nullptr;  // EGLContext
   GLFWwindow* window_ = nullptr;

@@ -69,7 +69,7 @@ std::string ProgramSource::key() const {
   return k;
 }
 
-Program::Program(const ProgramSource& source) : context_(&Context::current()), name_(source.paths.at(0)) {
+Program::Program(const ProgramSource& source) : context_(Context::current().serial()), name_(source.paths.at(0)) {
   id_ = glCreateProgram();
   std::vector<GLuint> shaders;
   try {
@@ -105,14 +105,14 @@ Program& Program::operator=(Program&& o) noexcept {
   if (this != &o) {
     if (id_ && canDelete(context_)) glDeleteProgram(id_);
     id_ = std::exchange(o.id_, 0);
-    context_ = std::exchange(o.context_, nullptr);
+    context_ = std::exchange(o.context_, 0);
     name_ = std::move(o.name_);
   }
   return *this;
 }
 
 void Program::use() const {
-  if (!context_ || !context_->isCurrent())
+  if (!Context::isCurrentSerial(context_))
     throw Error("shader program " + name_ + " is used while the GL context it was made in is not current",
                 ErrorKind::Failure);
   glUseProgram(id_);

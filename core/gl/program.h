@@ -8,6 +8,7 @@
 #include <epoxy/gl.h>
 
 #include <array>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -40,7 +41,7 @@ public:
   Program() = default;
   ~Program();
   Program(Program&& o) noexcept
-      : id_(std::exchange(o.id_, 0)), context_(std::exchange(o.context_, nullptr)), name_(std::move(o.name_)) {}
+      : id_(std::exchange(o.id_, 0)), context_(std::exchange(o.context_, 0)), name_(std::move(o.name_)) {}
   Program& operator=(Program&& o) noexcept;
 
   GLuint id() const { return id_; }
@@ -51,7 +52,7 @@ public:
 
 private:
   GLuint id_ = 0;
-  const Context* context_ = nullptr;
+  std::uint64_t context_ = 0;  // the serial of the context it was linked in (Context::serial)
   std::string name_;  // the first file, for messages
 };
 

@@ -13,10 +13,10 @@ namespace {
 std::atomic<int> g_orphans{0};
 }  // namespace
 
-const Context* contextForNewObject() { return &Context::current(); }
+std::uint64_t contextForNewObject() { return Context::current().serial(); }
 
-bool canDelete(const Context* owner) {
-  if (owner && owner->isCurrent()) return true;
+bool canDelete(std::uint64_t serial) {
+  if (Context::isCurrentSerial(serial)) return true;
   ++g_orphans;
 #ifndef NDEBUG
   std::fprintf(stderr, "isoatlas: a GL object is destroyed while the context it was made in is not current\n");

@@ -5,18 +5,19 @@
 #include <epoxy/gl.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
 namespace isoatlas::gl {
 
-class Context;
-// The current context, for a GL object about to be made (Context::current(): throws when none is).
-const Context* contextForNewObject();
-// Whether an object made in `owner` can be deleted now: its context is current. Otherwise the object
-// is left to go with its context (counted by orphanedObjects()), as a GL call now would act on no
-// context or on another one; debug builds say so and abort, so a test catches it.
-bool canDelete(const Context* owner);
+// The current context's serial, for a GL object about to be made (Context::current(): throws when
+// none is current).
+std::uint64_t contextForNewObject();
+// Whether an object made in context `serial` can be deleted now: that context exists and is current.
+// Otherwise the object is left to go with its context (counted by orphanedObjects()), as a GL call
+// now would act on no context or on another one; debug builds say so and abort, so a test catches it.
+bool canDelete(std::uint64_t serial);
 int orphanedObjects();
 
 template <void (*Delete)(GLuint)>
@@ -25,12 +26,12 @@ public:
   Handle() = default;
   explicit Handle(GLuint id) : id_(id), context_(contextForNewObject()) {}
   ~Handle() { release(); }
-  Handle(Handle&& o) noexcept : id_(std::exchange(o.id_, 0)), context_(std::exchange(o.context_, nullptr)) {}
+  Handle(Handle&& o) noexcept : id_(std::exchange(o.id_, 0)), context_(std::exchange(o.context_, 0)) {}
   Handle& operator=(Handle&& o) noexcept {
     if (this != &o) {
       release();
       id_ = std::exchange(o.id_, 0);
-      context_ = std::exchange(o.context_, nullptr);
+      context_ = std::exchange(o.context_, 0);
     }
     return *this;
   }
@@ -42,7 +43,7 @@ private:
     id_ = 0;
   }
   GLuint id_ = 0;
-  const Context* context_ = nullptr;
+  std::uint64_t context_ = 0;  // the serial of the context it was made in
 };
 
 void deleteBuffer(GLuint id);

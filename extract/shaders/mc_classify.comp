@@ -5,7 +5,7 @@ layout(local_size_x = BLOCK_SIZE, local_size_y = BLOCK_SIZE, local_size_z = BLOC
 layout(std430, binding = 4) buffer CellTriangles { uint cellTriangles[]; };
 layout(std430, binding = 5) buffer CellCentres { uint cellCentres[]; };
 layout(std430, binding = 6) buffer EdgeBits { uint edgeBits[]; };   // per grid point: bit = axis used
-layout(std430, binding = 7) buffer PointCount { uint visited; };
+layout(std430, binding = 7) buffer VisitedCells { uint visited; };
 
 void main() {
   ivec3 cell;

@@ -325,14 +325,38 @@ TEST(ExtractLevelSet, PagesGiveTheDensePhisMeshOnBothBackends) {
         EXPECT_EQ(gpuPages.path, backend == levelset::Backend::Gpu ? "gpu pages" : "cpu pages");
         expectSameMesh(onGpu, truth);
         if (backend == levelset::Backend::Gpu) {
-          // The GPU reads the pool in place: its memory is the visited blocks' scratch and the page
-          // table, against the dense path's upload of the whole phi besides the same scratch.
           const Mesh dense = extractLevelSet(*ls, phi, {.gpu = true}, &gpuDense);
           expectIdenticalMesh(onGpu, dense);
-          EXPECT_EQ(gpuDense.gpuBytes - gpuPages.gpuBytes,
-                    phi.voxelCount() * sizeof(float) - std::size_t(ls->pages().virtualPageCount()) * 4);
         }
       }
+}
+
+// GPU memory follows the surface, not the grid: the same ball in a volume 16 times larger (padded
+// with background on the +x and +y sides, whole pages and blocks) gives the same mesh for nearly the
+// same memory from the pages (the page and block tables grow, 4 bytes a page and a block), where
+// the dense path's grows with the volume.
+TEST(ExtractLevelSet, GpuMemoryFollowsTheSurfaceNotTheGrid) {
+  test::glContext();
+  ExtractStats pages[2], dense[2];
+  Mesh meshes[2];
+  std::size_t voxels[2];
+  for (int big = 0; big < 2; ++big) {
+    const std::int64_t side = big ? 192 : 48;
+    const Volume image = test::fieldVolume({side, side, 24}, [](double x, double y, double z) {
+      return std::sqrt((x - 20) * (x - 20) + (y - 22) * (y - 22) + (z - 12) * (z - 12)) < 9 ? 100.0 : 20.0;
+    });
+    levelset::LevelSet ls(image, {100, 40, 0.8f}, {.backend = levelset::Backend::Gpu});
+    ls.addSphere({20, 22, 12}, 3);
+    ls.run({.maxIterations = 150});
+    meshes[big] = extractLevelSet(ls, {.gpu = true}, &pages[big]);
+    extractLevelSet(ls, ls.phi(), {.gpu = true}, &dense[big]);
+    voxels[big] = image.voxelCount();
+  }
+  expectIdenticalMesh(meshes[0], meshes[1]);
+  const double grownVoxels = double(voxels[1] - voxels[0]);
+  EXPECT_GT(double(dense[1].gpuBytes) - double(dense[0].gpuBytes), 4 * grownVoxels) << "a dense phi's growth at least";
+  EXPECT_LT(double(pages[1].gpuBytes) - double(pages[0].gpuBytes), 0.05 * grownVoxels)
+      << "from the pages: only the tables grow (" << pages[0].gpuBytes << " -> " << pages[1].gpuBytes << " bytes)";
 }
 
 }  // namespace

@@ -96,5 +96,27 @@ TEST(GlContext, ObjectsNeedTheirContextCurrent) {
 #endif
 }
 
+// An object that outlives its context, while a newer context is current: it must not delete a name
+// of the newer one (a stored pointer could even point at the newer context, made at the old address).
+TEST(GlContext, AnObjectOutlivingItsContextTouchesNoOther) {
+  auto old = Context::headless();
+  auto buffer = std::make_unique<Buffer>(16);
+  old.reset();
+  auto current = Context::headless();
+  Buffer other(16);  // in the new context; the same name as the orphan's, most likely
+#ifdef NDEBUG
+  const int before = orphanedObjects();
+  buffer.reset();
+  EXPECT_EQ(orphanedObjects(), before + 1);
+#else
+  EXPECT_DEATH(buffer.reset(), "context it was made in is not current");
+  static_cast<void>(buffer.release());  // its context is gone: nothing left to delete it in
+#endif
+  std::uint32_t value = 7;
+  EXPECT_NO_THROW(other.upload(&value, 4));
+  EXPECT_EQ(other.read<std::uint32_t>(1)[0], 7u);
+  checkErrors("after the orphan");
+}
+
 }  // namespace
 }  // namespace isoatlas::gl

@@ -19,10 +19,9 @@ TEST(ShaderLibrary, MissingShaderIsAnError) { EXPECT_THROW(shaderSource(kTestSha
 // Each library embeds its own folder's shaders: the tests' table holds tests/gl/shaders and nothing
 // of the libraries (their shaders compile only through their own tables).
 TEST(ShaderLibrary, ATableHoldsItsOwnFolderOnly) {
-  int count = 0;
-  for (const EmbeddedShader* s = kTestShaders; s->path; ++s, ++count)
+  for (const EmbeddedShader* s = kTestShaders; s->path; ++s)
     EXPECT_EQ(std::string(s->path).rfind("tests/gl/shaders/", 0), 0u) << s->path;
-  EXPECT_EQ(count, 5);
+  EXPECT_NO_THROW(shaderSource(kTestShaders, "tests/gl/shaders/common.glsl"));
   EXPECT_THROW(shaderSource(kTestShaders, "levelset/shaders/update.comp"), Error);
 }
 

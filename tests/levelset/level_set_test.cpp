@@ -332,11 +332,12 @@ TEST(LevelSet, TwoGpuSolversShareOneContextAndDieInAnyOrder) {
   const Phantom p = torusPhantom(40);
   for (const bool firstDiesFirst : {true, false}) {
     auto first = std::make_unique<LevelSet>(p.image, SpeedParams{100, 30, 0.7f}, LevelSetOptions{.backend = Backend::Gpu});
+    const int compiled = ctx.programsCompiled();  // the first solver's, made as it took its pages
     auto second = std::make_unique<LevelSet>(p.image, SpeedParams{100, 30, 0.7f}, LevelSetOptions{.backend = Backend::Gpu});
     LevelSet cpu(p.image, {100, 30, 0.7f});
     for (LevelSet* ls : {first.get(), second.get(), &cpu}) ls->addSphere(p.seedA, 3);
-    const int compiled = ctx.programsCompiled();
     for (int i = 0; i < 6; ++i) first->step(), second->step(), cpu.step();
+    EXPECT_GT(compiled, 0);
     EXPECT_EQ(ctx.programsCompiled(), compiled) << "the second solver compiled its programs again";
     (firstDiesFirst ? first : second).reset();
     LevelSet& survivor = firstDiesFirst ? *second : *first;
