@@ -6,7 +6,8 @@
 // in order) where the CPU numbers them across the whole grid.
 // The field is the grid's dense values (uploaded), or, for a Grid whose paged.texture is set, phi in
 // a GPU level set's page pool, read in place through its page table: no dense copy of phi on the host
-// or the GPU, and GPU memory (the field's besides) follows the visited blocks, not the grid.
+// or the GPU. Its GPU memory, the field's besides, follows the visited blocks (about 24 bytes per
+// visited cell), plus two small tables over the grid (4 bytes per page and per 8^3 block).
 // Runs in the current GL context (gl::Context::current(), checked); a paged texture must belong to it.
 #pragma once
 #include "extract/marching_cubes.h"
