@@ -32,12 +32,12 @@ bool isDemoVolume(const std::string& path, const Volume& v) {
 const levelset::SpeedParams kDemoParams{112, 14, 0.8f};
 const Vec3 kDemoSeeds[] = {{64, 115, 101}, {116, 115, 101}};
 constexpr double kDemoSeedRadius = 4;
-constexpr int kDemoMaxIterations = 3000;
 
 struct RunOptions {
   std::vector<std::string> seeds;
   double target = 0, width = 1, alpha = 0.8;
   std::string backend = "auto";
+  int iterations = 3000;  // the demo converges in under a thousand
 };
 
 struct Stage {
@@ -95,8 +95,11 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--width,-e", options->width, "eps for the segmentation");
   sub->add_option("--alpha,-a", options->alpha, "alpha for the segmentation")->capture_default_str();
   sub->add_option("--backend", options->backend, "gpu, cpu or auto")->capture_default_str();
+  sub->add_option("--iterations,-n", options->iterations, "most iterations of the segmentation (it stops once converged)")
+      ->capture_default_str();
   bindAction(*sub, [input, outDir, options](nlohmann::json& r) {
     const auto start = std::chrono::steady_clock::now();
+    require(options->iterations > 0, "--iterations must be > 0");
     const std::filesystem::path dir(*outDir);
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
@@ -135,7 +138,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                                                     .seeds = seeds,
                                                     .backend = gpu.backend,
                                                     .renderer = gpu.renderer,
-                                                    .maxIterations = kDemoMaxIterations,
+                                                    .maxIterations = options->iterations,
                                                     .label = "run: segment",
                                                     .readPhi = true});
       writeVolume(products.add("mask.nii.gz", "the segmentation: uint8, 1 inside, on the input's grid"), s.mask);

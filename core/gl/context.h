@@ -40,7 +40,7 @@ public:
   Context& operator=(const Context&) = delete;
 
   void makeCurrent();
-  // No context current on this thread afterwards (the viewer hands its window to another thread).
+  // Leaves no context current on this thread (before handing a window's context to another thread).
   void releaseCurrent();
   bool isCurrent() const;  // asks EGL or GLFW, not a flag of ours
   // The context of ours current on this thread; throws Error (Failure) when there is none.

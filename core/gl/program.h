@@ -17,7 +17,6 @@
 
 namespace isoatlas::gl {
 
-class Context;
 using Defines = std::vector<std::pair<std::string, std::string>>;
 
 // A float as a GLSL float literal that reads back as the same value (std::to_string keeps six

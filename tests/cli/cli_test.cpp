@@ -395,6 +395,25 @@ TEST(Cli, BuildRejectsBadInput) {
   expectBadInput("build " + torus, "give -o MODEL.isoatlas");
 }
 
+// The demo's seeds and parameters go with Colin27's T1 however its path is written (here absolute,
+// with a ./ inside), and with no other volume of that name.
+TEST(Cli, RunKnowsTheDemoVolumeByItsIdentity) {
+  const std::string ch2 = std::string(ISOATLAS_DATA) + "/./volumes/ch2.nii.gz";
+  if (!std::filesystem::exists(ch2)) GTEST_SKIP() << "run scripts/fetch-data for the end-to-end data";
+  const auto dir = test::scratchDir();
+  const Result r = run("run " + ch2 + " --iterations 3 --backend cpu -o " + (dir / "demo").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto report = nlohmann::json::parse(test::readBytes(dir / "demo/report.json"));
+  EXPECT_EQ(report["segment"]["target"], 112);
+  EXPECT_EQ(report["segment"]["width"], 14);
+  EXPECT_EQ(report["segment"]["iterations"], 3);
+  // Another volume named ch2.nii.gz gets no segmentation without seeds.
+  writeVolume((dir / "ch2.nii.gz").string(), test::rampVolume(ScalarType::UInt8, {24, 20, 16}));
+  const Result other = run("run " + (dir / "ch2.nii.gz").string() + " --backend cpu -o " + (dir / "other").string());
+  ASSERT_EQ(other.code, 0) << other.err;
+  EXPECT_FALSE(nlohmann::json::parse(test::readBytes(dir / "other/report.json")).contains("segment"));
+}
+
 TEST(Cli, Ch2IsReadWithItsTrueDimensions) {
   const std::string ch2 = std::string(ISOATLAS_DATA) + "/volumes/ch2.nii.gz";
   if (!std::filesystem::exists(ch2)) GTEST_SKIP() << "run scripts/fetch-data for the end-to-end data";
