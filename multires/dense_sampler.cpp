@@ -1,6 +1,7 @@
 #include "multires/dense_sampler.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "core/error.h"
@@ -8,7 +9,7 @@
 
 namespace isoatlas::multires {
 
-DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base)
+DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base, bool indexed)
     : dense_(dense), images_(base.triangleCount()) {
   require(base.denseTriangle.size() == dense.vertexCount(), "dense sampler: the parametrisation does not match the mesh");
   require(dense.allFacesHave(3), "dense sampler: the dense mesh must be made of triangles");
@@ -38,12 +39,67 @@ DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base)
       if (ok) images_[t].push_back(image);
     }
   }
+  if (indexed)
+    for (const auto& images : images_) grids_.push_back(makeGrid(images));
+}
+
+DenseSampler::ImageGrid DenseSampler::makeGrid(const std::vector<Image>& images) {
+  ImageGrid g;
+  if (images.size() < 8) return g;  // a scan is as quick
+  // Boxes padded a little, so that a point a containment test holds (rounding included) lies in
+  // every cell its image is listed in.
+  constexpr double kPad = 1e-9;
+  Vec2 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()}, hi = lo * -1;
+  std::vector<std::array<Vec2, 2>> boxes;
+  for (const Image& image : images) {
+    std::array<Vec2, 2> box{image.uv[0], image.uv[0]};
+    for (const Vec2& c : image.uv) {
+      box[0] = {std::min(box[0].x, c.x), std::min(box[0].y, c.y)};
+      box[1] = {std::max(box[1].x, c.x), std::max(box[1].y, c.y)};
+    }
+    box[0] = box[0] - Vec2{kPad, kPad};
+    box[1] = box[1] + Vec2{kPad, kPad};
+    lo = {std::min(lo.x, box[0].x), std::min(lo.y, box[0].y)};
+    hi = {std::max(hi.x, box[1].x), std::max(hi.y, box[1].y)};
+    boxes.push_back(box);
+  }
+  const double extent = std::max(hi.x - lo.x, hi.y - lo.y);
+  if (!(extent > 0) || !std::isfinite(extent)) return g;
+  g.origin = lo;
+  g.cells = std::clamp(int(std::sqrt(double(images.size()) * 2)), 1, 256);
+  g.scale = g.cells / extent;
+  // Two passes: count per cell, then place, so each cell lists its images in image order.
+  std::vector<std::uint32_t> count(std::size_t(g.cells) * std::size_t(g.cells) + 1, 0);
+  auto forCells = [&](const std::array<Vec2, 2>& box, auto&& visit) {
+    for (int y = g.cellOf(box[0].y, lo.y); y <= g.cellOf(box[1].y, lo.y); ++y)
+      for (int x = g.cellOf(box[0].x, lo.x); x <= g.cellOf(box[1].x, lo.x); ++x) visit(std::size_t(y * g.cells + x));
+  };
+  for (const auto& box : boxes) forCells(box, [&](std::size_t c) { ++count[c + 1]; });
+  for (std::size_t c = 1; c < count.size(); ++c) count[c] += count[c - 1];
+  g.start = count;
+  g.items.resize(count.back());
+  for (std::uint32_t i = 0; i < boxes.size(); ++i) forCells(boxes[i], [&](std::size_t c) { g.items[count[c]++] = i; });
+  return g;
 }
 
 Vec3 DenseSampler::position(std::uint32_t triangle, const std::array<double, 3>& bary) const {
   const std::vector<Image>& images = images_[triangle];
-  const TriangleHit hit =
-      locateInTriangles({bary[1], bary[2]}, images.size(), [&](std::size_t i) { return images[i].uv; });
+  const Vec2 point{bary[1], bary[2]};
+  TriangleHit hit;
+  if (!grids_.empty() && grids_[triangle].cells > 0) {
+    // The images listed in the point's cell hold every image that can hold the point; when none
+    // does, the point lies outside them all and the scan below finds the nearest.
+    const ImageGrid& g = grids_[triangle];
+    const std::size_t cell = std::size_t(g.cellOf(point.y, g.origin.y) * g.cells + g.cellOf(point.x, g.origin.x));
+    const std::uint32_t* listed = g.items.data() + g.start[cell];
+    hit = locateInTriangles(point, g.start[cell + 1] - g.start[cell], [&](std::size_t i) { return images[listed[i]].uv; });
+    if (hit.holds) hit.triangle = listed[hit.triangle];
+  }
+  ++queries_;
+  if (!hit.holds) {
+    ++fullScans_;
+    hit = locateInTriangles(point, images.size(), [&](std::size_t i) { return images[i].uv; });
+  }
   if (hit.triangle == kNoTriangleHit) {
     const auto& c = baseCorners_[triangle];
     return c[0] * bary[0] + c[1] * bary[1] + c[2] * bary[2];

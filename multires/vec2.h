@@ -41,6 +41,7 @@ inline constexpr std::size_t kNoTriangleHit = ~std::size_t(0);
 struct TriangleHit {
   std::size_t triangle = kNoTriangleHit;
   std::array<double, 3> bary{};
+  bool holds = false;  // the triangle holds p (before clamping); else it is only the nearest
 };
 template <class Corners>
 TriangleHit locateInTriangles(const Vec2& p, std::size_t count, const Corners& corners, std::size_t hint = 0) {
@@ -52,7 +53,7 @@ TriangleHit locateInTriangles(const Vec2& p, std::size_t count, const Corners& c
     if (orient2(c[0], c[1], c[2]) == 0) continue;
     const auto b = barycentric2(p, c[0], c[1], c[2]);
     const double lowest = std::min({b[0], b[1], b[2]});
-    if (lowest > bestLowest) bestLowest = lowest, hit = {t, b};
+    if (lowest > bestLowest) bestLowest = lowest, hit = {t, b, lowest >= 0};
     if (lowest >= 0) break;
   }
   if (hit.triangle != kNoTriangleHit) clampToTriangle(hit.bary);

@@ -164,5 +164,29 @@ TEST(Untangle, SimplifiedSurfacesRoundTrip) {
   }
 }
 
+// The grid over each base triangle's images answers as the scan of them all, bit for bit, at points
+// inside base triangles, on their edges and corners, and a little outside; and it spares the scan
+// for nearly every point of a surface whose parametrisation does not fold.
+TEST(DenseSampler, IndexedQueriesAnswerAsTheScan) {
+  const Mesh dense = test::torusMesh(160, 80);
+  const BaseMesh base = simplifyStellar(dense, {.vertexRatio = 0.01});
+  const DenseSampler indexed(dense, base), scan(dense, base, false);
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
+    for (int q = 0; q < 40; ++q) {
+      double a = unit(random), b = unit(random);
+      if (a + b > 1) a = 1 - a, b = 1 - b;
+      if (q % 8 == 1) b = 0;                      // on an edge
+      if (q % 8 == 2) a = 1, b = 0;               // on a corner
+      if (q % 8 == 3) a += 0.01, b -= 0.02;       // a little outside
+      const std::array<double, 3> w{1 - a - b, a, b};
+      ASSERT_EQ(indexed.position(t, w), scan.position(t, w)) << "base triangle " << t << " at " << a << ", " << b;
+    }
+  EXPECT_EQ(scan.fullScans(), scan.queries());
+  EXPECT_LT(double(indexed.fullScans()), 0.02 * double(indexed.queries()))
+      << indexed.fullScans() << " of " << indexed.queries() << " queries scanned every image";
+}
+
 }  // namespace
 }  // namespace isoatlas::multires
