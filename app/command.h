@@ -39,5 +39,6 @@ void addProbeCommand(CLI::App& app, int& exitCode);
 void addSegmentCommand(CLI::App& app, int& exitCode);
 void addExtractCommand(CLI::App& app, int& exitCode);
 void addBuildCommand(CLI::App& app, int& exitCode);
+void addEvalCommand(CLI::App& app, int& exitCode);
 
 }  // namespace isoatlas::app

@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
   addPendingCommand(app, "edit", "boolean brush and mesh edits in a dynamic volume tree", "the DVT issue", exitCode);
   addExtractCommand(app, exitCode);
   addBuildCommand(app, exitCode);
-  addPendingCommand(app, "eval", "PSNR and Hausdorff distance of a model per level", "the atlas issue", exitCode);
+  addEvalCommand(app, exitCode);
   addPendingCommand(app, "render", "headless render of a model to PNG", "the render issue", exitCode);
   addPendingCommand(app, "view", "interactive viewer", "the viewer issue", exitCode);
   addRunCommand(app, exitCode);

@@ -1,9 +1,13 @@
 #include "atlas/model_file.h"
 
+#include <zlib.h>
+
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <set>
 
 #include "core/error.h"
 
@@ -11,52 +15,79 @@ namespace isoatlas::atlas {
 namespace {
 
 constexpr char kMagic[8] = {'I', 'S', 'O', 'A', 'T', 'L', 'A', 'S'};
-constexpr std::uint32_t kVersion = 1;
+
+std::uint32_t crc(const char* data, std::size_t size) {
+  uLong c = crc32(0L, Z_NULL, 0);
+  while (size > 0) {  // zlib takes 32-bit lengths
+    const uInt n = uInt(std::min<std::size_t>(size, 1u << 30));
+    c = crc32(c, reinterpret_cast<const Bytef*>(data), n);
+    data += n, size -= n;
+  }
+  return std::uint32_t(c);
+}
 
 class Writer {
 public:
   template <class T>
-  void put(const T& value) {
-    const char* p = reinterpret_cast<const char*>(&value);
-    bytes.insert(bytes.end(), p, p + sizeof(T));
+  void put(T value) {
+    if constexpr (std::is_floating_point_v<T>) {
+      using Bits = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
+      put(std::bit_cast<Bits>(value));
+    } else {
+      using U = std::make_unsigned_t<T>;
+      const U u = U(value);
+      for (std::size_t i = 0; i < sizeof(T); ++i) bytes.push_back(char((u >> (8 * i)) & 0xff));
+    }
   }
   void putVec(const Vec3& v) { put(v.x), put(v.y), put(v.z); }
   std::string bytes;
 };
 
-void section(std::ofstream& out, const char tag[4], const Writer& w) {
-  out.write(tag, 4);
-  const std::uint64_t size = w.bytes.size();
-  out.write(reinterpret_cast<const char*>(&size), sizeof size);
+void writeSection(std::ofstream& out, const char tag[4], const Writer& w) {
+  Writer header;
+  header.bytes.assign(tag, 4);
+  header.put(std::uint64_t(w.bytes.size()));
+  header.put(crc(w.bytes.data(), w.bytes.size()));
+  out.write(header.bytes.data(), std::streamsize(header.bytes.size()));
   out.write(w.bytes.data(), std::streamsize(w.bytes.size()));
 }
 
 class Reader {
 public:
-  Reader(const std::string& path, const std::string& bytes, std::size_t begin, std::size_t end)
-      : path_(path), bytes_(bytes), at_(begin), end_(end) {}
+  Reader(const std::string& path, const std::string& bytes, std::string section, std::size_t begin, std::size_t end)
+      : path_(path), bytes_(bytes), section_(std::move(section)), at_(begin), end_(end) {}
   template <class T>
   T get() {
     need(sizeof(T));
-    T value;
-    std::memcpy(&value, bytes_.data() + at_, sizeof(T));
-    at_ += sizeof(T);
-    return value;
+    if constexpr (std::is_floating_point_v<T>) {
+      using Bits = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
+      return std::bit_cast<T>(get<Bits>());
+    } else {
+      using U = std::make_unsigned_t<T>;
+      U u = 0;
+      for (std::size_t i = 0; i < sizeof(T); ++i) u = U(u | (U(std::uint8_t(bytes_[at_ + i])) << (8 * i)));
+      at_ += sizeof(T);
+      return T(u);
+    }
   }
   // A count of items of `itemBytes` each that must fit in what is left of the section.
   std::uint64_t count(std::size_t itemBytes, const char* what) {
     const std::uint64_t n = get<std::uint64_t>();
-    if (n > (end_ - at_) / itemBytes) fail(std::string(what) + " count " + std::to_string(n) + " exceeds the section");
+    fits(n, itemBytes, what);
     return n;
   }
-  double finite() {
-    const double v = get<double>();
-    if (!std::isfinite(v)) fail("a coordinate is not finite");
+  void fits(std::uint64_t n, std::size_t itemBytes, const char* what) const {
+    if (n > (end_ - at_) / itemBytes) fail(std::string(what) + " count " + std::to_string(n) + " exceeds the section");
+  }
+  template <class T>
+  T finite() {
+    const T v = get<T>();
+    if (!std::isfinite(v)) fail("a real number is not finite");
     return v;
   }
   Vec3 vec() {
     Vec3 v;
-    v.x = finite(), v.y = finite(), v.z = finite();
+    v.x = finite<double>(), v.y = finite<double>(), v.z = finite<double>();
     return v;
   }
   std::uint32_t index(std::uint64_t limit, const char* what) {
@@ -65,44 +96,140 @@ public:
     return i;
   }
   [[noreturn]] void fail(const std::string& why) const {
-    throw Error(path_ + ": byte " + std::to_string(at_) + ": " + why);
+    throw Error(path_ + ": section " + section_ + ", byte " + std::to_string(at_) + ": " + why);
   }
   void need(std::size_t n) const {
     if (n > end_ - at_) fail("the section ends early");
   }
   bool done() const { return at_ == end_; }
+  std::size_t left() const { return end_ - at_; }
 
 private:
   const std::string& path_;
   const std::string& bytes_;
+  std::string section_;
   std::size_t at_, end_;
 };
 
+void readBase(Reader& r, multires::BaseMesh& b) {
+  const std::uint64_t nv = r.count(32, "base vertex");
+  for (std::uint64_t i = 0; i < nv; ++i) {
+    b.positions.push_back(r.vec());
+    const std::int64_t d = r.get<std::int64_t>();
+    if (d < -1) r.fail("dense vertex " + std::to_string(d));
+    b.denseVertex.push_back(d);
+  }
+  const std::uint64_t nt = r.count(12, "base triangle");
+  for (std::uint64_t t = 0; t < nt; ++t)
+    b.triangles.push_back({r.index(nv, "base vertex"), r.index(nv, "base vertex"), r.index(nv, "base vertex")});
+  const std::uint64_t tiles = r.count(8, "tile");
+  if (tiles == 0 || tiles * 2 != nt) r.fail(std::to_string(tiles) + " tiles for " + std::to_string(nt) + " triangles");
+  std::vector<char> used(nt, 0);
+  for (std::uint64_t t = 0; t < tiles; ++t) {
+    const std::uint32_t a = r.index(nt, "tile triangle"), c = r.index(nt, "tile triangle");
+    if (used[a] || used[c] || a == c) r.fail("a triangle in two tiles");
+    used[a] = used[c] = 1;
+    b.tiles.push_back({a, c});
+    try {
+      b.tileCorners(std::uint32_t(t));
+    } catch (const Error&) {
+      r.fail("tile " + std::to_string(t) + "'s triangles share no edge");
+    }
+  }
+}
+
+void readAtlas(Reader& r, std::uint32_t chartSize, Atlas& atlas) {
+  AtlasLayout& l = atlas.layout;
+  l.chartSize = chartSize;
+  l.charts = r.get<std::uint32_t>(), l.columns = r.get<std::uint32_t>(), l.rows = r.get<std::uint32_t>();
+  if (l.charts == 0 || std::uint64_t(l.columns) * l.rows < l.charts || std::uint64_t(l.columns) * l.rows > l.charts + std::uint64_t(l.columns))
+    r.fail(std::to_string(l.columns) + " x " + std::to_string(l.rows) + " slots for " + std::to_string(l.charts) + " charts");
+  const std::uint64_t texelBytes = 18;  // f32 x 3 + i16 x 3
+  r.fits(std::uint64_t(l.columns) * l.rows, texelBytes * chartSize * chartSize, "atlas slot");
+  const std::uint64_t texels = std::uint64_t(l.width()) * l.height();
+  if (texels * texelBytes != r.left()) r.fail("the atlas images take " + std::to_string(texels * texelBytes) + " bytes, the section holds " +
+                                               std::to_string(r.left()));
+  atlas.positions.resize(texels);
+  for (auto& p : atlas.positions) p = {r.finite<float>(), r.finite<float>(), r.finite<float>()};
+  atlas.normals.resize(texels);
+  for (auto& n : atlas.normals) n = {r.get<std::int16_t>(), r.get<std::int16_t>(), r.get<std::int16_t>()};
+}
+
+void readDense(Reader& r, Mesh& m) {
+  const std::uint64_t nv = r.count(24, "vertex");
+  m.positions.resize(nv);
+  for (auto& p : m.positions) p = r.vec();
+  const std::uint64_t nt = r.count(12, "triangle");
+  for (std::uint64_t t = 0; t < nt; ++t) {
+    const std::uint32_t a = r.index(nv, "vertex"), b = r.index(nv, "vertex"), c = r.index(nv, "vertex");
+    m.addFace({a, b, c});
+  }
+}
+
+void readParametrisation(Reader& r, multires::BaseMesh& b) {
+  const std::uint64_t nd = r.count(28, "parametrised vertex");
+  for (std::uint64_t i = 0; i < nd; ++i) {
+    b.denseTriangle.push_back(r.index(b.triangleCount(), "base triangle"));
+    b.denseBary.push_back({r.finite<double>(), r.finite<double>(), r.finite<double>()});
+  }
+}
+
 }  // namespace
+
+std::vector<BaseHalfedge> baseHalfedges(const multires::BaseMesh& base, std::uint32_t chartSize) {
+  const std::uint8_t last = std::uint8_t(chartSize - 1);
+  std::vector<BaseHalfedge> out(base.triangleCount() * 3);
+  for (std::uint32_t tile = 0; tile < base.tiles.size(); ++tile) {
+    const auto c = base.tileCorners(tile);
+    auto uvOf = [&](std::uint32_t v) -> std::array<std::uint8_t, 2> {
+      if (v == c.p) return {0, 0};
+      if (v == c.s) return {last, 0};
+      if (v == c.q) return {last, last};
+      return {0, last};
+    };
+    for (const std::uint32_t t : base.tiles[tile])
+      for (int k = 0; k < 3; ++k) {
+        const auto from = uvOf(base.triangles[t][k]), to = uvOf(base.triangles[t][(k + 1) % 3]);
+        out[t * 3 + k] = {tile, {from[0], from[1], to[0], to[1]}};
+      }
+  }
+  return out;
+}
+
+std::uint64_t halfedgeMeshBytes(const Mesh& mesh) {
+  std::uint64_t halfedges = 0;
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f) halfedges += mesh.face(f).size();
+  return mesh.vertexCount() * (12 + 4) + halfedges * 16 + mesh.faceCount() * 4;
+}
 
 void writeModel(const std::string& path, const Model& model) {
   // Checked before the file is touched, so a refused model loses nothing already there.
-  require(model.dense.allFacesHave(3), path + ": the dense mesh must be triangles");
   require(multires::isChartSize(model.chartSize), path + ": chart size " + std::to_string(model.chartSize) +
                                                       " is not 2^k + 1 between 3 and " +
                                                       std::to_string(multires::kMaxChartSize));
+  const multires::BaseMesh& b = model.base;
+  require(!b.tiles.empty() && b.tiles.size() * 2 == b.triangleCount(), path + ": the base mesh is not paired into tiles");
+  const AtlasLayout& l = model.atlas.layout;
+  require(l.chartSize == model.chartSize && l.charts == b.tiles.size() &&
+              model.atlas.positions.size() == std::size_t(l.width()) * l.height() &&
+              model.atlas.normals.size() == model.atlas.positions.size(),
+          path + ": the atlas does not match the base mesh's tiles and the chart size");
+  const bool dense = model.dense.vertexCount() > 0;
+  require(!dense || model.dense.allFacesHave(3), path + ": the dense mesh must be triangles");
+  require(!dense || b.denseTriangle.size() == model.dense.vertexCount(),
+          path + ": the dense mesh is kept without its parametrisation");
+
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) throw Error(path + ": cannot open for writing");
-  out.write(kMagic, 8);
-  out.write(reinterpret_cast<const char*>(&kVersion), 4);
+  Writer header;
+  header.bytes.assign(kMagic, 8);
+  header.put(kModelVersion);
+  out.write(header.bytes.data(), std::streamsize(header.bytes.size()));
 
   Writer head;
   head.put(model.chartSize);
-  section(out, "HEAD", head);
+  writeSection(out, "HEAD", head);
 
-  Writer dense;
-  dense.put(std::uint64_t(model.dense.vertexCount()));
-  for (const Vec3& p : model.dense.positions) dense.putVec(p);
-  dense.put(std::uint64_t(model.dense.faceCount()));
-  for (const std::uint32_t c : model.dense.faceVertices) dense.put(c);
-  section(out, "DENS", dense);
-
-  const multires::BaseMesh& b = model.base;
   Writer base;
   base.put(std::uint64_t(b.vertexCount()));
   for (std::size_t i = 0; i < b.vertexCount(); ++i) base.putVec(b.positions[i]), base.put(b.denseVertex[i]);
@@ -110,86 +237,110 @@ void writeModel(const std::string& path, const Model& model) {
   for (const auto& t : b.triangles) base.put(t[0]), base.put(t[1]), base.put(t[2]);
   base.put(std::uint64_t(b.tiles.size()));
   for (const auto& t : b.tiles) base.put(t[0]), base.put(t[1]);
-  base.put(std::uint64_t(b.denseTriangle.size()));
-  for (std::size_t i = 0; i < b.denseTriangle.size(); ++i) {
-    base.put(b.denseTriangle[i]);
-    for (const double w : b.denseBary[i]) base.put(w);
+  writeSection(out, "BASE", base);
+
+  Writer half;
+  for (const BaseHalfedge& h : baseHalfedges(b, model.chartSize)) {
+    half.put(h.chart);
+    for (const std::uint8_t x : h.uv) half.put(x);
   }
-  section(out, "BASE", base);
+  for (std::size_t v = 0; v < b.vertexCount(); ++v) half.put(std::uint8_t(0));
+  writeSection(out, "HALF", half);
+
+  Writer atlas;
+  atlas.put(l.charts), atlas.put(l.columns), atlas.put(l.rows);
+  for (const auto& p : model.atlas.positions) atlas.put(p[0]), atlas.put(p[1]), atlas.put(p[2]);
+  for (const auto& n : model.atlas.normals) atlas.put(n[0]), atlas.put(n[1]), atlas.put(n[2]);
+  writeSection(out, "ATLS", atlas);
+
+  if (dense) {
+    Writer d;
+    d.put(std::uint64_t(model.dense.vertexCount()));
+    for (const Vec3& p : model.dense.positions) d.putVec(p);
+    d.put(std::uint64_t(model.dense.faceCount()));
+    for (const std::uint32_t c : model.dense.faceVertices) d.put(c);
+    writeSection(out, "DENS", d);
+    Writer para;
+    para.put(std::uint64_t(b.denseTriangle.size()));
+    for (std::size_t i = 0; i < b.denseTriangle.size(); ++i) {
+      para.put(b.denseTriangle[i]);
+      for (const double w : b.denseBary[i]) para.put(w);
+    }
+    writeSection(out, "PARA", para);
+  }
   if (!out.flush()) throw Error(path + ": write failed (disk full?)", ErrorKind::Failure);
 }
 
-Model readModel(const std::string& path) {
+Model readModel(const std::string& path, const ModelReadOptions& options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open (missing or unreadable)");
   const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   if (bytes.size() < 12 || std::memcmp(bytes.data(), kMagic, 8) != 0) throw Error(path + ": not an isoatlas model file");
-  std::uint32_t version;
-  std::memcpy(&version, bytes.data() + 8, 4);
-  if (version != kVersion)
-    throw Error(path + ": model format version " + std::to_string(version) + " (this isoatlas reads " +
-                std::to_string(kVersion) + ")");
+  const std::uint32_t version = Reader(path, bytes, "header", 8, 12).get<std::uint32_t>();
+  if (version == 1)
+    throw Error(path + ": model format version 1 holds no atlas; build the model again with this isoatlas (isoatlas build)");
+  if (version != kModelVersion)
+    throw Error(path + ": model format version " + std::to_string(version) + " (this isoatlas reads version " +
+                std::to_string(kModelVersion) + ")");
   Model model;
-  bool head = false, dense = false, base = false;
+  std::set<std::string> seen;
   std::size_t at = 12;
   while (at < bytes.size()) {
-    if (bytes.size() - at < 12) throw Error(path + ": byte " + std::to_string(at) + ": truncated section header");
+    if (bytes.size() - at < 16) throw Error(path + ": byte " + std::to_string(at) + ": truncated section header");
     const std::string tag = bytes.substr(at, 4);
-    std::uint64_t size;
-    std::memcpy(&size, bytes.data() + at + 4, 8);
-    at += 12;
+    Reader header(path, bytes, tag, at + 4, at + 16);
+    const std::uint64_t size = header.get<std::uint64_t>();
+    const std::uint32_t sum = header.get<std::uint32_t>();
+    at += 16;
     if (size > bytes.size() - at)
-      throw Error(path + ": byte " + std::to_string(at) + ": section " + tag + " runs past the end of the file");
-    Reader r(path, bytes, at, at + size);
-    bool& seen = tag == "HEAD" ? head : tag == "DENS" ? dense : base;
-    const bool known = tag == "HEAD" || tag == "DENS" || tag == "BASE";
-    if (known && seen) r.fail("a second " + tag + " section");  // would mix two models' counts
+      throw Error(path + ": section " + tag + ", byte " + std::to_string(at) + ": runs past the end of the file (truncated?)");
+    if (options.checksums && crc(bytes.data() + at, size) != sum)
+      throw Error(path + ": section " + tag + ", byte " + std::to_string(at) + ": checksum mismatch (the file is damaged)");
+    Reader r(path, bytes, tag, at, at + size);
+    const bool known = tag == "HEAD" || tag == "BASE" || tag == "HALF" || tag == "ATLS" || tag == "DENS" || tag == "PARA";
+    if (known && !seen.insert(tag).second) r.fail("a second " + tag + " section");  // would mix two models' counts
+    // Each section may rely on those it names having come first.
+    auto after = [&](const char* earlier) {
+      if (!seen.count(earlier)) r.fail(std::string("comes before the ") + earlier + " section");
+    };
     if (tag == "HEAD") {
       model.chartSize = r.get<std::uint32_t>();
       if (!multires::isChartSize(model.chartSize)) r.fail("chart size " + std::to_string(model.chartSize));
-      head = true;
-    } else if (tag == "DENS") {
-      Mesh& m = model.dense;
-      const std::uint64_t nv = r.count(24, "vertex");
-      m.positions.resize(nv);
-      for (auto& p : m.positions) p = r.vec();
-      const std::uint64_t nt = r.count(12, "triangle");
-      for (std::uint64_t t = 0; t < nt; ++t) {
-        const std::uint32_t a = r.index(nv, "vertex"), b = r.index(nv, "vertex"), c = r.index(nv, "vertex");
-        m.addFace({a, b, c});
-      }
-      dense = true;
     } else if (tag == "BASE") {
-      multires::BaseMesh& b = model.base;
-      const std::uint64_t nv = r.count(32, "base vertex");
-      for (std::uint64_t i = 0; i < nv; ++i) {
-        b.positions.push_back(r.vec());
-        const std::int64_t d = r.get<std::int64_t>();
-        if (d < -1) r.fail("dense vertex " + std::to_string(d));
-        b.denseVertex.push_back(d);
+      readBase(r, model.base);
+    } else if (tag == "HALF") {
+      after("HEAD"), after("BASE");
+      const auto expected = baseHalfedges(model.base, model.chartSize);
+      r.fits(expected.size(), 8, "halfedge");
+      for (const BaseHalfedge& e : expected) {
+        BaseHalfedge h{r.get<std::uint32_t>(), {}};
+        for (auto& x : h.uv) x = r.get<std::uint8_t>();
+        if (!(h == e)) r.fail("a halfedge's chart or (u, v) disagrees with the tiles");
       }
-      const std::uint64_t nt = r.count(12, "base triangle");
-      for (std::uint64_t t = 0; t < nt; ++t)
-        b.triangles.push_back({r.index(nv, "base vertex"), r.index(nv, "base vertex"), r.index(nv, "base vertex")});
-      const std::uint64_t tiles = r.count(8, "tile");
-      for (std::uint64_t t = 0; t < tiles; ++t) b.tiles.push_back({r.index(nt, "tile triangle"), r.index(nt, "tile triangle")});
-      const std::uint64_t nd = r.count(28, "parametrised vertex");
-      for (std::uint64_t i = 0; i < nd; ++i) {
-        b.denseTriangle.push_back(r.index(nt, "base triangle"));
-        std::array<double, 3> w{r.finite(), r.finite(), r.finite()};
-        b.denseBary.push_back(w);
-      }
-      base = true;
+      r.fits(model.base.vertexCount(), 1, "vertex level");
+      for (std::size_t v = 0; v < model.base.vertexCount(); ++v)
+        if (r.get<std::uint8_t>() != 0) r.fail("a base vertex's level is not 0");
+    } else if (tag == "ATLS") {
+      after("HEAD"), after("BASE");
+      readAtlas(r, model.chartSize, model.atlas);
+      if (model.atlas.layout.charts != model.base.tiles.size()) r.fail("the atlas's chart count is not the tile count");
+    } else if (tag == "DENS") {
+      readDense(r, model.dense);
+    } else if (tag == "PARA") {
+      after("BASE"), after("DENS");
+      readParametrisation(r, model.base);
+      if (model.base.denseTriangle.size() != model.dense.vertexCount())
+        r.fail("the parametrisation covers " + std::to_string(model.base.denseTriangle.size()) + " vertices, the dense mesh has " +
+               std::to_string(model.dense.vertexCount()));
     }
-    if (known && !r.done()) r.fail("section " + tag + " has trailing bytes");
+    if (known && !r.done()) r.fail("trailing bytes");
     at += size;
   }
-  if (!head || !dense || !base) throw Error(path + ": the model lacks a HEAD, DENS or BASE section");
-  if (model.base.denseTriangle.size() != model.dense.vertexCount())
-    throw Error(path + ": the parametrisation covers " + std::to_string(model.base.denseTriangle.size()) +
-                " vertices, the dense mesh has " + std::to_string(model.dense.vertexCount()));
+  for (const char* tag : {"HEAD", "BASE", "HALF", "ATLS"})
+    if (!seen.count(tag)) throw Error(path + ": the model lacks its " + std::string(tag) + " section");
+  if (seen.count("DENS") != seen.count("PARA")) throw Error(path + ": the dense mesh comes without its parametrisation (DENS, PARA)");
   for (const std::int64_t d : model.base.denseVertex)
-    if (d >= std::int64_t(model.dense.vertexCount())) throw Error(path + ": a base vertex names a missing dense vertex");
+    if (seen.count("DENS") && d >= std::int64_t(model.dense.vertexCount())) throw Error(path + ": a base vertex names a missing dense vertex");
   return model;
 }
 

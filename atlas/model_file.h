@@ -1,30 +1,64 @@
-// The .isoatlas model file: what `isoatlas build` makes and the later stages read. A little-endian
-// binary file: the magic "ISOATLAS", a format version, then tagged sections, each a 4-byte tag, a
-// 64-bit byte length and its payload, so readers can skip what they do not know:
-//   HEAD  chart size (u32)
-//   DENS  the dense mesh: vertex count (u64), positions (f64 x 3), triangle count (u64), corners (u32 x 3)
-//   BASE  the base mesh: vertex count, positions, dense vertex (i64, -1 for split vertices), triangle
-//         count, corners, tile count, tiles (u32 x 2), then per dense vertex its base triangle (u32)
-//         and barycentric coordinates (f64 x 3)
-// Version 1 holds no charts yet: the atlas issue adds them as a section of their own.
+// The .isoatlas model file, version 2: what `isoatlas build` makes and eval, render and the viewer
+// read. Little-endian on every machine (written and read byte by byte), integers unsigned unless
+// said, reals IEEE 754.
+//   magic "ISOATLAS" (8 bytes), format version (u32 = 2), then sections until the end of the file,
+//   each: tag (4 ASCII bytes), payload length (u64), CRC-32 of the payload (u32, zlib's), payload.
+//   HEAD  chart size N (u32, 2^k + 1)
+//   BASE  base vertex count (u64), per vertex position (f64 x 3) and dense vertex (i64, -1 when
+//         made by a split); triangle count (u64), corners (u32 x 3, counter-clockwise); tile count
+//         (u64), tiles (u32 x 2: the two triangles)
+//   HALF  the specialised halfedge at the base level: per base triangle and corner k, the halfedge
+//         from corner k to k + 1: chart index (u32) and start and end (u, v) in texels (u8 x 4);
+//         then per base vertex its level (u8, 0 at the base). Must agree with BASE's tiles.
+//   ATLS  chart count, columns, rows (u32 x 3; charts = tiles, columns x rows slots hold them),
+//         then width x height texels (width = columns N, height = rows N, row-major from the top):
+//         positions (f32 x 3), then normals (i16 x 3, signed normalised)
+//   DENS  (only with --keep-dense) the dense mesh: vertex count (u64), positions (f64 x 3),
+//         triangle count (u64), corners (u32 x 3)
+//   PARA  (with DENS) per dense vertex its base triangle (u32) and barycentric weights (f64 x 3)
+// Unknown tags are skipped (their checksum still checked). Version 1 files (no atlas) are refused
+// with a line saying to rebuild them.
 #pragma once
 #include <string>
 
+#include "atlas/atlas.h"
 #include "core/mesh.h"
 #include "multires/base_mesh.h"
 
 namespace isoatlas::atlas {
 
+inline constexpr std::uint32_t kModelVersion = 2;
+
 struct Model {
   std::uint32_t chartSize = 33;
-  Mesh dense;
-  multires::BaseMesh base;
+  multires::BaseMesh base;  // its parametrisation (denseTriangle, denseBary) only with the dense mesh
+  Atlas atlas;
+  Mesh dense;  // empty unless kept
 };
 
+// The halfedge attributes HALF stores: per base triangle and corner k, the halfedge from corner k
+// to k + 1 on its tile's chart.
+struct BaseHalfedge {
+  std::uint32_t chart;
+  std::array<std::uint8_t, 4> uv;  // start u, v and end u, v in texels
+  bool operator==(const BaseHalfedge&) const = default;
+};
+std::vector<BaseHalfedge> baseHalfedges(const multires::BaseMesh& base, std::uint32_t chartSize);
+
+// Throws Error(BadInput) for a model the reader would refuse, before touching the file.
 void writeModel(const std::string& path, const Model& model);
 
-// Checks every count against the bytes the file holds, every index against its range, and that
-// the coordinates are finite; throws Error(BadInput) naming the file and the byte offset.
-Model readModel(const std::string& path);
+struct ModelReadOptions {
+  bool checksums = true;  // false only for fuzzing, so that damaged payloads reach the parsers
+};
+// Checks the checksums, every count against the bytes its section holds, every index against its
+// range and that reals are finite; throws Error(BadInput) naming the file, the section and the byte
+// offset.
+Model readModel(const std::string& path, const ModelReadOptions& options = {});
+
+// Bytes of the dense mesh as a plain halfedge mesh, as the paper counts it: per vertex its position
+// (f32 x 3) and one halfedge (u32); per halfedge its vertex, next, opposite and face (u32 x 4); per
+// face one halfedge (u32).
+std::uint64_t halfedgeMeshBytes(const Mesh& mesh);
 
 }  // namespace isoatlas::atlas

@@ -73,4 +73,20 @@ Box boundingBox(const std::vector<Vec3>& points) {
   return b;
 }
 
+std::vector<Vec3> vertexNormals(const Mesh& m) {
+  std::vector<Vec3> n(m.vertexCount(), Vec3{0, 0, 0});
+  for (std::size_t f = 0; f < m.faceCount(); ++f) {
+    const auto face = m.face(f);
+    for (std::size_t i = 1; i + 1 < face.size(); ++i) {
+      const Vec3 c = cross(m.positions[face[i]] - m.positions[face[0]], m.positions[face[i + 1]] - m.positions[face[0]]);
+      for (std::uint32_t v : {face[0], face[i], face[i + 1]}) n[v] = n[v] + c;
+    }
+  }
+  for (Vec3& v : n) {
+    const double len = norm(v);
+    if (len > 0) v = v * (1 / len);
+  }
+  return n;
+}
+
 }  // namespace isoatlas

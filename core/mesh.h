@@ -65,6 +65,10 @@ struct VertexAdjacency {
 };
 VertexAdjacency vertexAdjacency(const Mesh& mesh);
 
+// Per-vertex normals: the area-weighted sum of the faces' normals (polygons as fans), normalised;
+// zero where every face around the vertex is flat.
+std::vector<Vec3> vertexNormals(const Mesh& mesh);
+
 struct Box {
   Vec3 min, max;
   double diagonal() const { return norm(max - min); }

@@ -207,6 +207,14 @@ bool BaseDomain::transfer(std::uint32_t from, const Bary& bary, std::uint32_t to
   return toChart(chart, from, bary, p) && inFrame(chart, p, to, out);
 }
 
+bool BaseDomain::transferNear(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const {
+  if (transfer(from, bary, to, out)) return true;
+  Bary between;
+  for (const std::uint32_t via : across_[to])
+    if (via != kNone && transfer(from, bary, via, between) && transfer(via, between, to, out)) return true;
+  return false;
+}
+
 void BaseDomain::locate(std::uint32_t& t, Bary& bary, int maxSteps) const {
   for (int step = 0; step < maxSteps; ++step) {
     int c = 0;

@@ -36,6 +36,9 @@ public:
   // Point `bary` of triangle `from` in the frame of `to` (weights may then be negative). Works when
   // the two are the same, share an edge or share a vertex; returns false otherwise.
   bool transfer(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const;
+  // As transfer, and also one step further: through a triangle across an edge of `to` that `from`
+  // shares an edge or vertex with (two maps composed: shapes farther from `to` bend more).
+  bool transferNear(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const;
 
   // One chart for points of the n given triangles and `home`, so that a dense triangle or a
   // vertex's neighbourhood keeps its shape: home's frame when they lie in home and at most one other

@@ -10,22 +10,28 @@
 namespace isoatlas::multires {
 
 DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base, bool indexed)
-    : dense_(dense), images_(base.triangleCount()) {
+    : dense_(dense), images_(base.triangleCount()), foldedImages_(base.triangleCount()) {
   require(base.denseTriangle.size() == dense.vertexCount(), "dense sampler: the parametrisation does not match the mesh");
   require(dense.allFacesHave(3), "dense sampler: the dense mesh must be made of triangles");
   for (const auto& t : base.triangles) baseCorners_.push_back({base.positions[t[0]], base.positions[t[1]], base.positions[t[2]]});
-  const BaseDomain domain(base);
+  ownBase_.positions = base.positions;
+  ownBase_.triangles = base.triangles;
+  domain_ = std::make_unique<BaseDomain>(ownBase_);
+  across_ = ownBase_.triangleNeighbours();
+  const BaseDomain domain(base);  // with the parametrisation, which the copy above lacks
   // Each dense triangle through the one chart that holds its corners (as untangling sees it),
   // imaged in its corners' base triangles; when that chart is a base vertex's star the image may
-  // cross the triangles between them, so it goes into the whole star.
+  // cross the triangles between them, so it goes into the whole star. Corners in base triangles
+  // that share no vertex (a long dense triangle) have no such chart: the other corners are brought
+  // into each corner's triangle one triangle further (transferNear).
   BaseDomain::Chart chart;
   std::vector<std::uint32_t> homes;
   for (std::size_t f = 0; f < dense.faceCount(); ++f) {
     const auto c = dense.face(f);
     std::array<BaseDomain::Point2, 3> p;
-    if (!domain.chartDenseTriangle(c, chart, p)) continue;  // corners too far apart to image
+    const bool charted = domain.chartDenseTriangle(c, chart, p);
     homes = {base.denseTriangle[c[0]], base.denseTriangle[c[1]], base.denseTriangle[c[2]]};
-    if (chart.vertex != BaseDomain::kNone) homes.insert(homes.end(), chart.star.begin(), chart.star.end());
+    if (charted && chart.vertex != BaseDomain::kNone) homes.insert(homes.end(), chart.star.begin(), chart.star.end());
     std::sort(homes.begin(), homes.end());
     homes.erase(std::unique(homes.begin(), homes.end()), homes.end());
     for (const std::uint32_t t : homes) {
@@ -33,10 +39,10 @@ DenseSampler::DenseSampler(const Mesh& dense, const BaseMesh& base, bool indexed
       bool ok = true;
       for (int i = 0; i < 3 && ok; ++i) {
         BaseDomain::Bary b;
-        ok = domain.inFrame(chart, p[i], t, b);
+        ok = charted ? domain.inFrame(chart, p[i], t, b) : domain.transferNear(base.denseTriangle[c[i]], base.denseBary[c[i]], t, b);
         image.uv[i] = {b[1], b[2]};
       }
-      if (ok) images_[t].push_back(image);
+      if (ok) (orient2(image.uv[0], image.uv[1], image.uv[2]) < 0 ? foldedImages_ : images_)[t].push_back(image);
     }
   }
   if (indexed)
@@ -82,9 +88,8 @@ DenseSampler::ImageGrid DenseSampler::makeGrid(const std::vector<Image>& images)
   return g;
 }
 
-Vec3 DenseSampler::position(std::uint32_t triangle, const std::array<double, 3>& bary) const {
+TriangleHit DenseSampler::findImage(std::uint32_t triangle, const Vec2& point) const {
   const std::vector<Image>& images = images_[triangle];
-  const Vec2 point{bary[1], bary[2]};
   TriangleHit hit;
   if (!grids_.empty() && grids_[triangle].cells > 0) {
     // The images listed in the point's cell hold every image that can hold the point; when none
@@ -100,15 +105,53 @@ Vec3 DenseSampler::position(std::uint32_t triangle, const std::array<double, 3>&
     ++fullScans_;
     hit = locateInTriangles(point, images.size(), [&](std::size_t i) { return images[i].uv; });
   }
+  return hit;
+}
+
+DenseSampler::Hit DenseSampler::locate(std::uint32_t triangle, const std::array<double, 3>& bary) const {
+  const Vec2 point{bary[1], bary[2]};
+  TriangleHit hit = findImage(triangle, point);
+  std::uint32_t from = triangle;
+  // In a gap: the neighbours across the edges, nearest edge first.
+  std::array<int, 3> edges{0, 1, 2};  // edge e runs from corner e to e + 1, opposite corner e + 2
+  std::sort(edges.begin(), edges.end(), [&](int a, int b) { return bary[(a + 2) % 3] < bary[(b + 2) % 3]; });
+  for (int k = 0; k < 3 && !hit.holds; ++k) {
+    const std::uint32_t next = across_[triangle][edges[k]];
+    BaseDomain::Bary moved;
+    if (next == BaseMesh::kNoTriangle || !domain_->transfer(triangle, bary, next, moved)) continue;
+    const TriangleHit there = findImage(next, {moved[1], moved[2]});
+    if (there.holds) hit = there, from = next;
+  }
+  const std::vector<Image>& images = images_[from];
+  Hit out;
+  for (const Image& image : foldedImages_[triangle]) {
+    const auto w = barycentric2(point, image.uv[0], image.uv[1], image.uv[2]);
+    out.folded = out.folded || (w[0] >= 0 && w[1] >= 0 && w[2] >= 0);
+  }
   if (hit.triangle == kNoTriangleHit) {
-    const auto& c = baseCorners_[triangle];
-    return c[0] * bary[0] + c[1] * bary[1] + c[2] * bary[2];
+    out.bary = bary;
+    return out;
   }
   // Outside every image (by rounding, or near a base vertex): the nearest one, clamped onto it.
-  const auto c = dense_.face(images[hit.triangle].denseFace);
+  out.face = images[hit.triangle].denseFace;
+  out.bary = hit.bary;
+  out.held = hit.holds;
+  return out;
+}
+
+Vec3 DenseSampler::position(std::uint32_t triangle, const Hit& hit) const {
+  if (hit.face == kNoFace) {
+    const auto& c = baseCorners_[triangle];
+    return c[0] * hit.bary[0] + c[1] * hit.bary[1] + c[2] * hit.bary[2];
+  }
+  const auto c = dense_.face(hit.face);
   Vec3 p;
   for (int i = 0; i < 3; ++i) p = p + dense_.positions[c[i]] * hit.bary[i];
   return p;
+}
+
+Vec3 DenseSampler::position(std::uint32_t triangle, const std::array<double, 3>& bary) const {
+  return position(triangle, locate(triangle, bary));
 }
 
 }  // namespace isoatlas::multires

@@ -3,11 +3,15 @@
 // holds the point, interpolated. A dense triangle whose corners lie in several base triangles is
 // imaged, through the one chart that holds its corners (BaseDomain::chartFor), in each of their
 // frames (in a base vertex's whole star when the chart is that star), so points on base edges and
-// around base vertices are covered too. Where no image holds the point (rounding) the nearest image
-// is used, and the base triangle itself where it holds no image at all; a dense triangle no chart
-// holds is not imaged. Exact only where the parametrisation does
-// not fold (untangleParametrisation). Keeps a reference to the dense mesh and its own copy of the
-// base triangles' corners, so the base mesh may change afterwards (pairing splits it).
+// around base vertices are covered too; one whose corners share no chart (a long triangle) is
+// imaged in each corner's frame through BaseDomain::transferNear. A point no image of its own
+// triangle holds (a gap: a triangle's images need not tile it up to its edges) is looked for in the
+// neighbours across its edges; where none holds it the nearest image answers, and the base
+// triangle itself where it holds no image at all. Folded images (turned over in their frame) are
+// never taken: a point one of them holds is answered by the unfolded image that holds it or lies
+// nearest, and said to be folded. Exact only where the parametrisation does not fold
+// (untangleParametrisation). Keeps a reference to the dense mesh and its own copy of the base
+// triangles, so the base mesh may change afterwards (pairing splits it).
 // A query looks only at the images listed in its cell of a uniform grid over its base triangle's
 // images (about two cells per image), and scans them all only when none of those holds the point: the
 // answer is the scan's, bit for bit (`indexed` false scans always: the oracle in tests).
@@ -16,8 +20,10 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "multires/base_domain.h"
 #include "multires/base_mesh.h"
 #include "multires/vec2.h"
 
@@ -27,7 +33,20 @@ class DenseSampler {
 public:
   DenseSampler(const Mesh& dense, const BaseMesh& base, bool indexed = true);
 
+  // Where the point lands on the dense surface: a dense face and weights of its corners (face is
+  // kNoFace when the base triangle holds no unfolded image: then the weights are the base
+  // triangle's own, `bary`), whether that image holds the point (else it is only the nearest, the
+  // point lying in a gap between images) and whether a folded image holds it.
+  static constexpr std::uint32_t kNoFace = ~0u;
+  struct Hit {
+    std::uint32_t face = kNoFace;
+    std::array<double, 3> bary{};
+    bool held = false, folded = false;
+  };
+  Hit locate(std::uint32_t triangle, const std::array<double, 3>& bary) const;
   Vec3 position(std::uint32_t triangle, const std::array<double, 3>& bary) const;
+  // The position of a hit (the base triangle's point when it has no face).
+  Vec3 position(std::uint32_t triangle, const Hit& hit) const;
 
   // Queries so far, and those that scanned every image of their base triangle (none of their cell's
   // images held the point: off every image, or no grid).
@@ -53,10 +72,16 @@ private:
     }
   };
   static ImageGrid makeGrid(const std::vector<Image>& images);
+  // The image of `triangle` holding `point` (in its frame), else the nearest.
+  TriangleHit findImage(std::uint32_t triangle, const Vec2& point) const;
 
   const Mesh& dense_;
+  BaseMesh ownBase_;  // positions and triangles only (for moving points between frames): domain_'s
+  std::unique_ptr<BaseDomain> domain_;
+  std::vector<std::array<std::uint32_t, 3>> across_;  // per base triangle and edge
   std::vector<std::array<Vec3, 3>> baseCorners_;  // per base triangle, for points no image holds
-  std::vector<std::vector<Image>> images_;        // per base triangle
+  std::vector<std::vector<Image>> images_;        // per base triangle, unfolded
+  std::vector<std::vector<Image>> foldedImages_;  // per base triangle
   std::vector<ImageGrid> grids_;                  // per base triangle (empty when not indexed)
   mutable std::atomic<std::uint64_t> queries_{0}, fullScans_{0};
 };

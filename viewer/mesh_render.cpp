@@ -11,29 +11,13 @@
 
 namespace isoatlas::viewer {
 
-std::vector<Vec3> vertexNormals(const Mesh& m) {
-  std::vector<Vec3> n(m.vertexCount(), Vec3{0, 0, 0});
-  for (std::size_t f = 0; f < m.faceCount(); ++f) {
-    const auto face = m.face(f);
-    for (std::size_t i = 1; i + 1 < face.size(); ++i) {
-      const Vec3 c = cross(m.positions[face[i]] - m.positions[face[0]], m.positions[face[i + 1]] - m.positions[face[0]]);
-      for (std::uint32_t v : {face[0], face[i], face[i + 1]}) n[v] = n[v] + c;
-    }
-  }
-  for (Vec3& v : n) {
-    const double len = norm(v);
-    if (len > 0) v = v * (1 / len);
-  }
-  return n;
-}
-
 Image renderMesh(const Mesh& mesh, const MeshRenderOptions& o) {
   require(mesh.faceCount() > 0, "nothing to render: the mesh has no faces");
   require(o.width > 0 && o.height > 0 && o.width <= 8192 && o.height <= 8192, "image size out of range");
   gl::Context& ctx = gl::Context::current();
 
   // Triangles as flat arrays of floats: position and normal per corner.
-  const std::vector<Vec3> normals = vertexNormals(mesh);
+  const std::vector<Vec3> normals = mesh.normals.size() == mesh.vertexCount() ? mesh.normals : vertexNormals(mesh);
   std::vector<float> vertices;
   for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
     const auto face = mesh.face(f);

@@ -20,7 +20,4 @@ struct MeshRenderOptions {
 
 Image renderMesh(const Mesh& mesh, const MeshRenderOptions& options = {});
 
-// Per-vertex normals: the area-weighted sum of the faces' normals, normalised.
-std::vector<Vec3> vertexNormals(const Mesh& mesh);
-
 }  // namespace isoatlas::viewer

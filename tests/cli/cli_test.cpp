@@ -8,6 +8,7 @@
 #include <set>
 #include <nlohmann/json.hpp>
 
+#include "core/image.h"
 #include "core/mesh.h"
 #include "core/mesh_io.h"
 #include "core/mesh_topology.h"
@@ -59,7 +60,7 @@ TEST(Cli, UsageErrorsExitTwo) {
 }
 
 TEST(Cli, StagesNotBuiltSaySoAndExitOne) {
-  const Result r = run("eval model.isoatlas");
+  const Result r = run("render model.isoatlas");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("not built yet"), std::string::npos);
 }
@@ -353,14 +354,27 @@ TEST(Cli, BuildMakesATriquadBaseMeshAndAModel) {
   writeMesh(torus, test::torusMesh(60, 30));
   const std::string model = (dir / "torus.isoatlas").string(), base = (dir / "base.obj").string(),
                     report = (dir / "r.json").string();
-  const Result r = run("build " + torus + " -o " + model + " --base-only " + base + " --base-ratio 0.03 --report " + report);
+  const std::string previews = (dir / "previews").string();
+  const Result r = run("build " + torus + " -o " + model + " --base-only " + base + " --base-ratio 0.03 --chart 17 --previews " +
+                       previews + " --report " + report);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(test::readBytes(report));
   for (const char* key : {"dense_vertices", "base_vertices", "base_triangles", "tiles", "splits_for_matching",
                           "seconds_simplify", "seconds_match", "hausdorff_base", "psnr_base_db",
                           "hausdorff_dense_to_base", "hausdorff_base_to_dense", "bounding_box_diagonal",
-                          "folded_before_untangle", "folded_after_untangle", "untangled_vertices", "seconds_untangle"})
+                          "folded_before_untangle", "folded_after_untangle", "untangled_vertices", "seconds_untangle",
+                          "charts", "atlas_width", "atlas_height", "atlas_efficiency", "folded_texels", "gap_texels",
+                          "seconds_chart", "model_bytes", "dense_halfedge_bytes"})
     EXPECT_TRUE(j.contains(key)) << key;
+  // One chart per tile, packed into the slots the width and height hold.
+  EXPECT_EQ(j["charts"], j["tiles"]);
+  EXPECT_EQ(j["atlas_efficiency"].get<double>(), j["charts"].get<double>() * 17 * 17 / (j["atlas_width"].get<double>() * j["atlas_height"].get<double>()));
+  EXPECT_EQ(j["model_bytes"], std::filesystem::file_size(model));
+  for (const char* png : {"position_atlas.png", "normal_atlas.png"}) {
+    const Image preview = readPng(std::filesystem::path(previews) / png);
+    EXPECT_EQ(preview.width, j["atlas_width"].get<int>());
+    EXPECT_EQ(preview.height, j["atlas_height"].get<int>());
+  }
   // The symmetric distance is the larger side, and the PSNR follows from it and the diagonal.
   EXPECT_EQ(j["hausdorff_base"].get<double>(),
             std::max(j["hausdorff_dense_to_base"].get<double>(), j["hausdorff_base_to_dense"].get<double>()));
@@ -376,7 +390,40 @@ TEST(Cli, BuildMakesATriquadBaseMeshAndAModel) {
   const MeshTopology t = analyzeTopology(quads);
   EXPECT_TRUE(t.closed && t.manifold && t.oriented) << t.firstProblem;
   EXPECT_EQ(t.genus, 1);
-  EXPECT_TRUE(std::filesystem::file_size(model) > 1800 * 24);
+  // Without --keep-dense the model holds no dense mesh: the base mesh and the atlas alone.
+  EXPECT_LT(std::filesystem::file_size(model), j["atlas_width"].get<std::size_t>() * j["atlas_height"].get<std::size_t>() * 18 + 1800 * 24);
+}
+
+TEST(Cli, EvalMeasuresEveryLevelAgainstTheDenseMesh) {
+  const auto dir = test::scratchDir();
+  const std::string torus = (dir / "torus.off").string(), model = (dir / "torus.isoatlas").string();
+  writeMesh(torus, test::torusMesh(60, 30));
+  ASSERT_EQ(run("build " + torus + " -o " + model + " --base-ratio 0.03 --chart 9 --no-hausdorff").code, 0);
+  const std::string report = (dir / "e.json").string(), plot = (dir / "psnr.png").string(), level = (dir / "l6.ply").string();
+  const Result r = run("eval " + model + " --dense " + torus + " --plot " + plot + " --out-mesh-level 6 " + level +
+                       " --samples 5000 --report " + report);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(test::readBytes(report));
+  for (const char* key : {"atlas_efficiency", "atlas_width", "atlas_height", "charts", "model_bytes", "dense_halfedge_bytes"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  ASSERT_EQ(j["levels"].size(), 7u);  // chart 9: levels 0..6
+  const double diagonal = j["bounding_box_diagonal"].get<double>();
+  for (int l = 0; l <= 6; ++l) {
+    const auto& f = j["levels"][l];
+    EXPECT_EQ(f["level"], l);
+    EXPECT_EQ(f["triangles"].get<std::size_t>(), j["charts"].get<std::size_t>() * (std::size_t(1) << l / 2 * 2) * (l % 2 ? 4 : 2));
+    EXPECT_TRUE(f["closed"].get<bool>() && f["manifold"].get<bool>());
+    EXPECT_NEAR(f["psnr_db"].get<double>(), 20 * std::log10(diagonal / f["hausdorff"].get<double>()), 1e-9);
+  }
+  // Finer levels come closer: the finest beats the base mesh by a wide margin.
+  EXPECT_GT(j["levels"][6]["psnr_db"].get<double>(), j["levels"][0]["psnr_db"].get<double>() + 10);
+  const Mesh six = readMesh(level);
+  EXPECT_EQ(six.faceCount(), j["levels"][6]["triangles"].get<std::size_t>());
+  EXPECT_GT(readPng(plot).width, 0);
+  expectBadInput("eval " + model + " --dense " + torus + " --levels 0-7", "--levels: '7' is not a level from 0 to 6");
+  expectBadInput("eval " + model + " --dense " + torus + " --out-mesh-level 9 " + level, "--out-mesh-level: level 9");
+  test::writeBytes(dir / "bad.isoatlas", test::readBytes(model).substr(0, 100));
+  expectBadInput("eval " + (dir / "bad.isoatlas").string() + " --dense " + torus, "runs past the end");
 }
 
 TEST(Cli, BuildRejectsBadInput) {

@@ -1,0 +1,116 @@
+#include "app/model_building.h"
+
+#include <chrono>
+#include <filesystem>
+
+#include "atlas/atlas_previews.h"
+#include "atlas/hausdorff.h"
+#include "atlas/make_atlas.h"
+#include "core/error.h"
+#include "core/image.h"
+#include "core/progress.h"
+#include "multires/stellar_simplify.h"
+#include "multires/triangle_pairing.h"
+
+namespace isoatlas::app {
+
+Mesh prepareModelInput(Mesh mesh) {
+  if (!mesh.allFacesHave(3)) {
+    Mesh triangles;
+    triangles.positions = mesh.positions;
+    for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+      const auto c = mesh.face(f);
+      for (std::size_t i = 1; i + 1 < c.size(); ++i) triangles.addFace({c[0], c[i], c[i + 1]});
+    }
+    logInfo("build: " + std::to_string(mesh.faceCount()) + " polygons split into " +
+            std::to_string(triangles.faceCount()) + " triangles");
+    mesh = std::move(triangles);
+  }
+  const Mesh used = dropUnusedVertices(mesh);
+  if (used.vertexCount() < mesh.vertexCount())
+    logInfo("build: dropped " + std::to_string(mesh.vertexCount() - used.vertexCount()) + " vertices that no face uses");
+  return used;
+}
+
+atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann::json& r) {
+  multires::SimplifyOptions simplify{.vertexRatio = request.baseRatio, .targetVertices = request.baseVertices};
+  if (request.maxError > 0) simplify.maxError = request.maxError;
+  multires::SimplifyStats stats;
+  atlas::Model model;
+  model.chartSize = request.chartSize;
+  multires::BaseMesh& base = model.base;
+  base = multires::simplifyStellar(dense, simplify, &stats);
+  logInfo("build: " + std::to_string(stats.denseVertices) + " -> " + std::to_string(stats.baseVertices) +
+          " vertices in " + std::to_string(stats.seconds) + " s");
+  const multires::PairingStats pairing = multires::pairTriangles(base, dense);
+  logInfo("build: " + std::to_string(pairing.tiles) + " tiles, " + std::to_string(pairing.splits) +
+          " edge splits for the matching, " + std::to_string(pairing.seconds) + " s");
+  atlas::ChartStats charts;
+  model.atlas = atlas::makeAtlas(dense, base, request.chartSize, &charts);
+  const atlas::AtlasLayout& layout = model.atlas.layout;
+  logInfo("build: " + std::to_string(layout.charts) + " charts in a " + std::to_string(layout.width()) + " x " +
+          std::to_string(layout.height()) + " atlas (" + std::to_string(layout.efficiency() * 100) + " % full), " +
+          std::to_string(charts.foldedTexels) + " folded texels, " + std::to_string(charts.seconds) + " s");
+
+  r["dense_vertices"] = dense.vertexCount();
+  r["dense_triangles"] = dense.faceCount();
+  r["base_vertices"] = base.vertexCount();
+  r["base_triangles"] = base.triangleCount();
+  r["base_triangles_before_matching"] = stats.baseTriangles;
+  r["target_vertices"] = stats.targetVertices;
+  r["reached_target"] = stats.reachedTarget;
+  r["tiles"] = pairing.tiles;
+  r["splits_for_matching"] = pairing.splits;
+  r["zero_weight_tiles"] = pairing.zeroWeightTiles;
+  r["mean_tile_orthogonality"] = pairing.meanOrthogonality;
+  r["operators"] = {{"flips", stats.operators.flips}, {"face_welds", stats.operators.faceWelds},
+                    {"edge_welds", stats.operators.edgeWelds}, {"boundary_welds", stats.operators.boundaryWelds}};
+  r["folded_before_untangle"] = stats.untangle.foldedBefore;
+  r["folded_after_untangle"] = stats.untangle.foldedAfter;
+  r["untangled_vertices"] = stats.untangle.movedVertices;
+  r["chart_size"] = request.chartSize;
+  r["charts"] = layout.charts;
+  r["atlas_width"] = layout.width();
+  r["atlas_height"] = layout.height();
+  r["atlas_efficiency"] = layout.efficiency();
+  r["folded_texels"] = charts.foldedTexels;
+  r["gap_texels"] = charts.gapTexels;
+  r["border_disagreements"] = charts.borderDisagreements;
+  r["seconds_untangle"] = stats.untangle.seconds;
+  r["seconds_simplify"] = stats.seconds;
+  r["seconds_match"] = pairing.seconds;
+  r["seconds_chart"] = charts.seconds;
+  const double diagonal = boundingBox(dense.positions).diagonal();
+  r["bounding_box_diagonal"] = diagonal;
+  r["dense_halfedge_bytes"] = atlas::halfedgeMeshBytes(dense);
+  if (request.hausdorff) {
+    const auto start = std::chrono::steady_clock::now();
+    const atlas::Hausdorff h = atlas::hausdorffDistance(dense, base.triangleMesh());
+    r["hausdorff_base"] = h.symmetric();
+    r["hausdorff_dense_to_base"] = h.aToB;
+    r["hausdorff_base_to_dense"] = h.bToA;
+    const double psnr = atlas::psnrDb(diagonal, h.symmetric());
+    r["psnr_base_db"] = psnr;
+    r["seconds_hausdorff"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    logInfo("build: base mesh Hausdorff " + std::to_string(h.symmetric()) + " (PSNR " + std::to_string(psnr) + " dB, CGAL)");
+  }
+  if (request.keepDense) {
+    model.dense = dense;
+  } else {
+    base.denseTriangle.clear();
+    base.denseBary.clear();
+  }
+  return model;
+}
+
+void writeModelFiles(const atlas::Model& model, const std::string& path, const std::string& previewDir, nlohmann::json& r) {
+  atlas::writeModel(path, model);
+  r["model_bytes"] = std::filesystem::file_size(path);
+  if (!previewDir.empty()) {
+    std::filesystem::create_directories(previewDir);
+    writePng((std::filesystem::path(previewDir) / "position_atlas.png").string(), atlas::positionPreview(model.atlas));
+    writePng((std::filesystem::path(previewDir) / "normal_atlas.png").string(), atlas::normalPreview(model.atlas));
+  }
+}
+
+}  // namespace isoatlas::app

@@ -1,0 +1,45 @@
+#include "atlas/atlas_previews.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace isoatlas::atlas {
+namespace {
+
+// Calls visit(pixel index, chart, i, j) for every chart texel.
+template <class Visit>
+void forChartTexels(const AtlasLayout& l, Visit&& visit) {
+  for (std::uint32_t c = 0; c < l.charts; ++c)
+    for (std::uint32_t j = 0; j < l.chartSize; ++j)
+      for (std::uint32_t i = 0; i < l.chartSize; ++i) visit(l.texel(c, i, j));
+}
+
+std::uint8_t byte(double x) { return std::uint8_t(std::clamp(x, 0.0, 1.0) * 255 + 0.5); }
+
+}  // namespace
+
+Image positionPreview(const Atlas& atlas) {
+  const AtlasLayout& l = atlas.layout;
+  Image image(int(l.width()), int(l.height()), 3);
+  std::array<float, 3> lo, hi;
+  lo.fill(std::numeric_limits<float>::max()), hi.fill(std::numeric_limits<float>::lowest());
+  forChartTexels(l, [&](std::size_t at) {
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], atlas.positions[at][a]), hi[a] = std::max(hi[a], atlas.positions[at][a]);
+  });
+  forChartTexels(l, [&](std::size_t at) {
+    for (int a = 0; a < 3; ++a)
+      image.pixels[at * 3 + a] = byte(hi[a] > lo[a] ? (double(atlas.positions[at][a]) - lo[a]) / (double(hi[a]) - lo[a]) : 0.5);
+  });
+  return image;
+}
+
+Image normalPreview(const Atlas& atlas) {
+  Image image(int(atlas.layout.width()), int(atlas.layout.height()), 3);
+  forChartTexels(atlas.layout, [&](std::size_t at) {
+    const Vec3 n = unpackNormal(atlas.normals[at]);
+    for (int a = 0; a < 3; ++a) image.pixels[at * 3 + a] = byte((n[a] + 1) / 2);
+  });
+  return image;
+}
+
+}  // namespace isoatlas::atlas

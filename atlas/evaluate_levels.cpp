@@ -1,0 +1,26 @@
+#include "atlas/evaluate_levels.h"
+
+#include "atlas/reconstruct.h"
+#include "core/mesh_topology.h"
+#include "core/progress.h"
+
+namespace isoatlas::atlas {
+
+std::vector<LevelFigures> evaluateLevels(const multires::BaseMesh& base, const Atlas& atlas, const Mesh& dense,
+                                         const std::vector<int>& levels, std::size_t facePoints) {
+  const double diagonal = boundingBox(dense.positions).diagonal();
+  std::vector<LevelFigures> out;
+  Progress progress("eval: levels", levels.size(), "levels");
+  for (const int level : levels) {
+    const Mesh mesh = reconstructLevel(base, atlas, level);
+    const MeshTopology topology = analyzeTopology(mesh);
+    const Hausdorff h = hausdorffDistance(dense, mesh, facePoints);
+    out.push_back({level, mesh.vertexCount(), mesh.faceCount(), h.symmetric(), psnrDb(diagonal, h.symmetric()),
+                   topology.closed, topology.manifold});
+    progress.update(out.size());
+  }
+  progress.finish();
+  return out;
+}
+
+}  // namespace isoatlas::atlas

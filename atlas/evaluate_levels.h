@@ -1,0 +1,28 @@
+// evaluateLevels: how close the model comes to the dense mesh at each uniform level: the mesh
+// reconstructed at that level (reconstructLevel), measured by CGAL's Hausdorff distance both ways
+// (hausdorff.h), PSNR against the dense mesh's bounding-box diagonal.
+//   base, atlas  the model
+//   dense        the dense triangle mesh it was built from
+//   levels       each within 0 .. maxLevel(chart size)
+//   facePoints   Hausdorff face samples per mesh
+#pragma once
+#include <vector>
+
+#include "atlas/atlas.h"
+#include "atlas/hausdorff.h"
+#include "core/mesh.h"
+#include "multires/base_mesh.h"
+
+namespace isoatlas::atlas {
+
+struct LevelFigures {
+  int level = 0;
+  std::size_t vertices = 0, triangles = 0;
+  double hausdorff = 0, psnrDb = 0;
+  bool closed = false, manifold = false;  // analyzeTopology's
+};
+
+std::vector<LevelFigures> evaluateLevels(const multires::BaseMesh& base, const Atlas& atlas, const Mesh& dense,
+                                         const std::vector<int>& levels, std::size_t facePoints = kHausdorffFacePoints);
+
+}  // namespace isoatlas::atlas

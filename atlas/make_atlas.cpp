@@ -1,0 +1,158 @@
+#include "atlas/make_atlas.h"
+
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <chrono>
+#include <map>
+
+#include "atlas/tile_sides.h"
+#include "core/error.h"
+#include "core/progress.h"
+#include "multires/dense_sampler.h"
+
+namespace isoatlas::atlas {
+namespace {
+
+struct Sample {
+  Vec3 position, normal;
+};
+
+// Texel (i, j) of every chart: the dense surface at the chart point. Marks the texels an image
+// held (else the nearest image answered: a gap in the parametrisation) and counts the folded ones.
+void sampleCharts(const Mesh& dense, const multires::BaseMesh& base, Atlas& atlas, std::vector<std::uint8_t>& held,
+                  ChartStats& stats) {
+  const multires::DenseSampler sampler(dense, base);
+  const std::vector<Vec3> normals = vertexNormals(dense);
+  const std::uint32_t n = atlas.layout.chartSize;
+  std::atomic<std::uint64_t> folded{0}, gaps{0};
+  Progress progress("atlas: sampling charts", atlas.layout.charts, "charts");
+  constexpr std::uint32_t kChunk = 256;  // charts between progress updates (Progress is not thread-safe)
+  for (std::uint32_t first = 0; first < atlas.layout.charts; first += kChunk) {
+  const std::uint32_t last = std::min(atlas.layout.charts, first + kChunk);
+  tbb::parallel_for(first, last, [&](std::uint32_t c) {
+    std::uint64_t foldedHere = 0, gapsHere = 0;
+    for (std::uint32_t j = 0; j < n; ++j)
+      for (std::uint32_t i = 0; i < n; ++i) {
+        const auto [triangle, bary] = base.chartToTriangle(c, double(i) / (n - 1), double(j) / (n - 1));
+        const multires::DenseSampler::Hit hit = sampler.locate(triangle, bary);
+        foldedHere += hit.folded;
+        gapsHere += !hit.held;
+        Vec3 normal;
+        if (hit.face == multires::DenseSampler::kNoFace) {
+          const auto& t = base.triangles[triangle];
+          normal = cross(base.positions[t[1]] - base.positions[t[0]], base.positions[t[2]] - base.positions[t[0]]);
+        } else {
+          const auto corners = dense.face(hit.face);
+          for (int k = 0; k < 3; ++k) normal = normal + normals[corners[k]] * hit.bary[k];
+        }
+        const Vec3 p = sampler.position(triangle, hit);
+        const std::size_t at = atlas.layout.texel(c, i, j);
+        atlas.positions[at] = {float(p.x), float(p.y), float(p.z)};
+        atlas.normals[at] = packNormal(normal);
+        held[at] = hit.held;
+      }
+    folded += foldedHere;
+    gaps += gapsHere;
+  });
+  progress.update(last);
+  }
+  progress.finish();
+  stats.foldedTexels = folded;
+  stats.gapTexels = gaps;
+}
+
+// Every base edge's samples averaged over the charts whose sides run along it, and every corner set
+// to its base vertex, the same floats written into each chart. Only samples an image held take
+// part when some did (a sample from a gap may lie far off); and where those disagree by more than
+// `tolerance` they found different sheets of a fold, whose mean would lie off the surface, so the
+// first chart's sample is taken. Counts the shared sides and the disagreeing samples.
+void averageSharedBorders(const multires::BaseMesh& base, const std::vector<std::uint8_t>& held, double tolerance,
+                          Atlas& atlas, ChartStats& stats) {
+  const std::uint32_t n = atlas.layout.chartSize;
+  struct SideRef {
+    std::uint32_t chart;
+    int side;
+    bool reversed;  // runs from the edge's larger vertex to its smaller
+  };
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<SideRef>> edges;
+  for (std::uint32_t c = 0; c < atlas.layout.charts; ++c) {
+    const auto sides = tileSides(base, c);
+    for (int s = 0; s < 4; ++s) {
+      const auto [a, b] = sides[s];
+      edges[{std::min(a, b), std::max(a, b)}].push_back({c, s, a > b});
+    }
+  }
+  for (const auto& [edge, refs] : edges) {
+    if (refs.size() > 1) stats.sharedSides += refs.size();
+    for (std::uint32_t m = 1; m + 1 < n; ++m) {
+      auto texelOf = [&](const SideRef& r) {
+        const auto ij = sideTexel(r.side, r.reversed ? n - 1 - m : m, n);
+        return atlas.layout.texel(r.chart, ij[0], ij[1]);
+      };
+      bool anyHeld = false;
+      for (const SideRef& r : refs) anyHeld = anyHeld || held[texelOf(r)];
+      std::vector<std::size_t> takes;
+      for (const SideRef& r : refs)
+        if (!anyHeld || held[texelOf(r)]) takes.push_back(texelOf(r));
+      auto positionAt = [&](std::size_t at) { return Vec3{atlas.positions[at][0], atlas.positions[at][1], atlas.positions[at][2]}; };
+      for (const std::size_t at : takes)
+        if (norm(positionAt(at) - positionAt(takes[0])) > tolerance) {
+          ++stats.borderDisagreements;
+          takes.resize(1);
+          break;
+        }
+      Sample sum{};
+      for (const std::size_t at : takes) {
+        sum.position = sum.position + positionAt(at);
+        sum.normal = sum.normal + unpackNormal(atlas.normals[at]);
+      }
+      const Vec3 p = sum.position * (1.0 / double(takes.size()));
+      const std::array<float, 3> position{float(p.x), float(p.y), float(p.z)};
+      const Normal16 normal = packNormal(sum.normal);
+      for (const SideRef& r : refs) atlas.positions[texelOf(r)] = position, atlas.normals[texelOf(r)] = normal;
+    }
+  }
+  // Corners: the base vertex's position, and the mean of the corner normals around it.
+  std::vector<Vec3> cornerNormals(base.vertexCount());
+  auto forCorners = [&](auto&& visit) {
+    for (std::uint32_t c = 0; c < atlas.layout.charts; ++c) {
+      const auto sides = tileSides(base, c);
+      for (int s = 0; s < 4; ++s) {
+        const auto ij = sideTexel(s, 0, n);
+        visit(sides[s].from, atlas.layout.texel(c, ij[0], ij[1]));
+      }
+    }
+  };
+  forCorners([&](std::uint32_t v, std::size_t at) { cornerNormals[v] = cornerNormals[v] + unpackNormal(atlas.normals[at]); });
+  forCorners([&](std::uint32_t v, std::size_t at) {
+    const Vec3& p = base.positions[v];
+    atlas.positions[at] = {float(p.x), float(p.y), float(p.z)};
+    atlas.normals[at] = packNormal(cornerNormals[v]);
+  });
+}
+
+}  // namespace
+
+Atlas makeAtlas(const Mesh& dense, const multires::BaseMesh& base, std::uint32_t chartSize, ChartStats* stats) {
+  require(multires::isChartSize(chartSize), "atlas: chart size " + std::to_string(chartSize) + " is not 2^k + 1 between 3 and " +
+                                                std::to_string(multires::kMaxChartSize));
+  require(!base.tiles.empty() && base.tiles.size() * 2 == base.triangleCount(),
+          "atlas: the base mesh is not paired into tiles");
+  const auto start = std::chrono::steady_clock::now();
+  Atlas atlas;
+  atlas.layout = packCharts(std::uint32_t(base.tiles.size()), chartSize);
+  const std::size_t texels = std::size_t(atlas.layout.width()) * atlas.layout.height();
+  atlas.positions.assign(texels, {0, 0, 0});
+  atlas.normals.assign(texels, {0, 0, 0});
+  ChartStats s;
+  s.texels = std::uint64_t(atlas.layout.charts) * chartSize * chartSize;
+  std::vector<std::uint8_t> held(texels, 0);
+  sampleCharts(dense, base, atlas, held, s);
+  averageSharedBorders(base, held, 1e-6 * boundingBox(base.positions).diagonal(), atlas, s);
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (stats) *stats = s;
+  return atlas;
+}
+
+}  // namespace isoatlas::atlas

@@ -1,0 +1,24 @@
+// reconstructLevel: the surface at uniform level L, every tile refined alike by sampling its chart
+// (the 4-8 refinement the adaptive mesh makes, here everywhere at once):
+//   level 0       each tile's two base triangles (its corners);
+//   level 2m      a 2^m x 2^m grid of the chart's texels, each square cut along its main diagonal
+//                 (the p -> q direction) when its column plus row is even, else the other;
+//   level 2m + 1  level 2m with each square's centre texel joined to its four corners.
+// maxLevel(N) = 2 log2(N - 1) takes every texel of the chart (level 10 for N = 33).
+// Vertices on a tile's sides are shared with the tile across (one per base vertex and per sample
+// of a base edge), so the mesh is closed and manifold where the base mesh is; positions and
+// normals come from the atlas, where neighbouring charts hold the same border samples.
+// Throws Error(BadInput) for a level outside 0 .. maxLevel or an atlas of another base mesh.
+#pragma once
+#include <cstdint>
+
+#include "atlas/atlas.h"
+#include "core/mesh.h"
+#include "multires/base_mesh.h"
+
+namespace isoatlas::atlas {
+
+int maxLevel(std::uint32_t chartSize);
+Mesh reconstructLevel(const multires::BaseMesh& base, const Atlas& atlas, int level);
+
+}  // namespace isoatlas::atlas

@@ -1,0 +1,29 @@
+// The four sides of a tile's chart, each a base edge shared with at most one other tile: side 0
+// runs p -> s (texels (m, 0)), side 1 s -> q ((N-1, m)), side 2 q -> r ((N-1-m, N-1)), side 3 r -> p
+// ((0, N-1-m)), for m = 0 .. N-1 from the side's first base vertex to its second.
+#pragma once
+#include <array>
+#include <cstdint>
+
+#include "multires/base_mesh.h"
+
+namespace isoatlas::atlas {
+
+struct TileSide {
+  std::uint32_t from, to;  // base vertices
+};
+inline std::array<TileSide, 4> tileSides(const multires::BaseMesh& base, std::uint32_t tile) {
+  const auto c = base.tileCorners(tile);
+  return {TileSide{c.p, c.s}, TileSide{c.s, c.q}, TileSide{c.q, c.r}, TileSide{c.r, c.p}};
+}
+// Texel (i, j) of step m along side `side` of a chart of `n` texels a side.
+inline std::array<std::uint32_t, 2> sideTexel(int side, std::uint32_t m, std::uint32_t n) {
+  switch (side) {
+    case 0: return {m, 0};
+    case 1: return {n - 1, m};
+    case 2: return {n - 1 - m, n - 1};
+    default: return {0, n - 1 - m};
+  }
+}
+
+}  // namespace isoatlas::atlas

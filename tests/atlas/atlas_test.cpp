@@ -1,0 +1,241 @@
+// The atlas against invariants and analytic truths: packing, shared borders identical texel for
+// texel, reconstruction closed and manifold at every level (boundaries kept for open meshes), the
+// whole chart within the dense mesh's own error of the true sphere and torus, CGAL's Hausdorff
+// distance on shapes of known distance.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <map>
+
+#include "atlas/hausdorff.h"
+#include "atlas/make_atlas.h"
+#include "atlas/reconstruct.h"
+#include "atlas/tile_sides.h"
+#include "core/error.h"
+#include "core/mesh_topology.h"
+#include "multires/stellar_simplify.h"
+#include "multires/triangle_pairing.h"
+#include "tests/multires/mesh_shapes.h"
+
+namespace isoatlas::atlas {
+namespace {
+
+struct Built {
+  Mesh dense;
+  multires::BaseMesh base;
+  Atlas atlas;
+  ChartStats stats;
+};
+
+Built build(Mesh dense, double ratio, std::uint32_t chartSize) {
+  Built b{std::move(dense), {}, {}, {}};
+  b.base = multires::simplifyStellar(b.dense, {.vertexRatio = ratio});
+  multires::pairTriangles(b.base, b.dense);
+  b.atlas = makeAtlas(b.dense, b.base, chartSize, &b.stats);
+  return b;
+}
+
+const Built& torus() {
+  static const Built b = build(test::torusMesh(48, 24), 0.04, 17);
+  return b;
+}
+const Built& sphere() {
+  static const Built b = build(test::sphereMesh(), 0.02, 33);
+  return b;
+}
+
+// A plane with two square holes: three boundary loops.
+const Built& holedPlane() {
+  static const Built b = build(test::gridMesh(30, 24, [](int i, int j) {
+    return (i >= 6 && i < 10 && j >= 6 && j < 10) || (i >= 18 && i < 23 && j >= 12 && j < 16);
+  }), 0.05, 9);
+  return b;
+}
+
+TEST(PackCharts, FullestGridWithinAspectTwo) {
+  EXPECT_EQ(packCharts(375, 33).columns * packCharts(375, 33).rows, 375u);  // 15 x 25
+  EXPECT_EQ(packCharts(1, 33).efficiency(), 1.0);
+  EXPECT_EQ(packCharts(7, 33).columns * packCharts(7, 33).rows, 8u);  // 7 slots would need 1 x 7
+  for (std::uint32_t n = 1; n <= 3000; ++n) {
+    const AtlasLayout l = packCharts(n, 17);
+    ASSERT_GE(std::uint64_t(l.columns) * l.rows, n);
+    ASSERT_LE(l.columns, 2 * l.rows) << n;
+    ASSERT_LE(l.rows, 2 * l.columns) << n;
+    ASSERT_EQ(l.width(), l.columns * 17);
+    // No legal grid has fewer slots (all column counts tried by hand).
+    for (std::uint32_t c = 1; c <= n; ++c) {
+      const std::uint32_t r = (n + c - 1) / c;
+      if (c <= 2 * r && r <= 2 * c) {
+        ASSERT_LE(std::uint64_t(l.columns) * l.rows, std::uint64_t(c) * r) << n;
+      }
+    }
+    // The target of 95 %: met for every count from 74 charts on (73 fills 73 of 77 slots).
+    if (n >= 74) {
+      ASSERT_GE(l.efficiency(), 0.95) << n;
+    }
+  }
+  EXPECT_THROW(packCharts(0, 33), Error);
+}
+
+TEST(PackCharts, ChartsDoNotOverlapAndStayInside) {
+  const AtlasLayout l = packCharts(53, 5);
+  std::vector<int> owner(std::size_t(l.width()) * l.height(), -1);
+  for (std::uint32_t c = 0; c < l.charts; ++c)
+    for (std::uint32_t j = 0; j < 5; ++j)
+      for (std::uint32_t i = 0; i < 5; ++i) {
+        const std::size_t at = l.texel(c, i, j);
+        ASSERT_LT(at, owner.size());
+        ASSERT_EQ(owner[at], -1) << "chart " << c << " overlaps chart " << owner[at];
+        owner[at] = int(c);
+      }
+}
+
+// Every tile side's texels, as raw bits, equal those of every other chart on the same base edge
+// (read in the same direction), and every corner texel is its base vertex.
+void expectIdenticalBorders(const Built& b) {
+  const std::uint32_t n = b.atlas.layout.chartSize;
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::pair<std::uint32_t, int>>> edges;
+  for (std::uint32_t c = 0; c < b.atlas.layout.charts; ++c) {
+    const auto sides = tileSides(b.base, c);
+    for (int s = 0; s < 4; ++s) edges[{sides[s].from, sides[s].to}].push_back({c, s});
+  }
+  std::size_t shared = 0;
+  for (const auto& [edge, list] : edges) {
+    const auto reverse = edges.find({edge.second, edge.first});
+    if (reverse == edges.end()) continue;
+    for (const auto& [c, s] : list)
+      for (const auto& [d, t] : reverse->second) {
+        ++shared;
+        for (std::uint32_t m = 0; m < n; ++m) {
+          const auto a = sideTexel(s, m, n), z = sideTexel(t, n - 1 - m, n);
+          const std::size_t at = b.atlas.layout.texel(c, a[0], a[1]), other = b.atlas.layout.texel(d, z[0], z[1]);
+          ASSERT_EQ(std::memcmp(&b.atlas.positions[at], &b.atlas.positions[other], sizeof(b.atlas.positions[at])), 0)
+              << "charts " << c << " and " << d << " differ at step " << m;
+          ASSERT_EQ(b.atlas.normals[at], b.atlas.normals[other]);
+        }
+      }
+    const Vec3 from = b.base.positions[edge.first];
+    const auto corner = sideTexel(list[0].second, 0, n);
+    const std::array<float, 3> expected{float(from.x), float(from.y), float(from.z)};
+    EXPECT_EQ(b.atlas.positions[b.atlas.layout.texel(list[0].first, corner[0], corner[1])], expected);
+  }
+  EXPECT_EQ(shared, b.stats.sharedSides) << "every shared side counted";
+}
+
+TEST(Atlas, SharedBordersAreIdenticalTexelForTexel) {
+  expectIdenticalBorders(torus());
+  expectIdenticalBorders(sphere());
+  expectIdenticalBorders(holedPlane());
+  EXPECT_GT(torus().stats.sharedSides, 0u);
+}
+
+TEST(Atlas, ChartsSampleTheDenseSurface) {
+  // Every texel is a point of the dense mesh (borders too: their charts agree there), so it lies
+  // on the torus within the dense triangles' own distance from it (sampled finely over each).
+  const Built& b = torus();
+  double sagitta = 0;
+  auto offTorus = [](const Vec3& p) { return std::abs(std::hypot(std::hypot(p.x, p.y) - 3, p.z) - 1); };
+  for (std::size_t f = 0; f < b.dense.faceCount(); ++f) {
+    const auto c = b.dense.face(f);
+    for (int u = 0; u <= 16; ++u)
+      for (int v = 0; u + v <= 16; ++v)
+        sagitta = std::max(sagitta, offTorus(b.dense.positions[c[0]] * ((16.0 - u - v) / 16) + b.dense.positions[c[1]] * (u / 16.0) +
+                                             b.dense.positions[c[2]] * (v / 16.0)));
+  }
+  const std::uint32_t n = b.atlas.layout.chartSize;
+  for (std::uint32_t c = 0; c < b.atlas.layout.charts; ++c)
+    for (std::uint32_t j = 0; j < n; ++j)
+      for (std::uint32_t i = 0; i < n; ++i) {
+        ASSERT_LE(offTorus(b.atlas.position(c, i, j)), sagitta * 1.01 + 1e-6) << "chart " << c << " (" << i << ", " << j << ")";
+        // Normals point away from the torus's core circle.
+        const Vec3 p = b.atlas.position(c, i, j);
+        const double rho = std::hypot(p.x, p.y);
+        const Vec3 outward{p.x - 3 * p.x / rho, p.y - 3 * p.y / rho, p.z};
+        ASSERT_GT(dot(b.atlas.normal(c, i, j), outward), 0.8 * norm(outward));
+      }
+}
+
+TEST(Reconstruct, ClosedAndManifoldAtEveryLevelWithTheRightCounts) {
+  for (const Built* b : {&torus(), &sphere()}) {
+    const MeshTopology dense = analyzeTopology(b->dense);
+    const std::size_t tiles = b->base.tiles.size();
+    for (int level = 0; level <= maxLevel(b->atlas.layout.chartSize); ++level) {
+      const Mesh m = reconstructLevel(b->base, b->atlas, level);
+      const MeshTopology t = analyzeTopology(m);
+      ASSERT_TRUE(t.closed && t.manifold && t.oriented) << "level " << level << ": " << t.firstProblem;
+      EXPECT_EQ(t.genus, dense.genus) << "level " << level;
+      EXPECT_EQ(t.unusedVertices, 0u);
+      const std::size_t squares = std::size_t(1) << level / 2 * 2;
+      EXPECT_EQ(m.faceCount(), tiles * squares * (level % 2 ? 4 : 2)) << "level " << level;
+      EXPECT_EQ(m.normals.size(), m.vertexCount());
+    }
+  }
+}
+
+TEST(Reconstruct, OpenMeshesKeepTheirBoundaries) {
+  const Built& b = holedPlane();
+  const MeshTopology dense = analyzeTopology(b.dense);
+  ASSERT_EQ(dense.boundaryLoops, 3u);
+  for (int level = 0; level <= maxLevel(b.atlas.layout.chartSize); ++level) {
+    const MeshTopology t = analyzeTopology(reconstructLevel(b.base, b.atlas, level));
+    EXPECT_TRUE(t.manifold && t.oriented) << "level " << level << ": " << t.firstProblem;
+    EXPECT_EQ(t.boundaryLoops, 3u) << "level " << level;
+    EXPECT_EQ(t.euler, dense.euler) << "level " << level;
+  }
+}
+
+TEST(Reconstruct, TheWholeChartLiesOnTheTrueSphere) {
+  // The sphere of sphereMesh: radius 10 about (12.3, 12.5, 12.2). Every vertex of the finest level
+  // is a point of the dense mesh, so it lies as close to the true sphere as the dense triangles do.
+  const Built& b = sphere();
+  const Vec3 centre{12.3, 12.5, 12.2};
+  auto off = [&](const Vec3& p) { return std::abs(norm(p - centre) - 10); };
+  double denseError = 0;
+  for (std::size_t f = 0; f < b.dense.faceCount(); ++f) {
+    const auto c = b.dense.face(f);
+    const Vec3 &p = b.dense.positions[c[0]], &q = b.dense.positions[c[1]], &r = b.dense.positions[c[2]];
+    for (const Vec3& x : {p, q, r, (p + q + r) * (1.0 / 3), (p + q) * 0.5, (q + r) * 0.5, (r + p) * 0.5})
+      denseError = std::max(denseError, off(x));
+  }
+  const Mesh finest = reconstructLevel(b.base, b.atlas, maxLevel(b.atlas.layout.chartSize));
+  double worst = 0;
+  for (const Vec3& p : finest.positions) worst = std::max(worst, off(p));
+  EXPECT_LE(worst, denseError * 1.01 + 1e-5);
+  EXPECT_LT(worst, 0.05) << "about the marching-cubes mesh's own error on a radius of 10";
+  // The base mesh lies farther off: the levels are not the base mesh.
+  double baseWorst = 0;
+  for (std::size_t f = 0; f < b.base.triangleCount(); ++f)
+    baseWorst = std::max(baseWorst, off(b.base.pointAt(std::uint32_t(f), {1.0 / 3, 1.0 / 3, 1.0 / 3})));
+  EXPECT_GT(baseWorst, 10 * worst);
+}
+
+TEST(Reconstruct, RefusesLevelsBeyondTheChart) {
+  EXPECT_EQ(maxLevel(33), 10);
+  EXPECT_EQ(maxLevel(3), 2);
+  EXPECT_THROW(reconstructLevel(torus().base, torus().atlas, 9), Error);  // 17 texels: levels 0..8
+  EXPECT_THROW(reconstructLevel(torus().base, torus().atlas, -1), Error);
+}
+
+TEST(Hausdorff, KnownDistancesBothWays) {
+  // Two concentric spheres of radii 10 and 10.5 (marching cubes, so each lies within a small
+  // error of its radius): the distance is 0.5 both ways, within those errors.
+  const Mesh a = test::sphereMesh(10);
+  Mesh b = a;
+  const Vec3 centre{12.3, 12.5, 12.2};
+  for (Vec3& p : b.positions) p = centre + (p - centre) * (10.5 / 10);
+  const Hausdorff h = hausdorffDistance(a, b, 20000);
+  EXPECT_NEAR(h.aToB, 0.5, 0.06);
+  EXPECT_NEAR(h.bToA, 0.5, 0.06);
+  EXPECT_LT(hausdorffDistance(a, a, 20000).symmetric(), 1e-12);
+  // A mesh moved by a known offset: the farthest sample lies at most that far.
+  Mesh moved = a;
+  for (Vec3& p : moved.positions) p.x += 0.25;
+  const Hausdorff m = hausdorffDistance(a, moved, 20000);
+  EXPECT_LE(m.symmetric(), 0.25 + 1e-9);
+  EXPECT_GT(m.symmetric(), 0.2);
+  EXPECT_NEAR(psnrDb(100, 1), 40, 1e-12);
+  EXPECT_THROW(hausdorffDistance(Mesh{}, a), Error);
+}
+
+}  // namespace
+}  // namespace isoatlas::atlas

@@ -1,0 +1,192 @@
+// The model file: a round trip keeps every figure bit for bit; the bytes are little-endian where the
+// format says; every section damaged or cut short is refused with exit 2, naming the section and
+// the byte offset; version 1 files get a line saying to rebuild them.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "atlas/make_atlas.h"
+#include "atlas/model_file.h"
+#include "core/error.h"
+#include "multires/stellar_simplify.h"
+#include "multires/triangle_pairing.h"
+#include "tests/multires/mesh_shapes.h"
+#include "tests/test_util.h"
+
+namespace isoatlas::atlas {
+namespace {
+
+Model torusModel(bool keepDense) {
+  Model m;
+  m.chartSize = 17;
+  Mesh dense = test::torusMesh(30, 16);
+  m.base = multires::simplifyStellar(dense, {.vertexRatio = 0.06});
+  multires::pairTriangles(m.base, dense);
+  m.atlas = makeAtlas(dense, m.base, m.chartSize);
+  if (keepDense) {
+    m.dense = dense;
+  } else {
+    m.base.denseTriangle.clear(), m.base.denseBary.clear();
+  }
+  return m;
+}
+
+// Every field, compared as bits (the float atlas included).
+void expectSame(const Model& a, const Model& b) {
+  EXPECT_EQ(b.chartSize, a.chartSize);
+  EXPECT_EQ(b.base.positions, a.base.positions);
+  EXPECT_EQ(b.base.denseVertex, a.base.denseVertex);
+  EXPECT_EQ(b.base.triangles, a.base.triangles);
+  EXPECT_EQ(b.base.tiles, a.base.tiles);
+  EXPECT_EQ(b.base.denseTriangle, a.base.denseTriangle);
+  EXPECT_EQ(b.base.denseBary, a.base.denseBary);
+  EXPECT_EQ(b.dense.positions, a.dense.positions);
+  EXPECT_EQ(b.dense.faceVertices, a.dense.faceVertices);
+  EXPECT_EQ(b.atlas.layout.charts, a.atlas.layout.charts);
+  EXPECT_EQ(b.atlas.layout.columns, a.atlas.layout.columns);
+  EXPECT_EQ(b.atlas.layout.rows, a.atlas.layout.rows);
+  ASSERT_EQ(b.atlas.positions.size(), a.atlas.positions.size());
+  EXPECT_EQ(std::memcmp(b.atlas.positions.data(), a.atlas.positions.data(), a.atlas.positions.size() * 12), 0);
+  EXPECT_EQ(b.atlas.normals, a.atlas.normals);
+}
+
+// Section tags and where their payloads start, read from a good file's headers.
+struct Section {
+  std::string tag;
+  std::size_t header, payload, size;
+};
+std::vector<Section> sections(const std::string& bytes) {
+  std::vector<Section> out;
+  for (std::size_t at = 12; at < bytes.size();) {
+    std::uint64_t size = 0;
+    for (int i = 0; i < 8; ++i) size |= std::uint64_t(std::uint8_t(bytes[at + 4 + i])) << (8 * i);
+    out.push_back({bytes.substr(at, 4), at, at + 16, size});
+    at += 16 + size;
+  }
+  return out;
+}
+
+class ModelFileTest : public ::testing::Test {
+protected:
+  void SetUp() override {
+    path_ = (dir_ / "t.isoatlas").string();
+    writeModel(path_, torusModel(true));
+    good_ = test::readBytes(path_);
+  }
+  void expectRefused(const std::string& bytes, const std::string& phrase) {
+    test::writeBytes(path_, bytes);
+    try {
+      readModel(path_);
+      ADD_FAILURE() << "accepted: " << phrase;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.exitCode(), 2);
+      EXPECT_NE(std::string(e.what()).find(phrase), std::string::npos) << e.what();
+    }
+  }
+  std::filesystem::path dir_ = test::scratchDir();
+  std::string path_, good_;
+};
+
+TEST_F(ModelFileTest, RoundTripKeepsEverything) {
+  for (const bool keep : {true, false}) {
+    const Model a = torusModel(keep);
+    writeModel(path_, a);
+    expectSame(a, readModel(path_));
+  }
+}
+
+TEST_F(ModelFileTest, WithoutTheDenseMeshTheModelIsSmaller) {
+  const std::size_t withDense = good_.size();
+  writeModel(path_, torusModel(false));
+  EXPECT_LT(test::readBytes(path_).size(), withDense);
+  for (const Section& s : sections(test::readBytes(path_))) EXPECT_TRUE(s.tag != "DENS" && s.tag != "PARA") << s.tag;
+}
+
+TEST_F(ModelFileTest, BytesAreLittleEndian) {
+  // Version 2 right after the magic, then HEAD's tag, length 4, its CRC, and the chart size 17.
+  EXPECT_EQ(good_.substr(0, 12), std::string("ISOATLAS\x02\0\0\0", 12));
+  EXPECT_EQ(good_.substr(12, 12), std::string("HEAD\x04\0\0\0\0\0\0\0", 12));
+  EXPECT_EQ(good_.substr(28, 4), std::string("\x11\0\0\0", 4));
+  // The first base vertex's x as a little-endian double.
+  const Model m = torusModel(true);
+  const Section base = sections(good_)[1];
+  ASSERT_EQ(base.tag, "BASE");
+  std::uint64_t bits = 0;
+  for (int i = 0; i < 8; ++i) bits |= std::uint64_t(std::uint8_t(good_[base.payload + 8 + i])) << (8 * i);
+  EXPECT_EQ(std::bit_cast<double>(bits), m.base.positions[0].x);
+}
+
+TEST_F(ModelFileTest, EverySectionDamagedOrCutShortIsRefusedByName) {
+  const std::vector<Section> all = sections(good_);
+  ASSERT_EQ(all.size(), 6u);  // HEAD BASE HALF ATLS DENS PARA
+  for (const Section& s : all) {
+    std::string damaged = good_;
+    damaged[s.payload + s.size / 2] ^= 0x20;
+    expectRefused(damaged, "section " + s.tag + ", byte " + std::to_string(s.payload) + ": checksum mismatch");
+    expectRefused(good_.substr(0, s.payload + s.size / 2), "section " + s.tag + ", byte " + std::to_string(s.payload) + ": runs past");
+    expectRefused(good_.substr(0, s.header + 7), "truncated section header");
+    if (s.tag != "DENS" && s.tag != "PARA")  // without both, the model is whole but lacks no required part
+      expectRefused(good_.substr(0, s.header) + good_.substr(s.payload + s.size), s.tag + " section");
+  }
+  expectRefused("hello", "not an isoatlas model file");
+}
+
+TEST_F(ModelFileTest, ParsersCheckWhatTheChecksumWouldMiss) {
+  // With checksums off (as the fuzzer reads), damage must still be caught by the parsers.
+  const std::vector<Section> all = sections(good_);
+  std::string corner = good_;
+  const Section& base = all[1];
+  const Model m = torusModel(true);
+  const std::size_t firstCorner = base.payload + 8 + m.base.vertexCount() * 32 + 8;
+  corner[firstCorner + 3] = char(0x7f);
+  test::writeBytes(path_, corner);
+  try {
+    readModel(path_, {.checksums = false});
+    ADD_FAILURE() << "a corner out of range was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("section BASE, byte " + std::to_string(firstCorner + 4) + ": base vertex index"), std::string::npos) << e.what();
+  }
+  std::string halfedge = good_;
+  halfedge[all[2].payload + 4] ^= 1;  // the first halfedge's start u
+  test::writeBytes(path_, halfedge);
+  EXPECT_THROW(readModel(path_, {.checksums = false}), Error);
+  // A section given twice: its counts would mix with the first's.
+  const Section& head = all[0];
+  expectRefused(good_.substr(0, head.payload + head.size) + good_.substr(head.header, 16 + head.size) +
+                    good_.substr(head.payload + head.size),
+                "a second HEAD section");
+}
+
+TEST_F(ModelFileTest, OtherVersionsAndUnknownSections) {
+  std::string v1 = good_;
+  v1[8] = 1;
+  expectRefused(v1, "version 1 holds no atlas; build the model again");
+  std::string v9 = good_;
+  v9[8] = 9;
+  expectRefused(v9, "format version 9 (this isoatlas reads version 2)");
+  // A section of a later version is skipped.
+  std::string extra = good_ + std::string("NEWS\x03\0\0\0\0\0\0\0", 12);
+  const char payload[] = "abc";
+  const std::uint32_t sum = 0x352441c2;  // CRC-32 of "abc"
+  for (int i = 0; i < 4; ++i) extra.push_back(char((sum >> (8 * i)) & 0xff));
+  extra += payload;
+  test::writeBytes(path_, extra);
+  expectSame(torusModel(true), readModel(path_));
+}
+
+TEST_F(ModelFileTest, AModelTheReaderWouldRefuseIsNotWrittenAndTheOldFileStays) {
+  test::writeBytes(path_, "kept");
+  Model badChart = torusModel(false);
+  badChart.chartSize = 257;
+  Model noAtlas = torusModel(false);
+  noAtlas.atlas = {};
+  Model denseWithoutParametrisation = torusModel(false);
+  denseWithoutParametrisation.dense = test::torusMesh(30, 16);
+  for (const Model* m : {&badChart, &noAtlas, &denseWithoutParametrisation}) {
+    EXPECT_THROW(writeModel(path_, *m), Error);
+    EXPECT_EQ(test::readBytes(path_), "kept");
+  }
+}
+
+}  // namespace
+}  // namespace isoatlas::atlas
