@@ -12,9 +12,6 @@
 #include "core/progress.h"
 
 namespace isoatlas::app {
-namespace {
-
-// "0-10", "4" or "0,2,10", each level within 0 .. maxLevel.
 std::vector<int> parseLevels(const std::string& text, int maxLevel) {
   std::vector<int> levels;
   auto number = [&](const std::string& s) {
@@ -44,8 +41,6 @@ std::vector<int> parseLevels(const std::string& text, int maxLevel) {
   }
   return levels;
 }
-
-}  // namespace
 
 Image psnrPlot(const std::vector<std::pair<std::string, std::vector<atlas::LevelFigures>>>& models) {
   std::vector<PlotSeries> series;

@@ -33,6 +33,10 @@ Mesh prepareModelInput(Mesh mesh);
 // `previewDir` unless empty); adds model_bytes and dense_halfedge_bytes to `figures`.
 void writeModelFiles(const atlas::Model& model, const std::string& path, const std::string& previewDir, nlohmann::json& figures);
 
+// Levels as eval and run take them: "0-10", "4" or "0,2,10", each within 0 .. maxLevel; throws
+// Error naming --levels otherwise.
+std::vector<int> parseLevels(const std::string& text, int maxLevel);
+
 // PSNR against level for each named model (eval's --plot, run's psnr_per_level.png).
 Image psnrPlot(const std::vector<std::pair<std::string, std::vector<atlas::LevelFigures>>>& models);
 // The report's `levels` list: level, vertices, triangles, hausdorff, psnr_db, closed, manifold.

@@ -3,13 +3,17 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 #include "app/command.h"
+#include "app/model_building.h"
 #include "app/options.h"
 #include "app/segmentation.h"
 #include "levelset/level_set.h"
 #include "core/error.h"
 #include "core/image.h"
+#include "atlas/atlas_previews.h"
+#include "atlas/reconstruct.h"
 #include "core/mesh_io.h"
 #include "extract/extract_surface.h"
 #include "core/progress.h"
@@ -38,6 +42,9 @@ struct RunOptions {
   double target = 0, width = 1, alpha = 0.8;
   std::string backend = "auto";
   int iterations = 3000;  // the demo converges in under a thousand
+  ModelRequest model;
+  int chart = 33;
+  std::string levels = "even";  // the levels run measures: "even" (0, 2, ..., the whole chart) or eval's form
 };
 
 struct Stage {
@@ -97,9 +104,24 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--backend", options->backend, "gpu, cpu or auto")->capture_default_str();
   sub->add_option("--iterations,-n", options->iterations, "most iterations of the segmentation (it stops once converged)")
       ->capture_default_str();
+  sub->add_option("--base-ratio", options->model.baseRatio, "base vertices of the model as a fraction of the surface's")
+      ->capture_default_str();
+  sub->add_option("--chart", options->chart, "chart size of the model, 2^k + 1")->capture_default_str();
+  sub->add_option("--levels", options->levels, "levels whose accuracy the model's report gives: even, 0-10, 0,4,10")
+      ->capture_default_str();
   bindAction(*sub, [input, outDir, options](nlohmann::json& r) {
     const auto start = std::chrono::steady_clock::now();
     require(options->iterations > 0, "--iterations must be > 0");
+    require(options->model.baseRatio > 0 && options->model.baseRatio <= 1, "--base-ratio must be in (0, 1]");
+    require(options->chart > 0 && multires::isChartSize(std::uint32_t(options->chart)),
+            "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
+    const int topLevel = atlas::maxLevel(std::uint32_t(options->chart));
+    std::vector<int> levels;
+    if (options->levels == "even") {
+      for (int l = 0; l <= topLevel; l += 2) levels.push_back(l);
+    } else {
+      levels = parseLevels(options->levels, topLevel);
+    }
     const std::filesystem::path dir(*outDir);
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
@@ -129,6 +151,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       for (const Vec3& seed : kDemoSeeds) seeds.push_back({seed, kDemoSeedRadius});
       params = kDemoParams;
     }
+    std::optional<Mesh> surface;
     if (seeds.empty()) {
       stages.push_back({"segment", "skipped", "no --seed given (and the input is not the demo volume)"});
       logInfo("run: skipping segment: give --seed X,Y,Z[,R] --target T --width EPS");
@@ -151,20 +174,20 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                             "): mask.nii.gz, phi.nii.gz"});
       // Extract: marching cubes over the level set's active pages, read where the solver keeps them.
       extract::ExtractStats extractStats;
-      const Mesh surface = extract::extractLevelSet(
-          *s.levelSet, {.largestComponent = true, .gpu = s.backend == levelset::Backend::Gpu}, &extractStats);
-      writeMesh(products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), surface);
-      r["extract"] = meshFigures(surface, extractStats);
+      surface = extract::extractLevelSet(*s.levelSet, {.largestComponent = true, .gpu = s.backend == levelset::Backend::Gpu},
+                                         &extractStats);
+      writeMesh(products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), *surface);
+      r["extract"] = meshFigures(*surface, extractStats);
       stages.push_back({"extract", "done",
-                        std::to_string(surface.faceCount()) + " triangles, genus " +
+                        std::to_string(surface->faceCount()) + " triangles, genus " +
                             std::to_string(r["extract"]["genus"].get<long long>()) + ", " +
                             (r["extract"]["closed"].get<bool>() ? "closed" : "NOT closed") + ": surface.ply"});
       // Seen from the left (RAS -x) and from above, as a reader of an atlas would look.
       gpu.needGl();
       writePng(products.add("surface_left.png", "the extracted surface seen from the left", true),
-               viewer::renderMesh(surface, {.viewDirection = {1, 0, 0}}));
+               viewer::renderMesh(*surface, {.viewDirection = {1, 0, 0}}));
       writePng(products.add("surface_top.png", "the extracted surface seen from above (anterior up)", true),
-               viewer::renderMesh(surface, {.viewDirection = {0, 0, -1}, .up = {0, 1, 0}}));
+               viewer::renderMesh(*surface, {.viewDirection = {0, 0, -1}, .up = {0, 1, 0}}));
       viewer::SliceOptions overlay;
       overlay.mask = &s.mask;
       // Through the first seed, so the slices cut the structure.
@@ -172,13 +195,35 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                viewer::renderSlices(volume, volume.indexToWorld(seeds.front().centre), overlay));
     }
 
-    // The model is built by `isoatlas build SURFACE -o MODEL.isoatlas`; run does not chain it yet.
-    stages.push_back({"build multiresolution model", "skipped", "not chained into run yet: isoatlas build"});
-    logInfo("run: skipping the multiresolution model: not chained into run yet (isoatlas build does it)");
-    for (const char* pending : {"atlas", "render model"}) {
-      stages.push_back({pending, "skipped", "stage not built yet"});
-      logInfo(std::string("run: skipping ") + pending + ": stage not built yet");
+    if (!surface) {
+      stages.push_back({"build multiresolution model", "skipped", "no surface (nothing was segmented)"});
+    } else {
+      // The multiresolution model of the surface: base mesh, atlas, accuracy per level.
+      ModelRequest request = options->model;
+      request.chartSize = std::uint32_t(options->chart);
+      nlohmann::json& m = r["model"];
+      const atlas::Model model = buildModel(*surface, request, m);
+      writeModelFiles(model, products.add("model.isoatlas", "the multiresolution model: base mesh and atlas of charts (isoatlas eval, render)"),
+                      "", m);
+      writePng(products.add("position_atlas.png", "the atlas's positions as colours (x, y, z over the surface's box)", true),
+               atlas::positionPreview(model.atlas));
+      writePng(products.add("normal_atlas.png", "the atlas's normals as colours", true), atlas::normalPreview(model.atlas));
+      const std::vector<atlas::LevelFigures> figures = atlas::evaluateLevels(model.base, model.atlas, *surface, levels);
+      m["levels"] = levelFiguresJson(figures);
+      writePng(products.add("psnr_per_level.png", "the model's accuracy per level: PSNR against the surface (CGAL's Hausdorff distance)", true),
+               psnrPlot({{"model", figures}}));
+      const int shown = std::min(4, topLevel);
+      writePng(products.add("model_level" + std::to_string(shown) + "_left.png",
+                            "the model at level " + std::to_string(shown) + " seen from the left (atlas normals)", true),
+               viewer::renderMesh(atlas::reconstructLevel(model.base, model.atlas, shown), {.viewDirection = {1, 0, 0}}));
+      stages.push_back({"build multiresolution model", "done",
+                        std::to_string(model.base.vertexCount()) + " base vertices, " + std::to_string(model.atlas.layout.charts) +
+                            " charts (" + std::to_string(int(model.atlas.layout.efficiency() * 100)) + " % of the atlas), PSNR " +
+                            std::to_string(figures.back().psnrDb) + " dB at level " + std::to_string(figures.back().level) +
+                            ": model.isoatlas"});
     }
+    stages.push_back({"render model (tessellation)", "skipped", "stage not built yet"});
+    logInfo("run: skipping the tessellated render of the model: stage not built yet");
     r["stages"] = nlohmann::json::array();
     for (const Stage& s : stages) r["stages"].push_back({{"name", s.name}, {"status", s.status}, {"detail", s.detail}});
     r["gl_contexts"] = gl::Context::made();

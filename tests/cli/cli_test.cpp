@@ -198,13 +198,23 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
     std::set<std::string> named;
     for (const auto& p : report["products"]) named.insert(p["file"].get<std::string>());
     for (const char* file : {"input_slices.png", "mask.nii.gz", "phi.nii.gz", "surface.ply", "surface_left.png",
-                             "surface_top.png", "segmentation_slices.png"}) {
+                             "surface_top.png", "segmentation_slices.png", "model.isoatlas", "position_atlas.png",
+                             "normal_atlas.png", "psnr_per_level.png", "model_level4_left.png"}) {
       EXPECT_TRUE(named.count(file)) << file << " is not named in report.json";
       EXPECT_NE(html.find(std::string("href=\"") + file + "\""), std::string::npos) << file << " is not in index.html";
       EXPECT_GT(std::filesystem::file_size(out / file), 100u) << file;
     }
     EXPECT_EQ(named.size(), std::size_t(std::distance(std::filesystem::directory_iterator(out), {})) - 2)
         << "every file but report.json and index.html is a named product";
+    // The model of the surface, measured at the even levels: closed like the surface, each finer
+    // level at least as close as the base mesh.
+    const auto& model = report["model"];
+    EXPECT_EQ(model["model_bytes"], std::filesystem::file_size(out / "model.isoatlas"));
+    ASSERT_EQ(model["levels"].size(), 6u);
+    for (const auto& level : model["levels"]) {
+      EXPECT_TRUE(level["closed"].get<bool>());
+      EXPECT_GE(level["psnr_db"].get<double>(), model["levels"][0]["psnr_db"].get<double>() - 0.5);
+    }
   }
 }
 
