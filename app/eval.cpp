@@ -8,7 +8,6 @@
 #include "atlas/reconstruct.h"
 #include "core/error.h"
 #include "core/mesh_io.h"
-#include "core/plot.h"
 #include "core/progress.h"
 
 namespace isoatlas::app {
@@ -40,18 +39,6 @@ std::vector<int> parseLevels(const std::string& text, int maxLevel) {
     at = comma + 1;
   }
   return levels;
-}
-
-Image psnrPlot(const std::vector<std::pair<std::string, std::vector<atlas::LevelFigures>>>& models) {
-  std::vector<PlotSeries> series;
-  for (const auto& [name, levels] : models) {
-    PlotSeries s{name, {}, {}};
-    for (const auto& l : levels) s.x.push_back(l.level), s.y.push_back(l.psnrDb);
-    series.push_back(std::move(s));
-  }
-  return linePlot(series, {.title = "Accuracy per level (CGAL Hausdorff distance to the dense mesh)",
-                           .xLabel = "level (0: base mesh; 2 log2(N-1): the whole chart)",
-                           .yLabel = "PSNR (dB)"});
 }
 
 nlohmann::json levelFiguresJson(const std::vector<atlas::LevelFigures>& levels) {
@@ -111,7 +98,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
         logInfo("eval: " + measured.back().first + " level " + std::to_string(l.level) + ": " + std::to_string(l.triangles) +
                 " triangles, Hausdorff " + std::to_string(l.hausdorff) + ", PSNR " + std::to_string(l.psnrDb) + " dB");
     }
-    if (!plot->empty()) writePng(*plot, psnrPlot(measured));
+    if (!plot->empty()) writePng(*plot, atlas::psnrPlot(measured));
     return 0;
   }, exitCode);
 }

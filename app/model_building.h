@@ -37,8 +37,6 @@ void writeModelFiles(const atlas::Model& model, const std::string& path, const s
 // Error naming --levels otherwise.
 std::vector<int> parseLevels(const std::string& text, int maxLevel);
 
-// PSNR against level for each named model (eval's --plot, run's psnr_per_level.png).
-Image psnrPlot(const std::vector<std::pair<std::string, std::vector<atlas::LevelFigures>>>& models);
 // The report's `levels` list: level, vertices, triangles, hausdorff, psnr_db, closed, manifold.
 nlohmann::json levelFiguresJson(const std::vector<atlas::LevelFigures>& levels);
 

@@ -211,7 +211,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       const std::vector<atlas::LevelFigures> figures = atlas::evaluateLevels(model.base, model.atlas, *surface, levels);
       m["levels"] = levelFiguresJson(figures);
       writePng(products.add("psnr_per_level.png", "the model's accuracy per level: PSNR against the surface (CGAL's Hausdorff distance)", true),
-               psnrPlot({{"model", figures}}));
+               atlas::psnrPlot({{"model", figures}}));
       const int shown = std::min(4, topLevel);
       writePng(products.add("model_level" + std::to_string(shown) + "_left.png",
                             "the model at level " + std::to_string(shown) + " seen from the left (atlas normals)", true),

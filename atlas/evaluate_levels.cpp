@@ -2,6 +2,7 @@
 
 #include "atlas/reconstruct.h"
 #include "core/mesh_topology.h"
+#include "core/plot.h"
 #include "core/progress.h"
 
 namespace isoatlas::atlas {
@@ -21,6 +22,18 @@ std::vector<LevelFigures> evaluateLevels(const multires::BaseMesh& base, const A
   }
   progress.finish();
   return out;
+}
+
+Image psnrPlot(const std::vector<std::pair<std::string, std::vector<LevelFigures>>>& models) {
+  std::vector<PlotSeries> series;
+  for (const auto& [name, levels] : models) {
+    PlotSeries s{name, {}, {}};
+    for (const auto& l : levels) s.x.push_back(l.level), s.y.push_back(l.psnrDb);
+    series.push_back(std::move(s));
+  }
+  return linePlot(series, {.title = "Accuracy per level (CGAL Hausdorff distance to the dense mesh)",
+                           .xLabel = "level (0: base mesh; 2 log2(N-1): the whole chart)",
+                           .yLabel = "PSNR (dB)"});
 }
 
 }  // namespace isoatlas::atlas

@@ -6,10 +6,13 @@
 //   levels       each within 0 .. maxLevel(chart size)
 //   facePoints   Hausdorff face samples per mesh
 #pragma once
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "atlas/atlas.h"
 #include "atlas/hausdorff.h"
+#include "core/image.h"
 #include "core/mesh.h"
 #include "multires/base_mesh.h"
 
@@ -21,6 +24,9 @@ struct LevelFigures {
   double hausdorff = 0, psnrDb = 0;
   bool closed = false, manifold = false;  // analyzeTopology's
 };
+
+// PSNR against level, one line per named model, as a picture a person reads (eval's --plot).
+Image psnrPlot(const std::vector<std::pair<std::string, std::vector<LevelFigures>>>& models);
 
 std::vector<LevelFigures> evaluateLevels(const multires::BaseMesh& base, const Atlas& atlas, const Mesh& dense,
                                          const std::vector<int>& levels, std::size_t facePoints = kHausdorffFacePoints);

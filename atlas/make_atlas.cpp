@@ -46,7 +46,7 @@ void sampleCharts(const Mesh& dense, const multires::BaseMesh& base, Atlas& atla
           const auto corners = dense.face(hit.face);
           for (int k = 0; k < 3; ++k) normal = normal + normals[corners[k]] * hit.bary[k];
         }
-        const Vec3 p = sampler.position(triangle, hit);
+        const Vec3 p = sampler.hitPosition(triangle, hit);
         const std::size_t at = atlas.layout.texel(c, i, j);
         atlas.positions[at] = {float(p.x), float(p.y), float(p.z)};
         atlas.normals[at] = packNormal(normal);

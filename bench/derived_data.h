@@ -1,12 +1,14 @@
 // Data the benchmarks derive once from data/ and keep in data/derived/: the white-matter level set
 // of ch2better.nii.gz (301 x 370 x 316, 0.5 mm), segmented by isoatlas's CPU solver from the demo's
-// seeds (minutes on 2 cores the first time).
+// seeds (minutes on 2 cores the first time), and the demo's white-matter surface of ch2.nii.gz.
 #pragma once
 #include <cstdio>
 #include <filesystem>
 #include <string>
 
+#include "core/mesh_io.h"
 #include "core/volume_io.h"
+#include "extract/extract_surface.h"
 #include "levelset/level_set.h"
 
 namespace isoatlas::bench {
@@ -24,6 +26,21 @@ inline Volume ch2betterWhiteMatterPhi(const std::string& data) {
     writeVolume(phiPath, ls.phi());
   }
   return readVolume(phiPath);
+}
+
+// The demo's surface: ch2.nii.gz's white matter segmented from the demo's seeds (as `isoatlas run`
+// does), extracted from the level set's pages, largest component; kept in data/derived/.
+inline Mesh ch2WhiteMatterSurface(const std::string& data) {
+  const std::string path = data + "/derived/ch2_white_matter.ply";
+  if (!std::filesystem::exists(path)) {
+    std::fprintf(stderr, "bench: segmenting ch2's white matter once (kept in %s)\n", path.c_str());
+    levelset::LevelSet ls(readVolume(data + "/volumes/ch2.nii.gz"), {112, 14, 0.8f});
+    for (const Vec3& seed : {Vec3{64, 115, 101}, Vec3{116, 115, 101}}) ls.addSphere(seed, 4);
+    ls.run({.maxIterations = 3000});
+    std::filesystem::create_directories(data + "/derived");
+    writeMesh(path, extract::extractLevelSet(ls, {.largestComponent = true}));
+  }
+  return readMesh(path);
 }
 
 }  // namespace isoatlas::bench

@@ -3,64 +3,29 @@
 // face count isoatlas's base mesh reaches at 1 % of the vertices), on bunny00, elephant, fandisk and
 // the white-matter surface of ch2better (3 million triangles). Figures: seconds (isoatlas: simplify
 // plus match), base vertices, symmetric Hausdorff distance to the dense mesh and PSNR, all measured
-// by the same sampled Hausdorff (multires/mesh_distance).
-#include <CGAL/Simple_cartesian.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
-#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
-#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
+// by CGAL's approximate_Hausdorff_distance (atlas/hausdorff).
 #include <meshoptimizer.h>
 
 #include <chrono>
 #include <filesystem>
 
 #include "bench/bench_util.h"
+#include "bench/cgal_simplify.h"
 #include "bench/derived_data.h"
 #include "core/mesh_io.h"
 #include "core/mesh_topology.h"
 #include "extract/extract_surface.h"
 #include "multires/dense_sampler.h"
-#include "multires/mesh_distance.h"
+#include "atlas/hausdorff.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
 
 using namespace isoatlas;
-namespace SMS = CGAL::Surface_mesh_simplification;
-using Kernel = CGAL::Simple_cartesian<double>;
-using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
 
 namespace {
 
 double since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// CGAL 5.5 stops on an edge count: the base mesh's.
-Mesh cgalSimplify(const Mesh& dense, std::size_t edges, double& seconds) {
-  SurfaceMesh sm;
-  std::vector<SurfaceMesh::Vertex_index> v;
-  for (const Vec3& p : dense.positions) v.push_back(sm.add_vertex({p.x, p.y, p.z}));
-  for (std::size_t f = 0; f < dense.faceCount(); ++f) {
-    const auto c = dense.face(f);
-    sm.add_face(v[c[0]], v[c[1]], v[c[2]]);
-  }
-  const auto start = std::chrono::steady_clock::now();
-  SMS::Count_stop_predicate<SurfaceMesh> stop(edges);
-  SMS::GarlandHeckbert_plane_policies<SurfaceMesh, Kernel> policies(sm);
-  SMS::edge_collapse(sm, stop, CGAL::parameters::get_cost(policies.get_cost()).get_placement(policies.get_placement()));
-  seconds = since(start);
-  sm.collect_garbage();
-  Mesh out;
-  for (const auto vi : sm.vertices()) {
-    const auto& p = sm.point(vi);
-    out.positions.push_back({p.x(), p.y(), p.z()});
-  }
-  for (const auto fi : sm.faces()) {
-    std::vector<std::uint32_t> c;
-    for (const auto vi : sm.vertices_around_face(sm.halfedge(fi))) c.push_back(std::uint32_t(vi.idx()));
-    out.addFace(c);
-  }
-  return out;
 }
 
 Mesh meshoptSimplify(const Mesh& dense, std::size_t faces, double& seconds) {
@@ -122,12 +87,12 @@ void compare(const std::string& name, const Mesh& dense) {
   const Mesh ourMesh = base.triangleMesh();
 
   double cgalSeconds = 0, meshoptSeconds = 0;
-  const Mesh cgal = cgalSimplify(dense, baseEdges, cgalSeconds);
+  const Mesh cgal = bench::cgalSimplify(dense, baseEdges, cgalSeconds);
   const Mesh meshopt = meshoptSimplify(dense, 2 * baseEdges / 3, meshoptSeconds);
 
-  const double hOurs = multires::hausdorffDistance(dense, ourMesh).symmetric();
-  const double hCgal = multires::hausdorffDistance(dense, cgal).symmetric();
-  const double hMeshopt = multires::hausdorffDistance(dense, meshopt).symmetric();
+  const double hOurs = atlas::hausdorffDistance(dense, ourMesh).symmetric();
+  const double hCgal = atlas::hausdorffDistance(dense, cgal).symmetric();
+  const double hMeshopt = atlas::hausdorffDistance(dense, meshopt).symmetric();
   const std::string caseName = name + " (" + std::to_string(dense.faceCount()) + " triangles)";
   const std::string cgalName = "CGAL 5.5 edge_collapse, Garland-Heckbert plane policies";
   const std::string meshoptName = "meshoptimizer 0.18 meshopt_simplify";
@@ -138,10 +103,10 @@ void compare(const std::string& name, const Mesh& dense) {
   bench::report("multires", caseName, "Hausdorff to the dense mesh (mm)", hOurs, cgalName, hCgal);
   bench::report("multires", caseName, "Hausdorff to the dense mesh (mm)", hOurs, meshoptName, hMeshopt);
   // PSNR: higher is better; the ratio column is ours / theirs in dB.
-  bench::report("multires", caseName, "base PSNR (dB)", multires::psnrDb(diagonal, hOurs), cgalName,
-                multires::psnrDb(diagonal, hCgal), false);
-  bench::report("multires", caseName, "base PSNR (dB)", multires::psnrDb(diagonal, hOurs), meshoptName,
-                multires::psnrDb(diagonal, hMeshopt), false);
+  bench::report("multires", caseName, "base PSNR (dB)", atlas::psnrDb(diagonal, hOurs), cgalName,
+                atlas::psnrDb(diagonal, hCgal), false);
+  bench::report("multires", caseName, "base PSNR (dB)", atlas::psnrDb(diagonal, hOurs), meshoptName,
+                atlas::psnrDb(diagonal, hMeshopt), false);
   samplerFigures(caseName, dense, base);
 }
 

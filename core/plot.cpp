@@ -69,7 +69,7 @@ Image linePlot(const std::vector<PlotSeries>& series, const PlotOptions& o) {
   Image image(o.width, o.height, 3);
   std::fill(image.pixels.begin(), image.pixels.end(), 255);
   const int font = std::max(12, o.height / 36);
-  const int left = font * 5, right = o.width - font, top = font * 3, bottom = o.height - font * 4;
+  const int left = font * 5, right = o.width - font, top = font * 4, bottom = o.height - font * 4;
   auto px = [&](double x) { return left + (x - xlo) / (xhi - xlo) * (right - left); };
   auto py = [&](double y) { return bottom - (y - ylo) / (yhi - ylo) * (bottom - top); };
   for (const double y : yt) {
@@ -86,7 +86,7 @@ Image linePlot(const std::vector<PlotSeries>& series, const PlotOptions& o) {
   drawLine(image, left, top, left, bottom, kBlack, 2);
   if (!o.title.empty()) drawText(image, left, font / 2, o.title, font * 5 / 4, kBlack);
   if (!o.xLabel.empty()) drawText(image, (left + right) / 2 - int(o.xLabel.size()) * font * 3 / 10, bottom + font * 2, o.xLabel, font, kBlack);
-  if (!o.yLabel.empty()) drawText(image, font / 4, top - font * 3 / 2, o.yLabel, font, kBlack);
+  if (!o.yLabel.empty()) drawText(image, font / 4, top - font * 2, o.yLabel, font, kBlack);
   for (std::size_t k = 0; k < series.size(); ++k) {
     const Rgb c = kColours[k % std::size(kColours)];
     const PlotSeries& s = series[k];

@@ -139,7 +139,7 @@ DenseSampler::Hit DenseSampler::locate(std::uint32_t triangle, const std::array<
   return out;
 }
 
-Vec3 DenseSampler::position(std::uint32_t triangle, const Hit& hit) const {
+Vec3 DenseSampler::hitPosition(std::uint32_t triangle, const Hit& hit) const {
   if (hit.face == kNoFace) {
     const auto& c = baseCorners_[triangle];
     return c[0] * hit.bary[0] + c[1] * hit.bary[1] + c[2] * hit.bary[2];
@@ -151,7 +151,7 @@ Vec3 DenseSampler::position(std::uint32_t triangle, const Hit& hit) const {
 }
 
 Vec3 DenseSampler::position(std::uint32_t triangle, const std::array<double, 3>& bary) const {
-  return position(triangle, locate(triangle, bary));
+  return hitPosition(triangle, locate(triangle, bary));
 }
 
 }  // namespace isoatlas::multires

@@ -46,7 +46,7 @@ public:
   Hit locate(std::uint32_t triangle, const std::array<double, 3>& bary) const;
   Vec3 position(std::uint32_t triangle, const std::array<double, 3>& bary) const;
   // The position of a hit (the base triangle's point when it has no face).
-  Vec3 position(std::uint32_t triangle, const Hit& hit) const;
+  Vec3 hitPosition(std::uint32_t triangle, const Hit& hit) const;
 
   // Queries so far, and those that scanned every image of their base triangle (none of their cell's
   // images held the point: off every image, or no grid).

@@ -1,0 +1,86 @@
+// bench/atlas: the whole model of a dense mesh, stage by stage (simplify, match, chart + pack:
+// seconds and peak resident memory on stderr), beside CGAL's edge collapse to the same base size
+// for the time; the model's bytes beside the dense mesh as a plain halfedge mesh; the atlas's
+// efficiency beside the paper's best; PSNR at the even levels and level 10 (CGAL's Hausdorff
+// distance) beside the target of 70 dB at level 10. Cases: bunny00, elephant, fandisk,
+// mannequin-devil (one boundary loop) and the demo's white-matter surface (ch2). Writes the PSNR
+// per level of every case to bench/atlas_psnr.png.
+#include <chrono>
+#include <filesystem>
+
+#include "atlas/evaluate_levels.h"
+#include "atlas/make_atlas.h"
+#include "atlas/model_file.h"
+#include "bench/bench_util.h"
+#include "bench/cgal_simplify.h"
+#include "bench/derived_data.h"
+#include "core/mesh_io.h"
+#include "multires/stellar_simplify.h"
+#include "multires/triangle_pairing.h"
+
+using namespace isoatlas;
+
+namespace {
+
+double since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::vector<atlas::LevelFigures> measure(const std::string& name, const Mesh& dense) {
+  const std::string caseName = name + " (" + std::to_string(dense.faceCount()) + " triangles)";
+  auto start = std::chrono::steady_clock::now();
+  multires::BaseMesh base = multires::simplifyStellar(dense, {});
+  const double simplify = since(start);
+  const double simplifyRss = bench::peakRssMiB();
+  start = std::chrono::steady_clock::now();
+  multires::pairTriangles(base, dense);
+  const double match = since(start);
+  const double matchRss = bench::peakRssMiB();
+  start = std::chrono::steady_clock::now();
+  atlas::ChartStats charts;
+  atlas::Model model{.chartSize = 33, .base = base, .atlas = atlas::makeAtlas(dense, base, 33, &charts), .dense = {}};
+  const double chart = since(start);
+  const double chartRss = bench::peakRssMiB();
+  model.base.denseTriangle.clear(), model.base.denseBary.clear();
+  const std::string path = (std::filesystem::temp_directory_path() / "bench_atlas.isoatlas").string();
+  atlas::writeModel(path, model);
+  const double modelBytes = double(std::filesystem::file_size(path));
+  std::filesystem::remove(path);
+  std::fprintf(stderr,
+               "bench atlas: %s: simplify %.2f s (peak RSS %.0f MiB), match %.3f s (%.0f MiB), chart + pack %.2f s (%.0f MiB); "
+               "%u charts, %llu folded and %llu gap texels of %llu\n",
+               caseName.c_str(), simplify, simplifyRss, match, matchRss, chart, chartRss, model.atlas.layout.charts,
+               (unsigned long long)charts.foldedTexels, (unsigned long long)charts.gapTexels, (unsigned long long)charts.texels);
+
+  double cgalSeconds = 0;
+  bench::cgalSimplify(dense, base.triangleCount() * 3 / 2, cgalSeconds);
+  bench::report("atlas", caseName, "seconds, whole model (simplify, match, chart, pack)", simplify + match + chart,
+                "CGAL edge collapse (GH plane) to the base size alone", cgalSeconds);
+  bench::report("atlas", caseName, "model bytes (base mesh + atlas)", modelBytes, "the dense mesh as a plain halfedge mesh",
+                double(atlas::halfedgeMeshBytes(dense)));
+  bench::report("atlas", caseName, "atlas efficiency", model.atlas.layout.efficiency(), "the paper's best (Kikito)", 0.939, false);
+  const std::vector<atlas::LevelFigures> levels = atlas::evaluateLevels(model.base, model.atlas, dense, {0, 2, 4, 6, 8, 10});
+  for (const atlas::LevelFigures& l : levels)
+    bench::report("atlas", caseName, "PSNR at level " + std::to_string(l.level) + " (dB)", l.psnrDb,
+                  "the issue's target at level 10", 70, false);
+  return levels;
+}
+
+}  // namespace
+
+// bench_atlas [DATA [NAME ...]]: NAME is a mesh in DATA/meshes (without .off) or "white-matter";
+// without names, the five.
+int main(int argc, char** argv) {
+  const std::string data = argc > 1 ? argv[1] : "data";
+  std::vector<std::string> names(argv + std::min(argc, 2), argv + argc);
+  if (names.empty()) names = {"bunny00", "elephant", "fandisk", "mannequin-devil", "white-matter"};
+  std::vector<std::pair<std::string, std::vector<atlas::LevelFigures>>> plotted;
+  for (const std::string& name : names) {
+    const Mesh dense = name == "white-matter" ? bench::ch2WhiteMatterSurface(data) : readMesh(data + "/meshes/" + name + ".off");
+    plotted.emplace_back(name == "white-matter" ? "ch2 white matter" : name, measure(name == "white-matter" ? "ch2 white matter" : name, dense));
+  }
+  const std::filesystem::path plot = std::filesystem::path(ISOATLAS_BENCH_DIR) / "atlas_psnr.png";
+  writePng(plot.string(), atlas::psnrPlot(plotted));
+  std::fprintf(stderr, "bench atlas: wrote %s\n", plot.c_str());
+  return 0;
+}
