@@ -40,5 +40,6 @@ void addSegmentCommand(CLI::App& app, int& exitCode);
 void addExtractCommand(CLI::App& app, int& exitCode);
 void addBuildCommand(CLI::App& app, int& exitCode);
 void addEvalCommand(CLI::App& app, int& exitCode);
+void addEditDetailCommand(CLI::App& app, int& exitCode);
 
 }  // namespace isoatlas::app

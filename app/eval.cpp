@@ -69,7 +69,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
     std::vector<std::pair<std::string, std::vector<atlas::LevelFigures>>> measured;
     for (std::size_t m = 0; m < models->size(); ++m) {
       const atlas::Model model = atlas::readModel((*models)[m]);
-      const int top = atlas::maxLevel(model.chartSize);
+      const int top = atlas::maxLevel(model.atlas);
       const std::vector<int> levels = levelText->empty() ? parseLevels("0-" + std::to_string(top), top) : parseLevels(*levelText, top);
       if (m == 0) {
         if (outMesh->first != -1) {

@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   addExtractCommand(app, exitCode);
   addBuildCommand(app, exitCode);
   addEvalCommand(app, exitCode);
+  addEditDetailCommand(app, exitCode);
   addPendingCommand(app, "render", "headless render of a model to PNG", "the render issue", exitCode);
   addPendingCommand(app, "view", "interactive viewer", "the viewer issue", exitCode);
   addRunCommand(app, exitCode);

@@ -85,7 +85,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   r["dense_halfedge_bytes"] = atlas::halfedgeMeshBytes(dense);
   if (request.hausdorff) {
     const auto start = std::chrono::steady_clock::now();
-    const atlas::Hausdorff h = atlas::hausdorffDistance(dense, base.triangleMesh());
+    const atlas::Hausdorff h = atlas::hausdorffDistance(dense, base.triangleMesh(), request.hausdorffFacePoints);
     r["hausdorff_base"] = h.symmetric();
     r["hausdorff_dense_to_base"] = h.aToB;
     r["hausdorff_base_to_dense"] = h.bToA;

@@ -7,9 +7,12 @@
 #include <string>
 
 #include "atlas/evaluate_levels.h"
+#include "atlas/hausdorff.h"
 #include "atlas/model_file.h"
+#include "atlas/stamp_detail.h"
 #include "core/image.h"
 #include "core/mesh.h"
+#include "core/text.h"
 
 namespace isoatlas::app {
 
@@ -20,6 +23,7 @@ struct ModelRequest {
   std::uint32_t chartSize = 33;
   bool keepDense = false;  // the model keeps the dense mesh and its parametrisation
   bool hausdorff = true;   // measure the base mesh against the dense one
+  std::size_t hausdorffFacePoints = atlas::kHausdorffFacePoints;
 };
 
 // `dense`: a triangle mesh (prepareModelInput's). Fills `figures` with what each stage measured.
@@ -39,5 +43,19 @@ std::vector<int> parseLevels(const std::string& text, int maxLevel);
 
 // The report's `levels` list: level, vertices, triangles, hausdorff, psnr_db, closed, manifold.
 nlohmann::json levelFiguresJson(const std::vector<atlas::LevelFigures>& levels);
+
+// A stamp as edit-detail and run give it: a PNG or a word (rendered with `font`), where, how wide
+// and deep, and the detail charts' size.
+struct StampRequest {
+  std::string image, text, font = kDefaultFont;
+  Vec3 at;
+  double radius = 0, depth = 0;
+  std::uint32_t detailSize = 129;
+};
+// Stamps the model; adds centre, normal, detail_tiles, texels_changed, detail_texels_changed,
+// detail_charts and max_level to `figures`. Throws Error(BadInput) when the stamp reaches nothing.
+atlas::StampStats stampModel(atlas::Model& model, const StampRequest& request, nlohmann::json& figures);
+// The stamped region at the model's finest level, seen along the stamp's normal.
+Image closeUp(const atlas::Model& model, const atlas::StampStats& stamp, double radius);
 
 }  // namespace isoatlas::app

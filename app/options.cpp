@@ -9,7 +9,8 @@
 
 namespace isoatlas::app {
 
-Ball parseBall(const std::string& text, const std::string& option, double defaultRadius) {
+namespace {
+std::vector<double> parseNumbers(const std::string& text, const std::string& option, const char* expected) {
   std::vector<double> numbers;
   std::stringstream in(text);
   std::string part;
@@ -17,9 +18,21 @@ Ball parseBall(const std::string& text, const std::string& option, double defaul
     char* end = nullptr;
     const double v = std::strtod(part.c_str(), &end);
     if (part.empty() || *end != '\0' || !std::isfinite(v))
-      throw Error(option + " " + text + ": \"" + part + "\" is not a number (expected X,Y,Z or X,Y,Z,R)");
+      throw Error(option + " " + text + ": \"" + part + "\" is not a number (expected " + expected + ")");
     numbers.push_back(v);
   }
+  return numbers;
+}
+}  // namespace
+
+Vec3 parsePoint(const std::string& text, const std::string& option) {
+  const std::vector<double> numbers = parseNumbers(text, option, "X,Y,Z");
+  if (numbers.size() != 3) throw Error(option + " " + text + ": expected X,Y,Z");
+  return {numbers[0], numbers[1], numbers[2]};
+}
+
+Ball parseBall(const std::string& text, const std::string& option, double defaultRadius) {
+  const std::vector<double> numbers = parseNumbers(text, option, "X,Y,Z or X,Y,Z,R");
   if (numbers.size() != 3 && numbers.size() != 4) throw Error(option + " " + text + ": expected X,Y,Z or X,Y,Z,R");
   const double radius = numbers.size() == 4 ? numbers[3] : defaultRadius;
   if (radius <= 0) throw Error(option + " " + text + ": the radius must be > 0");

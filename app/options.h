@@ -17,6 +17,8 @@ struct Ball {
 };
 // "X,Y,Z" or "X,Y,Z,R" (R defaults to defaultRadius); throws Error naming `option` on bad text.
 Ball parseBall(const std::string& text, const std::string& option, double defaultRadius);
+// "X,Y,Z"; throws Error naming `option` on bad text.
+Vec3 parsePoint(const std::string& text, const std::string& option);
 // Throws Error unless the voxel index lies inside the volume.
 void requireInside(const Volume& v, const Vec3& index, const std::string& what);
 

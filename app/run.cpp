@@ -107,12 +107,15 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--base-ratio", options->model.baseRatio, "base vertices of the model as a fraction of the surface's")
       ->capture_default_str();
   sub->add_option("--chart", options->chart, "chart size of the model, 2^k + 1")->capture_default_str();
+  sub->add_option("--samples", options->model.hausdorffFacePoints, "Hausdorff face samples per mesh for the model's accuracy")
+      ->capture_default_str();
   sub->add_option("--levels", options->levels, "levels whose accuracy the model's report gives: even, 0-10, 0,4,10")
       ->capture_default_str();
   bindAction(*sub, [input, outDir, options](nlohmann::json& r) {
     const auto start = std::chrono::steady_clock::now();
     require(options->iterations > 0, "--iterations must be > 0");
     require(options->model.baseRatio > 0 && options->model.baseRatio <= 1, "--base-ratio must be in (0, 1]");
+    require(options->model.hausdorffFacePoints >= 1000, "--samples must be at least 1000");
     require(options->chart > 0 && multires::isChartSize(std::uint32_t(options->chart)),
             "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
     const int topLevel = atlas::maxLevel(std::uint32_t(options->chart));
@@ -208,7 +211,8 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       writePng(products.add("position_atlas.png", "the atlas's positions as colours (x, y, z over the surface's box)", true),
                atlas::positionPreview(model.atlas));
       writePng(products.add("normal_atlas.png", "the atlas's normals as colours", true), atlas::normalPreview(model.atlas));
-      const std::vector<atlas::LevelFigures> figures = atlas::evaluateLevels(model.base, model.atlas, *surface, levels);
+      const std::vector<atlas::LevelFigures> figures =
+          atlas::evaluateLevels(model.base, model.atlas, *surface, levels, request.hausdorffFacePoints);
       m["levels"] = levelFiguresJson(figures);
       writePng(products.add("psnr_per_level.png", "the model's accuracy per level: PSNR against the surface (CGAL's Hausdorff distance)", true),
                atlas::psnrPlot({{"model", figures}}));
@@ -221,6 +225,24 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                             " charts (" + std::to_string(int(model.atlas.layout.efficiency() * 100)) + " % of the atlas), PSNR " +
                             std::to_string(figures.back().psnrDb) + " dB at level " + std::to_string(figures.back().level) +
                             ": model.isoatlas"});
+      if (isDemoVolume(*input, volume)) {
+        // The demo engraves a word on the left hemisphere's lateral surface (fine detail, the paper's Fig. 10).
+        const Box box = boundingBox(surface->positions);
+        const Vec3 size = box.max - box.min;
+        StampRequest engrave{.text = "isoatlas",
+                             .at = {box.min.x, box.min.y + 0.55 * size.y, box.min.z + 0.6 * size.z},
+                             .radius = 0.2 * size.y,
+                             .depth = 1.5};
+        atlas::Model engraved = model;
+        nlohmann::json& e = r["engrave"];
+        const atlas::StampStats stamped = stampModel(engraved, engrave, e);
+        writeModelFiles(engraved, products.add("model_engraved.isoatlas", "the model with \"isoatlas\" engraved in detail charts (isoatlas edit-detail)"),
+                        "", e);
+        writePng(products.add("engraved.png", "the engraved word at the model's finest level, close up", true),
+                 closeUp(engraved, stamped, engrave.radius));
+        stages.push_back({"engrave a word (fine detail)", "done",
+                          std::to_string(stamped.detailTiles) + " tiles given detail charts: model_engraved.isoatlas"});
+      }
     }
     stages.push_back({"render model (tessellation)", "skipped", "stage not built yet"});
     logInfo("run: skipping the tessellated render of the model: stage not built yet");

@@ -42,10 +42,26 @@ inline Vec3 unpackNormal(const Normal16& n) {
   return {f(n[0]), f(n[1]), f(n[2])};
 }
 
+// A finer chart of one tile, where fine detail was stamped (the paper's Fig. 10): size x size
+// texels (2^k + 1, finer than the atlas's charts), texel (i, j) at the tile's chart point
+// (i, j) / (size - 1), row-major. Its borders agree bit for bit with the detail charts across them;
+// where a tile without one lies across, the border carries no detail (it lies on the coarse border).
+struct DetailChart {
+  std::uint32_t tile = 0, size = 0;
+  std::vector<std::array<float, 3>> positions;
+  std::vector<Normal16> normals;
+  Vec3 position(std::uint32_t i, std::uint32_t j) const {
+    const auto& p = positions[std::size_t(j) * size + i];
+    return {p[0], p[1], p[2]};
+  }
+  Vec3 normal(std::uint32_t i, std::uint32_t j) const { return unpackNormal(normals[std::size_t(j) * size + i]); }
+};
+
 struct Atlas {
   AtlasLayout layout;
   std::vector<std::array<float, 3>> positions;  // width x height; zero outside the charts
   std::vector<Normal16> normals;                // width x height; zero outside the charts
+  std::vector<DetailChart> details;             // by tile, each tile at most once; all of one size
 
   Vec3 position(std::uint32_t c, std::uint32_t i, std::uint32_t j) const {
     const auto& p = positions[layout.texel(c, i, j)];

@@ -155,6 +155,20 @@ void readAtlas(Reader& r, std::uint32_t chartSize, Atlas& atlas) {
   for (auto& n : atlas.normals) n = {r.get<std::int16_t>(), r.get<std::int16_t>(), r.get<std::int16_t>()};
 }
 
+void readDetails(Reader& r, std::uint32_t chartSize, std::size_t tiles, std::vector<DetailChart>& details) {
+  const std::uint32_t count = r.get<std::uint32_t>(), size = r.get<std::uint32_t>();
+  if (!multires::isChartSize(size) || size <= chartSize) r.fail("detail chart size " + std::to_string(size));
+  const std::uint64_t texels = std::uint64_t(size) * size;
+  r.fits(count, 4 + texels * 18, "detail chart");
+  for (std::uint32_t k = 0; k < count; ++k) {
+    DetailChart d{r.index(tiles, "detail tile"), size, std::vector<std::array<float, 3>>(texels), std::vector<Normal16>(texels)};
+    if (!details.empty() && d.tile <= details.back().tile) r.fail("detail charts out of tile order");
+    for (auto& p : d.positions) p = {r.finite<float>(), r.finite<float>(), r.finite<float>()};
+    for (auto& n : d.normals) n = {r.get<std::int16_t>(), r.get<std::int16_t>(), r.get<std::int16_t>()};
+    details.push_back(std::move(d));
+  }
+}
+
 void readDense(Reader& r, Mesh& m) {
   const std::uint64_t nv = r.count(24, "vertex");
   m.positions.resize(nv);
@@ -214,6 +228,13 @@ void writeModel(const std::string& path, const Model& model) {
               model.atlas.positions.size() == std::size_t(l.width()) * l.height() &&
               model.atlas.normals.size() == model.atlas.positions.size(),
           path + ": the atlas does not match the base mesh's tiles and the chart size");
+  for (std::size_t k = 0; k < model.atlas.details.size(); ++k) {
+    const DetailChart& d = model.atlas.details[k];
+    require(d.size == model.atlas.details.front().size && multires::isChartSize(d.size) && d.size > model.chartSize &&
+                d.tile < b.tiles.size() && (k == 0 || d.tile > model.atlas.details[k - 1].tile) &&
+                d.positions.size() == std::size_t(d.size) * d.size && d.normals.size() == d.positions.size(),
+            path + ": detail chart " + std::to_string(k) + " does not fit the model");
+  }
   const bool dense = model.dense.vertexCount() > 0;
   require(!dense || model.dense.allFacesHave(3), path + ": the dense mesh must be triangles");
   require(!dense || b.denseTriangle.size() == model.dense.vertexCount(),
@@ -252,6 +273,17 @@ void writeModel(const std::string& path, const Model& model) {
   for (const auto& p : model.atlas.positions) atlas.put(p[0]), atlas.put(p[1]), atlas.put(p[2]);
   for (const auto& n : model.atlas.normals) atlas.put(n[0]), atlas.put(n[1]), atlas.put(n[2]);
   writeSection(out, "ATLS", atlas);
+
+  if (!model.atlas.details.empty()) {
+    Writer detail;
+    detail.put(std::uint32_t(model.atlas.details.size())), detail.put(model.atlas.details.front().size);
+    for (const DetailChart& d : model.atlas.details) {
+      detail.put(d.tile);
+      for (const auto& p : d.positions) detail.put(p[0]), detail.put(p[1]), detail.put(p[2]);
+      for (const auto& n : d.normals) detail.put(n[0]), detail.put(n[1]), detail.put(n[2]);
+    }
+    writeSection(out, "DETL", detail);
+  }
 
   if (dense) {
     Writer d;
@@ -297,7 +329,7 @@ Model readModel(const std::string& path, const ModelReadOptions& options) {
     if (options.checksums && crc(bytes.data() + at, size) != sum)
       throw Error(path + ": section " + tag + ", byte " + std::to_string(at) + ": checksum mismatch (the file is damaged)");
     Reader r(path, bytes, tag, at, at + size);
-    const bool known = tag == "HEAD" || tag == "BASE" || tag == "HALF" || tag == "ATLS" || tag == "DENS" || tag == "PARA";
+    const bool known = tag == "HEAD" || tag == "BASE" || tag == "HALF" || tag == "ATLS" || tag == "DETL" || tag == "DENS" || tag == "PARA";
     if (known && !seen.insert(tag).second) r.fail("a second " + tag + " section");  // would mix two models' counts
     // Each section may rely on those it names having come first.
     auto after = [&](const char* earlier) {
@@ -324,6 +356,9 @@ Model readModel(const std::string& path, const ModelReadOptions& options) {
       after("HEAD"), after("BASE");
       readAtlas(r, model.chartSize, model.atlas);
       if (model.atlas.layout.charts != model.base.tiles.size()) r.fail("the atlas's chart count is not the tile count");
+    } else if (tag == "DETL") {
+      after("HEAD"), after("BASE");
+      readDetails(r, model.chartSize, model.base.tiles.size(), model.atlas.details);
     } else if (tag == "DENS") {
       readDense(r, model.dense);
     } else if (tag == "PARA") {

@@ -13,6 +13,9 @@
 //   ATLS  chart count, columns, rows (u32 x 3; charts = tiles, columns x rows slots hold them),
 //         then width x height texels (width = columns N, height = rows N, row-major from the top):
 //         positions (f32 x 3), then normals (i16 x 3, signed normalised)
+//   DETL  (only where detail was stamped) detail chart count and size M (u32 x 2; M = 2^k + 1 above
+//         N), then per detail chart in increasing tile order: its tile (u32), M x M positions
+//         (f32 x 3), M x M normals (i16 x 3)
 //   DENS  (only with --keep-dense) the dense mesh: vertex count (u64), positions (f64 x 3),
 //         triangle count (u64), corners (u32 x 3)
 //   PARA  (with DENS) per dense vertex its base triangle (u32) and barycentric weights (f64 x 3)

@@ -5,6 +5,10 @@
 //                 (the p -> q direction) when its column plus row is even, else the other;
 //   level 2m + 1  level 2m with each square's centre texel joined to its four corners.
 // maxLevel(N) = 2 log2(N - 1) takes every texel of the chart (level 10 for N = 33).
+// With detail charts (stampDetail) the levels go on to 2 log2(M - 1) for detail charts of M texels:
+// there the tiles that have one refine further (the region refined locally) while the others stay at
+// their finest, and the coarser side of each border between them is fanned to the finer samples;
+// levels up to maxLevel(N) read the tiles' own charts only.
 // Vertices on a tile's sides are shared with the tile across (one per base vertex and per sample
 // of a base edge), so the mesh is closed and manifold where the base mesh is; positions and
 // normals come from the atlas, where neighbouring charts hold the same border samples.
@@ -19,6 +23,7 @@
 namespace isoatlas::atlas {
 
 int maxLevel(std::uint32_t chartSize);
+int maxLevel(const Atlas& atlas);  // with its detail charts
 Mesh reconstructLevel(const multires::BaseMesh& base, const Atlas& atlas, int level);
 
 }  // namespace isoatlas::atlas

@@ -15,6 +15,7 @@
 #include "core/mesh_topology.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
+#include "tests/atlas/atlas_checks.h"
 #include "tests/multires/mesh_shapes.h"
 
 namespace isoatlas::atlas {
@@ -90,42 +91,8 @@ TEST(PackCharts, ChartsDoNotOverlapAndStayInside) {
       }
 }
 
-// Every tile side's texels, as raw bits, equal those of every other chart on the same base edge
-// (read in the same direction), and every corner texel is its base vertex.
-void expectIdenticalBorders(const Built& b) {
-  const std::uint32_t n = b.atlas.layout.chartSize;
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::pair<std::uint32_t, int>>> edges;
-  for (std::uint32_t c = 0; c < b.atlas.layout.charts; ++c) {
-    const auto sides = tileSides(b.base, c);
-    for (int s = 0; s < 4; ++s) edges[{sides[s].from, sides[s].to}].push_back({c, s});
-  }
-  std::size_t shared = 0;
-  for (const auto& [edge, list] : edges) {
-    const auto reverse = edges.find({edge.second, edge.first});
-    if (reverse == edges.end()) continue;
-    for (const auto& [c, s] : list)
-      for (const auto& [d, t] : reverse->second) {
-        ++shared;
-        for (std::uint32_t m = 0; m < n; ++m) {
-          const auto a = sideTexel(s, m, n), z = sideTexel(t, n - 1 - m, n);
-          const std::size_t at = b.atlas.layout.texel(c, a[0], a[1]), other = b.atlas.layout.texel(d, z[0], z[1]);
-          ASSERT_EQ(std::memcmp(&b.atlas.positions[at], &b.atlas.positions[other], sizeof(b.atlas.positions[at])), 0)
-              << "charts " << c << " and " << d << " differ at step " << m;
-          ASSERT_EQ(b.atlas.normals[at], b.atlas.normals[other]);
-        }
-      }
-    const Vec3 from = b.base.positions[edge.first];
-    const auto corner = sideTexel(list[0].second, 0, n);
-    const std::array<float, 3> expected{float(from.x), float(from.y), float(from.z)};
-    EXPECT_EQ(b.atlas.positions[b.atlas.layout.texel(list[0].first, corner[0], corner[1])], expected);
-  }
-  EXPECT_EQ(shared, b.stats.sharedSides) << "every shared side counted";
-}
-
 TEST(Atlas, SharedBordersAreIdenticalTexelForTexel) {
-  expectIdenticalBorders(torus());
-  expectIdenticalBorders(sphere());
-  expectIdenticalBorders(holedPlane());
+  for (const Built* b : {&torus(), &sphere(), &holedPlane()}) EXPECT_EQ(test::expectIdenticalBorders(b->base, b->atlas), b->stats.sharedSides);
   EXPECT_GT(torus().stats.sharedSides, 0u);
 }
 

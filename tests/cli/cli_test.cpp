@@ -174,7 +174,7 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
     SCOPED_TRACE(backend);
     const auto out = dir / backend;
     const Result r = run("run " + torus.string() + " -o " + out.string() + " --seed 31,18,14,2 --target 200 --width 60 " +
-                         "--backend " + backend);
+                         "--backend " + backend + " --samples 5000");
     ASSERT_EQ(r.code, 0) << r.err;
     const Volume mask = readVolume((out / "mask.nii.gz").string());
     std::int64_t both = 0, inMask = 0, inTruth = 0;
@@ -452,13 +452,39 @@ TEST(Cli, BuildRejectsBadInput) {
   expectBadInput("build " + torus, "give -o MODEL.isoatlas");
 }
 
+TEST(Cli, EditDetailEngravesAWordAndTheModelStaysClosed) {
+  const auto dir = test::scratchDir();
+  const std::string torus = (dir / "torus.off").string(), model = (dir / "torus.isoatlas").string();
+  writeMesh(torus, test::torusMesh(60, 30));
+  ASSERT_EQ(run("build " + torus + " -o " + model + " --base-ratio 0.03 --chart 9 --no-hausdorff").code, 0);
+  const std::string out = (dir / "engraved.isoatlas").string(), report = (dir / "r.json").string(), png = (dir / "close.png").string();
+  const Result r = run("edit-detail " + model + " --text Hi --at 4.1,0,0 --radius 1 --depth 0.1 --detail 33 -o " + out +
+                       " --render " + png + " --report " + report);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(test::readBytes(report));
+  EXPECT_GT(j["detail_tiles"].get<int>(), 0);
+  EXPECT_GT(j["texels_changed"].get<int>(), 0);
+  EXPECT_EQ(j["max_level"], 10);  // detail charts of 33 texels
+  EXPECT_NEAR(j["normal"][0].get<double>(), 1, 0.05) << "the outer equator faces +x";
+  EXPECT_GT(readPng(png).width, 0);
+  // Every level of the engraved model, the detail levels too, is closed.
+  const std::string evalReport = (dir / "e.json").string();
+  ASSERT_EQ(run("eval " + out + " --dense " + torus + " --levels 6-10 --samples 2000 --report " + evalReport).code, 0);
+  for (const auto& level : nlohmann::json::parse(test::readBytes(evalReport))["levels"])
+    EXPECT_TRUE(level["closed"].get<bool>() && level["manifold"].get<bool>()) << level["level"];
+  expectBadInput("edit-detail " + model + " --at 4,0,0 --radius 1 --depth 0.1 -o " + out, "give --stamp IMAGE.png or --text WORD");
+  expectBadInput("edit-detail " + model + " --text Hi --at 4,0,0 --radius 1 --depth 0.1 --detail 9 -o " + out, "detail chart size");
+  expectBadInput("edit-detail " + model + " --stamp " + (dir / "none.png").string() + " --at 4,0,0 --radius 1 --depth 0.1 -o " + out,
+                 "not a readable PNG");
+}
+
 // The demo's seeds and parameters go with Colin27's T1 however its path is written (here absolute,
 // with a ./ inside), and with no other volume of that name.
 TEST(Cli, RunKnowsTheDemoVolumeByItsIdentity) {
   const std::string ch2 = std::string(ISOATLAS_DATA) + "/./volumes/ch2.nii.gz";
   if (!std::filesystem::exists(ch2)) GTEST_SKIP() << "run scripts/fetch-data for the end-to-end data";
   const auto dir = test::scratchDir();
-  const Result r = run("run " + ch2 + " --iterations 3 --backend cpu -o " + (dir / "demo").string());
+  const Result r = run("run " + ch2 + " --iterations 3 --backend cpu --levels 0 --samples 2000 -o " + (dir / "demo").string());
   ASSERT_EQ(r.code, 0) << r.err;
   const auto report = nlohmann::json::parse(test::readBytes(dir / "demo/report.json"));
   EXPECT_EQ(report["segment"]["target"], 112);
