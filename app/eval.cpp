@@ -84,6 +84,8 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
         r["atlas_width"] = l.width();
         r["atlas_height"] = l.height();
         r["atlas_efficiency"] = l.efficiency();
+        r["folded_texels"] = model.foldedTexels;
+        r["gap_texels"] = model.gapTexels;
         r["model_bytes"] = std::filesystem::file_size((*models)[m]);
         r["dense_halfedge_bytes"] = atlas::halfedgeMeshBytes(denseMesh);
         r["dense_triangles"] = denseMesh.faceCount();

@@ -47,6 +47,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
           " edge splits for the matching, " + std::to_string(pairing.seconds) + " s");
   atlas::ChartStats charts;
   model.atlas = atlas::makeAtlas(dense, base, request.chartSize, &charts);
+  model.foldedTexels = charts.foldedTexels, model.gapTexels = charts.gapTexels;
   const atlas::AtlasLayout& layout = model.atlas.layout;
   logInfo("build: " + std::to_string(layout.charts) + " charts in a " + std::to_string(layout.width()) + " x " +
           std::to_string(layout.height()) + " atlas (" + std::to_string(layout.efficiency() * 100) + " % full), " +

@@ -34,7 +34,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
 Mesh prepareModelInput(Mesh mesh);
 
 // Writes the model and the atlas previews (position_atlas.png, normal_atlas.png into
-// `previewDir` unless empty); adds model_bytes and dense_halfedge_bytes to `figures`.
+// `previewDir` unless empty); adds model_bytes to `figures`.
 void writeModelFiles(const atlas::Model& model, const std::string& path, const std::string& previewDir, nlohmann::json& figures);
 
 // Levels as eval and run take them: "0-10", "4" or "0,2,10", each within 0 .. maxLevel; throws

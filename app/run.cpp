@@ -232,16 +232,25 @@ void addRunCommand(CLI::App& app, int& exitCode) {
         StampRequest engrave{.text = "isoatlas",
                              .at = {box.min.x, box.min.y + 0.55 * size.y, box.min.z + 0.6 * size.z},
                              .radius = 0.2 * size.y,
-                             .depth = 1.5};
-        atlas::Model engraved = model;
-        nlohmann::json& e = r["engrave"];
-        const atlas::StampStats stamped = stampModel(engraved, engrave, e);
-        writeModelFiles(engraved, products.add("model_engraved.isoatlas", "the model with \"isoatlas\" engraved in detail charts (isoatlas edit-detail)"),
-                        "", e);
-        writePng(products.add("engraved.png", "the engraved word at the model's finest level, close up", true),
-                 closeUp(engraved, stamped, engrave.radius));
-        stages.push_back({"engrave a word (fine detail)", "done",
-                          std::to_string(stamped.detailTiles) + " tiles given detail charts: model_engraved.isoatlas"});
+                             .depth = 1.5,
+                             .detailSize = std::min(multires::kMaxChartSize, 4 * (request.chartSize - 1) + 1)};
+        if (engrave.detailSize <= request.chartSize) {
+          stages.push_back({"engrave a word (fine detail)", "skipped", "the charts are already the finest (--chart 129)"});
+        } else try {
+          atlas::Model engraved = model;
+          nlohmann::json& e = r["engrave"];
+          const atlas::StampStats stamped = stampModel(engraved, engrave, e);
+          writeModelFiles(engraved,
+                          products.add("model_engraved.isoatlas", "the model with \"isoatlas\" engraved in detail charts (isoatlas edit-detail)"),
+                          "", e);
+          writePng(products.add("engraved.png", "the engraved word at the model's finest level, close up", true),
+                   closeUp(engraved, stamped, engrave.radius));
+          stages.push_back({"engrave a word (fine detail)", "done",
+                            std::to_string(stamped.detailTiles) + " tiles given detail charts: model_engraved.isoatlas"});
+        } catch (const Error& error) {  // the model stands without it
+          stages.push_back({"engrave a word (fine detail)", "skipped", error.what()});
+          logInfo(std::string("run: skipping the engraving: ") + error.what());
+        }
       }
     }
     stages.push_back({"render model (tessellation)", "skipped", "stage not built yet"});

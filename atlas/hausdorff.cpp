@@ -33,6 +33,7 @@ SurfaceMesh toSurfaceMesh(const Mesh& mesh, const char* which) {
     const auto a = out.add_vertex(out.point(v[0])), b = out.add_vertex(out.point(v[1])), d = out.add_vertex(out.point(v[2]));
     out.add_face(a, b, d);
   }
+  require(out.number_of_faces() > 0, std::string("Hausdorff distance: every face of the ") + which + " mesh is degenerate");
   return out;
 }
 

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <limits>
 #include <map>
 
 #include "atlas/tile_sides.h"
@@ -149,7 +150,12 @@ Atlas makeAtlas(const Mesh& dense, const multires::BaseMesh& base, std::uint32_t
   s.texels = std::uint64_t(atlas.layout.charts) * chartSize * chartSize;
   std::vector<std::uint8_t> held(texels, 0);
   sampleCharts(dense, base, atlas, held, s);
-  averageSharedBorders(base, held, 1e-6 * boundingBox(base.positions).diagonal(), atlas, s);
+  // Samples of one point may differ by float rounding (a few ulps of the coordinates), no more.
+  const Box box = boundingBox(base.positions);
+  const double largest = std::max({std::abs(box.min.x), std::abs(box.min.y), std::abs(box.min.z), std::abs(box.max.x),
+                                   std::abs(box.max.y), std::abs(box.max.z)});
+  const double tolerance = std::max(1e-6 * box.diagonal(), 8 * double(std::numeric_limits<float>::epsilon()) * largest);
+  averageSharedBorders(base, held, tolerance, atlas, s);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (stats) *stats = s;
   return atlas;

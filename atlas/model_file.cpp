@@ -111,6 +111,36 @@ private:
   std::size_t at_, end_;
 };
 
+// What the reader refuses in a base mesh beyond counts and ranges, or "" when it is sound: split
+// vertices' dense indices, triangles naming a vertex twice, a triangle in two tiles, tiles whose
+// triangles share no edge or whose quad repeats a corner.
+std::string baseMeshProblem(const multires::BaseMesh& b) {
+  if (b.denseVertex.size() != b.positions.size()) return "the base vertices' dense indices do not match their count";
+  for (const Vec3& p : b.positions)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return "a base vertex is not finite";
+  for (std::size_t t = 0; t < b.triangleCount(); ++t) {
+    const auto& c = b.triangles[t];
+    if (c[0] >= b.vertexCount() || c[1] >= b.vertexCount() || c[2] >= b.vertexCount()) return "base triangle " + std::to_string(t) + " names a missing vertex";
+    if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) return "base triangle " + std::to_string(t) + " names a vertex twice";
+  }
+  if (b.tiles.empty() || b.tiles.size() * 2 != b.triangleCount()) return "the base triangles are not all paired into tiles";
+  std::vector<char> used(b.triangleCount(), 0);
+  for (std::uint32_t t = 0; t < b.tiles.size(); ++t) {
+    const auto [first, second] = b.tiles[t];
+    if (first >= b.triangleCount() || second >= b.triangleCount() || used[first] || used[second] || first == second)
+      return "tile " + std::to_string(t) + " names a missing triangle or one in another tile";
+    used[first] = used[second] = 1;
+    multires::BaseMesh::TileCorners c;
+    try {
+      c = b.tileCorners(t);
+    } catch (const Error&) {
+      return "tile " + std::to_string(t) + "'s triangles share no edge";
+    }
+    if (c.s == c.r) return "tile " + std::to_string(t) + " repeats a corner";
+  }
+  return "";
+}
+
 void readBase(Reader& r, multires::BaseMesh& b) {
   const std::uint64_t nv = r.count(32, "base vertex");
   for (std::uint64_t i = 0; i < nv; ++i) {
@@ -123,19 +153,8 @@ void readBase(Reader& r, multires::BaseMesh& b) {
   for (std::uint64_t t = 0; t < nt; ++t)
     b.triangles.push_back({r.index(nv, "base vertex"), r.index(nv, "base vertex"), r.index(nv, "base vertex")});
   const std::uint64_t tiles = r.count(8, "tile");
-  if (tiles == 0 || tiles * 2 != nt) r.fail(std::to_string(tiles) + " tiles for " + std::to_string(nt) + " triangles");
-  std::vector<char> used(nt, 0);
-  for (std::uint64_t t = 0; t < tiles; ++t) {
-    const std::uint32_t a = r.index(nt, "tile triangle"), c = r.index(nt, "tile triangle");
-    if (used[a] || used[c] || a == c) r.fail("a triangle in two tiles");
-    used[a] = used[c] = 1;
-    b.tiles.push_back({a, c});
-    try {
-      b.tileCorners(std::uint32_t(t));
-    } catch (const Error&) {
-      r.fail("tile " + std::to_string(t) + "'s triangles share no edge");
-    }
-  }
+  for (std::uint64_t t = 0; t < tiles; ++t) b.tiles.push_back({r.index(nt, "tile triangle"), r.index(nt, "tile triangle")});
+  if (const std::string problem = baseMeshProblem(b); !problem.empty()) r.fail(problem);
 }
 
 void readAtlas(Reader& r, std::uint32_t chartSize, Atlas& atlas) {
@@ -222,23 +241,36 @@ void writeModel(const std::string& path, const Model& model) {
                                                       " is not 2^k + 1 between 3 and " +
                                                       std::to_string(multires::kMaxChartSize));
   const multires::BaseMesh& b = model.base;
-  require(!b.tiles.empty() && b.tiles.size() * 2 == b.triangleCount(), path + ": the base mesh is not paired into tiles");
+  if (const std::string problem = baseMeshProblem(b); !problem.empty()) throw Error(path + ": " + problem);
   const AtlasLayout& l = model.atlas.layout;
   require(l.chartSize == model.chartSize && l.charts == b.tiles.size() &&
+              std::uint64_t(l.columns) * l.rows >= l.charts && std::uint64_t(l.columns) * l.rows <= l.charts + std::uint64_t(l.columns) &&
               model.atlas.positions.size() == std::size_t(l.width()) * l.height() &&
               model.atlas.normals.size() == model.atlas.positions.size(),
           path + ": the atlas does not match the base mesh's tiles and the chart size");
+  auto finite = [](const std::vector<std::array<float, 3>>& points) {
+    for (const auto& p : points)
+      if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) return false;
+    return true;
+  };
+  require(finite(model.atlas.positions), path + ": an atlas position is not finite");
   for (std::size_t k = 0; k < model.atlas.details.size(); ++k) {
     const DetailChart& d = model.atlas.details[k];
     require(d.size == model.atlas.details.front().size && multires::isChartSize(d.size) && d.size > model.chartSize &&
                 d.tile < b.tiles.size() && (k == 0 || d.tile > model.atlas.details[k - 1].tile) &&
                 d.positions.size() == std::size_t(d.size) * d.size && d.normals.size() == d.positions.size(),
             path + ": detail chart " + std::to_string(k) + " does not fit the model");
+    require(finite(d.positions), path + ": a position of detail chart " + std::to_string(k) + " is not finite");
   }
   const bool dense = model.dense.vertexCount() > 0;
   require(!dense || model.dense.allFacesHave(3), path + ": the dense mesh must be triangles");
-  require(!dense || b.denseTriangle.size() == model.dense.vertexCount(),
+  require(!dense || (b.denseTriangle.size() == model.dense.vertexCount() && b.denseBary.size() == b.denseTriangle.size()),
           path + ": the dense mesh is kept without its parametrisation");
+  if (dense) {
+    for (const std::uint32_t c : model.dense.faceVertices) require(c < model.dense.vertexCount(), path + ": a dense triangle names a missing vertex");
+    for (const std::uint32_t t : b.denseTriangle) require(t < b.triangleCount(), path + ": a dense vertex lies in a missing base triangle");
+    for (const std::int64_t d : b.denseVertex) require(d < std::int64_t(model.dense.vertexCount()), path + ": a base vertex names a missing dense vertex");
+  }
 
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) throw Error(path + ": cannot open for writing");
@@ -248,7 +280,7 @@ void writeModel(const std::string& path, const Model& model) {
   out.write(header.bytes.data(), std::streamsize(header.bytes.size()));
 
   Writer head;
-  head.put(model.chartSize);
+  head.put(model.chartSize), head.put(model.foldedTexels), head.put(model.gapTexels);
   writeSection(out, "HEAD", head);
 
   Writer base;
@@ -338,6 +370,7 @@ Model readModel(const std::string& path, const ModelReadOptions& options) {
     if (tag == "HEAD") {
       model.chartSize = r.get<std::uint32_t>();
       if (!multires::isChartSize(model.chartSize)) r.fail("chart size " + std::to_string(model.chartSize));
+      model.foldedTexels = r.get<std::uint64_t>(), model.gapTexels = r.get<std::uint64_t>();
     } else if (tag == "BASE") {
       readBase(r, model.base);
     } else if (tag == "HALF") {

@@ -3,7 +3,8 @@
 // said, reals IEEE 754.
 //   magic "ISOATLAS" (8 bytes), format version (u32 = 2), then sections until the end of the file,
 //   each: tag (4 ASCII bytes), payload length (u64), CRC-32 of the payload (u32, zlib's), payload.
-//   HEAD  chart size N (u32, 2^k + 1)
+//   HEAD  chart size N (u32, 2^k + 1); texels where a folded image held the point, and where no
+//         image did (u64 x 2: the charts' folded_texels and gap_texels)
 //   BASE  base vertex count (u64), per vertex position (f64 x 3) and dense vertex (i64, -1 when
 //         made by a split); triangle count (u64), corners (u32 x 3, counter-clockwise); tile count
 //         (u64), tiles (u32 x 2: the two triangles)
@@ -34,6 +35,7 @@ inline constexpr std::uint32_t kModelVersion = 2;
 
 struct Model {
   std::uint32_t chartSize = 33;
+  std::uint64_t foldedTexels = 0, gapTexels = 0;  // as makeAtlas counted them
   multires::BaseMesh base;  // its parametrisation (denseTriangle, denseBary) only with the dense mesh
   Atlas atlas;
   Mesh dense;  // empty unless kept

@@ -112,7 +112,8 @@ StampStats stampDetail(const multires::BaseMesh& base, Atlas& atlas, const Stamp
   const AtlasLayout& l = atlas.layout;
   require(stamp.image.width > 0 && stamp.image.height > 0, "stamp: the image is empty");
   require(std::isfinite(stamp.radius) && stamp.radius > 0, "stamp: the radius must be a positive number of mm");
-  require(std::isfinite(stamp.depth) && stamp.depth != 0, "stamp: the depth must be a non-zero number of mm");
+  require(std::isfinite(stamp.depth) && stamp.depth != 0 && std::abs(stamp.depth) <= stamp.radius,
+          "stamp: the depth must be a non-zero number of mm, at most the radius");
   require(multires::isChartSize(stamp.detailSize) && stamp.detailSize > l.chartSize,
           "stamp: the detail chart size must be 2^k + 1, above the chart size " + std::to_string(l.chartSize) + " and at most " +
               std::to_string(multires::kMaxChartSize));

@@ -10,8 +10,8 @@
 // detail borders are upsampled along each base edge in one direction: shared borders stay identical
 // bit for bit, so the surface stays closed. A second stamp on a tile with a detail chart stamps it.
 //   base, atlas   the model (atlas changed in place)
-// Throws Error(BadInput) for an empty image, a radius or depth that is not finite and positive
-// (depth: non-zero), a detail size that is not 2^k + 1 above the chart size (at most 129), or one
+// Throws Error(BadInput) for an empty image, a radius that is not finite and positive, a depth that
+// is zero or deeper than the radius, a detail size that is not 2^k + 1 above the chart size (at most 129), or one
 // other than the detail charts already there.
 #pragma once
 #include <cstdint>

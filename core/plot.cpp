@@ -31,9 +31,10 @@ void drawLine(Image& image, double x0, double y0, double x1, double y1, Rgb c, i
   }
 }
 
-// Round-number ticks (1, 2 or 5 times a power of ten) covering [lo, hi], about `count` of them.
+// Round-number ticks (1, 2 or 5 times a power of ten) covering [lo, hi], about `count` of them;
+// a range too narrow for its numbers to tell apart is widened first.
 std::vector<double> ticks(double& lo, double& hi, int count) {
-  if (!(hi > lo)) lo -= 1, hi += 1;
+  if (!(hi - lo > 1e-9 * std::max(std::abs(lo), std::abs(hi)))) lo -= 1, hi += 1;
   const double raw = (hi - lo) / count, power = std::pow(10, std::floor(std::log10(raw)));
   double step = power;
   for (const double m : {1.0, 2.0, 5.0, 10.0})
@@ -43,7 +44,11 @@ std::vector<double> ticks(double& lo, double& hi, int count) {
     }
   lo = std::floor(lo / step) * step, hi = std::ceil(hi / step) * step;
   std::vector<double> out;
-  for (double v = lo; v <= hi + step * 1e-9; v += step) out.push_back(std::abs(v) < step * 1e-9 ? 0 : v);
+  const long long steps = std::llround((hi - lo) / step);
+  for (long long k = 0; k <= steps; ++k) {
+    const double v = lo + double(k) * step;
+    out.push_back(std::abs(v) < step * 1e-9 ? 0 : v);
+  }
   return out;
 }
 
@@ -64,7 +69,7 @@ Image linePlot(const std::vector<PlotSeries>& series, const PlotOptions& o) {
       if (std::isfinite(s.x[i]) && std::isfinite(s.y[i]))
         xlo = std::min(xlo, s.x[i]), xhi = std::max(xhi, s.x[i]), ylo = std::min(ylo, s.y[i]), yhi = std::max(yhi, s.y[i]);
   }
-  require(std::isfinite(xlo), "plot: no finite point to draw");
+  if (!std::isfinite(xlo)) xlo = 0, xhi = 1, ylo = 0, yhi = 1;  // nothing finite (an exact model): empty axes
   const std::vector<double> xt = ticks(xlo, xhi, 10), yt = ticks(ylo, yhi, 6);
   Image image(o.width, o.height, 3);
   std::fill(image.pixels.begin(), image.pixels.end(), 255);

@@ -1,5 +1,6 @@
 // linePlot: a line chart as a PNG-ready RGB image: axes with round-number ticks, labels, a title,
-// one coloured line with markers per series and a legend. Points whose y is not finite are left out.
+// one coloured line with markers per series and a legend. Points whose x or y is not finite (the
+// PSNR of an exact level) are left out; with none left the axes are drawn empty.
 #pragma once
 #include <string>
 #include <vector>

@@ -30,8 +30,19 @@ const Font& loadFont(const std::string& path) {
   if (!in) throw Error(path + ": cannot read the font (install fonts-dejavu-core, or name a .ttf file)");
   Font font;
   font.bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  const int offset = stbtt_GetFontOffsetForIndex(font.bytes.data(), 0);
-  if (offset < 0 || !stbtt_InitFont(&font.info, font.bytes.data(), offset)) throw Error(path + ": not a TrueType font");
+  // stb_truetype trusts the file: its table directory is checked against the file's size first
+  // (a plain TrueType or OpenType font; collections are refused).
+  const auto& b = font.bytes;
+  auto u16 = [&](std::size_t at) { return std::uint32_t(b[at]) << 8 | b[at + 1]; };
+  auto u32 = [&](std::size_t at) { return u16(at) << 16 | u16(at + 2); };
+  const bool sfnt = b.size() >= 12 && (u32(0) == 0x00010000u || u32(0) == 0x74727565u || u32(0) == 0x4f54544fu);
+  const std::size_t tables = sfnt ? u16(4) : 0;
+  bool sound = sfnt && 12 + 16 * tables <= b.size();
+  for (std::size_t t = 0; sound && t < tables; ++t) {
+    const std::uint64_t offset = u32(12 + 16 * t + 8), length = u32(12 + 16 * t + 12);
+    sound = offset + length <= b.size();
+  }
+  if (!sound || !stbtt_InitFont(&font.info, font.bytes.data(), 0)) throw Error(path + ": not a TrueType font");
   return fonts.emplace(path, std::move(font)).first->second;
 }
 

@@ -22,7 +22,9 @@ Model torusModel(bool keepDense) {
   Mesh dense = test::torusMesh(30, 16);
   m.base = multires::simplifyStellar(dense, {.vertexRatio = 0.06});
   multires::pairTriangles(m.base, dense);
-  m.atlas = makeAtlas(dense, m.base, m.chartSize);
+  ChartStats stats;
+  m.atlas = makeAtlas(dense, m.base, m.chartSize, &stats);
+  m.foldedTexels = stats.foldedTexels + 7, m.gapTexels = stats.gapTexels + 3;  // non-zero, to be kept
   if (keepDense) {
     m.dense = dense;
   } else {
@@ -34,6 +36,8 @@ Model torusModel(bool keepDense) {
 // Every field, compared as bits (the float atlas included).
 void expectSame(const Model& a, const Model& b) {
   EXPECT_EQ(b.chartSize, a.chartSize);
+  EXPECT_EQ(b.foldedTexels, a.foldedTexels);
+  EXPECT_EQ(b.gapTexels, a.gapTexels);
   EXPECT_EQ(b.base.positions, a.base.positions);
   EXPECT_EQ(b.base.denseVertex, a.base.denseVertex);
   EXPECT_EQ(b.base.triangles, a.base.triangles);
@@ -103,9 +107,9 @@ TEST_F(ModelFileTest, WithoutTheDenseMeshTheModelIsSmaller) {
 }
 
 TEST_F(ModelFileTest, BytesAreLittleEndian) {
-  // Version 2 right after the magic, then HEAD's tag, length 4, its CRC, and the chart size 17.
+  // Version 2 right after the magic, then HEAD's tag, length 20, its CRC, and the chart size 17.
   EXPECT_EQ(good_.substr(0, 12), std::string("ISOATLAS\x02\0\0\0", 12));
-  EXPECT_EQ(good_.substr(12, 12), std::string("HEAD\x04\0\0\0\0\0\0\0", 12));
+  EXPECT_EQ(good_.substr(12, 12), std::string("HEAD\x14\0\0\0\0\0\0\0", 12));
   EXPECT_EQ(good_.substr(28, 4), std::string("\x11\0\0\0", 4));
   // The first base vertex's x as a little-endian double.
   const Model m = torusModel(true);
@@ -145,6 +149,16 @@ TEST_F(ModelFileTest, ParsersCheckWhatTheChecksumWouldMiss) {
     ADD_FAILURE() << "a corner out of range was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("section BASE, byte " + std::to_string(firstCorner + 4) + ": base vertex index"), std::string::npos) << e.what();
+  }
+  // A base triangle naming one vertex twice (the first triangle's second corner made its first).
+  std::string twice = good_;
+  for (int i = 0; i < 4; ++i) twice[firstCorner + 4 + i] = twice[firstCorner + i];
+  test::writeBytes(path_, twice);
+  try {
+    readModel(path_, {.checksums = false});
+    ADD_FAILURE() << "a triangle naming a vertex twice was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("names a vertex twice"), std::string::npos) << e.what();
   }
   std::string halfedge = good_;
   halfedge[all[2].payload + 4] ^= 1;  // the first halfedge's start u

@@ -143,6 +143,8 @@ TEST(StampDetail, RefusesBadStamps) {
   EXPECT_THROW(stampDetail(s.base, atlas, bad), Error);
   bad = stampAt({1, 0, 0}, 4, 0);
   EXPECT_THROW(stampDetail(s.base, atlas, bad), Error);
+  bad = stampAt({1, 0, 0}, 4, 5);  // deeper than wide
+  EXPECT_THROW(stampDetail(s.base, atlas, bad), Error);
   bad.image = {};
   EXPECT_THROW(stampDetail(s.base, atlas, bad), Error);
 }
@@ -187,6 +189,12 @@ TEST(Text, AWordRendersWithInkInItsBox) {
   EXPECT_LT(ink, std::size_t(word.width * word.height / 2));
   EXPECT_THROW(renderText("", 40), Error);
   EXPECT_THROW(renderText("x", 40, "/nonexistent/font.ttf"), Error);
+  // A file that is not a font, short or long, is refused before the font parser reads it.
+  const auto dir = test::scratchDir();
+  test::writeBytes(dir / "short.ttf", "abc");
+  test::writeBytes(dir / "long.ttf", std::string("\0\x01\0\0\xff\xff", 6) + std::string(200, 'x'));
+  EXPECT_THROW(renderText("x", 40, (dir / "short.ttf").string()), Error);
+  EXPECT_THROW(renderText("x", 40, (dir / "long.ttf").string()), Error);
 }
 
 }  // namespace

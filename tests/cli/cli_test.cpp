@@ -414,7 +414,8 @@ TEST(Cli, EvalMeasuresEveryLevelAgainstTheDenseMesh) {
                        " --samples 5000 --report " + report);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(test::readBytes(report));
-  for (const char* key : {"atlas_efficiency", "atlas_width", "atlas_height", "charts", "model_bytes", "dense_halfedge_bytes"})
+  for (const char* key : {"atlas_efficiency", "atlas_width", "atlas_height", "charts", "model_bytes", "dense_halfedge_bytes",
+                          "folded_texels", "gap_texels"})
     EXPECT_TRUE(j.contains(key)) << key;
   ASSERT_EQ(j["levels"].size(), 7u);  // chart 9: levels 0..6
   const double diagonal = j["bounding_box_diagonal"].get<double>();
@@ -470,7 +471,8 @@ TEST(Cli, EditDetailEngravesAWordAndTheModelStaysClosed) {
   // Every level of the engraved model, the detail levels too, is closed.
   const std::string evalReport = (dir / "e.json").string();
   ASSERT_EQ(run("eval " + out + " --dense " + torus + " --levels 6-10 --samples 2000 --report " + evalReport).code, 0);
-  for (const auto& level : nlohmann::json::parse(test::readBytes(evalReport))["levels"])
+  const auto evaluated = nlohmann::json::parse(test::readBytes(evalReport));
+  for (const auto& level : evaluated["levels"])
     EXPECT_TRUE(level["closed"].get<bool>() && level["manifold"].get<bool>()) << level["level"];
   expectBadInput("edit-detail " + model + " --at 4,0,0 --radius 1 --depth 0.1 -o " + out, "give --stamp IMAGE.png or --text WORD");
   expectBadInput("edit-detail " + model + " --text Hi --at 4,0,0 --radius 1 --depth 0.1 --detail 9 -o " + out, "detail chart size");
