@@ -76,6 +76,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   r["atlas_efficiency"] = layout.efficiency();
   r["folded_texels"] = charts.foldedTexels;
   r["gap_texels"] = charts.gapTexels;
+  r["repaired_texels"] = charts.repairedTexels;
   r["border_disagreements"] = charts.borderDisagreements;
   r["seconds_untangle"] = stats.untangle.seconds;
   r["seconds_simplify"] = stats.seconds;
