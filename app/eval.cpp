@@ -77,15 +77,8 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
                                                                      " is outside 0.." + std::to_string(top));
           writeMesh(outMesh->second, atlas::reconstructLevel(model.base, model.atlas, outMesh->first));
         }
-        const atlas::AtlasLayout& l = model.atlas.layout;
         r["model"] = (*models)[m];
-        r["chart_size"] = model.chartSize;
-        r["charts"] = l.charts;
-        r["atlas_width"] = l.width();
-        r["atlas_height"] = l.height();
-        r["atlas_efficiency"] = l.efficiency();
-        r["folded_texels"] = model.foldedTexels;
-        r["gap_texels"] = model.gapTexels;
+        r.update(atlasFigures(model));
         r["model_bytes"] = std::filesystem::file_size((*models)[m]);
         r["dense_halfedge_bytes"] = atlas::halfedgeMeshBytes(denseMesh);
         r["dense_triangles"] = denseMesh.faceCount();

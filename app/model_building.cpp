@@ -69,13 +69,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   r["folded_before_untangle"] = stats.untangle.foldedBefore;
   r["folded_after_untangle"] = stats.untangle.foldedAfter;
   r["untangled_vertices"] = stats.untangle.movedVertices;
-  r["chart_size"] = request.chartSize;
-  r["charts"] = layout.charts;
-  r["atlas_width"] = layout.width();
-  r["atlas_height"] = layout.height();
-  r["atlas_efficiency"] = layout.efficiency();
-  r["folded_texels"] = charts.foldedTexels;
-  r["gap_texels"] = charts.gapTexels;
+  r.update(atlasFigures(model));
   r["repaired_texels"] = charts.repairedTexels;
   r["border_disagreements"] = charts.borderDisagreements;
   r["seconds_untangle"] = stats.untangle.seconds;
@@ -103,6 +97,14 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
     base.denseBary.clear();
   }
   return model;
+}
+
+nlohmann::json atlasFigures(const atlas::Model& model) {
+  const atlas::AtlasLayout& l = model.atlas.layout;
+  return {{"chart_size", model.chartSize},          {"charts", l.charts},
+          {"atlas_width", l.width()},               {"atlas_height", l.height()},
+          {"atlas_efficiency", l.efficiency()},     {"folded_texels", model.foldedTexels},
+          {"gap_texels", model.gapTexels}};
 }
 
 void writeModelFiles(const atlas::Model& model, const std::string& path, const std::string& previewDir, nlohmann::json& r) {

@@ -33,6 +33,10 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
 // takes any manifold polygon mesh a scanner or modeller writes.
 Mesh prepareModelInput(Mesh mesh);
 
+// chart_size, charts, atlas_width, atlas_height, atlas_efficiency, folded_texels, gap_texels: the
+// atlas's figures, as build and eval report them.
+nlohmann::json atlasFigures(const atlas::Model& model);
+
 // Writes the model and the atlas previews (position_atlas.png, normal_atlas.png into
 // `previewDir` unless empty); adds model_bytes to `figures`.
 void writeModelFiles(const atlas::Model& model, const std::string& path, const std::string& previewDir, nlohmann::json& figures);

@@ -5,7 +5,6 @@
 #include <atomic>
 #include <chrono>
 #include <limits>
-#include <map>
 #include <memory>
 
 #include "atlas/hausdorff.h"
@@ -64,74 +63,76 @@ void sampleCharts(const Mesh& dense, const std::vector<Vec3>& normals, const mul
   stats.gapTexels = gaps;
 }
 
-// Texels far from all their chart neighbours (more than kOutlier times the chart's median texel
-// spacing from the nearest, and kOutlier times their spread from their mean), where the
-// parametrisation sent one place of the chart to a distant sheet of the surface: refilled from their neighbours (Laplace's averaging) and put back on the
-// dense surface at the nearest point. Such a texel would stretch every triangle around it across
-// the gap. (Looser tests, counting texels with one close neighbour too, lowered bunny00's and
-// fandisk's finest level: they caught sharp but sound places.) Returns how many were refilled;
-// they count as held.
+// Calls visit(k) for each 4-neighbour k of texel (i, j) of an n x n chart (texels row by row).
+template <class Visit>
+void forNeighbours(std::uint32_t n, std::uint32_t i, std::uint32_t j, Visit&& visit) {
+  if (i > 0) visit(j * n + i - 1);
+  if (i + 1 < n) visit(j * n + i + 1);
+  if (j > 0) visit((j - 1) * n + i);
+  if (j + 1 < n) visit((j + 1) * n + i);
+}
+
+// The odd texels of one chart's positions p (n x n, row by row): far from all their neighbours
+// (more than kOutlier times the chart's median texel spacing) and from the neighbours' mean by
+// more than kOutlier times their spread about it, so not a stretched but sound part of the chart.
+// (Looser tests, counting texels with one close neighbour too, lowered bunny00's and fandisk's
+// finest level: they caught sharp but sound places.)
+std::vector<std::uint32_t> oddTexels(const std::vector<Vec3>& p, std::uint32_t n) {
+  constexpr double kOutlier = 4;
+  std::vector<double> spacing;
+  for (std::uint32_t j = 0; j < n; ++j)
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (i + 1 < n) spacing.push_back(norm(p[j * n + i + 1] - p[j * n + i]));
+      if (j + 1 < n) spacing.push_back(norm(p[(j + 1) * n + i] - p[j * n + i]));
+    }
+  std::nth_element(spacing.begin(), spacing.begin() + std::ptrdiff_t(spacing.size() / 2), spacing.end());
+  const double limit = kOutlier * spacing[spacing.size() / 2];
+  std::vector<std::uint32_t> odd;
+  if (!(limit > 0)) return odd;
+  for (std::uint32_t j = 0; j < n; ++j)
+    for (std::uint32_t i = 0; i < n; ++i) {
+      const Vec3& x = p[j * n + i];
+      int close = 0, count = 0;
+      Vec3 mean;
+      forNeighbours(n, i, j, [&](std::uint32_t k) { close += !(norm(p[k] - x) > limit), mean = mean + p[k], ++count; });
+      mean = mean * (1.0 / count);
+      double spread = 0;
+      forNeighbours(n, i, j, [&](std::uint32_t k) { spread = std::max(spread, norm(p[k] - mean)); });
+      if (close == 0 && norm(x - mean) > kOutlier * spread) odd.push_back(j * n + i);
+    }
+  return odd;
+}
+
 }  // namespace
 
 std::uint64_t repairOutliers(const Mesh& dense, const std::vector<Vec3>& normals, Atlas& atlas, std::vector<std::uint8_t>& held) {
-  constexpr double kOutlier = 4;
   const std::uint32_t n = atlas.layout.chartSize;
-  std::unique_ptr<NearestPoints> nearest;  // built on the first outlier
+  std::unique_ptr<NearestPoints> nearest;  // built on the first odd texel
   std::uint64_t repaired = 0;
-  std::vector<double> spacing;
   std::vector<Vec3> p(std::size_t(n) * n);
   for (std::uint32_t c = 0; c < atlas.layout.charts; ++c) {
     for (std::uint32_t j = 0; j < n; ++j)
       for (std::uint32_t i = 0; i < n; ++i) p[j * n + i] = atlas.position(c, i, j);
-    spacing.clear();
-    for (std::uint32_t j = 0; j < n; ++j)
-      for (std::uint32_t i = 0; i < n; ++i) {
-        if (i + 1 < n) spacing.push_back(norm(p[j * n + i + 1] - p[j * n + i]));
-        if (j + 1 < n) spacing.push_back(norm(p[(j + 1) * n + i] - p[j * n + i]));
+    const std::vector<std::uint32_t> odd = oddTexels(p, n);
+    if (odd.empty()) continue;
+    for (int sweep = 0; sweep < 64; ++sweep)  // Laplace's averaging over the odd texels
+      for (const std::uint32_t t : odd) {
+        Vec3 sum;
+        int count = 0;
+        forNeighbours(n, t % n, t / n, [&](std::uint32_t k) { sum = sum + p[k], ++count; });
+        p[t] = sum * (1.0 / count);
       }
-    std::nth_element(spacing.begin(), spacing.begin() + std::ptrdiff_t(spacing.size() / 2), spacing.end());
-    const double limit = kOutlier * spacing[spacing.size() / 2];
-    auto forNeighbours = [&](std::uint32_t i, std::uint32_t j, auto&& visit) {
-      if (i > 0) visit(j * n + i - 1);
-      if (i + 1 < n) visit(j * n + i + 1);
-      if (j > 0) visit((j - 1) * n + i);
-      if (j + 1 < n) visit((j + 1) * n + i);
-    };
-    std::vector<std::uint32_t> found;
-    {
-      for (std::uint32_t j = 0; j < n; ++j)
-        for (std::uint32_t i = 0; i < n; ++i) {
-          // Far from all its neighbours, and from their mean by more than they spread about it: an
-          // odd one out, not a stretched but sound stretch of the chart.
-          int close = 0, count = 0;
-          Vec3 mean;
-          forNeighbours(i, j, [&](std::uint32_t k) { close += !(norm(p[k] - p[j * n + i]) > limit), mean = mean + p[k], ++count; });
-          mean = mean * (1.0 / count);
-          double spread = 0;
-          forNeighbours(i, j, [&](std::uint32_t k) { spread = std::max(spread, norm(p[k] - mean)); });
-          if (limit > 0 && close == 0 && norm(p[j * n + i] - mean) > kOutlier * spread) found.push_back(j * n + i);
-        }
-      if (found.empty()) continue;
-      for (int sweep = 0; sweep < 64; ++sweep)
-        for (const std::uint32_t t : found) {
-          Vec3 sum;
-          int count = 0;
-          forNeighbours(t % n, t / n, [&](std::uint32_t k) { sum = sum + p[k], ++count; });
-          p[t] = sum * (1.0 / count);
-        }
-      if (!nearest) nearest = std::make_unique<NearestPoints>(dense);
-      for (const std::uint32_t t : found) {
-        const NearestPoints::Hit hit = nearest->nearest(p[t]);
-        p[t] = hit.point;
-        Vec3 normal;
-        const auto corners = dense.face(hit.face);
-        for (int k = 0; k < 3; ++k) normal = normal + normals[corners[k]] * hit.bary[k];
-        const std::size_t at = atlas.layout.texel(c, t % n, t / n);
-        atlas.positions[at] = {float(hit.point.x), float(hit.point.y), float(hit.point.z)};
-        atlas.normals[at] = packNormal(normal);
-        held[at] = 1;
-        ++repaired;
-      }
+    if (!nearest) nearest = std::make_unique<NearestPoints>(dense);
+    for (const std::uint32_t t : odd) {
+      const NearestPoints::Hit hit = nearest->nearest(p[t]);
+      Vec3 normal;
+      const auto corners = dense.face(hit.face);
+      for (int k = 0; k < 3; ++k) normal = normal + normals[corners[k]] * hit.bary[k];
+      const std::size_t at = atlas.layout.texel(c, t % n, t / n);
+      atlas.positions[at] = {float(hit.point.x), float(hit.point.y), float(hit.point.z)};
+      atlas.normals[at] = packNormal(normal);
+      held[at] = 1;
+      ++repaired;
     }
   }
   return repaired;
@@ -147,49 +148,34 @@ namespace {
 void averageSharedBorders(const multires::BaseMesh& base, const std::vector<std::uint8_t>& held, double tolerance,
                           Atlas& atlas, ChartStats& stats) {
   const std::uint32_t n = atlas.layout.chartSize;
-  struct SideRef {
-    std::uint32_t chart;
-    int side;
-    bool reversed;  // runs from the edge's larger vertex to its smaller
-  };
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<SideRef>> edges;
-  for (std::uint32_t c = 0; c < atlas.layout.charts; ++c) {
-    const auto sides = tileSides(base, c);
+  auto positionAt = [&](std::size_t at) { return Vec3{atlas.positions[at][0], atlas.positions[at][1], atlas.positions[at][2]}; };
+  const auto across = sidesAcross(base);
+  for (std::uint32_t c = 0; c < atlas.layout.charts; ++c)
     for (int s = 0; s < 4; ++s) {
-      const auto [a, b] = sides[s];
-      edges[{std::min(a, b), std::max(a, b)}].push_back({c, s, a > b});
-    }
-  }
-  for (const auto& [edge, refs] : edges) {
-    if (refs.size() > 1) stats.sharedSides += refs.size();
-    for (std::uint32_t m = 1; m + 1 < n; ++m) {
-      auto texelOf = [&](const SideRef& r) {
-        const auto ij = sideTexel(r.side, r.reversed ? n - 1 - m : m, n);
-        return atlas.layout.texel(r.chart, ij[0], ij[1]);
-      };
-      bool anyHeld = false;
-      for (const SideRef& r : refs) anyHeld = anyHeld || held[texelOf(r)];
-      std::vector<std::size_t> takes;
-      for (const SideRef& r : refs)
-        if (!anyHeld || held[texelOf(r)]) takes.push_back(texelOf(r));
-      auto positionAt = [&](std::size_t at) { return Vec3{atlas.positions[at][0], atlas.positions[at][1], atlas.positions[at][2]}; };
-      for (const std::size_t at : takes)
-        if (norm(positionAt(at) - positionAt(takes[0])) > tolerance) {
+      const SideAcross other = across[c][s];
+      if (other.tile == kNoTile || other.tile < c) continue;  // each shared edge once, from its lower chart
+      stats.sharedSides += 2;
+      for (std::uint32_t m = 1; m + 1 < n; ++m) {
+        const auto ij = sideTexel(s, m, n), kl = sideTexel(other.side, n - 1 - m, n);
+        const std::size_t both[2] = {atlas.layout.texel(c, ij[0], ij[1]), atlas.layout.texel(other.tile, kl[0], kl[1])};
+        std::vector<std::size_t> takes;
+        for (const std::size_t at : both)
+          if (held[at] || !(held[both[0]] || held[both[1]])) takes.push_back(at);
+        if (takes.size() == 2 && norm(positionAt(takes[1]) - positionAt(takes[0])) > tolerance) {
           ++stats.borderDisagreements;
           takes.resize(1);
-          break;
         }
-      Sample sum{};
-      for (const std::size_t at : takes) {
-        sum.position = sum.position + positionAt(at);
-        sum.normal = sum.normal + unpackNormal(atlas.normals[at]);
+        Sample sum{};
+        for (const std::size_t at : takes) {
+          sum.position = sum.position + positionAt(at);
+          sum.normal = sum.normal + unpackNormal(atlas.normals[at]);
+        }
+        const Vec3 p = sum.position * (1.0 / double(takes.size()));
+        const std::array<float, 3> position{float(p.x), float(p.y), float(p.z)};
+        const Normal16 normal = packNormal(sum.normal);
+        for (const std::size_t at : both) atlas.positions[at] = position, atlas.normals[at] = normal;
       }
-      const Vec3 p = sum.position * (1.0 / double(takes.size()));
-      const std::array<float, 3> position{float(p.x), float(p.y), float(p.z)};
-      const Normal16 normal = packNormal(sum.normal);
-      for (const SideRef& r : refs) atlas.positions[texelOf(r)] = position, atlas.normals[texelOf(r)] = normal;
     }
-  }
   // Corners: the base vertex's position, and the mean of the corner normals around it.
   std::vector<Vec3> cornerNormals(base.vertexCount());
   auto forCorners = [&](auto&& visit) {

@@ -1,7 +1,6 @@
 #include "atlas/reconstruct.h"
 
 #include <bit>
-#include <map>
 #include <unordered_map>
 
 #include "atlas/tile_sides.h"
@@ -35,10 +34,10 @@ public:
   std::uint32_t of(std::uint32_t chart, std::uint32_t i, std::uint32_t j) {
     const std::uint32_t last = source_.fine - 1;
     if (i > 0 && i < last && j > 0 && j < last) {
-      if (chart != chart_) chart_ = chart, interior_.clear();
-      const auto [it, added] = interior_.try_emplace(std::uint64_t(j) * source_.fine + i, 0);
-      if (added) it->second = add(chart, i, j);
-      return it->second;
+      if (chart != chart_) chart_ = chart, interior_.assign(std::size_t(source_.fine) * source_.fine, kNone);
+      std::uint32_t& id = interior_[std::size_t(j) * source_.fine + i];
+      if (id == kNone) id = add(chart, i, j);
+      return id;
     }
     // On a side: which one, and the step along it from its first base vertex.
     const int side = j == 0 ? 0 : i == last ? 1 : j == last ? 2 : 3;
@@ -68,26 +67,9 @@ private:
   Mesh& mesh_;
   std::vector<std::uint32_t> baseVertex_;
   std::uint32_t chart_ = kNone;                                 // whose interior texels interior_ numbers
-  std::unordered_map<std::uint64_t, std::uint32_t> interior_;   // texel of chart_ -> vertex
+  std::vector<std::uint32_t> interior_;                         // per texel of chart_: its vertex
   std::unordered_map<std::uint64_t, std::uint32_t> edgeSample_;  // (edge, texel along it) -> vertex
 };
-
-// Per tile and side, the tile across it (or ~0u on the boundary).
-std::vector<std::array<std::uint32_t, 4>> tilesAcross(const multires::BaseMesh& base) {
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> byEdge;
-  for (std::uint32_t c = 0; c < base.tiles.size(); ++c)
-    for (const TileSide& s : tileSides(base, c)) byEdge[{std::min(s.from, s.to), std::max(s.from, s.to)}].push_back(c);
-  std::vector<std::array<std::uint32_t, 4>> across(base.tiles.size());
-  for (std::uint32_t c = 0; c < base.tiles.size(); ++c) {
-    const auto sides = tileSides(base, c);
-    for (int k = 0; k < 4; ++k) {
-      across[c][k] = ~0u;
-      for (const std::uint32_t d : byEdge[{std::min(sides[k].from, sides[k].to), std::max(sides[k].from, sides[k].to)}])
-        if (d != c) across[c][k] = d;
-    }
-  }
-  return across;
-}
 
 }  // namespace
 
@@ -119,7 +101,7 @@ Mesh reconstructLevel(const multires::BaseMesh& base, const Atlas& atlas, int le
     const int l = local && !source.detail[c] ? coarseTop : level;
     return (fine - 1) >> (l / 2);
   };
-  const auto across = local ? tilesAcross(base) : std::vector<std::array<std::uint32_t, 4>>{};
+  const auto across = local ? sidesAcross(base) : std::vector<std::array<SideAcross, 4>>{};
 
   Mesh mesh;
   VertexNumbering vertex(base, source, mesh);
@@ -135,8 +117,8 @@ Mesh reconstructLevel(const multires::BaseMesh& base, const Atlas& atlas, int le
       const Corner a = corners[e], b = corners[(e + 1) % 3], o = corners[(e + 2) % 3];
       const int side = a.j == 0 && b.j == 0 ? 0 : a.i == last && b.i == last ? 1 : a.j == last && b.j == last ? 2
                        : a.i == 0 && b.i == 0 ? 3 : -1;
-      if (side < 0 || across[c][side] == ~0u) continue;
-      const std::uint32_t finer = stepOf(across[c][side]);
+      if (side < 0 || across[c][side].tile == kNoTile) continue;
+      const std::uint32_t finer = stepOf(across[c][side].tile);
       if (finer >= step) continue;
       const std::int64_t di = (std::int64_t(b.i) - a.i) / std::int64_t(step / finer), dj = (std::int64_t(b.j) - a.j) / std::int64_t(step / finer);
       const std::uint32_t apex = vertex.of(c, o.i, o.j);

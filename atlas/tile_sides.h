@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "multires/base_mesh.h"
 
@@ -25,5 +26,14 @@ inline std::array<std::uint32_t, 2> sideTexel(int side, std::uint32_t m, std::ui
     default: return {0, n - 1 - m};
   }
 }
+
+// Per tile and side, the tile and side across the same base edge (run the other way), found
+// through the base triangles' neighbours; tile kNoTile on the mesh's boundary.
+inline constexpr std::uint32_t kNoTile = ~0u;
+struct SideAcross {
+  std::uint32_t tile = kNoTile;
+  int side = -1;
+};
+std::vector<std::array<SideAcross, 4>> sidesAcross(const multires::BaseMesh& base);
 
 }  // namespace isoatlas::atlas
