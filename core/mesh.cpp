@@ -1,5 +1,7 @@
 #include "core/mesh.h"
 
+#include <unordered_map>
+
 #include <algorithm>
 
 namespace isoatlas {
@@ -87,6 +89,26 @@ std::vector<Vec3> vertexNormals(const Mesh& m) {
     if (len > 0) v = v * (1 / len);
   }
   return n;
+}
+
+Mesh weldIdenticalPositions(const Mesh& mesh) {
+  struct Hash {
+    std::size_t operator()(const Vec3& p) const {
+      return std::hash<double>()(p.x) ^ (std::hash<double>()(p.y) * 31) ^ (std::hash<double>()(p.z) * 131);
+    }
+  };
+  std::unordered_map<Vec3, std::uint32_t, Hash> index;
+  Mesh out;
+  std::vector<std::uint32_t> to(mesh.vertexCount());
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+    const auto [it, added] = index.try_emplace(mesh.positions[v], std::uint32_t(out.positions.size()));
+    if (added) out.positions.push_back(mesh.positions[v]);
+    to[v] = it->second;
+  }
+  out.faceVertices.reserve(mesh.faceVertices.size());
+  for (const std::uint32_t v : mesh.faceVertices) out.faceVertices.push_back(to[v]);
+  out.faceOffsets = mesh.faceOffsets;
+  return out;
 }
 
 }  // namespace isoatlas

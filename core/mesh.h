@@ -37,6 +37,10 @@ inline Mesh dropUnusedVertices(const Mesh& mesh) {
   return selectFaces(mesh, [](std::size_t) { return true; });
 }
 
+// The mesh with vertices of bit-identical positions merged into the first of them (normals dropped):
+// triangles captured from a GPU, three corners each, become a connected mesh where they share corners.
+Mesh weldIdenticalPositions(const Mesh& mesh);
+
 // Compressed rows: row i is items[offsets[i] .. offsets[i + 1]).
 struct Rows {
   std::vector<std::uint32_t> offsets, items;

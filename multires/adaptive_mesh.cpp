@@ -138,13 +138,7 @@ VertexH AdaptiveMesh::split(EdgeH e) {
     diagonalPlus = (x[2] - x[0]) * (x[3] - x[1]) > 0;
     sides.push_back(std::move(side));
   }
-  const int n = int(chartSize_ - 1);
-  // On a tile side, the chart of lower index is sampled, so the new vertex does not depend on which
-  // side the edge's handle happens to start from. (Averaging both, as the atlas will average shared
-  // edges, puts the vertex off the surface while the two charts still disagree: see DenseSampler.)
-  const Side& from = sides.size() == 2 && sides[1].chart < sides[0].chart ? sides[1] : sides[0];
-  const Vec3 position = sampler_({from.chart, double(from.mid[0]) / n, double(from.mid[1]) / n});
-  const VertexH m = splitEdge(mesh_, e, position);
+  const VertexH m = splitEdge(mesh_, e, *splitPosition(e));
   mesh_.property(level_, m) = std::uint8_t(newLevel | ((newLevel % 2 == 1 && diagonalPlus) ? 0x80 : 0));
   for (Side& side : sides) side.table.push_back({m.idx(), side.mid});
   for (const FaceH f : mesh_.vf_range(m))
@@ -154,6 +148,21 @@ VertexH AdaptiveMesh::split(EdgeH e) {
       if (hasApex) setFace(f, side.chart, side.table);
     }
   return m;
+}
+
+std::optional<Vec3> AdaptiveMesh::splitPosition(EdgeH e) const {
+  // On a tile side, the chart of lower index is sampled, so the new vertex does not depend on which
+  // side the edge's handle happens to start from. (Averaging both, as the atlas will average shared
+  // edges, puts the vertex off the surface while the two charts still disagree: see DenseSampler.)
+  HalfedgeH from;
+  for (int i = 0; i < 2; ++i) {
+    const HalfedgeH h = mesh_.halfedge_handle(e, i);
+    if (!mesh_.is_boundary(h) && (!from.is_valid() || chart(h) < chart(from))) from = h;
+  }
+  const auto x = uv(from);
+  if ((x[0] + x[2]) % 2 != 0 || (x[1] + x[3]) % 2 != 0) return std::nullopt;
+  const double n = chartSize_ - 1;
+  return sampler_({chart(from), (x[0] + x[2]) / 2 / n, (x[1] + x[3]) / 2 / n});
 }
 
 bool AdaptiveMesh::canWeld(VertexH v) const {

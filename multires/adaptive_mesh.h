@@ -14,6 +14,7 @@
 // from the chart of lower index.
 #pragma once
 #include <functional>
+#include <optional>
 
 #include "multires/base_mesh.h"
 #include "multires/stellar_mesh.h"
@@ -47,6 +48,10 @@ public:
   void weld(VertexH v);    // requires canWeld
   // Splits e after the splits that conformity forces; false when that would go finer than the chart.
   bool refine(EdgeH e);
+  // Where a split of e would put its vertex (the chart's sample at the edge's midpoint, from the
+  // chart of lower index on a tile side), without splitting; nullopt when the midpoint falls between
+  // the chart's texels.
+  std::optional<Vec3> splitPosition(EdgeH e) const;
 
   int level(VertexH v) const;
   bool isInterior(HalfedgeH h) const;

@@ -81,13 +81,7 @@ Image renderMesh(const Mesh& mesh, const MeshRenderOptions& o) {
   glDrawArrays(GL_TRIANGLES, 0, GLsizei(vertices.size() / 6));
   gl::checkErrors("drawing the mesh");
 
-  const std::vector<unsigned char> rgba = fbo.readRgba();
-  Image image(o.width, o.height, 3);
-  for (int y = 0; y < o.height; ++y)
-    for (int x = 0; x < o.width; ++x)
-      for (int c = 0; c < 3; ++c)
-        image.at(x, y)[c] = rgba[(std::size_t(o.height - 1 - y) * std::size_t(o.width) + std::size_t(x)) * 4 + std::size_t(c)];
-  return image;
+  return fbo.readImage();
 }
 
 }  // namespace isoatlas::viewer

@@ -99,6 +99,16 @@ Framebuffer::Framebuffer(int width, int height)
                 ErrorKind::Failure);
 }
 
+Image Framebuffer::readImage() const {
+  const std::vector<unsigned char> rgba = readRgba();
+  Image image(w_, h_, 3);
+  for (int y = 0; y < h_; ++y)
+    for (int x = 0; x < w_; ++x)
+      for (int c = 0; c < 3; ++c)
+        image.at(x, y)[c] = rgba[(std::size_t(h_ - 1 - y) * std::size_t(w_) + std::size_t(x)) * 4 + std::size_t(c)];
+  return image;
+}
+
 void Framebuffer::bind() const {
   glBindFramebuffer(GL_FRAMEBUFFER, id());
   glViewport(0, 0, w_, h_);

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/image.h"
+
 namespace isoatlas::gl {
 
 // The current context's serial, for a GL object about to be made (Context::current(): throws when
@@ -98,6 +100,7 @@ public:
   Framebuffer(int width, int height);
   void bind() const;
   std::vector<unsigned char> readRgba() const;  // rows bottom to top, as GL stores them
+  Image readImage() const;                       // RGB, rows top to bottom
   int width() const { return w_; }
   int height() const { return h_; }
 

@@ -1,0 +1,215 @@
+// The tessellated atlas against its CPU twin and the crack-free invariant: with no GPU refinement
+// the GPU makes exactly the CPU's mesh (same vertices, same triangle count); with any CPU and GPU
+// levels and cameras, the captured triangles welded by position are closed and manifold on a closed
+// model, and only the model's own boundary stays open on one with holes; each added GPU halving
+// quadruples a base tile's triangles.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+#include <set>
+
+#include "atlas/make_atlas.h"
+#include "atlas/reconstruct.h"
+#include "atlas/tile_sides.h"
+#include "core/mesh_topology.h"
+#include "multires/stellar_simplify.h"
+#include "multires/triangle_pairing.h"
+#include "tests/gl_context.h"
+#include "tests/multires/mesh_shapes.h"
+#include "viewer/atlas_render.h"
+#include "viewer/model_lod.h"
+
+namespace isoatlas::viewer {
+namespace {
+
+atlas::Model buildModel(Mesh dense, double ratio, std::uint32_t chartSize) {
+  atlas::Model m;
+  m.chartSize = chartSize;
+  m.base = multires::simplifyStellar(dense, {.vertexRatio = ratio});
+  multires::pairTriangles(m.base, dense);
+  m.atlas = atlas::makeAtlas(dense, m.base, chartSize);
+  return m;
+}
+const atlas::Model& torus() {
+  static const atlas::Model m = buildModel(test::torusMesh(48, 24), 0.04, 17);
+  return m;
+}
+// A plane with two square holes: three boundary loops.
+const atlas::Model& holedPlane() {
+  static const atlas::Model m = buildModel(test::gridMesh(30, 24, [](int i, int j) {
+    return (i >= 6 && i < 10 && j >= 6 && j < 10) || (i >= 18 && i < 23 && j >= 12 && j < 16);
+  }), 0.05, 9);
+  return m;
+}
+
+struct Scene {
+  const atlas::Model& model;
+  ModelLod lod{model};
+  AtlasTextures textures{model.atlas};
+  PatchBuffer patches;
+  Box box = boundingBox(model.atlas.positions.empty() ? std::vector<Vec3>{} : model.base.positions);
+  explicit Scene(const atlas::Model& m) : model(m) {}
+  // Seen from in front and above, turned about the vertical.
+  Camera camera(double turn = 0) const { return Camera::framing(box, 320, 240, {0, 1, -0.8}).turned(turn); }
+  Mesh capture(const CpuRefinement& cpu, const GpuRefinement& gpu, const Camera& c, multires::AdaptiveMesh* cpuMesh = nullptr) {
+    patches.update(lod.patches(cpu, c, {}));
+    if (cpuMesh) *cpuMesh = lod.refined(cpu, c, {});
+    return AtlasRenderer().capture({{&textures, &patches, {}}}, c, box, gpu);
+  }
+};
+
+std::array<float, 3> asFloats(const Vec3& p) { return {float(p.x), float(p.y), float(p.z)}; }
+
+std::set<std::array<float, 3>> vertexSet(const Mesh& m) {
+  std::set<std::array<float, 3>> s;
+  for (const Vec3& p : m.positions) s.insert(asFloats(p));
+  return s;
+}
+
+TEST(AtlasRender, WithoutGpuRefinementTheGpuMakesTheCpuMesh) {
+  test::glContext();
+  Scene scene(torus());
+  for (int level = 0; level <= scene.lod.maxLevel(); ++level) {
+    multires::AdaptiveMesh cpu = scene.lod.refined({CpuRefinement::Mode::Level, level}, scene.camera(), {});
+    const Mesh gpu = weldIdenticalPositions(scene.capture({CpuRefinement::Mode::Level, level}, {GpuRefinement::Mode::Level, 0}, scene.camera()));
+    const Mesh cpuMesh = cpu.triangles();
+    EXPECT_EQ(gpu.faceCount(), cpuMesh.faceCount()) << "level " << level;
+    EXPECT_EQ(vertexSet(gpu), vertexSet(cpuMesh)) << "level " << level;
+    // And the uniform level is the atlas's reconstruction of that level.
+    EXPECT_EQ(vertexSet(gpu), vertexSet(atlas::reconstructLevel(scene.model.base, scene.model.atlas, level))) << "level " << level;
+  }
+}
+
+TEST(AtlasRender, EachGpuHalvingQuadruplesATile) {
+  test::glContext();
+  Scene scene(torus());
+  const std::size_t tiles = scene.model.base.tiles.size();
+  for (int halvings = 0; halvings <= 4; ++halvings) {
+    const Mesh gpu = scene.capture({CpuRefinement::Mode::Level, 0}, {GpuRefinement::Mode::Level, halvings}, scene.camera());
+    EXPECT_EQ(gpu.faceCount(), tiles * 2 * (std::size_t(1) << (2 * halvings))) << halvings << " halvings";
+  }
+}
+
+// Texel positions on tile sides no other tile shares: the model's own boundary.
+std::set<std::array<float, 3>> openSideTexels(const atlas::Model& model) {
+  std::set<std::array<float, 3>> out;
+  const auto across = atlas::sidesAcross(model.base);
+  const std::uint32_t n = model.chartSize;
+  for (std::uint32_t t = 0; t < across.size(); ++t)
+    for (int side = 0; side < 4; ++side)
+      if (across[t][std::size_t(side)].tile == atlas::kNoTile)
+        for (std::uint32_t m = 0; m < n; ++m) {
+          const auto x = atlas::sideTexel(side, m, n);
+          out.insert(asFloats(model.atlas.position(t, x[0], x[1])));
+        }
+  return out;
+}
+
+// Captured triangles welded by position: every directed edge is matched by one running the other way
+// (a crack leaves an edge of one triangle only), except on the model's own boundary. Counting
+// directions rather than faces per edge keeps this exact where the atlas holds one point twice.
+void expectNoBorderEdgesButTheModels(const Mesh& welded, const std::set<std::array<float, 3>>& boundary) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> balance;
+  for (std::size_t f = 0; f < welded.faceCount(); ++f) {
+    const auto c = welded.face(f);
+    for (std::size_t i = 0; i < 3; ++i) {
+      const std::uint32_t a = c[i], b = c[(i + 1) % 3];
+      if (a == b) continue;  // two texels of one position (a gap the atlas filled with its nearest point)
+      if (a < b) ++balance[{a, b}];
+      else --balance[{b, a}];
+    }
+  }
+  std::size_t open = 0;
+  for (const auto& [edge, count] : balance) {
+    if (count == 0) continue;
+    ++open;
+    const bool onBoundary = boundary.count(asFloats(welded.positions[edge.first])) && boundary.count(asFloats(welded.positions[edge.second]));
+    ASSERT_TRUE(onBoundary) << "a crack: the edge from " << welded.positions[edge.first].x << ", " << welded.positions[edge.first].y << ", "
+                            << welded.positions[edge.first].z << " has no partner";
+  }
+  if (boundary.empty()) EXPECT_EQ(open, 0u);
+  else EXPECT_GT(open, 0u);
+}
+
+void expectCrackFree(Scene& scene, int cases, unsigned seed) {
+  const auto boundary = openSideTexels(scene.model);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(0, 1);
+  for (int i = 0; i < cases; ++i) {
+    Camera c = scene.camera(unit(rng) * 6.3);
+    // Closer in, up or down, narrower: the screen sizes of the tiles vary over the model.
+    c.eye = c.target + (c.eye - c.target) * (0.35 + unit(rng)) + Vec3{0, 0, (unit(rng) - 0.5) * scene.box.diagonal()};
+    c.fovDegrees = 20 + 40 * unit(rng);
+    const CpuRefinement cpu = rng() % 2 ? CpuRefinement{CpuRefinement::Mode::Level, int(rng() % (scene.lod.maxLevel() + 1))}
+                                        : CpuRefinement{CpuRefinement::Mode::Pixels, 0, 0.2 + 4 * unit(rng)};
+    const GpuRefinement gpu = rng() % 2 ? GpuRefinement{GpuRefinement::Mode::Level, int(rng() % 4)}
+                                        : GpuRefinement{GpuRefinement::Mode::Pixels, 0, 2 + 30 * unit(rng)};
+    SCOPED_TRACE("case " + std::to_string(i) + ": cpu mode " + std::to_string(int(cpu.mode)) + " level " + std::to_string(cpu.level) +
+                 " error " + std::to_string(cpu.pixels) + ", gpu mode " + std::to_string(int(gpu.mode)) + " halvings " +
+                 std::to_string(gpu.halvings) + " pixels " + std::to_string(gpu.pixels));
+    multires::AdaptiveMesh cpuMesh = scene.lod.refined(cpu, c, {});
+    const Mesh gpuMesh = weldIdenticalPositions(scene.capture(cpu, gpu, c, &cpuMesh));
+    expectNoBorderEdgesButTheModels(gpuMesh, boundary);
+    // The GPU refines above the CPU: every CPU vertex is one of its vertices.
+    const auto gpuVertices = vertexSet(gpuMesh);
+    for (const Vec3& p : cpuMesh.triangles().positions) ASSERT_TRUE(gpuVertices.count(asFloats(p))) << "a CPU vertex is missing";
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+}
+
+TEST(AtlasRender, CrackFreeOverRandomLevelsAndCameras) {
+  test::glContext();
+  Scene scene(torus());
+  expectCrackFree(scene, 40, 7);
+}
+
+TEST(AtlasRender, OnlyTheModelsOwnBoundaryStaysOpen) {
+  test::glContext();
+  Scene scene(holedPlane());
+  ASSERT_EQ(analyzeTopology(atlas::reconstructLevel(scene.model.base, scene.model.atlas, 0)).boundaryLoops, 3u);
+  expectCrackFree(scene, 25, 3);
+}
+
+TEST(AtlasRender, PatchBufferSendsOnlyWhatChanged) {
+  test::glContext();
+  Scene scene(torus());
+  PatchBuffer buffer;
+  std::vector<GpuPatch> patches = scene.lod.patches({CpuRefinement::Mode::Level, 3}, scene.camera(), {});
+  EXPECT_EQ(buffer.update(patches), patches.size() * sizeof(GpuPatch));
+  EXPECT_EQ(buffer.update(patches), 0u);
+  patches[5].size ^= 1u << 24;
+  patches[9].sides ^= 1u;
+  EXPECT_EQ(buffer.update(patches), 5 * sizeof(GpuPatch));
+  EXPECT_EQ(buffer.buffer().read<GpuPatch>(patches.size()), patches);
+}
+
+TEST(AtlasRender, PictureShowsTheModelAndItsTileBorders) {
+  test::glContext();
+  Scene scene(torus());
+  scene.patches.update(scene.lod.patches({CpuRefinement::Mode::Level, 2}, scene.camera(0.5), {}));
+  const gl::Framebuffer fbo(320, 240);
+  DrawStyle style;
+  style.wireframe = true;
+  const FrameFigures f = AtlasRenderer().draw({{&scene.textures, &scene.patches, {}}}, scene.camera(0.5), scene.box,
+                                              {GpuRefinement::Mode::Level, 1}, style, fbo);
+  // Level 2: one patch a tile, its centre and side midpoints on the CPU; one halving makes it 4 x 4.
+  EXPECT_EQ(f.patches, scene.model.base.tiles.size());
+  EXPECT_EQ(f.triangles, f.patches * 32);
+  const Image image = fbo.readImage();
+  std::size_t background = 0, brown = 0, blue = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const auto* p = image.at(x, y);
+      background += p[0] == 255 && p[1] == 255 && p[2] == 255;
+      brown += p[0] > 110 && p[0] < 170 && p[1] > 40 && p[1] < 90 && p[2] < 40;
+      blue += p[2] > 150 && p[0] < 60;
+    }
+  EXPECT_GT(background, image.width * image.height / 5u);
+  EXPECT_LT(background, image.width * image.height * 9 / 10u);
+  EXPECT_GT(brown, 100u) << "tile borders drawn brown";
+  EXPECT_GT(blue, 100u) << "tile interiors drawn blue";
+}
+
+}  // namespace
+}  // namespace isoatlas::viewer

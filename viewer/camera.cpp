@@ -1,0 +1,85 @@
+#include "viewer/camera.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace isoatlas::viewer {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Vec3 unit(const Vec3& v) { return v * (1 / norm(v)); }
+
+struct Frame {
+  Vec3 right, up, forward;
+};
+Frame frameOf(const Camera& c) {
+  const Vec3 forward = unit(c.target - c.eye);
+  const Vec3 right = unit(cross(forward, c.up));
+  return {right, cross(right, forward), forward};
+}
+
+}  // namespace
+
+void Camera::check() const {
+  require(norm(target - eye) > 0, "--camera: the eye and the target are the same point");
+  require(norm(cross(target - eye, up)) > 1e-9 * norm(target - eye), "--camera: the camera looks straight up or down");
+  require(fovDegrees > 0.1 && fovDegrees < 170, "--camera: the field of view must lie between 0.1 and 170 degrees");
+  require(width > 0 && height > 0 && width <= 8192 && height <= 8192, "--size: width and height must be 1 to 8192 pixels");
+}
+
+std::array<float, 16> Camera::viewProjection(double near, double far) const {
+  const Frame f = frameOf(*this);
+  const double focal = 1 / std::tan(fovDegrees * kPi / 360), aspect = double(width) / height;
+  // Rows of the projection times the view, written column-major for GL.
+  const double a = -(far + near) / (far - near), b = -2 * far * near / (far - near);
+  const Vec3 rows[3] = {f.right * (focal / aspect), f.up * focal, f.forward};
+  std::array<float, 16> m{};
+  for (int c = 0; c < 3; ++c) {
+    m[c * 4 + 0] = float(rows[0][c]);
+    m[c * 4 + 1] = float(rows[1][c]);
+    m[c * 4 + 2] = float(-a * rows[2][c]);  // depth grows along forward
+    m[c * 4 + 3] = float(rows[2][c]);
+  }
+  m[12] = float(-dot(rows[0], eye));
+  m[13] = float(-dot(rows[1], eye));
+  m[14] = float(a * dot(rows[2], eye) + b);
+  m[15] = float(-dot(rows[2], eye));
+  return m;
+}
+
+double Camera::pixelsPerUnit(const Vec3& point) const {
+  const double depth = dot(point - eye, frameOf(*this).forward);
+  const double focalPixels = height / 2.0 / std::tan(fovDegrees * kPi / 360);
+  return focalPixels / std::max(depth, 1e-6 * norm(target - eye));
+}
+
+Camera Camera::turned(double radians) const {
+  const Vec3 axis = unit(up), d = eye - target;
+  const Vec3 along = axis * dot(d, axis), across = d - along, side = cross(axis, across);
+  Camera c = *this;
+  c.eye = target + along + across * std::cos(radians) + side * std::sin(radians);
+  return c;
+}
+
+Camera Camera::framing(const Box& box, int width, int height, Vec3 viewDirection) {
+  Camera c;
+  c.width = width, c.height = height;
+  c.target = (box.min + box.max) * 0.5;
+  const double radius = std::max(box.diagonal() / 2, 1e-6);
+  const double halfFov = std::min(c.fovDegrees, c.fovDegrees * width / height) * kPi / 360;
+  c.eye = c.target - unit(viewDirection) * (radius / std::sin(halfFov) * 1.02);
+  return c;
+}
+
+std::array<double, 2> depthRange(const Camera& camera, const Box& box) {
+  const Vec3 centre = (box.min + box.max) * 0.5;
+  const double radius = std::max(box.diagonal() / 2, 1e-6);
+  const double depth = dot(centre - camera.eye, unit(camera.target - camera.eye));
+  const double far = std::max(depth + radius, radius * 1e-3) * 1.01;
+  return {std::max(depth - radius, far * 1e-4), far};
+}
+
+}  // namespace isoatlas::viewer

@@ -1,0 +1,31 @@
+// Camera: a perspective view of the scene, as `isoatlas render --camera` gives it (eye, target,
+// vertical field of view) on an image of width x height pixels, z up.
+//   viewProjection(): the GL matrix (column-major, clip depth -1..1) for the given near and far
+//   pixelsPerUnit(): how many pixels one world unit (mm) at `point` covers on the image
+//   turned(): the camera rotated about the vertical axis through its target (turntables)
+//   framing(): the camera that shows a box whole, seen along a direction
+#pragma once
+#include <array>
+
+#include "core/mesh.h"
+
+namespace isoatlas::viewer {
+
+struct Camera {
+  Vec3 eye{0, -1, 0}, target{0, 0, 0}, up{0, 0, 1};
+  double fovDegrees = 30;
+  int width = 800, height = 600;
+
+  // Throws Error(BadInput) when the eye sits on the target, looks along `up`, or the field of view
+  // or image size are out of range.
+  void check() const;
+  std::array<float, 16> viewProjection(double near, double far) const;
+  double pixelsPerUnit(const Vec3& point) const;  // at the point's depth; huge behind the eye
+  Camera turned(double radians) const;
+  static Camera framing(const Box& box, int width, int height, Vec3 viewDirection = {0, 1, 0});
+};
+
+// Near and far planes that hold `box` (a sphere around it) in front of the camera.
+std::array<double, 2> depthRange(const Camera& camera, const Box& box);
+
+}  // namespace isoatlas::viewer

@@ -1,0 +1,48 @@
+#include "viewer/cpu_level.h"
+
+#include <vector>
+
+namespace isoatlas::viewer {
+
+using multires::EdgeH;
+
+std::size_t refineUniformly(multires::AdaptiveMesh& mesh, int level) {
+  std::size_t splits = 0;
+  for (int l = 0; l < level; ++l) {
+    // One 4-8 level: every edge splittable now (the interior edge of each face at the coarsest level).
+    std::vector<EdgeH> edges;
+    for (const EdgeH e : mesh.mesh().edges())
+      if (mesh.canSplit(e)) edges.push_back(e);
+    if (edges.empty()) break;
+    for (const EdgeH e : edges)
+      if (mesh.canSplit(e)) mesh.split(e), ++splits;
+  }
+  return splits;
+}
+
+std::size_t refineToError(multires::AdaptiveMesh& mesh, const EdgeError& error, double limit) {
+  std::size_t splits = 0;
+  for (bool changed = true; changed;) {
+    changed = false;
+    // Edges made by this pass's splits are measured in the next one.
+    const std::size_t edges = mesh.mesh().n_edges();
+    for (std::size_t i = 0; i < edges; ++i) {
+      const EdgeH e{int(i)};
+      if (mesh.mesh().status(e).deleted()) continue;
+      const auto sample = mesh.splitPosition(e);
+      if (!sample) continue;
+      const auto& m = mesh.mesh();
+      const Vec3 a = multires::toVec3(m.point(m.from_vertex_handle(m.halfedge_handle(e, 0))));
+      const Vec3 b = multires::toVec3(m.point(m.to_vertex_handle(m.halfedge_handle(e, 0))));
+      if (error(*sample, (a + b) * 0.5) <= limit) continue;
+      const std::size_t before = m.n_vertices();
+      if (mesh.refine(e)) {
+        splits += m.n_vertices() - before;
+        changed = true;
+      }
+    }
+  }
+  return splits;
+}
+
+}  // namespace isoatlas::viewer

@@ -1,0 +1,80 @@
+// What the atlas shaders share: the patch list (viewer/gpu_patches.h), the atlas textures, the
+// camera, and the two rules that set a patch's tessellation levels.
+layout(std430, binding = 0) readonly buffer Patches { uvec4 patches[]; };
+layout(binding = 0) uniform sampler2D positions;  // RGB32F, world millimetres
+layout(binding = 1) uniform sampler2D normals;    // RGB16_SNORM
+uniform uint chartSize;     // N texels a side
+uniform uint atlasColumns;  // chart slots per atlas row
+uniform mat4 model;         // this instance's placement
+uniform mat4 viewProjection;
+uniform vec2 viewport;      // pixels
+uniform float nearPlane;
+uniform int gpuMode;        // 0: a fixed number of halvings per CPU edge; 1: segments of gpuPixels
+uniform uint gpuLevel;
+uniform float gpuPixels;
+uniform uint maxTessLevel;  // a power of two the driver accepts
+
+uint patchSide(uvec4 p) { return p.z & 0xffffu; }
+ivec2 patchOrigin(uvec4 p) { return ivec2(p.y & 0xffffu, p.y >> 16); }
+
+ivec2 atlasTexel(uint chart, ivec2 texel) {
+  return ivec2((chart % atlasColumns) * chartSize, (chart / atlasColumns) * chartSize) + texel;
+}
+vec3 chartPosition(uint chart, ivec2 texel) { return texelFetch(positions, atlasTexel(chart, texel), 0).xyz; }
+vec3 chartNormal(uint chart, ivec2 texel) { return texelFetch(normals, atlasTexel(chart, texel), 0).xyz; }
+
+// Length in pixels between two texels of a chart. Symmetric in its arguments bit for bit, so the
+// two charts of a tile side, which hold the same texels in opposite order, agree.
+float screenLength(uint chart, ivec2 a, ivec2 b) {
+  precise vec4 ca = viewProjection * (model * vec4(chartPosition(chart, a), 1.0));
+  precise vec4 cb = viewProjection * (model * vec4(chartPosition(chart, b), 1.0));
+  precise vec2 pa = ca.xy / max(ca.w, nearPlane) * viewport * 0.5;
+  precise vec2 pb = cb.xy / max(cb.w, nearPlane) * viewport * 0.5;
+  precise vec2 d = pa - pb;
+  precise float l = sqrt(d.x * d.x + d.y * d.y);
+  return l;
+}
+
+// The spacing (texels, a power of two) that `segments` segments or more give over `extent` texels.
+uint spacingFor(uint extent, float segments) {
+  uint wanted = uint(min(ceil(max(segments, 1.0)), 65536.0));
+  uint pow2 = 1u << uint(findMSB(wanted) + (bitCount(wanted) > 1 ? 1 : 0));
+  return max(1u, extent / pow2);
+}
+
+// Rule two: side k's spacing, from its border class alone (see gpu_patches.h).
+uint sideSpacing(uvec4 p, int k) {
+  uint bits = (p.w >> (8 * k)) & 0xffu;
+  uint cpu = 1u << (bits & 15u), extent = 1u << (bits >> 4);
+  uint sigma;
+  if (gpuMode == 0) {
+    sigma = max(1u, cpu >> gpuLevel);
+  } else {
+    uint s = patchSide(p);
+    ivec2 o = patchOrigin(p);
+    bool row = k % 2 == 0;
+    uint line = row ? (k == 0 ? o.y : o.y + s) : (k == 1 ? o.x + s : o.x);
+    uint start = ((row ? o.x : o.y) / extent) * extent;
+    ivec2 a = row ? ivec2(start, line) : ivec2(line, start);
+    ivec2 step = row ? ivec2(1, 0) : ivec2(0, 1);
+    ivec2 m = a + step * int(extent / 2u), b = a + step * int(extent);
+    precise float length = screenLength(p.x, a, m) + screenLength(p.x, m, b);
+    sigma = min(cpu, spacingFor(extent, length / gpuPixels));
+  }
+  return max(sigma, max(1u, extent / maxTessLevel));
+}
+
+// Rule one: the inner spacing, from the patch alone (its CPU vertices, its size on the screen).
+uint innerSpacing(uvec4 p) {
+  uint s = patchSide(p), cpu = 1u << (p.z >> 24), sigma;
+  if (gpuMode == 0) {
+    sigma = max(1u, cpu >> gpuLevel);
+  } else {
+    ivec2 o = patchOrigin(p);
+    ivec2 c00 = o, c10 = o + ivec2(s, 0), c01 = o + ivec2(0, s), c11 = o + ivec2(s, s);
+    float length = max(max(screenLength(p.x, c00, c10), screenLength(p.x, c01, c11)),
+                       max(screenLength(p.x, c00, c01), screenLength(p.x, c10, c11)));
+    sigma = min(cpu, spacingFor(s, length / gpuPixels));
+  }
+  return max(sigma, max(1u, s / maxTessLevel));
+}
