@@ -41,5 +41,6 @@ void addExtractCommand(CLI::App& app, int& exitCode);
 void addBuildCommand(CLI::App& app, int& exitCode);
 void addEvalCommand(CLI::App& app, int& exitCode);
 void addEditDetailCommand(CLI::App& app, int& exitCode);
+void addRenderCommand(CLI::App& app, int& exitCode);
 
 }  // namespace isoatlas::app

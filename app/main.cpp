@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   addBuildCommand(app, exitCode);
   addEvalCommand(app, exitCode);
   addEditDetailCommand(app, exitCode);
-  addPendingCommand(app, "render", "headless render of a model to PNG", "the render issue", exitCode);
+  addRenderCommand(app, exitCode);
   addPendingCommand(app, "view", "interactive viewer", "the viewer issue", exitCode);
   addRunCommand(app, exitCode);
 

@@ -9,7 +9,6 @@
 
 namespace isoatlas::app {
 
-namespace {
 std::vector<double> parseNumbers(const std::string& text, const std::string& option, const char* expected) {
   std::vector<double> numbers;
   std::stringstream in(text);
@@ -23,7 +22,6 @@ std::vector<double> parseNumbers(const std::string& text, const std::string& opt
   }
   return numbers;
 }
-}  // namespace
 
 Vec3 parsePoint(const std::string& text, const std::string& option) {
   const std::vector<double> numbers = parseNumbers(text, option, "X,Y,Z");

@@ -2,6 +2,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/gl/context.h"
 
@@ -15,6 +16,8 @@ struct Ball {
   Vec3 centre;
   double radius;
 };
+// "A,B,C...": comma-separated finite numbers; throws Error naming `option` and `expected` on bad text.
+std::vector<double> parseNumbers(const std::string& text, const std::string& option, const char* expected);
 // "X,Y,Z" or "X,Y,Z,R" (R defaults to defaultRadius); throws Error naming `option` on bad text.
 Ball parseBall(const std::string& text, const std::string& option, double defaultRadius);
 // "X,Y,Z"; throws Error naming `option` on bad text.

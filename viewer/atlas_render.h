@@ -69,7 +69,7 @@ struct DrawStyle {
 struct FrameFigures {
   std::size_t patches = 0;
   std::uint64_t triangles = 0;
-  double gpuMs = 0;
+  double gpuMs = 0;  // the draw, to its finish (GPU timer, or the wall clock where that is longer)
 };
 
 class AtlasRenderer {

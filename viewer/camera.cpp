@@ -68,9 +68,18 @@ Camera Camera::framing(const Box& box, int width, int height, Vec3 viewDirection
   Camera c;
   c.width = width, c.height = height;
   c.target = (box.min + box.max) * 0.5;
-  const double radius = std::max(box.diagonal() / 2, 1e-6);
-  const double halfFov = std::min(c.fovDegrees, c.fovDegrees * width / height) * kPi / 360;
-  c.eye = c.target - unit(viewDirection) * (radius / std::sin(halfFov) * 1.02);
+  c.eye = c.target - unit(viewDirection);
+  const Frame f = frameOf(c);
+  // Back far enough that every corner of the box lies inside the view, with a 5 % margin.
+  const double tanV = std::tan(c.fovDegrees * kPi / 360), tanH = tanV * width / height;
+  double distance = 1e-6;
+  for (int k = 0; k < 8; ++k) {
+    const Vec3 corner{(k & 1) ? box.max.x : box.min.x, (k & 2) ? box.max.y : box.min.y, (k & 4) ? box.max.z : box.min.z};
+    const Vec3 d = corner - c.target;
+    const double depth = dot(d, f.forward);
+    distance = std::max({distance, std::fabs(dot(d, f.right)) * 1.05 / tanH - depth, std::fabs(dot(d, f.up)) * 1.05 / tanV - depth});
+  }
+  c.eye = c.target - f.forward * distance;
   return c;
 }
 

@@ -60,7 +60,7 @@ TEST(Cli, UsageErrorsExitTwo) {
 }
 
 TEST(Cli, StagesNotBuiltSaySoAndExitOne) {
-  const Result r = run("render model.isoatlas");
+  const Result r = run("view model.isoatlas");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("not built yet"), std::string::npos);
 }
@@ -199,7 +199,8 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
     for (const auto& p : report["products"]) named.insert(p["file"].get<std::string>());
     for (const char* file : {"input_slices.png", "mask.nii.gz", "phi.nii.gz", "surface.ply", "surface_left.png",
                              "surface_top.png", "segmentation_slices.png", "model.isoatlas", "position_atlas.png",
-                             "normal_atlas.png", "psnr_per_level.png", "model_level4_left.png"}) {
+                             "normal_atlas.png", "psnr_per_level.png", "model_level4_left.png", "render_level2.png",
+                             "render_level4.png", "render_level10.png", "render_wire.png", "turntable_000.png", "turntable_007.png"}) {
       EXPECT_TRUE(named.count(file)) << file << " is not named in report.json";
       EXPECT_NE(html.find(std::string("href=\"") + file + "\""), std::string::npos) << file << " is not in index.html";
       EXPECT_GT(std::filesystem::file_size(out / file), 100u) << file;
@@ -215,6 +216,11 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
       EXPECT_TRUE(level["closed"].get<bool>());
       EXPECT_GE(level["psnr_db"].get<double>(), model["levels"][0]["psnr_db"].get<double>() - 0.5);
     }
+    // The tessellated views at CPU levels 2, 4 and 10 without GPU refinement: the levels' triangles.
+    const auto& views = report["render"]["views"];
+    ASSERT_EQ(views.size(), 4u);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(views[k]["triangles"], model["levels"][std::size_t(std::vector<int>{1, 2, 5}[std::size_t(k)])]["triangles"]) << k;
   }
 }
 
@@ -478,6 +484,44 @@ TEST(Cli, EditDetailEngravesAWordAndTheModelStaysClosed) {
   expectBadInput("edit-detail " + model + " --text Hi --at 4,0,0 --radius 1 --depth 0.1 --detail 9 -o " + out, "detail chart size");
   expectBadInput("edit-detail " + model + " --stamp " + (dir / "none.png").string() + " --at 4,0,0 --radius 1 --depth 0.1 -o " + out,
                  "not a readable PNG");
+}
+
+TEST(Cli, RenderDrawsAModelWithoutCracksAndAGridOfThem) {
+  const auto dir = test::scratchDir();
+  const std::string torus = (dir / "torus.off").string(), model = (dir / "torus.isoatlas").string();
+  writeMesh(torus, test::torusMesh(60, 30));
+  ASSERT_EQ(run("build " + torus + " -o " + model + " --base-ratio 0.03 --chart 9 --no-hausdorff").code, 0);
+  const std::string png = (dir / "t.png").string(), capture = (dir / "t.ply").string(), report = (dir / "r.json").string();
+  const Result r = run("render " + model + " --cpu-level 3 --gpu-level 1 --size 200,150 --wire --capture " + capture + " -o " + png +
+                       " --report " + report);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto j = nlohmann::json::parse(test::readBytes(report));
+  for (const char* key : {"patches", "triangles", "cpu_ms", "gpu_ms", "frame_ms", "fps", "renderer"}) EXPECT_TRUE(j.contains(key)) << key;
+  const Image image = readPng(png);
+  EXPECT_EQ(image.width, 200);
+  EXPECT_EQ(image.height, 150);
+  // The GPU's triangles, welded by position: the torus closed, every triangle drawn captured.
+  const Mesh captured = readMesh(capture);
+  EXPECT_EQ(captured.faceCount(), j["triangles"].get<std::size_t>());
+  EXPECT_EQ(analyzeTopology(captured).boundaryEdges, 0u);
+
+  const std::string frames = (dir / "spin.png").string(), grid = (dir / "g.json").string();
+  ASSERT_EQ(run("render " + model + " --turntable 3 --size 64,48 -o " + frames).code, 0);
+  for (const char* name : {"spin_000.png", "spin_001.png", "spin_002.png"}) EXPECT_EQ(readPng((dir / name).string()).width, 64) << name;
+  ASSERT_EQ(run("render " + model + " " + model + " --scene grid:3x3 --cpu-level 6 --size 160,90 --frames 2 -o " + png + " --report " + grid).code, 0);
+  const auto g = nlohmann::json::parse(test::readBytes(grid));
+  EXPECT_EQ(g["instances"], 9);
+  EXPECT_EQ(g["cpu_levels"][1], 6);
+  EXPECT_LT(g["cpu_levels"][0].get<int>(), 6) << "the far instances are coarser";
+  EXPECT_GT(g["fps"].get<double>(), 0);
+
+  expectBadInput("render " + model + " --camera 1,2 -o " + png, "--camera 1,2: expected EX,EY,EZ,TX,TY,TZ,FOV");
+  expectBadInput("render " + model + " --scene grid:3x4 -o " + png, "expected grid:NxN");
+  expectBadInput("render " + model + " " + model + " -o " + png, "several models are drawn only in a --scene");
+  expectBadInput("render " + model + " -o " + (dir / "t.jpg").string(), "-o writes a .png");
+  expectBadInput("render " + model + " --cpu-level 9 -o " + png, "--cpu-level must lie between 0 and 6");
+  expectBadInput("render " + model + " --size 0,10 -o " + png, "--size 0,10");
+  expectBadInput("render " + (dir / "none.isoatlas").string() + " -o " + png, "cannot open");
 }
 
 // The demo's seeds and parameters go with Colin27's T1 however its path is written (here absolute,

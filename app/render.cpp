@@ -1,0 +1,188 @@
+// isoatlas render: a model (or a grid of models) drawn headless through the cascade: the CPU's
+// adaptive level, then GL tessellation of the atlas; PNG images, the GPU's triangles as a mesh, and
+// the frame's figures.
+#include <algorithm>
+#include <filesystem>
+#include <optional>
+
+#include "app/command.h"
+#include "app/options.h"
+#include "atlas/reconstruct.h"
+#include "core/error.h"
+#include "core/mesh_io.h"
+#include "core/progress.h"
+#include "viewer/scene.h"
+
+namespace isoatlas::app {
+namespace {
+
+struct RenderOptions {
+  std::vector<std::string> models;
+  int cpuLevel = -1;
+  double cpuError = 0, gpuPixels = 0;
+  int gpuLevel = -1;
+  std::string camera, size = "800,600", output, capture, scene;
+  bool wire = false, chartColours = false;
+  int turntable = 0, frames = 1;
+};
+
+viewer::Camera parseCamera(const std::string& text, int width, int height) {
+  const std::vector<double> v = parseNumbers(text, "--camera", "EX,EY,EZ,TX,TY,TZ,FOV");
+  require(v.size() == 7, "--camera " + text + ": expected EX,EY,EZ,TX,TY,TZ,FOV (eye, target, vertical field of view in degrees)");
+  viewer::Camera c;
+  c.eye = {v[0], v[1], v[2]};
+  c.target = {v[3], v[4], v[5]};
+  c.fovDegrees = v[6];
+  c.width = width, c.height = height;
+  c.check();
+  return c;
+}
+
+std::array<int, 2> parseSize(const std::string& text) {
+  const std::vector<double> v = parseNumbers(text, "--size", "W,H");
+  require(v.size() == 2 && v[0] == std::floor(v[0]) && v[1] == std::floor(v[1]) && v[0] >= 1 && v[1] >= 1 && v[0] <= 8192 && v[1] <= 8192,
+          "--size " + text + ": expected W,H, whole pixels from 1 to 8192");
+  return {int(v[0]), int(v[1])};
+}
+
+// "grid:NxN" -> N
+int parseGrid(const std::string& text) {
+  int n = 0, m = 0;
+  char tail = 0;
+  require(std::sscanf(text.c_str(), "grid:%dx%d%c", &n, &m, &tail) == 2 && n == m && n >= 1 && n <= 64,
+          "--scene " + text + ": expected grid:NxN with N from 1 to 64 (e.g. grid:10x10)");
+  return n;
+}
+
+std::string framePath(const std::string& output, int frame, int frames) {
+  if (frames <= 1) return output;
+  const std::filesystem::path p(output);
+  char number[16];
+  std::snprintf(number, sizeof number, "_%03d", frame);
+  return (p.parent_path() / (p.stem().string() + number + p.extension().string())).string();
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+int render(const RenderOptions& o, nlohmann::json& r) {
+  require(o.output.ends_with(".png"), o.output + ": -o writes a .png");
+  require(o.cpuLevel < 0 || o.cpuError == 0, "give --cpu-level or --cpu-error, not both");
+  require(o.gpuLevel < 0 || o.gpuPixels == 0, "give --gpu-level or --gpu-pixels, not both");
+  require(o.models.size() == 1 || !o.scene.empty(), "several models are drawn only in a --scene");
+  require(o.turntable >= 0 && o.turntable <= 3600, "--turntable takes 0 to 3600 frames");
+  require(o.frames >= 1 && o.frames <= 1000, "--frames takes 1 to 1000");
+  const auto [width, height] = parseSize(o.size);
+  const int grid = o.scene.empty() ? 0 : parseGrid(o.scene);
+
+  viewer::CpuRefinement cpu;
+  if (o.cpuLevel >= 0) cpu = {viewer::CpuRefinement::Mode::Level, o.cpuLevel};
+  else if (o.cpuError > 0) cpu = {viewer::CpuRefinement::Mode::Pixels, 0, o.cpuError};
+  else if (o.cpuError < 0) throw Error("--cpu-error must be positive");
+  viewer::GpuRefinement gpuLod;
+  if (o.gpuLevel >= 0) gpuLod = {viewer::GpuRefinement::Mode::Level, o.gpuLevel};
+  else if (o.gpuPixels > 0) gpuLod = {viewer::GpuRefinement::Mode::Pixels, 0, o.gpuPixels};
+  else if (o.gpuPixels < 0) throw Error("--gpu-pixels must be positive");
+  const std::optional<viewer::Camera> asked = o.camera.empty() ? std::nullopt : std::optional(parseCamera(o.camera, width, height));
+
+  std::vector<atlas::Model> models;
+  for (const std::string& path : o.models) {
+    models.push_back(atlas::readModel(path));
+    const int top = atlas::maxLevel(models.back().chartSize);
+    require(o.cpuLevel <= top, "--cpu-level must lie between 0 and " + std::to_string(top) + " for " + path + " (charts of " +
+                                   std::to_string(models.back().chartSize) + " texels)");
+  }
+  Gpu gpu;  // the process's one context
+  gpu.needGl();
+  std::vector<const atlas::Model*> pointers;
+  for (const atlas::Model& m : models) pointers.push_back(&m);
+  viewer::Scene scene(pointers);
+  if (grid) scene.grid(grid);
+  const viewer::Camera first = asked ? *asked : scene.defaultCamera(width, height);
+  viewer::DrawStyle style;
+  style.wireframe = o.wire;
+  style.colourByChart = o.chartColours;
+
+  const viewer::AtlasRenderer renderer;
+  const gl::Framebuffer target(width, height);
+  const int images = std::max(o.turntable, 1), frames = std::max(images, o.frames);
+  std::vector<double> cpuMs, gpuMs, frameMs;
+  std::vector<std::string> written;
+  viewer::FrameFigures figures;
+  viewer::SceneCpuFigures cpuFigures;
+  std::size_t uploadBytes = 0;
+  Progress progress("render", std::size_t(frames));
+  for (int f = 0; f < frames; ++f) {
+    const viewer::Camera camera = o.turntable > 0 ? first.turned(2 * 3.14159265358979 * (f % images) / images) : first;
+    const viewer::FrameReport frame = viewer::drawFrame(scene, renderer, cpu, gpuLod, camera, style, target);
+    cpuFigures = frame.cpu;
+    figures = frame.gpu;
+    uploadBytes += frame.cpu.uploadBytes;
+    frameMs.push_back(frame.ms);
+    cpuMs.push_back(frame.cpu.ms);
+    gpuMs.push_back(frame.gpu.gpuMs);
+    if (f < images) {
+      written.push_back(framePath(o.output, f, images));
+      writePng(written.back(), target.readImage());
+    }
+    progress.update(std::uint64_t(f + 1));
+  }
+  progress.finish();
+  if (!o.capture.empty()) {
+    scene.refine(cpu, first);
+    const Mesh captured = weldIdenticalPositions(renderer.capture(scene.items(), first, scene.bounds(), gpuLod));
+    writeMesh(o.capture, captured);
+    r["captured_vertices"] = captured.vertexCount();
+    r["captured_triangles"] = captured.faceCount();
+  }
+  r["renderer"] = gpu.needGl().info().renderer;
+  r["instances"] = scene.instances().size();
+  r["patches"] = figures.patches;
+  r["triangles"] = figures.triangles;
+  r["cpu_triangles"] = cpuFigures.cpuFaces;
+  r["cpu_ms"] = median(cpuMs);
+  r["gpu_ms"] = median(gpuMs);
+  r["frame_ms"] = median(frameMs);
+  r["fps"] = 1000 / std::max(median(frameMs), 1e-9);
+  r["triangles_per_second"] = double(figures.triangles) * 1000 / std::max(median(gpuMs), 1e-9);
+  r["upload_bytes"] = uploadBytes;  // patch lists, over all frames
+  if (cpu.mode == viewer::CpuRefinement::Mode::Level) r["cpu_levels"] = {cpuFigures.minLevel, cpuFigures.maxLevel};
+  r["size"] = {width, height};
+  r["frames"] = frames;
+  r["images"] = written;
+  logInfo("render: " + std::to_string(figures.patches) + " patches, " + std::to_string(figures.triangles) + " triangles, frame " +
+          std::to_string(median(frameMs)) + " ms (CPU " + std::to_string(median(cpuMs)) + " ms, GPU " + std::to_string(median(gpuMs)) +
+          " ms) on " + r["renderer"].get<std::string>());
+  return 0;
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, int& exitCode) {
+  auto* sub = app.add_subcommand("render", "draw a model headless: CPU level, then GPU tessellation of its atlas, to PNG");
+  auto o = std::make_shared<RenderOptions>();
+  sub->add_option("model", o->models, "the .isoatlas model (several with --scene: placed in turn)")->required();
+  auto* level = sub->add_option("--cpu-level", o->cpuLevel, "CPU level L everywhere (in a grid: for the nearest; lower with distance)");
+  sub->add_option("--cpu-error", o->cpuError, "CPU: split where the surface moves more than E pixels (default 2)")->excludes(level);
+  auto* halvings = sub->add_option("--gpu-level", o->gpuLevel, "GPU: T more halvings of every CPU edge, up to the chart's texels");
+  sub->add_option("--gpu-pixels", o->gpuPixels, "GPU: segments of about P pixels on the screen (default 8)")->excludes(halvings);
+  sub->add_option("--camera", o->camera, "EX,EY,EZ,TX,TY,TZ,FOV: eye, target (world mm), vertical field of view (degrees); default: the whole model");
+  sub->add_option("--size", o->size, "W,H: image size in pixels")->capture_default_str();
+  sub->add_flag("--wire", o->wire, "a wireframe over the surface: tile borders brown, inside the tiles blue");
+  sub->add_flag("--chart-colours", o->chartColours, "colour each tile's chart apart");
+  sub->add_option("--turntable", o->turntable, "N frames around the vertical axis: IMAGE_000.png ...");
+  sub->add_option("--frames", o->frames, "draw this many frames and report the median times")->capture_default_str();
+  sub->add_option("--scene", o->scene, "grid:NxN: N x N instances, CPU level by distance, GPU level by view");
+  sub->add_option("-o,--output", o->output, "the image (.png)")->required();
+  sub->add_option("--capture", o->capture, "the triangles the GPU made (transform feedback), welded, world mm (.ply, .obj, .off, .stl)");
+  bindAction(*sub, [o](nlohmann::json& r) {
+    RenderOptions options = *o;
+    if (options.cpuLevel < 0 && options.cpuError == 0) options.cpuError = 2;
+    if (options.gpuLevel < 0 && options.gpuPixels == 0) options.gpuPixels = 8;
+    return render(options, r);
+  }, exitCode);
+}
+
+}  // namespace isoatlas::app
