@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <tuple>
 
 #include "core/error.h"
 #include "core/gl/context.h"
@@ -48,21 +49,48 @@ private:
   GLenum target_;
 };
 
+// Position (RGB32F) and normal (RGB16_SNORM) textures of `w` x `h` texels.
+std::pair<gl::Texture, gl::Texture> uploadImages(int w, int h, const void* positions, const void* normals) {
+  const int limit = gl::Context::current().info().maxTextureSize;
+  require(w <= limit && h <= limit, "the model's atlas (" + std::to_string(w) + "x" + std::to_string(h) +
+                                        " texels) is larger than this GL driver's largest texture (" + std::to_string(limit) + ")");
+  gl::Texture p = gl::Texture::texture2D(GL_RGB32F, w, h), n = gl::Texture::texture2D(GL_RGB16_SNORM, w, h);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(p.id(), 0, 0, 0, w, h, GL_RGB, GL_FLOAT, positions);
+  glTextureSubImage2D(n.id(), 0, 0, 0, w, h, GL_RGB, GL_SHORT, normals);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  gl::checkErrors("uploading the atlas");
+  return {std::move(p), std::move(n)};
+}
+
 }  // namespace
 
 AtlasTextures::AtlasTextures(const atlas::Atlas& atlas) : layout_(atlas.layout) {
-  const int limit = gl::Context::current().info().maxTextureSize;
-  const int w = int(layout_.width()), h = int(layout_.height());
-  require(w > 0 && h > 0, "the model has an empty atlas");
-  require(w <= limit && h <= limit, "the model's atlas (" + std::to_string(w) + "x" + std::to_string(h) +
-                                        " texels) is larger than this GL driver's largest texture (" + std::to_string(limit) + ")");
-  positions_ = gl::Texture::texture2D(GL_RGB32F, w, h);
-  normals_ = gl::Texture::texture2D(GL_RGB16_SNORM, w, h);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTextureSubImage2D(positions_.id(), 0, 0, 0, w, h, GL_RGB, GL_FLOAT, atlas.positions.data());
-  glTextureSubImage2D(normals_.id(), 0, 0, 0, w, h, GL_RGB, GL_SHORT, atlas.normals.data());
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  gl::checkErrors("uploading the atlas");
+  require(layout_.width() > 0 && layout_.height() > 0, "the model has an empty atlas");
+  std::tie(positions_, normals_) = uploadImages(int(layout_.width()), int(layout_.height()), atlas.positions.data(), atlas.normals.data());
+  std::vector<std::int32_t> slots(layout_.charts, -1);
+  if (atlas.details.empty()) {
+    const float zero[3] = {0, 0, 0};
+    const std::int16_t up[3] = {0, 0, 32767};
+    std::tie(detailPositions_, detailNormals_) = uploadImages(1, 1, zero, up);
+  } else {
+    const std::uint32_t m = atlas.details.front().size;
+    detailLayout_ = atlas::packCharts(std::uint32_t(atlas.details.size()), m);
+    std::vector<std::array<float, 3>> positions(std::size_t(detailLayout_.width()) * detailLayout_.height());
+    std::vector<atlas::Normal16> normals(positions.size());
+    for (std::uint32_t k = 0; k < atlas.details.size(); ++k) {
+      const atlas::DetailChart& d = atlas.details[k];
+      slots[d.tile] = std::int32_t(k);
+      for (std::uint32_t j = 0; j < m; ++j)
+        for (std::uint32_t i = 0; i < m; ++i) {
+          positions[detailLayout_.texel(k, i, j)] = d.positions[std::size_t(j) * m + i];
+          normals[detailLayout_.texel(k, i, j)] = d.normals[std::size_t(j) * m + i];
+        }
+    }
+    std::tie(detailPositions_, detailNormals_) =
+        uploadImages(int(detailLayout_.width()), int(detailLayout_.height()), positions.data(), normals.data());
+  }
+  detailSlots_ = gl::Buffer::of(slots);
 }
 
 std::size_t PatchBuffer::update(const std::vector<GpuPatch>& patches) {
@@ -118,11 +146,18 @@ void AtlasRenderer::drawItems(const std::vector<DrawItem>& items) const {
     if (item.patches->count() == 0) continue;
     const float model[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, float(item.offset.x), float(item.offset.y), float(item.offset.z), 1};
     glUniformMatrix4fv(p.uniform("model"), 1, GL_FALSE, model);
-    glUniform1ui(p.uniform("chartSize"), item.atlas->layout().chartSize);
-    glUniform1ui(p.uniform("atlasColumns"), item.atlas->layout().columns);
+    const atlas::AtlasLayout &charts = item.atlas->layout(), &details = item.atlas->detailLayout();
+    glUniform1ui(p.uniform("chartSize"), charts.chartSize);
+    glUniform1ui(p.uniform("atlasColumns"), charts.columns);
+    glUniform1ui(p.uniform("detailRatio"), details.charts ? (details.chartSize - 1) / (charts.chartSize - 1) : 1);
+    glUniform1ui(p.uniform("detailSize"), details.chartSize);
+    glUniform1ui(p.uniform("detailColumns"), std::max(details.columns, 1u));
     glBindTextureUnit(0, item.atlas->positions().id());
     glBindTextureUnit(1, item.atlas->normals().id());
+    glBindTextureUnit(2, item.atlas->detailPositions().id());
+    glBindTextureUnit(3, item.atlas->detailNormals().id());
     item.patches->buffer().bindBase(GL_SHADER_STORAGE_BUFFER, 0);
+    item.atlas->detailSlots().bindBase(GL_SHADER_STORAGE_BUFFER, 1);
     glDrawArrays(GL_PATCHES, 0, GLsizei(item.patches->count()));
   }
   gl::checkErrors("drawing the atlas");

@@ -19,17 +19,24 @@
 
 namespace isoatlas::viewer {
 
+// The charts, and the detail charts packed alike into a second pair of textures with, per chart,
+// its detail chart's slot (-1: none).
 class AtlasTextures {
 public:
   // Throws Error(BadInput) when the atlas is larger than the driver's largest texture.
   explicit AtlasTextures(const atlas::Atlas& atlas);
   const atlas::AtlasLayout& layout() const { return layout_; }
+  const atlas::AtlasLayout& detailLayout() const { return detailLayout_; }  // charts 0 without detail
   const gl::Texture& positions() const { return positions_; }
   const gl::Texture& normals() const { return normals_; }
+  const gl::Texture& detailPositions() const { return detailPositions_; }
+  const gl::Texture& detailNormals() const { return detailNormals_; }
+  const gl::Buffer& detailSlots() const { return detailSlots_; }
 
 private:
-  atlas::AtlasLayout layout_;
-  gl::Texture positions_, normals_;
+  atlas::AtlasLayout layout_, detailLayout_;
+  gl::Texture positions_, normals_, detailPositions_, detailNormals_;
+  gl::Buffer detailSlots_;
 };
 
 class PatchBuffer {

@@ -58,9 +58,21 @@ std::uint32_t log2Of(std::uint32_t powerOfTwo) { return std::uint32_t(std::count
 // The largest power of two dividing x > 0.
 std::uint32_t lowBit(std::uint32_t x) { return x & (~x + 1); }
 
+// Whether side k of patch p lies on a tile border whose other tile has no detail chart while its own
+// tile has one.
+bool coarseSide(const Patch& p, int k, std::uint32_t n, const std::vector<std::array<atlas::SideAcross, 4>>& across,
+                const std::vector<bool>& hasDetail) {
+  if (hasDetail.empty() || !hasDetail[p.chart]) return false;
+  const int tileSide = k == 0 && p.v == 0 ? 0 : k == 1 && p.u + p.s == n ? 1 : k == 2 && p.v + p.s == n ? 2 : k == 3 && p.u == 0 ? 3 : -1;
+  if (tileSide < 0) return false;
+  const atlas::SideAcross& a = across[p.chart][std::size_t(tileSide)];
+  return a.tile != atlas::kNoTile && !hasDetail[a.tile];
+}
+
 }  // namespace
 
-std::vector<GpuPatch> gpuPatches(const AdaptiveMesh& mesh, const std::vector<std::array<atlas::SideAcross, 4>>& across) {
+std::vector<GpuPatch> gpuPatches(const AdaptiveMesh& mesh, const std::vector<std::array<atlas::SideAcross, 4>>& across,
+                                 const std::vector<bool>& hasDetail) {
   const std::uint32_t n = mesh.chartSize() - 1;
   const auto& m = mesh.mesh();
   std::unordered_set<std::uint64_t> vertices;  // every CPU vertex, on every chart holding it
@@ -111,23 +123,15 @@ std::vector<GpuPatch> gpuPatches(const AdaptiveMesh& mesh, const std::vector<std
       std::uint32_t spacing = shortest;
       for (std::uint32_t at = from + 1; at < to; ++at)
         if (vertices.count(texelOn(line, at, n))) spacing = std::min(spacing, lowBit(at - from));
-      const std::uint32_t bits = log2Of(spacing) | log2Of(to - from) << 4;
-      for (std::size_t i = first; i < last; ++i) out[sides[i].patch].sides |= bits << (8 * sides[i].side);
+      const std::uint32_t bits = log2Of(spacing) | log2Of(to - from) << 3;
+      for (std::size_t i = first; i < last; ++i) {
+        GpuPatch& p = out[sides[i].patch];
+        p.sides |= (bits | std::uint32_t(coarseSide(patches[sides[i].patch], sides[i].side, n, across, hasDetail)) << 6) << (8 * sides[i].side);
+      }
       first = last;
     }
   }
   return out;
-}
-
-PatchFields unpack(const GpuPatch& p) {
-  PatchFields f{p.chart, p.origin & 0xffff, p.origin >> 16, p.size & 0xffff, (p.size >> 16) & 0xff,
-                1u << (p.size >> 24), {}, {}};
-  for (int k = 0; k < 4; ++k) {
-    const std::uint32_t byte = (p.sides >> (8 * k)) & 0xff;
-    f.spacing[std::size_t(k)] = 1u << (byte & 15);
-    f.extent[std::size_t(k)] = 1u << (byte >> 4);
-  }
-  return f;
 }
 
 }  // namespace isoatlas::viewer

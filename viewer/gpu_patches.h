@@ -17,8 +17,13 @@
 // outer levels only from what lies on the border. The inner level comes from the patch alone: its
 // own cpu spacing (half the side when the patch holds an odd-level vertex, c > 0) and its own size
 // on the screen: the paper's first rule.
+// Tiles with a detail chart (edit-detail) refine on to its texels, r = (M - 1) / (N - 1) per chart
+// texel: the shader counts their spacings in detail texels, r times the above. A side on a tile
+// border whose other tile has no detail chart is marked coarse: there sigma stays at least r (one
+// chart texel) and the vertices are read from the chart, as the tile across reads them.
 //
-// Inputs: the adaptive mesh, and per tile and side the tile and side across (atlas::sidesAcross).
+// Inputs: the adaptive mesh; per tile and side the tile and side across (atlas::sidesAcross); per
+// tile whether it has a detail chart (empty: none has).
 // Output: one GpuPatch per patch, in mesh.patches() order.
 #pragma once
 #include <array>
@@ -36,18 +41,13 @@ struct GpuPatch {
   std::uint32_t origin;  // u | v << 16, texels
   std::uint32_t size;    // s | c << 16 | log2(inner cpu spacing) << 24
   std::uint32_t sides;   // byte k for side k (0 v = v0, 1 u = u0 + s, 2 v = v0 + s, 3 u = u0):
-                         // log2(cpu spacing) | log2(extent) << 4
+                         // log2(cpu spacing) | log2(extent) << 3 | coarse << 6
   bool operator==(const GpuPatch&) const = default;
 };
 
 std::vector<GpuPatch> gpuPatches(const multires::AdaptiveMesh& mesh,
-                                 const std::vector<std::array<atlas::SideAcross, 4>>& across);
+                                 const std::vector<std::array<atlas::SideAcross, 4>>& across,
+                                 const std::vector<bool>& hasDetail = {});
 
-// Reads a GpuPatch's fields back (tests and the CPU twin of the shader's level rules).
-struct PatchFields {
-  std::uint32_t chart, u, v, s, c, innerSpacing;
-  std::array<std::uint32_t, 4> spacing, extent;
-};
-PatchFields unpack(const GpuPatch& p);
 
 }  // namespace isoatlas::viewer

@@ -20,7 +20,11 @@ multires::AdaptiveMesh::Sampler atlasSampler(const atlas::Atlas& atlas) {
 }  // namespace
 
 ModelLod::ModelLod(const atlas::Model& model)
-    : model_(&model), base_(model.base, model.chartSize, atlasSampler(model.atlas)), across_(atlas::sidesAcross(model.base)) {}
+    : model_(&model), base_(model.base, model.chartSize, atlasSampler(model.atlas)), across_(atlas::sidesAcross(model.base)) {
+  if (model.atlas.details.empty()) return;
+  hasDetail_.assign(model.base.tiles.size(), false);
+  for (const atlas::DetailChart& d : model.atlas.details) hasDetail_[d.tile] = true;
+}
 
 int ModelLod::maxLevel() const { return atlas::maxLevel(model_->chartSize); }
 
@@ -48,7 +52,7 @@ std::vector<GpuPatch> ModelLod::patches(const CpuRefinement& cpu, const Camera& 
   const auto start = std::chrono::steady_clock::now();
   std::size_t splits = 0;
   const multires::AdaptiveMesh mesh = refined(cpu, camera, offset, &splits);
-  std::vector<GpuPatch> out = gpuPatches(mesh, across_);
+  std::vector<GpuPatch> out = gpuPatches(mesh, across_, hasDetail_);
   if (figures) {
     figures->splits = splits;
     figures->faces = mesh.mesh().n_faces();

@@ -40,6 +40,7 @@ private:
   const atlas::Model* model_;
   multires::AdaptiveMesh base_;
   std::vector<std::array<atlas::SideAcross, 4>> across_;
+  std::vector<bool> hasDetail_;  // per tile
 };
 
 }  // namespace isoatlas::viewer

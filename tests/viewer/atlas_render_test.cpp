@@ -11,6 +11,7 @@
 
 #include "atlas/make_atlas.h"
 #include "atlas/reconstruct.h"
+#include "atlas/stamp_detail.h"
 #include "atlas/tile_sides.h"
 #include "core/mesh_topology.h"
 #include "multires/stellar_simplify.h"
@@ -40,6 +41,19 @@ const atlas::Model& holedPlane() {
   static const atlas::Model m = buildModel(test::gridMesh(30, 24, [](int i, int j) {
     return (i >= 6 && i < 10 && j >= 6 && j < 10) || (i >= 18 && i < 23 && j >= 12 && j < 16);
   }), 0.05, 9);
+  return m;
+}
+
+// The torus with a bar stamped on its outer equator: detail charts of 65 texels (4 per chart texel).
+const atlas::Model& stampedTorus() {
+  static const atlas::Model m = [] {
+    atlas::Model out = torus();
+    Image bar(24, 16, 1);
+    for (int y = 5; y < 11; ++y)
+      for (int x = 3; x < 21; ++x) *bar.at(x, y) = 255;
+    atlas::stampDetail(out.base, out.atlas, {.image = bar, .at = {4.2, 0.5, 0.3}, .radius = 1.2, .depth = 0.15, .detailSize = 65});
+    return out;
+  }();
   return m;
 }
 
@@ -151,7 +165,9 @@ void expectCrackFree(Scene& scene, int cases, unsigned seed) {
     multires::AdaptiveMesh cpuMesh = scene.lod.refined(cpu, c, {});
     const Mesh gpuMesh = weldIdenticalPositions(scene.capture(cpu, gpu, c, &cpuMesh));
     expectNoBorderEdgesButTheModels(gpuMesh, boundary);
-    // The GPU refines above the CPU: every CPU vertex is one of its vertices.
+    // The GPU refines above the CPU: every CPU vertex is one of its vertices (on tiles with a detail
+    // chart the GPU reads that chart, the CPU the coarser one).
+    if (!scene.model.atlas.details.empty()) continue;
     const auto gpuVertices = vertexSet(gpuMesh);
     for (const Vec3& p : cpuMesh.triangles().positions) ASSERT_TRUE(gpuVertices.count(asFloats(p))) << "a CPU vertex is missing";
     if (::testing::Test::HasFatalFailure()) return;
@@ -169,6 +185,28 @@ TEST(AtlasRender, OnlyTheModelsOwnBoundaryStaysOpen) {
   Scene scene(holedPlane());
   ASSERT_EQ(analyzeTopology(atlas::reconstructLevel(scene.model.base, scene.model.atlas, 0)).boundaryLoops, 3u);
   expectCrackFree(scene, 25, 3);
+}
+
+TEST(AtlasRender, DetailChartsRefineTheirTilesWithoutCracks) {
+  test::glContext();
+  Scene scene(stampedTorus());
+  ASSERT_FALSE(scene.model.atlas.details.empty());
+  expectCrackFree(scene, 30, 5);
+  // The chart's finest level, then two GPU halvings: the stamped tiles reach every texel of their
+  // detail charts (those on a border with a tile without one excepted: the chart's there), the
+  // other tiles stay at their charts' texels. Every vertex is one of the finest reconstruction's.
+  const Camera c = scene.camera();
+  const Mesh gpu = weldIdenticalPositions(scene.capture({CpuRefinement::Mode::Level, scene.lod.maxLevel()}, {GpuRefinement::Mode::Level, 2}, c));
+  const auto vertices = vertexSet(gpu);
+  for (const atlas::DetailChart& d : scene.model.atlas.details)
+    for (std::uint32_t j = 1; j + 1 < d.size; ++j)
+      for (std::uint32_t i = 1; i + 1 < d.size; ++i)
+        ASSERT_TRUE(vertices.count(asFloats(d.position(i, j)))) << "tile " << d.tile << " texel " << i << ", " << j;
+  const auto finest = vertexSet(atlas::reconstructLevel(scene.model.base, scene.model.atlas, atlas::maxLevel(scene.model.atlas)));
+  for (const auto& p : vertices) ASSERT_TRUE(finest.count(p));
+  // A border with a tile without detail is cut at that tile's texels only: no triangle there
+  // collapses to a sliver between two reads of one texel.
+  EXPECT_EQ(analyzeTopology(gpu).degenerateFaces, 0u);
 }
 
 TEST(AtlasRender, PatchBufferSendsOnlyWhatChanged) {

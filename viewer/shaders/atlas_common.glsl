@@ -1,10 +1,18 @@
 // What the atlas shaders share: the patch list (viewer/gpu_patches.h), the atlas textures, the
-// camera, and the two rules that set a patch's tessellation levels.
+// camera, and the two rules that set a patch's tessellation levels. A patch's spacings count its
+// own texels: the chart's, or on a tile with a detail chart, the detail chart's (detailRatio per
+// chart texel); lengths on the screen are measured between chart texels everywhere.
 layout(std430, binding = 0) readonly buffer Patches { uvec4 patches[]; };
+layout(std430, binding = 1) readonly buffer DetailSlots { int detailSlots[]; };  // per chart; -1: none
 layout(binding = 0) uniform sampler2D positions;  // RGB32F, world millimetres
 layout(binding = 1) uniform sampler2D normals;    // RGB16_SNORM
+layout(binding = 2) uniform sampler2D detailPositions;
+layout(binding = 3) uniform sampler2D detailNormals;
 uniform uint chartSize;     // N texels a side
 uniform uint atlasColumns;  // chart slots per atlas row
+uniform uint detailRatio;   // detail texels per chart texel (1 without detail charts)
+uniform uint detailSize;    // M texels a side
+uniform uint detailColumns;
 uniform mat4 model;         // this instance's placement
 uniform mat4 viewProjection;
 uniform vec2 viewport;      // pixels
@@ -22,6 +30,10 @@ ivec2 atlasTexel(uint chart, ivec2 texel) {
 }
 vec3 chartPosition(uint chart, ivec2 texel) { return texelFetch(positions, atlasTexel(chart, texel), 0).xyz; }
 vec3 chartNormal(uint chart, ivec2 texel) { return texelFetch(normals, atlasTexel(chart, texel), 0).xyz; }
+ivec2 detailTexel(int slot, ivec2 texel) {
+  return ivec2((uint(slot) % detailColumns) * detailSize, (uint(slot) / detailColumns) * detailSize) + texel;
+}
+uint patchRatio(uvec4 p) { return detailSlots[p.x] >= 0 ? detailRatio : 1u; }
 
 // Length in pixels between two texels of a chart. Symmetric in its arguments bit for bit, so the
 // two charts of a tile side, which hold the same texels in opposite order, agree.
@@ -42,10 +54,10 @@ uint spacingFor(uint extent, float segments) {
   return max(1u, extent / pow2);
 }
 
-// Rule two: side k's spacing, from its border class alone (see gpu_patches.h).
+// Rule two: side k's spacing in the patch's texels, from its border class alone (see gpu_patches.h).
 uint sideSpacing(uvec4 p, int k) {
-  uint bits = (p.w >> (8 * k)) & 0xffu;
-  uint cpu = 1u << (bits & 15u), extent = 1u << (bits >> 4);
+  uint bits = (p.w >> (8 * k)) & 0xffu, r = patchRatio(p);
+  uint cpu = (1u << (bits & 7u)) * r, extent = 1u << ((bits >> 3) & 7u);
   uint sigma;
   if (gpuMode == 0) {
     sigma = max(1u, cpu >> gpuLevel);
@@ -59,14 +71,16 @@ uint sideSpacing(uvec4 p, int k) {
     ivec2 step = row ? ivec2(1, 0) : ivec2(0, 1);
     ivec2 m = a + step * int(extent / 2u), b = a + step * int(extent);
     precise float length = screenLength(p.x, a, m) + screenLength(p.x, m, b);
-    sigma = min(cpu, spacingFor(extent, length / gpuPixels));
+    sigma = min(cpu, spacingFor(extent * r, length / gpuPixels));
   }
-  return max(sigma, max(1u, extent / maxTessLevel));
+  sigma = max(sigma, max(1u, extent * r / maxTessLevel));
+  return ((bits >> 6) & 1u) != 0u ? max(sigma, r) : sigma;  // a coarse border: chart texels only
 }
 
-// Rule one: the inner spacing, from the patch alone (its CPU vertices, its size on the screen).
+// Rule one: the inner spacing in the patch's texels, from the patch alone (its CPU vertices, its
+// size on the screen).
 uint innerSpacing(uvec4 p) {
-  uint s = patchSide(p), cpu = 1u << (p.z >> 24), sigma;
+  uint s = patchSide(p), r = patchRatio(p), cpu = (1u << (p.z >> 24)) * r, sigma;
   if (gpuMode == 0) {
     sigma = max(1u, cpu >> gpuLevel);
   } else {
@@ -74,7 +88,7 @@ uint innerSpacing(uvec4 p) {
     ivec2 c00 = o, c10 = o + ivec2(s, 0), c01 = o + ivec2(0, s), c11 = o + ivec2(s, s);
     float length = max(max(screenLength(p.x, c00, c10), screenLength(p.x, c01, c11)),
                        max(screenLength(p.x, c00, c01), screenLength(p.x, c10, c11)));
-    sigma = min(cpu, spacingFor(s, length / gpuPixels));
+    sigma = min(cpu, spacingFor(s * r, length / gpuPixels));
   }
-  return max(sigma, max(1u, s / maxTessLevel));
+  return max(sigma, max(1u, s * r / maxTessLevel));
 }
