@@ -45,8 +45,15 @@ Box Scene::bounds() const {
 
 Camera Scene::defaultCamera(int width, int height) const {
   if (!grid_) return Camera::framing(bounds(), width, height);
-  Camera c = Camera::framing(bounds(), width, height, {0, 1, -0.7});
-  c.eye = c.target + (c.eye - c.target) * 0.9;  // the near rows fill the picture; the far ones show the LOD
+  // Low over the front row, looking across the grid: the near instances fill the picture, the far
+  // ones shrink towards the horizon (the paper's Fig. 9).
+  const Box b = bounds();
+  const double depth = b.max.y - b.min.y, cx = (b.min.x + b.max.x) / 2;
+  Camera c;
+  c.width = width, c.height = height;
+  c.fovDegrees = 50;
+  c.eye = {cx, b.min.y - 0.25 * depth, b.max.z + 0.3 * depth};
+  c.target = {cx, b.min.y + 0.45 * depth, b.min.z};
   return c;
 }
 
