@@ -28,6 +28,8 @@ isoatlas_find_library(isoatlas::nifti NAMES nifti2 znz HEADER nifti/nifti2_io.h
                       INCLUDE_DIR /usr/include/nifti LINK ZLIB::ZLIB m)
 isoatlas_find_library(isoatlas::teem NAMES teem HEADER teem/nrrd.h LINK ZLIB::ZLIB m)
 isoatlas_find_library(isoatlas::stb NAMES stb HEADER stb/stb_image_write.h)
+# OpenSubdiv 3.5: Far (in osdCPU) and Osd's GLSL patch shader sources (osdGPU); viewer/smooth_render only.
+isoatlas_find_library(isoatlas::opensubdiv NAMES osdGPU osdCPU HEADER opensubdiv/version.h)
 
 # OpenMesh's config exports OpenMeshCore; make sure its headers are treated as system headers.
 add_library(isoatlas::openmesh INTERFACE IMPORTED GLOBAL)

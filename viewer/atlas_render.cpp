@@ -163,22 +163,19 @@ void AtlasRenderer::drawItems(const std::vector<DrawItem>& items) const {
   gl::checkErrors("drawing the atlas");
 }
 
-FrameFigures AtlasRenderer::draw(const std::vector<DrawItem>& items, const Camera& camera, const Box& scene,
-                                 const GpuRefinement& gpu, const DrawStyle& style, const gl::Framebuffer& target) const {
+FrameFigures drawMeasured(const gl::Framebuffer& target, const Vec3& background, const std::function<void()>& draw) {
   target.bind();
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  glClearColor(float(style.background.x), float(style.background.y), float(style.background.z), 1);
+  glClearColor(float(background.x), float(background.y), float(background.z), 1);
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   FrameFigures f;
-  for (const DrawItem& item : items) f.patches += item.patches->count();
   gl::TimerQuery timer;
   Query primitives(GL_PRIMITIVES_GENERATED);
-  prepare(camera, scene, gpu, style);
   const auto start = std::chrono::steady_clock::now();
   timer.begin();
-  drawItems(items);
+  draw();
   timer.end();
   f.triangles = primitives.end();
   glFinish();
@@ -187,29 +184,38 @@ FrameFigures AtlasRenderer::draw(const std::vector<DrawItem>& items, const Camer
   return f;
 }
 
-Mesh AtlasRenderer::capture(const std::vector<DrawItem>& items, const Camera& camera, const Box& scene,
-                            const GpuRefinement& gpu) const {
+Mesh captureTriangles(const std::vector<CapturePass>& passes) {
   gl::Framebuffer fbo(8, 8);  // EGL surfaceless has no default framebuffer, even with rasterizer discard
   fbo.bind();
   glEnable(GL_RASTERIZER_DISCARD);
-  std::uint64_t triangles = 0;
-  prepare(camera, scene, gpu, {});
-  {
+  std::vector<std::uint64_t> counts;
+  for (const CapturePass& pass : passes) {
+    pass.program->use();
     Query counting(GL_PRIMITIVES_GENERATED);
-    drawItems(items);
-    triangles = counting.end();
+    pass.draw();
+    counts.push_back(counting.end());
   }
+  std::uint64_t triangles = 0;
+  for (const std::uint64_t c : counts) triangles += c;
   Mesh mesh;
   if (triangles > 0) {
-    gl::Buffer captured(triangles * 9 * sizeof(float));
-    glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, captured.id());
-    Query written(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
-    glBeginTransformFeedback(GL_TRIANGLES);
-    drawItems(items);
-    glEndTransformFeedback();
-    const std::uint64_t got = written.end();
+    const std::size_t bytesPerTriangle = 9 * sizeof(float);
+    gl::Buffer captured(triangles * bytesPerTriangle);
+    std::uint64_t at = 0;
+    for (std::size_t k = 0; k < passes.size(); ++k) {
+      if (counts[k] == 0) continue;
+      glBindBufferRange(GL_TRANSFORM_FEEDBACK_BUFFER, 0, captured.id(), GLintptr(at * bytesPerTriangle), GLsizeiptr(counts[k] * bytesPerTriangle));
+      passes[k].program->use();
+      Query written(GL_TRANSFORM_FEEDBACK_PRIMITIVES_WRITTEN);
+      glBeginTransformFeedback(GL_TRIANGLES);
+      passes[k].draw();
+      glEndTransformFeedback();
+      const std::uint64_t got = written.end();
+      if (got != counts[k])
+        throw Error("transform feedback kept " + std::to_string(got) + " of " + std::to_string(counts[k]) + " triangles", ErrorKind::Failure);
+      at += got;
+    }
     glBindBufferBase(GL_TRANSFORM_FEEDBACK_BUFFER, 0, 0);
-    if (got != triangles) throw Error("transform feedback kept " + std::to_string(got) + " of " + std::to_string(triangles) + " triangles", ErrorKind::Failure);
     const std::vector<float> data = captured.read<float>(triangles * 9);
     mesh.positions.reserve(triangles * 3);
     for (std::size_t i = 0; i < triangles * 3; ++i) mesh.positions.push_back({data[3 * i], data[3 * i + 1], data[3 * i + 2]});
@@ -218,6 +224,22 @@ Mesh AtlasRenderer::capture(const std::vector<DrawItem>& items, const Camera& ca
   glDisable(GL_RASTERIZER_DISCARD);
   gl::checkErrors("capturing the tessellation");
   return mesh;
+}
+
+FrameFigures AtlasRenderer::draw(const std::vector<DrawItem>& items, const Camera& camera, const Box& scene,
+                                 const GpuRefinement& gpu, const DrawStyle& style, const gl::Framebuffer& target) const {
+  FrameFigures f = drawMeasured(target, style.background, [&] {
+    prepare(camera, scene, gpu, style);
+    drawItems(items);
+  });
+  for (const DrawItem& item : items) f.patches += item.patches->count();
+  return f;
+}
+
+Mesh AtlasRenderer::capture(const std::vector<DrawItem>& items, const Camera& camera, const Box& scene,
+                            const GpuRefinement& gpu) const {
+  prepare(camera, scene, gpu, {});
+  return captureTriangles({{program_, [&] { drawItems(items); }}});
 }
 
 }  // namespace isoatlas::viewer

@@ -8,6 +8,7 @@
 // All take the current GL context (gl::Context::current(), checked) and never make one.
 #pragma once
 #include <array>
+#include <functional>
 #include <vector>
 
 #include "atlas/atlas.h"
@@ -78,6 +79,18 @@ struct FrameFigures {
   std::uint64_t triangles = 0;
   double gpuMs = 0;  // the draw, to its finish (GPU timer, or the wall clock where that is longer)
 };
+
+// What both renderers share. drawMeasured: `draw` into `target` (bound, cleared to `background`,
+// depth test on), with the triangles it made and its GPU time (to its finish). captureTriangles:
+// the passes drawn with rasterisation off, once counting and once capturing the output
+// `worldPosition` by transform feedback, each pass with its program in use (GL keeps one program
+// through a capture); three corners a triangle, not welded, in pass order.
+struct CapturePass {
+  const gl::Program* program;
+  std::function<void()> draw;  // must not change the program
+};
+FrameFigures drawMeasured(const gl::Framebuffer& target, const Vec3& background, const std::function<void()>& draw);
+Mesh captureTriangles(const std::vector<CapturePass>& passes);
 
 class AtlasRenderer {
 public:

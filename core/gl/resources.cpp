@@ -67,6 +67,13 @@ Texture::Texture(GLenum target, int w, int h, int d) : target_(target), size_{w,
   static_cast<Handle&>(*this) = Handle(tex);
 }
 
+Texture Texture::textureBuffer(GLenum internalFormat, const Buffer& buffer) {
+  Texture t(GL_TEXTURE_BUFFER, int(buffer.bytes()), 1, 1);
+  glTextureBuffer(t.id(), internalFormat, buffer.id());
+  checkErrors("making a buffer texture");
+  return t;
+}
+
 Texture Texture::texture2D(GLenum internalFormat, int width, int height, int levels) {
   Texture t(GL_TEXTURE_2D, width, height, 1);
   glTextureStorage2D(t.id(), levels, internalFormat, width, height);

@@ -82,6 +82,9 @@ public:
   Texture() = default;
   static Texture texture2D(GLenum internalFormat, int width, int height, int levels = 1);
   static Texture texture3D(GLenum internalFormat, int width, int height, int depth);
+  // A view of `buffer` as a buffer texture of `internalFormat` texels (e.g. GL_RGB32I); the buffer
+  // must outlive it.
+  static Texture textureBuffer(GLenum internalFormat, const Buffer& buffer);
   GLenum target() const { return target_; }
   int width() const { return size_[0]; }
   int height() const { return size_[1]; }
