@@ -2,7 +2,9 @@
 // adaptive level, then GL tessellation of the atlas; PNG images, the GPU's triangles as a mesh, and
 // the frame's figures.
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
+#include <memory>
 #include <optional>
 
 #include "app/command.h"
@@ -12,6 +14,7 @@
 #include "core/mesh_io.h"
 #include "core/progress.h"
 #include "viewer/scene.h"
+#include "viewer/smooth_render.h"
 
 namespace isoatlas::app {
 namespace {
@@ -24,6 +27,8 @@ struct RenderOptions {
   std::string camera, size = "800,600", output, capture, scene;
   bool wire = false, chartColours = false;
   int turntable = 0, frames = 1;
+  int smooth = 0;  // OpenSubdiv's tessellation level; 0: the atlas mode
+  bool limitOnly = false;
 };
 
 viewer::Camera parseCamera(const std::string& text, int width, int height) {
@@ -62,6 +67,22 @@ std::string framePath(const std::string& output, int frame, int frames) {
   return (p.parent_path() / (p.stem().string() + number + p.extension().string())).string();
 }
 
+std::vector<Vec3> offsets(const viewer::Scene& scene) {
+  std::vector<Vec3> out;
+  for (const viewer::Instance& i : scene.instances()) out.push_back(i.offset);
+  return out;
+}
+
+// A frame of the smooth mode: OpenSubdiv's limit surface of each instance at level T.
+viewer::FrameReport smoothFrame(const viewer::SmoothSurface& smooth, const viewer::Scene& scene, int level, bool displaced,
+                                const viewer::Camera& camera, const viewer::DrawStyle& style, const gl::Framebuffer& target) {
+  const auto start = std::chrono::steady_clock::now();
+  viewer::FrameReport f;
+  f.gpu = smooth.draw(offsets(scene), camera, scene.bounds(), level, displaced, style, target);
+  f.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return f;
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0 : v[v.size() / 2];
@@ -74,6 +95,9 @@ int render(const RenderOptions& o, nlohmann::json& r) {
   require(o.models.size() == 1 || !o.scene.empty(), "several models are drawn only in a --scene");
   require(o.turntable >= 0 && o.turntable <= 3600, "--turntable takes 0 to 3600 frames");
   require(o.frames >= 1 && o.frames <= 1000, "--frames takes 1 to 1000");
+  require(o.smooth >= 0 && o.smooth <= 32, "--smooth takes OpenSubdiv's tessellation level, 1 to 32");
+  require(o.smooth == 0 || o.models.size() == 1, "--smooth draws one model (in a --scene, its instances)");
+  require(o.smooth > 0 || !o.limitOnly, "--limit-only goes with --smooth");
   const auto [width, height] = parseSize(o.size);
   const int grid = o.scene.empty() ? 0 : parseGrid(o.scene);
 
@@ -106,6 +130,8 @@ int render(const RenderOptions& o, nlohmann::json& r) {
   style.colourByChart = o.chartColours;
 
   const viewer::AtlasRenderer renderer;
+  std::unique_ptr<viewer::SmoothSurface> smooth;
+  if (o.smooth) smooth = std::make_unique<viewer::SmoothSurface>(models.front(), scene.textures(0));
   const gl::Framebuffer target(width, height);
   const int images = std::max(o.turntable, 1), frames = std::max(images, o.frames);
   std::vector<double> cpuMs, gpuMs, frameMs;
@@ -116,7 +142,8 @@ int render(const RenderOptions& o, nlohmann::json& r) {
   Progress progress("render", std::size_t(frames));
   for (int f = 0; f < frames; ++f) {
     const viewer::Camera camera = o.turntable > 0 ? first.turned(2 * 3.14159265358979 * (f % images) / images) : first;
-    const viewer::FrameReport frame = viewer::drawFrame(scene, renderer, cpu, gpuLod, camera, style, target);
+    const viewer::FrameReport frame = smooth ? smoothFrame(*smooth, scene, o.smooth, !o.limitOnly, camera, style, target)
+                                             : viewer::drawFrame(scene, renderer, cpu, gpuLod, camera, style, target);
     cpuFigures = frame.cpu;
     figures = frame.gpu;
     uploadBytes += frame.cpu.uploadBytes;
@@ -132,12 +159,14 @@ int render(const RenderOptions& o, nlohmann::json& r) {
   progress.finish();
   if (!o.capture.empty()) {
     scene.refine(cpu, first);
-    const Mesh captured = weldIdenticalPositions(renderer.capture(scene.items(), first, scene.bounds(), gpuLod));
+    const Mesh captured = weldIdenticalPositions(smooth ? smooth->capture(offsets(scene), first, scene.bounds(), o.smooth, !o.limitOnly)
+                                                        : renderer.capture(scene.items(), first, scene.bounds(), gpuLod));
     writeMesh(o.capture, captured);
     r["captured_vertices"] = captured.vertexCount();
     r["captured_triangles"] = captured.faceCount();
   }
   r["renderer"] = gpu.needGl().info().renderer;
+  r["mode"] = o.smooth ? (o.limitOnly ? "smooth limit (OpenSubdiv)" : "smooth with the atlas's detail (OpenSubdiv)") : "atlas";
   r["instances"] = scene.instances().size();
   r["patches"] = figures.patches;
   r["triangles"] = figures.triangles;
@@ -175,6 +204,9 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--turntable", o->turntable, "N frames around the vertical axis: IMAGE_000.png ...");
   sub->add_option("--frames", o->frames, "draw this many frames and report the median times")->capture_default_str();
   sub->add_option("--scene", o->scene, "grid:NxN: N x N instances, CPU level by distance, GPU level by view");
+  sub->add_option("--smooth", o->smooth, "smooth mode: the base mesh as a Catmull-Clark cage, OpenSubdiv's limit surface at "
+                                        "tessellation level T with the atlas's detail along its normal");
+  sub->add_flag("--limit-only", o->limitOnly, "with --smooth: OpenSubdiv's limit surface alone, no detail");
   sub->add_option("-o,--output", o->output, "the image (.png)")->required();
   sub->add_option("--capture", o->capture, "the triangles the GPU made (transform feedback), welded, world mm (.ply, .obj, .off, .stl)");
   bindAction(*sub, [o](nlohmann::json& r) {

@@ -22,6 +22,10 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 SurfaceMesh toSurfaceMesh(const Mesh& mesh, const char* which) {
   require(mesh.faceCount() > 0 && mesh.allFacesHave(3), std::string("Hausdorff distance: the ") + which +
                                                              " mesh must be a non-empty triangle mesh");
+  // CGAL's face sampler never returns on a non-finite area.
+  for (const Vec3& p : mesh.positions)
+    require(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z),
+            std::string("Hausdorff distance: the ") + which + " mesh has a vertex that is not a finite point");
   SurfaceMesh out;
   out.reserve(SurfaceMesh::size_type(mesh.vertexCount()), 0, SurfaceMesh::size_type(mesh.faceCount()));
   for (const Vec3& p : mesh.positions) out.add_vertex({p.x, p.y, p.z});

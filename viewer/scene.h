@@ -37,6 +37,7 @@ public:
   Camera defaultCamera(int width, int height) const;
   SceneCpuFigures refine(const CpuRefinement& cpu, const Camera& camera);
   std::vector<DrawItem> items() const;
+  const AtlasTextures& textures(std::size_t model) const { return *models_.at(model).textures; }
 
 private:
   struct Entry {

@@ -4,6 +4,7 @@
 // distance on shapes of known distance.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <map>
 
@@ -229,6 +230,10 @@ TEST(Hausdorff, KnownDistancesBothWays) {
   EXPECT_GT(m.symmetric(), 0.2);
   EXPECT_NEAR(psnrDb(100, 1), 40, 1e-12);
   EXPECT_THROW(hausdorffDistance(Mesh{}, a), Error);
+  // A point that is not finite is refused (CGAL's face sampler would never return).
+  Mesh broken = a;
+  broken.positions[3].y = std::nan("");
+  EXPECT_THROW(hausdorffDistance(a, broken, 1000), Error);
 }
 
 }  // namespace

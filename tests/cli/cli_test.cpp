@@ -515,6 +515,14 @@ TEST(Cli, RenderDrawsAModelWithoutCracksAndAGridOfThem) {
   EXPECT_LT(g["cpu_levels"][0].get<int>(), 6) << "the far instances are coarser";
   EXPECT_GT(g["fps"].get<double>(), 0);
 
+  // The smooth mode: OpenSubdiv's uniform level 2 makes 8 * 2^2 triangles a tile.
+  const std::string smooth = (dir / "s.json").string();
+  const std::string base = (dir / "b.json").string();
+  ASSERT_EQ(run("render " + model + " --cpu-level 0 --gpu-level 0 --size 64,48 -o " + png + " --report " + base).code, 0);
+  ASSERT_EQ(run("render " + model + " --smooth 2 --size 64,48 -o " + png + " --report " + smooth).code, 0);
+  const std::size_t tiles = nlohmann::json::parse(test::readBytes(base))["patches"];  // level 0: a patch a tile
+  EXPECT_EQ(nlohmann::json::parse(test::readBytes(smooth))["triangles"].get<std::size_t>(), 32 * tiles);
+  expectBadInput("render " + model + " --limit-only -o " + png, "--limit-only goes with --smooth");
   expectBadInput("render " + model + " --camera 1,2 -o " + png, "--camera 1,2: expected EX,EY,EZ,TX,TY,TZ,FOV");
   expectBadInput("render " + model + " --scene grid:3x4 -o " + png, "expected grid:NxN");
   expectBadInput("render " + model + " " + model + " -o " + png, "several models are drawn only in a --scene");

@@ -25,9 +25,10 @@ vec2 atlasCoordinate(int face, vec2 uv) {
   return (slot + clamp(uv, 0.0, 1.0) * float(chartSize - 1u) + 0.5) / vec2(textureSize(positions, 0));
 }
 
+// (Where the limit normal vanishes, at a degenerate patch corner, the point stays on the limit.)
 #undef OSD_DISPLACEMENT_CALLBACK
 #define OSD_DISPLACEMENT_CALLBACK                                                    \
-  if (displace != 0) {                                                               \
+  if (displace != 0 && dot(N, N) > 0.0) {                                            \
     vec2 at = atlasCoordinate(int(outpt.v.patchCoord.w), outpt.v.patchCoord.xy);     \
     vec3 n = normalize(N);                                                           \
     vec3 detailed = P + n * dot(texture(positions, at).xyz - P, n);                  \

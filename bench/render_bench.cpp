@@ -1,0 +1,169 @@
+// bench/render: the tessellated atlas beside OpenSubdiv, in the same run and the same GL context.
+//   Speed: the grid scene at 1920 x 1080 (4 x 4 instances here, 10 x 10 with ISOATLAS_BENCH_GPU=1 on
+//   a real GPU), our cascade (CPU level by distance, GPU segments of 8 pixels) against OpenSubdiv's
+//   own adaptive tessellation of the same base mesh (Far patch tables, Osd's GLSL patch shaders,
+//   Gregory-basis end caps) at the uniform level whose triangle count is nearest ours: median frame
+//   time over the frames after the first, and triangles per second of GPU time.
+//   Accuracy at equal triangles: PSNR against the dense mesh (CGAL's Hausdorff distance) of the
+//   atlas at levels 4, 6, 8, of the smooth mode (OpenSubdiv's limit surface with the atlas's detail
+//   along its normal) and of the limit surface alone, 8 T^2 triangles a tile at T = 2, 4, 8; a
+//   picture of the three at level 6 (bench/render_modes.png).
+//   Watertightness: the share of edges matched by a neighbour's after welding the captured
+//   triangles by exact position (1: no crack).
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+
+#include "app/model_building.h"
+#include "atlas/hausdorff.h"
+#include "bench/bench_util.h"
+#include "core/gl/context.h"
+#include "core/image.h"
+#include "core/mesh_io.h"
+#include "core/text.h"
+#include "viewer/scene.h"
+#include "viewer/smooth_render.h"
+
+using namespace isoatlas;
+
+namespace {
+
+std::string device;  // the GL renderer, named with every figure
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+// Edges matched by one running the other way, over all edges, after welding by exact position.
+double watertight(const Mesh& captured) {
+  const Mesh welded = weldIdenticalPositions(captured);
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> balance;
+  for (std::size_t f = 0; f < welded.faceCount(); ++f) {
+    const auto c = welded.face(f);
+    for (std::size_t i = 0; i < 3; ++i) {
+      const std::uint32_t a = c[i], b = c[(i + 1) % 3];
+      if (a != b) balance[{std::min(a, b), std::max(a, b)}] += a < b ? 1 : -1;
+    }
+  }
+  std::size_t matched = 0;
+  for (const auto& [edge, count] : balance) matched += count == 0;
+  return double(matched) / double(std::max<std::size_t>(balance.size(), 1));
+}
+
+void speed(const std::string& name, const atlas::Model& model, int grid) {
+  viewer::Scene scene({&model});
+  scene.grid(grid);
+  const viewer::Camera camera = scene.defaultCamera(1920, 1080);
+  const gl::Framebuffer target(camera.width, camera.height);
+  const viewer::AtlasRenderer renderer;
+  const viewer::CpuRefinement cpu{viewer::CpuRefinement::Mode::Level, 6};
+  const viewer::GpuRefinement gpu{viewer::GpuRefinement::Mode::Pixels, 0, 8};
+  std::vector<double> ours, oursGpu;
+  std::uint64_t triangles = 0;
+  for (int frame = 0; frame < 6; ++frame) {
+    const viewer::FrameReport f = viewer::drawFrame(scene, renderer, cpu, gpu, camera, {}, target);
+    if (frame == 0) continue;  // programs compiled, patch lists made and sent
+    ours.push_back(f.ms), oursGpu.push_back(f.gpu.gpuMs), triangles = f.gpu.triangles;
+  }
+
+  const viewer::SmoothSurface smooth(model, scene.textures(0));
+  std::vector<Vec3> offsets;
+  for (const viewer::Instance& i : scene.instances()) offsets.push_back(i.offset);
+  const double perLevel = 8.0 * double(smooth.baseFaces() * offsets.size());
+  int level = std::clamp(int(std::lround(std::sqrt(double(triangles) / perLevel) / 2)) * 2, 2, 32);
+  std::vector<double> theirs, theirsGpu;
+  std::uint64_t theirTriangles = 0;
+  for (int frame = 0; frame < 6; ++frame) {
+    const auto start = std::chrono::steady_clock::now();
+    const viewer::FrameFigures f = smooth.draw(offsets, camera, scene.bounds(), level, false, {}, target);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (frame == 0) continue;
+    theirs.push_back(ms), theirsGpu.push_back(f.gpuMs), theirTriangles = f.triangles;
+  }
+  const std::string caseName = name + ", grid " + std::to_string(grid) + "x" + std::to_string(grid) + " at 1920x1080";
+  const std::string peer = "OpenSubdiv adaptive tessellation of the base mesh, level " + std::to_string(level);
+  std::fprintf(stderr, "bench render: %s: ours %llu triangles, %.1f ms a frame; OpenSubdiv %llu triangles, %.1f ms\n", caseName.c_str(),
+               (unsigned long long)triangles, median(ours), (unsigned long long)theirTriangles, median(theirs));
+  bench::report("render", caseName, "frame ms (ours: CPU + GPU)", median(ours), peer, median(theirs), true, device);
+  bench::report("render", caseName, "triangles per frame", double(triangles), peer, double(theirTriangles), false, device);
+  bench::report("render", caseName, "million triangles per GPU second", double(triangles) / median(oursGpu) / 1000, peer,
+                double(theirTriangles) / median(theirsGpu) / 1000, false, device);
+}
+
+// Columns side by side, on white.
+Image sideBySide(const std::vector<Image>& images) {
+  int width = 0, height = 0;
+  for (const Image& i : images) width += i.width, height = std::max(height, i.height);
+  Image out(width, height, 3);
+  std::fill(out.pixels.begin(), out.pixels.end(), 255);
+  int x0 = 0;
+  for (const Image& i : images) {
+    for (int y = 0; y < i.height; ++y)
+      for (int x = 0; x < i.width; ++x)
+        for (int c = 0; c < 3; ++c) out.at(x0 + x, y)[c] = i.at(x, y)[c];
+    x0 += i.width;
+  }
+  return out;
+}
+
+void accuracy(const std::string& name, const atlas::Model& model, const Mesh& dense) {
+  viewer::Scene scene({&model});
+  const viewer::Camera camera = scene.defaultCamera(480, 360);
+  const viewer::AtlasRenderer renderer;
+  const viewer::SmoothSurface smooth(model, scene.textures(0));
+  const double diagonal = boundingBox(dense.positions).diagonal();
+  const gl::Framebuffer target(camera.width, camera.height);
+  std::vector<Image> pictures;
+  for (const int level : {4, 6, 8}) {
+    const int t = 1 << (level / 2 - 1);  // 8 T^2 = 2 * 4^(level / 2): equal triangles a tile
+    scene.refine({viewer::CpuRefinement::Mode::Level, level}, camera);
+    const Mesh atlasMesh = renderer.capture(scene.items(), camera, scene.bounds(), {viewer::GpuRefinement::Mode::Level, 0});
+    const Mesh detailed = smooth.capture({{0, 0, 0}}, camera, scene.bounds(), t, true);
+    const Mesh limit = smooth.capture({{0, 0, 0}}, camera, scene.bounds(), t, false);
+    const double psnrAtlas = atlas::psnrDb(diagonal, atlas::hausdorffDistance(atlasMesh, dense).symmetric());
+    const double psnrDetailed = atlas::psnrDb(diagonal, atlas::hausdorffDistance(detailed, dense).symmetric());
+    const double psnrLimit = atlas::psnrDb(diagonal, atlas::hausdorffDistance(limit, dense).symmetric());
+    const std::string caseName = name + ", " + std::to_string(atlasMesh.faceCount()) + " triangles";
+    std::fprintf(stderr, "bench render: %s: PSNR atlas level %d %.1f dB, smooth T %d with detail %.1f dB, limit alone %.1f dB (%zu, %zu triangles)\n",
+                 caseName.c_str(), level, psnrAtlas, t, psnrDetailed, psnrLimit, detailed.faceCount(), limit.faceCount());
+    bench::report("render", caseName, "PSNR dB, atlas at level " + std::to_string(level), psnrAtlas,
+                  "OpenSubdiv limit surface of the base mesh, T " + std::to_string(t), psnrLimit, false, device);
+    bench::report("render", caseName, "PSNR dB, smooth mode (limit + the atlas's detail), T " + std::to_string(t), psnrDetailed,
+                  "OpenSubdiv limit surface of the base mesh, T " + std::to_string(t), psnrLimit, false, device);
+    bench::report("render", caseName, "watertight edges after exact weld (atlas at level " + std::to_string(level) + ")",
+                  watertight(atlasMesh), "OpenSubdiv limit surface, T " + std::to_string(t), watertight(limit), false, device);
+    if (level == 6) {
+      auto labelled = [&](const std::string& label, double psnr) {
+        Image picture = target.readImage();
+        char text[160];
+        std::snprintf(text, sizeof text, "%s: %.1f dB", label.c_str(), psnr);
+        drawText(picture, 12, 10, text, 18, {40, 40, 40});
+        pictures.push_back(std::move(picture));
+      };
+      renderer.draw(scene.items(), camera, scene.bounds(), {viewer::GpuRefinement::Mode::Level, 0}, {}, target);
+      labelled("atlas, level 6", psnrAtlas);
+      smooth.draw({{0, 0, 0}}, camera, scene.bounds(), t, true, {}, target);
+      labelled("smooth + detail, T 4", psnrDetailed);
+      smooth.draw({{0, 0, 0}}, camera, scene.bounds(), t, false, {}, target);
+      labelled("OpenSubdiv limit, T 4", psnrLimit);
+    }
+  }
+  writePng(std::filesystem::path(ISOATLAS_BENCH_DIR).append("render_modes.png").string(), sideBySide(pictures));
+}
+
+}  // namespace
+
+// bench_render [DATA [MESH]]: MESH in DATA/meshes (default bunny00).
+int main(int argc, char** argv) {
+  const std::string data = argc > 1 ? argv[1] : "data", name = argc > 2 ? argv[2] : "bunny00";
+  const auto context = gl::Context::headless();
+  device = context->info().renderer + " (" + bench::machineName() + ")";
+  const Mesh dense = app::prepareModelInput(readMesh(data + "/meshes/" + name + ".off"));
+  nlohmann::json figures;
+  const atlas::Model model = app::buildModel(dense, {.hausdorff = false}, figures);
+  const bool gpu = std::getenv("ISOATLAS_BENCH_GPU") && std::string(std::getenv("ISOATLAS_BENCH_GPU")) == "1";
+  speed(name, model, gpu ? 10 : 4);
+  accuracy(name, model, dense);
+  return 0;
+}
