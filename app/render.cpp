@@ -138,7 +138,7 @@ int render(const RenderOptions& o, nlohmann::json& r) {
   std::vector<std::string> written;
   viewer::FrameFigures figures;
   viewer::SceneCpuFigures cpuFigures;
-  std::size_t uploadBytes = 0;
+  std::size_t uploadBytes = 0, splits = 0, welds = 0;
   Progress progress("render", std::size_t(frames));
   for (int f = 0; f < frames; ++f) {
     const viewer::Camera camera = o.turntable > 0 ? first.turned(2 * 3.14159265358979 * (f % images) / images) : first;
@@ -147,6 +147,7 @@ int render(const RenderOptions& o, nlohmann::json& r) {
     cpuFigures = frame.cpu;
     figures = frame.gpu;
     uploadBytes += frame.cpu.uploadBytes;
+    splits += frame.cpu.splits, welds += frame.cpu.welds;
     frameMs.push_back(frame.ms);
     cpuMs.push_back(frame.cpu.ms);
     gpuMs.push_back(frame.gpu.gpuMs);
@@ -177,6 +178,8 @@ int render(const RenderOptions& o, nlohmann::json& r) {
   r["fps"] = 1000 / std::max(median(frameMs), 1e-9);
   r["triangles_per_second"] = double(figures.triangles) * 1000 / std::max(median(gpuMs), 1e-9);
   r["upload_bytes"] = uploadBytes;  // patch lists, over all frames
+  r["cpu_splits"] = splits;         // over all frames: --cpu-error carries each instance's mesh on
+  r["cpu_welds"] = welds;
   if (cpu.mode == viewer::CpuRefinement::Mode::Level) r["cpu_levels"] = {cpuFigures.minLevel, cpuFigures.maxLevel};
   r["size"] = {width, height};
   r["frames"] = frames;

@@ -174,7 +174,7 @@ bool AdaptiveMesh::canWeld(VertexH v) const {
   return true;
 }
 
-void AdaptiveMesh::weld(VertexH v) {
+std::array<VertexH, 2> AdaptiveMesh::weldParents(VertexH v) const {
   if (!canWeld(v)) throw Error("adaptive mesh: weld of a vertex that is not weldable", ErrorKind::Failure);
   const int l = level(v);
   // The edge the split cut: at an even level, between the two neighbours two levels up; at an odd
@@ -194,6 +194,11 @@ void AdaptiveMesh::weld(VertexH v) {
   }
   if (ends.size() != 2 || !canWeldInto(mesh_, v, ends[0]))
     throw Error("adaptive mesh: the edge a vertex was split from cannot be found", ErrorKind::Failure);
+  return {ends[0], ends[1]};
+}
+
+void AdaptiveMesh::weld(VertexH v) {
+  const VertexH into = weldParents(v)[0];
   // OpenMesh's collapse merges edges of the faces around v's neighbours too, moving halfedges
   // (and their properties) between faces: note every face within two rings, and set them again.
   std::map<std::uint32_t, UvTable> tables;  // per chart
@@ -210,7 +215,7 @@ void AdaptiveMesh::weld(VertexH v) {
         tables[chart(g)].push_back({mesh_.from_vertex_handle(g).idx(), {y[0], y[1]}});
       }
     }
-  weldInto(mesh_, v, ends[0]);
+  weldInto(mesh_, v, into);
   for (const auto& [f, c] : faces)
     if (!mesh_.status(f).deleted()) setFace(f, c, tables[c]);
 }

@@ -46,6 +46,8 @@ public:
   bool canWeld(VertexH v) const;
   VertexH split(EdgeH e);  // requires canSplit
   void weld(VertexH v);    // requires canWeld
+  // The ends of the edge whose split made v (what a weld of v joins again); requires canWeld(v).
+  std::array<VertexH, 2> weldParents(VertexH v) const;
   // Splits e after the splits that conformity forces; false when that would go finer than the chart.
   bool refine(EdgeH e);
   // Where a split of e would put its vertex (the chart's sample at the edge's midpoint, from the

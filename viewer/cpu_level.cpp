@@ -45,4 +45,24 @@ std::size_t refineToError(multires::AdaptiveMesh& mesh, const EdgeError& error, 
   return splits;
 }
 
+std::size_t coarsenToError(multires::AdaptiveMesh& mesh, const EdgeError& error, double limit) {
+  std::size_t welds = 0;
+  for (bool changed = true; changed;) {
+    changed = false;
+    const auto& m = mesh.mesh();
+    for (std::size_t i = 0; i < m.n_vertices(); ++i) {
+      const multires::VertexH v{int(i)};
+      if (!mesh.canWeld(v)) continue;  // also false for a deleted vertex
+      const auto parents = mesh.weldParents(v);
+      const Vec3 chord = (multires::toVec3(m.point(parents[0])) + multires::toVec3(m.point(parents[1]))) * 0.5;
+      if (error(multires::toVec3(m.point(v)), chord) > limit) continue;
+      mesh.weld(v);
+      ++welds;
+      changed = true;
+    }
+  }
+  if (welds) mesh.compact();
+  return welds;
+}
+
 }  // namespace isoatlas::viewer

@@ -28,34 +28,44 @@ ModelLod::ModelLod(const atlas::Model& model)
 
 int ModelLod::maxLevel() const { return atlas::maxLevel(model_->chartSize); }
 
-multires::AdaptiveMesh ModelLod::refined(const CpuRefinement& cpu, const Camera& camera, const Vec3& offset,
-                                         std::size_t* splits) const {
-  multires::AdaptiveMesh mesh = base_;
-  std::size_t made = 0;
+CpuFigures ModelLod::adapt(multires::AdaptiveMesh& mesh, const CpuRefinement& cpu, const Camera& camera, const Vec3& offset) const {
+  const auto start = std::chrono::steady_clock::now();
+  CpuFigures f;
   if (cpu.mode == CpuRefinement::Mode::Level) {
     require(cpu.level >= 0 && cpu.level <= maxLevel(),
             "--cpu-level must lie between 0 and " + std::to_string(maxLevel()) + " for charts of " +
                 std::to_string(model_->chartSize) + " texels");
-    made = refineUniformly(mesh, cpu.level);
+    mesh = base_;
+    f.splits = refineUniformly(mesh, cpu.level);
   } else {
     require(cpu.pixels > 0, "--cpu-error must be positive");
-    made = refineToError(mesh, [&](const Vec3& sample, const Vec3& chord) {
+    const EdgeError onScreen = [&](const Vec3& sample, const Vec3& chord) {
       return norm(sample - chord) * camera.pixelsPerUnit(chord + offset);
-    }, cpu.pixels);
+    };
+    f.welds = coarsenToError(mesh, onScreen, cpu.pixels);
+    f.splits = refineToError(mesh, onScreen, cpu.pixels);
   }
-  if (splits) *splits = made;
+  f.faces = mesh.mesh().n_faces();
+  f.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return f;
+}
+
+std::vector<GpuPatch> ModelLod::patchesOf(const multires::AdaptiveMesh& mesh) const { return gpuPatches(mesh, across_, hasDetail_); }
+
+multires::AdaptiveMesh ModelLod::refined(const CpuRefinement& cpu, const Camera& camera, const Vec3& offset) const {
+  multires::AdaptiveMesh mesh = base_;
+  adapt(mesh, cpu, camera, offset);
   return mesh;
 }
 
 std::vector<GpuPatch> ModelLod::patches(const CpuRefinement& cpu, const Camera& camera, const Vec3& offset,
                                         CpuFigures* figures) const {
   const auto start = std::chrono::steady_clock::now();
-  std::size_t splits = 0;
-  const multires::AdaptiveMesh mesh = refined(cpu, camera, offset, &splits);
-  std::vector<GpuPatch> out = gpuPatches(mesh, across_, hasDetail_);
+  multires::AdaptiveMesh mesh = base_;
+  const CpuFigures f = adapt(mesh, cpu, camera, offset);
+  std::vector<GpuPatch> out = patchesOf(mesh);
   if (figures) {
-    figures->splits = splits;
-    figures->faces = mesh.mesh().n_faces();
+    *figures = f;
     figures->ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   }
   return out;

@@ -16,6 +16,7 @@ Scene::Scene(const std::vector<const atlas::Model*>& models) {
 }
 
 void Scene::grid(int n) {
+  meshes_.clear();
   require(n >= 1 && n <= 64, "--scene grid:NxN takes N from 1 to 64");
   double spacing = 0;
   for (const Entry& e : models_) spacing = std::max({spacing, e.box.max.x - e.box.min.x, e.box.max.y - e.box.min.y});
@@ -91,11 +92,14 @@ SceneCpuFigures Scene::refine(const CpuRefinement& cpu, const Camera& camera) {
     f.maxLevel = cpu.level;
   } else {
     byInstance_.resize(instances_.size());
+    while (meshes_.size() < instances_.size()) meshes_.push_back(models_[instances_[meshes_.size()].model].lod->start());
     for (std::size_t k = 0; k < instances_.size(); ++k) {
       const Instance& i = instances_[k];
-      CpuFigures c;
-      f.uploadBytes += byInstance_[k].update(models_[i.model].lod->patches(cpu, camera, i.offset, &c));
+      const ModelLod& lod = *models_[i.model].lod;
+      const CpuFigures c = lod.adapt(meshes_[k], cpu, camera, i.offset);
+      if (c.splits + c.welds > 0 || byInstance_[k].count() == 0) f.uploadBytes += byInstance_[k].update(lod.patchesOf(meshes_[k]));
       f.cpuFaces += c.faces;
+      f.splits += c.splits, f.welds += c.welds;
       drawn_[k] = &byInstance_[k];
     }
   }

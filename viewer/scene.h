@@ -23,6 +23,7 @@ struct SceneCpuFigures {
   double ms = 0;                 // refinement and patch lists
   std::size_t uploadBytes = 0;   // patch lists sent to the GPU
   std::size_t cpuFaces = 0;      // the CPU meshes' triangles, over the instances
+  std::size_t splits = 0, welds = 0;  // this frame's, over the instances
   int minLevel = 0, maxLevel = 0;  // over the instances (Level mode)
 };
 
@@ -50,13 +51,14 @@ private:
   std::vector<Instance> instances_;
   bool grid_ = false;
   // Patch lists: per (model, level) in Level mode, shared by the instances at that level; per
-  // instance in Pixels mode.
+  // instance in Pixels mode, beside the instance's CPU mesh, which each frame adapts.
   struct Cached {
     PatchBuffer patches;
     std::size_t cpuFaces = 0;
   };
   std::map<std::pair<std::size_t, int>, Cached> byLevel_;
   std::vector<PatchBuffer> byInstance_;
+  std::vector<multires::AdaptiveMesh> meshes_;
   std::vector<const PatchBuffer*> drawn_;
 };
 

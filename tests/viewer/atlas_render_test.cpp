@@ -19,6 +19,7 @@
 #include "tests/gl_context.h"
 #include "tests/multires/mesh_shapes.h"
 #include "viewer/atlas_render.h"
+#include "viewer/cpu_level.h"
 #include "viewer/model_lod.h"
 
 namespace isoatlas::viewer {
@@ -207,6 +208,38 @@ TEST(AtlasRender, DetailChartsRefineTheirTilesWithoutCracks) {
   // A border with a tile without detail is cut at that tile's texels only: no triangle there
   // collapses to a sliver between two reads of one texel.
   EXPECT_EQ(analyzeTopology(gpu).degenerateFaces, 0u);
+}
+
+// The CPU mesh kept from view to view (welds where the view allows, splits where it asks) ends
+// where a mesh refined for the last view alone would be bound to: nothing left to split or weld
+// at the error asked; and its patches draw without cracks.
+TEST(AtlasRender, AViewToTheNextBySplitsAndWelds) {
+  test::glContext();
+  Scene scene(torus());
+  multires::AdaptiveMesh mesh = scene.lod.start();
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::size_t welds = 0;
+  const auto boundary = openSideTexels(scene.model);
+  for (int step = 0; step < 12; ++step) {
+    Camera c = scene.camera(unit(rng) * 6.3);
+    c.eye = c.target + (c.eye - c.target) * (0.3 + 1.5 * unit(rng));
+    const CpuRefinement cpu{CpuRefinement::Mode::Pixels, 0, 0.3 + 3 * unit(rng)};
+    const CpuFigures f = scene.lod.adapt(mesh, cpu, c, {});
+    welds += f.welds;
+    SCOPED_TRACE("step " + std::to_string(step));
+    const MeshTopology t = analyzeTopology(mesh.triangles());
+    ASSERT_TRUE(t.closed && t.manifold) << t.firstProblem;
+    const EdgeError onScreen = [&](const Vec3& sample, const Vec3& chord) { return norm(sample - chord) * c.pixelsPerUnit(chord); };
+    multires::AdaptiveMesh again = mesh;
+    EXPECT_EQ(refineToError(again, onScreen, cpu.pixels), 0u) << "an edge the view asks to split is left";
+    EXPECT_EQ(coarsenToError(again, onScreen, cpu.pixels), 0u) << "a vertex the view allows to weld is left";
+    scene.patches.update(scene.lod.patchesOf(mesh));
+    const Mesh gpu = weldIdenticalPositions(AtlasRenderer().capture({{&scene.textures, &scene.patches, {}}}, c, scene.box,
+                                                                    {GpuRefinement::Mode::Pixels, 0, 6}));
+    expectNoBorderEdgesButTheModels(gpu, boundary);
+  }
+  EXPECT_GT(welds, 100u) << "views farther than the last coarsen the mesh";
 }
 
 TEST(AtlasRender, PatchBufferSendsOnlyWhatChanged) {
