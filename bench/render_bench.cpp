@@ -1,9 +1,11 @@
 // bench/render: the tessellated atlas beside OpenSubdiv, in the same run and the same GL context.
 //   Speed: the grid scene at 1920 x 1080 (4 x 4 instances here, 10 x 10 with ISOATLAS_BENCH_GPU=1 on
-//   a real GPU), our cascade (CPU level by distance, GPU segments of 8 pixels) against OpenSubdiv's
-//   own adaptive tessellation of the same base mesh (Far patch tables, Osd's GLSL patch shaders,
-//   Gregory-basis end caps) at the uniform level whose triangle count is nearest ours: median frame
-//   time over the frames after the first, and triangles per second of GPU time.
+//   a real GPU), our cascade (CPU level by distance, GPU segments set to draw as many triangles as
+//   the peer, within 2 %) against OpenSubdiv's own adaptive tessellation of the same base mesh (Far
+//   patch tables, Osd's GLSL patch shaders, Gregory-basis end caps) at the uniform level nearest our
+//   cascade at 8-pixel segments: median frame time over five frames after the first, and triangles
+//   per second of GPU time; each through its fastest pipeline (OpenSubdiv's evaluation straight to
+//   the fragments, ours through a geometry stage), and both through the geometry stage.
 //   Accuracy at equal triangles: PSNR against the dense mesh (CGAL's Hausdorff distance) of the
 //   atlas at levels 4, 6, 8, of the smooth mode (OpenSubdiv's limit surface with the atlas's detail
 //   along its normal) and of the limit surface alone, 8 T^2 triangles a tile at T = 2, 4, 8; a
@@ -11,6 +13,7 @@
 //   Watertightness: the share of edges matched by a neighbour's after welding the captured
 //   triangles by exact position (1: no crack).
 #include <cstdlib>
+#include <functional>
 #include <filesystem>
 #include <map>
 
@@ -51,6 +54,22 @@ double watertight(const Mesh& captured) {
   return double(matched) / double(std::max<std::size_t>(balance.size(), 1));
 }
 
+// Median frame time (ms), median GPU time (ms) and triangles of five frames after a first one.
+struct Timed {
+  double frameMs = 0, gpuMs = 0;
+  std::uint64_t triangles = 0;
+};
+Timed timed(const std::function<viewer::FrameReport()>& frame) {
+  std::vector<double> ms, gpu;
+  std::uint64_t triangles = 0;
+  for (int k = 0; k < 6; ++k) {
+    const viewer::FrameReport f = frame();
+    if (k == 0) continue;  // programs compiled, patch lists made and sent
+    ms.push_back(f.ms), gpu.push_back(f.gpu.gpuMs), triangles = f.gpu.triangles;
+  }
+  return {median(ms), median(gpu), triangles};
+}
+
 void speed(const std::string& name, const atlas::Model& model, int grid) {
   viewer::Scene scene({&model});
   scene.grid(grid);
@@ -58,37 +77,53 @@ void speed(const std::string& name, const atlas::Model& model, int grid) {
   const gl::Framebuffer target(camera.width, camera.height);
   const viewer::AtlasRenderer renderer;
   const viewer::CpuRefinement cpu{viewer::CpuRefinement::Mode::Level, 6};
-  const viewer::GpuRefinement gpu{viewer::GpuRefinement::Mode::Pixels, 0, 8};
-  std::vector<double> ours, oursGpu;
-  std::uint64_t triangles = 0;
-  for (int frame = 0; frame < 6; ++frame) {
-    const viewer::FrameReport f = viewer::drawFrame(scene, renderer, cpu, gpu, camera, {}, target);
-    if (frame == 0) continue;  // programs compiled, patch lists made and sent
-    ours.push_back(f.ms), oursGpu.push_back(f.gpu.gpuMs), triangles = f.gpu.triangles;
-  }
-
+  auto ours = [&](double pixels) {
+    return viewer::drawFrame(scene, renderer, cpu, {viewer::GpuRefinement::Mode::Pixels, 0, pixels}, camera, {}, target);
+  };
+  // OpenSubdiv's uniform level nearest our cascade at 8-pixel segments; then our segment length
+  // set (bisection) so that we draw as many triangles as it does.
+  const std::uint64_t first = ours(8).gpu.triangles;
   const viewer::SmoothSurface smooth(model, scene.textures(0));
   std::vector<Vec3> offsets;
   for (const viewer::Instance& i : scene.instances()) offsets.push_back(i.offset);
   const double perLevel = 8.0 * double(smooth.baseFaces() * offsets.size());
-  int level = std::clamp(int(std::lround(std::sqrt(double(triangles) / perLevel) / 2)) * 2, 2, 32);
-  std::vector<double> theirs, theirsGpu;
-  std::uint64_t theirTriangles = 0;
-  for (int frame = 0; frame < 6; ++frame) {
-    const auto start = std::chrono::steady_clock::now();
-    const viewer::FrameFigures f = smooth.draw(offsets, camera, scene.bounds(), level, false, {}, target);
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    if (frame == 0) continue;
-    theirs.push_back(ms), theirsGpu.push_back(f.gpuMs), theirTriangles = f.triangles;
+  const int level = std::clamp(int(std::lround(std::sqrt(double(first) / perLevel) / 2)) * 2, 2, 32);
+  const double wanted = perLevel * level * level;
+  double low = 1, high = 64, pixels = 8;
+  for (int k = 0; k < 10; ++k) {
+    pixels = std::sqrt(low * high);
+    const double got = double(ours(pixels).gpu.triangles);
+    if (std::abs(got / wanted - 1) < 0.02) break;
+    (got > wanted ? low : high) = pixels;
   }
+  const Timed a = timed([&] { return ours(pixels); });
+  auto theirs = [&](const viewer::DrawStyle& style) {
+    return timed([&] {
+      const auto start = std::chrono::steady_clock::now();
+      viewer::FrameReport f;
+      f.gpu = smooth.draw(offsets, camera, scene.bounds(), level, false, style, target);
+      f.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      return f;
+    });
+  };
+  const Timed b = theirs({});
+  // The same pipeline for both: OpenSubdiv's evaluation through our geometry stage, as ours always
+  // goes (with the wireframe, which both then draw).
+  viewer::DrawStyle wire;
+  wire.wireframe = true;
+  const Timed aWire = timed([&] { return viewer::drawFrame(scene, renderer, cpu, {viewer::GpuRefinement::Mode::Pixels, 0, pixels}, camera, wire, target); });
+  const Timed bWire = theirs(wire);
+  char segments[64];
+  std::snprintf(segments, sizeof segments, "%.1f", pixels);
   const std::string caseName = name + ", grid " + std::to_string(grid) + "x" + std::to_string(grid) + " at 1920x1080";
   const std::string peer = "OpenSubdiv adaptive tessellation of the base mesh, level " + std::to_string(level);
-  std::fprintf(stderr, "bench render: %s: ours %llu triangles, %.1f ms a frame; OpenSubdiv %llu triangles, %.1f ms\n", caseName.c_str(),
-               (unsigned long long)triangles, median(ours), (unsigned long long)theirTriangles, median(theirs));
-  bench::report("render", caseName, "frame ms (ours: CPU + GPU)", median(ours), peer, median(theirs), true, device);
-  bench::report("render", caseName, "triangles per frame", double(triangles), peer, double(theirTriangles), false, device);
-  bench::report("render", caseName, "million triangles per GPU second", double(triangles) / median(oursGpu) / 1000, peer,
-                double(theirTriangles) / median(theirsGpu) / 1000, false, device);
+  std::fprintf(stderr, "bench render: %s: ours (GPU segments of %s pixels) %llu triangles, %.1f ms a frame; OpenSubdiv %llu triangles, %.1f ms\n",
+               caseName.c_str(), segments, (unsigned long long)a.triangles, a.frameMs, (unsigned long long)b.triangles, b.frameMs);
+  bench::report("render", caseName, "frame ms (ours: CPU + GPU)", a.frameMs, peer, b.frameMs, true, device);
+  bench::report("render", caseName, "triangles per frame", double(a.triangles), peer, double(b.triangles), false, device);
+  bench::report("render", caseName, "million triangles per GPU second", double(a.triangles) / a.gpuMs / 1000, peer,
+                double(b.triangles) / b.gpuMs / 1000, false, device);
+  bench::report("render", caseName, "frame ms, both through the geometry stage (wireframe)", aWire.frameMs, peer, bWire.frameMs, true, device);
 }
 
 // Columns side by side, on white.

@@ -103,8 +103,8 @@ public:
   Mesh capture(const std::vector<DrawItem>& items, const Camera& camera, const Box& scene, const GpuRefinement& gpu) const;
 
 private:
-  void prepare(const Camera& camera, const Box& scene, const GpuRefinement& gpu, const DrawStyle& style) const;
-  void drawItems(const std::vector<DrawItem>& items) const;
+  const gl::Program& prepare(const Camera& camera, const Box& scene, const GpuRefinement& gpu, const DrawStyle& style) const;
+  void drawItems(const gl::Program& program, const std::vector<DrawItem>& items) const;
   const gl::Program* program_;
   unsigned maxTessLevel_;
   gl::VertexArray vao_;  // none of its attributes are used: the patches come from a storage buffer

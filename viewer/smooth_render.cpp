@@ -59,12 +59,21 @@ const gl::EmbeddedShader* smoothShaders() {
   return table.data();
 }
 
-const gl::Program& programFor(int type) {
+// A patch type's program: with our geometry stage (wireframe, transform feedback), or `direct` to
+// the fragments.
+const gl::Program& programFor(int type, bool direct) {
   const std::string name = type == Far::PatchDescriptor::REGULAR ? "regular" : "gregory";
   const std::string stem = "viewer/shaders/smooth_" + name;
-  return gl::Context::current().program(
-      {smoothShaders(), {stem + ".vert", stem + ".tesc", stem + ".tese", "viewer/shaders/smooth.geom", "viewer/shaders/atlas.frag"}, {}, {"worldPosition"}});
+  std::vector<std::string> paths = {stem + ".vert", stem + ".tesc", stem + ".tese"};
+  if (direct) {
+    paths.push_back("viewer/shaders/smooth_direct.frag");
+    return gl::Context::current().program({smoothShaders(), paths, {}, {}});
+  }
+  paths.insert(paths.end(), {"viewer/shaders/smooth.geom", "viewer/shaders/atlas.frag"});
+  return gl::Context::current().program({smoothShaders(), paths, {}, {"worldPosition"}});
 }
+
+constexpr int kTypes[] = {Far::PatchDescriptor::REGULAR, Far::PatchDescriptor::GREGORY_BASIS};
 
 }  // namespace
 
@@ -91,12 +100,16 @@ SmoothSurface::SmoothSurface(const atlas::Model& model, const AtlasTextures& tex
 
   // Control points: the cage's, then every refined level's and the end caps' local points, all
   // from the cage by stencils.
-  Far::StencilTableFactory::Options stencilOptions;
+  // (The float-typed Real<float> classes directly: the StencilTable wrappers downcast their base
+  // class objects, which UBSan rightly reports.)
+  using Stencils = Far::StencilTableReal<float>;
+  using StencilFactory = Far::StencilTableFactoryReal<float>;
+  StencilFactory::Options stencilOptions;
   stencilOptions.generateOffsets = true;
   stencilOptions.generateIntermediateLevels = true;
-  std::unique_ptr<const Far::StencilTable> stencils(Far::StencilTableFactory::Create(*refiner, stencilOptions));
-  if (const Far::StencilTable* local = table->GetLocalPointStencilTable())
-    if (const Far::StencilTable* all = Far::StencilTableFactory::AppendLocalPointStencilTable(*refiner, stencils.get(), local))
+  std::unique_ptr<const Stencils> stencils(StencilFactory::Create(*refiner, stencilOptions));
+  if (const Stencils* local = table->GetLocalPointStencilTable<float>())
+    if (const Stencils* all = StencilFactory::AppendLocalPointStencilTable(*refiner, stencils.get(), local))
       stencils.reset(all);
   std::vector<ControlPoint> points(cage.vertexCount() + std::size_t(stencils->GetNumStencils()));
   for (std::size_t v = 0; v < cage.vertexCount(); ++v)
@@ -135,32 +148,33 @@ void SmoothSurface::setUniforms(const Camera& camera, const Box& scene, int tess
   const auto range = depthRange(camera, scene);
   const auto vp = camera.viewProjection(range[0], range[1]);
   const atlas::AtlasLayout& layout = textures_->layout();
-  for (const int type : {int(Far::PatchDescriptor::REGULAR), int(Far::PatchDescriptor::GREGORY_BASIS)}) {
-    const GLuint p = programFor(type).id();
-    auto at = [p](const char* name) { return glGetUniformLocation(p, name); };
-    glProgramUniformMatrix4fv(p, at("viewProjection"), 1, GL_FALSE, vp.data());
-    glProgramUniform2f(p, at("viewport"), float(camera.width), float(camera.height));
-    glProgramUniform1f(p, at("tessLevel"), float(tessLevel));
-    glProgramUniform1i(p, at("displace"), displaced);
-    glProgramUniform1ui(p, at("chartSize"), layout.chartSize);
-    glProgramUniform1ui(p, at("atlasColumns"), layout.columns);
-    glProgramUniform1i(p, at("OsdPatchParamBuffer"), 4);
-    glProgramUniform3f(p, at("eye"), float(camera.eye.x), float(camera.eye.y), float(camera.eye.z));
-    glProgramUniform3f(p, at("colour"), float(style.colour.x), float(style.colour.y), float(style.colour.z));
-    glProgramUniform1i(p, at("colourByChart"), style.colourByChart);
-    glProgramUniform1i(p, at("wireframe"), style.wireframe);
-  }
+  for (const int type : kTypes)
+    for (const bool direct : {false, true}) {
+      const GLuint p = programFor(type, direct).id();
+      auto at = [p](const char* name) { return glGetUniformLocation(p, name); };
+      glProgramUniformMatrix4fv(p, at("viewProjection"), 1, GL_FALSE, vp.data());
+      glProgramUniform2f(p, at("viewport"), float(camera.width), float(camera.height));
+      glProgramUniform1f(p, at("tessLevel"), float(tessLevel));
+      glProgramUniform1i(p, at("displace"), displaced);
+      glProgramUniform1ui(p, at("chartSize"), layout.chartSize);
+      glProgramUniform1ui(p, at("atlasColumns"), layout.columns);
+      glProgramUniform1i(p, at("OsdPatchParamBuffer"), 4);
+      glProgramUniform3f(p, at("eye"), float(camera.eye.x), float(camera.eye.y), float(camera.eye.z));
+      glProgramUniform3f(p, at("colour"), float(style.colour.x), float(style.colour.y), float(style.colour.z));
+      glProgramUniform1i(p, at("colourByChart"), style.colourByChart);
+      glProgramUniform1i(p, at("wireframe"), style.wireframe);
+    }
   glBindTextureUnit(0, textures_->positions().id());
   glBindTextureUnit(1, textures_->normals().id());
   glBindTextureUnit(4, patchParamTexture_.id());
   vao_.bind();
 }
 
-void SmoothSurface::drawArrays(const std::vector<Vec3>& offsets, int type) const {
+void SmoothSurface::drawArrays(const std::vector<Vec3>& offsets, int type, bool direct) const {
   for (const Vec3& offset : offsets)
     for (const PatchArray& array : arrays_) {
       if (type >= 0 && array.type != type) continue;
-      const gl::Program& p = programFor(array.type);
+      const gl::Program& p = programFor(array.type, direct);
       GLint current = 0;
       glGetIntegerv(GL_CURRENT_PROGRAM, &current);
       if (GLuint(current) != p.id()) p.use();
@@ -182,7 +196,7 @@ FrameFigures SmoothSurface::draw(const std::vector<Vec3>& offsets, const Camera&
                                  bool displaced, const DrawStyle& style, const gl::Framebuffer& target) const {
   FrameFigures f = drawMeasured(target, style.background, [&] {
     setUniforms(camera, scene, tessLevel, displaced, style);
-    drawArrays(offsets, -1);
+    drawArrays(offsets, -1, !style.wireframe);
   });
   f.patches = patches_ * offsets.size();
   return f;
@@ -192,8 +206,7 @@ Mesh SmoothSurface::capture(const std::vector<Vec3>& offsets, const Camera& came
                             bool displaced) const {
   setUniforms(camera, scene, tessLevel, displaced, {});
   std::vector<CapturePass> passes;
-  for (const int type : {int(Far::PatchDescriptor::REGULAR), int(Far::PatchDescriptor::GREGORY_BASIS)})
-    passes.push_back({&programFor(type), [this, &offsets, type] { drawArrays(offsets, type); }});
+  for (const int type : kTypes) passes.push_back({&programFor(type, false), [this, &offsets, type] { drawArrays(offsets, type, false); }});
   return captureTriangles(passes);
 }
 

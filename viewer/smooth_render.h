@@ -35,8 +35,9 @@ private:
     int type, controlVertices, patches, indexBase, primitiveIdBase;
   };
   void setUniforms(const Camera& camera, const Box& scene, int tessLevel, bool displaced, const DrawStyle& style) const;
-  // Draws the patch arrays of one type (-1: all) for each offset, using their programs.
-  void drawArrays(const std::vector<Vec3>& offsets, int type) const;
+  // Draws the patch arrays of one type (-1: all) for each offset, using their programs (`direct`:
+  // those without the geometry stage).
+  void drawArrays(const std::vector<Vec3>& offsets, int type, bool direct) const;
   const AtlasTextures* textures_;
   std::size_t faces_ = 0, patches_ = 0;
   gl::Buffer controlVertices_, indices_, patchParams_;
