@@ -12,20 +12,22 @@
 namespace isoatlas::viewer {
 namespace {
 
-// Always with the geometry stage (the wireframe's distances, transform feedback's output): on
-// llvmpipe the same draws without it took four to seven times as long (bunny00's 4 x 4 grid at
-// 1920 x 1080: 1.25 s against 0.30 s a frame, 2.4 s against 0.37 s with bigger patches), its
-// tessellated vertices going through a slower path there. A real GPU may differ: measure there
-// before drawing plain frames without it (the smooth mode does, where it was faster).
-const gl::ProgramSource& atlasProgram() {
-  static const gl::ProgramSource source{
-      gl::kViewerShaders,
-      {"viewer/shaders/atlas.vert", "viewer/shaders/atlas.tesc", "viewer/shaders/atlas.tese", "viewer/shaders/atlas.geom",
-       "viewer/shaders/atlas.frag"},
-      {},
-      {"worldPosition"}};
-  return source;
+// With the geometry stage (the wireframe's distances, transform feedback's output), or, for plain
+// frames, straight from the evaluation stage to the fragments.
+gl::ProgramSource atlasProgram(bool direct) {
+  std::vector<std::string> paths = {"viewer/shaders/atlas.vert", "viewer/shaders/atlas.tesc", "viewer/shaders/atlas.tese"};
+  if (direct) {
+    paths.push_back("viewer/shaders/atlas_direct.frag");
+    return {gl::kViewerShaders, paths, {}, {}};
+  }
+  paths.insert(paths.end(), {"viewer/shaders/atlas.geom", "viewer/shaders/atlas.frag"});
+  return {gl::kViewerShaders, paths, {}, {"worldPosition"}};
 }
+
+// On llvmpipe a tessellated draw without a geometry stage slows more than linearly with the
+// vertices it makes (bunny00's 4 x 4 grid at 1920 x 1080: 1.25 s a frame in one draw an instance,
+// 0.24 s in draws of 16 patches): plain frames go there in draws of this many patches.
+constexpr std::size_t kSoftwareChunk = 16;
 
 // The largest power of two the driver's tessellator accepts (GL 4.5 guarantees 64).
 unsigned powerOfTwoAtMost(int limit) {
@@ -117,15 +119,17 @@ std::size_t PatchBuffer::update(const std::vector<GpuPatch>& patches) {
 }
 
 AtlasRenderer::AtlasRenderer()
-    : program_(&gl::Context::current().program(atlasProgram())),
+    : program_(&gl::Context::current().program(atlasProgram(false))),
+      direct_(&gl::Context::current().program(atlasProgram(true))),
+      chunk_(gl::Context::current().info().software() ? kSoftwareChunk : 0),
       maxTessLevel_(powerOfTwoAtMost(gl::Context::current().info().maxTessellationLevel)) {}
 
-const gl::Program& AtlasRenderer::prepare(const Camera& camera, const Box& scene, const GpuRefinement& gpu,
-                                          const DrawStyle& style) const {
+const gl::Program& AtlasRenderer::prepare(const Camera& camera, const Box& scene, const GpuRefinement& gpu, const DrawStyle& style,
+                                          bool capturing) const {
   camera.check();
   require(gpu.halvings >= 0 && gpu.halvings <= 16, "--gpu-level must lie between 0 and 16");
   require(gpu.pixels > 0, "--gpu-pixels must be positive");
-  const gl::Program& p = *program_;
+  const gl::Program& p = capturing || style.wireframe ? *program_ : *direct_;
   p.use();
   const auto range = depthRange(camera, scene);
   const auto vp = camera.viewProjection(range[0], range[1]);
@@ -148,6 +152,7 @@ const gl::Program& AtlasRenderer::prepare(const Camera& camera, const Box& scene
 // Draws with the program prepare() set up (also while transform feedback is active, when the
 // program may not change).
 void AtlasRenderer::drawItems(const gl::Program& p, const std::vector<DrawItem>& items) const {
+  const std::size_t chunk = &p == direct_ && chunk_ ? chunk_ : ~std::size_t(0);
   for (const DrawItem& item : items) {
     if (item.patches->count() == 0) continue;
     const float model[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, float(item.offset.x), float(item.offset.y), float(item.offset.z), 1};
@@ -164,7 +169,8 @@ void AtlasRenderer::drawItems(const gl::Program& p, const std::vector<DrawItem>&
     glBindTextureUnit(3, item.atlas->detailNormals().id());
     item.patches->buffer().bindBase(GL_SHADER_STORAGE_BUFFER, 0);
     item.atlas->detailSlots().bindBase(GL_SHADER_STORAGE_BUFFER, 1);
-    glDrawArrays(GL_PATCHES, 0, GLsizei(item.patches->count()));
+    for (std::size_t first = 0; first < item.patches->count(); first += chunk)
+      glDrawArrays(GL_PATCHES, GLint(first), GLsizei(std::min(chunk, item.patches->count() - first)));
   }
   gl::checkErrors("drawing the atlas");
 }
@@ -234,14 +240,14 @@ Mesh captureTriangles(const std::vector<CapturePass>& passes) {
 
 FrameFigures AtlasRenderer::draw(const std::vector<DrawItem>& items, const Camera& camera, const Box& scene,
                                  const GpuRefinement& gpu, const DrawStyle& style, const gl::Framebuffer& target) const {
-  FrameFigures f = drawMeasured(target, style.background, [&] { drawItems(prepare(camera, scene, gpu, style), items); });
+  FrameFigures f = drawMeasured(target, style.background, [&] { drawItems(prepare(camera, scene, gpu, style, false), items); });
   for (const DrawItem& item : items) f.patches += item.patches->count();
   return f;
 }
 
 Mesh AtlasRenderer::capture(const std::vector<DrawItem>& items, const Camera& camera, const Box& scene,
                             const GpuRefinement& gpu) const {
-  const gl::Program& p = prepare(camera, scene, gpu, {});
+  const gl::Program& p = prepare(camera, scene, gpu, {}, true);
   return captureTriangles({{&p, [&] { drawItems(p, items); }}});
 }
 

@@ -103,9 +103,12 @@ public:
   Mesh capture(const std::vector<DrawItem>& items, const Camera& camera, const Box& scene, const GpuRefinement& gpu) const;
 
 private:
-  const gl::Program& prepare(const Camera& camera, const Box& scene, const GpuRefinement& gpu, const DrawStyle& style) const;
+  // Uses and sets up the program: with the geometry stage for a wireframe or a capture.
+  const gl::Program& prepare(const Camera& camera, const Box& scene, const GpuRefinement& gpu, const DrawStyle& style,
+                             bool capturing) const;
   void drawItems(const gl::Program& program, const std::vector<DrawItem>& items) const;
-  const gl::Program* program_;
+  const gl::Program *program_, *direct_;
+  std::size_t chunk_;  // patches a plain draw (0: all)
   unsigned maxTessLevel_;
   gl::VertexArray vao_;  // none of its attributes are used: the patches come from a storage buffer
 };
