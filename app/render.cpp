@@ -88,29 +88,67 @@ double median(std::vector<double> v) {
   return v.empty() ? 0 : v[v.size() / 2];
 }
 
-int render(const RenderOptions& o, nlohmann::json& r) {
+// The options checked before anything is read or a GL context made.
+struct Plan {
+  int width = 0, height = 0, grid = 0;
+  viewer::CpuRefinement cpu;
+  viewer::GpuRefinement gpu;
+  std::optional<viewer::Camera> camera;
+};
+Plan plan(const RenderOptions& o) {
   require(o.output.ends_with(".png"), o.output + ": -o writes a .png");
   require(o.cpuLevel < 0 || o.cpuError == 0, "give --cpu-level or --cpu-error, not both");
   require(o.gpuLevel < 0 || o.gpuPixels == 0, "give --gpu-level or --gpu-pixels, not both");
+  require(o.cpuError >= 0, "--cpu-error must be positive");
+  require(o.gpuPixels >= 0, "--gpu-pixels must be positive");
   require(o.models.size() == 1 || !o.scene.empty(), "several models are drawn only in a --scene");
   require(o.turntable >= 0 && o.turntable <= 3600, "--turntable takes 0 to 3600 frames");
   require(o.frames >= 1 && o.frames <= 1000, "--frames takes 1 to 1000");
   require(o.smooth >= 0 && o.smooth <= 32, "--smooth takes OpenSubdiv's tessellation level, 1 to 32");
   require(o.smooth == 0 || o.models.size() == 1, "--smooth draws one model (in a --scene, its instances)");
   require(o.smooth > 0 || !o.limitOnly, "--limit-only goes with --smooth");
-  const auto [width, height] = parseSize(o.size);
-  const int grid = o.scene.empty() ? 0 : parseGrid(o.scene);
+  Plan p;
+  const auto size = parseSize(o.size);
+  p.width = size[0], p.height = size[1];
+  p.grid = o.scene.empty() ? 0 : parseGrid(o.scene);
+  if (o.cpuLevel >= 0) p.cpu = {viewer::CpuRefinement::Mode::Level, o.cpuLevel};
+  else if (o.cpuError > 0) p.cpu = {viewer::CpuRefinement::Mode::Pixels, 0, o.cpuError};
+  if (o.gpuLevel >= 0) p.gpu = {viewer::GpuRefinement::Mode::Level, o.gpuLevel};
+  else if (o.gpuPixels > 0) p.gpu = {viewer::GpuRefinement::Mode::Pixels, 0, o.gpuPixels};
+  if (!o.camera.empty()) p.camera = parseCamera(o.camera, p.width, p.height);
+  return p;
+}
 
-  viewer::CpuRefinement cpu;
-  if (o.cpuLevel >= 0) cpu = {viewer::CpuRefinement::Mode::Level, o.cpuLevel};
-  else if (o.cpuError > 0) cpu = {viewer::CpuRefinement::Mode::Pixels, 0, o.cpuError};
-  else if (o.cpuError < 0) throw Error("--cpu-error must be positive");
-  viewer::GpuRefinement gpuLod;
-  if (o.gpuLevel >= 0) gpuLod = {viewer::GpuRefinement::Mode::Level, o.gpuLevel};
-  else if (o.gpuPixels > 0) gpuLod = {viewer::GpuRefinement::Mode::Pixels, 0, o.gpuPixels};
-  else if (o.gpuPixels < 0) throw Error("--gpu-pixels must be positive");
-  const std::optional<viewer::Camera> asked = o.camera.empty() ? std::nullopt : std::optional(parseCamera(o.camera, width, height));
+// What the frames measured, for the report.
+struct FrameLog {
+  std::vector<double> cpuMs, gpuMs, frameMs;
+  std::vector<std::string> images;
+  viewer::FrameReport last;
+  std::size_t uploadBytes = 0, splits = 0, welds = 0;
+  void add(const viewer::FrameReport& f) {
+    last = f;
+    cpuMs.push_back(f.cpu.ms), gpuMs.push_back(f.gpu.gpuMs), frameMs.push_back(f.ms);
+    uploadBytes += f.cpu.uploadBytes, splits += f.cpu.splits, welds += f.cpu.welds;
+  }
+  void report(nlohmann::json& r) const {
+    r["patches"] = last.gpu.patches;
+    r["triangles"] = last.gpu.triangles;
+    r["cpu_triangles"] = last.cpu.cpuFaces;
+    r["cpu_ms"] = median(cpuMs);
+    r["gpu_ms"] = median(gpuMs);
+    r["frame_ms"] = median(frameMs);
+    r["fps"] = 1000 / std::max(median(frameMs), 1e-9);
+    r["triangles_per_second"] = double(last.gpu.triangles) * 1000 / std::max(median(gpuMs), 1e-9);
+    r["upload_bytes"] = uploadBytes;  // patch lists, over all frames
+    r["cpu_splits"] = splits;         // over all frames: --cpu-error carries each instance's mesh on
+    r["cpu_welds"] = welds;
+    r["frames"] = frameMs.size();
+    r["images"] = images;
+  }
+};
 
+int render(const RenderOptions& o, nlohmann::json& r) {
+  const Plan p = plan(o);
   std::vector<atlas::Model> models;
   for (const std::string& path : o.models) {
     models.push_back(atlas::readModel(path));
@@ -123,8 +161,8 @@ int render(const RenderOptions& o, nlohmann::json& r) {
   std::vector<const atlas::Model*> pointers;
   for (const atlas::Model& m : models) pointers.push_back(&m);
   viewer::Scene scene(pointers);
-  if (grid) scene.grid(grid);
-  const viewer::Camera first = asked ? *asked : scene.defaultCamera(width, height);
+  if (p.grid) scene.grid(p.grid);
+  const viewer::Camera first = p.camera ? *p.camera : scene.defaultCamera(p.width, p.height);
   viewer::DrawStyle style;
   style.wireframe = o.wire;
   style.colourByChart = o.chartColours;
@@ -132,61 +170,38 @@ int render(const RenderOptions& o, nlohmann::json& r) {
   const viewer::AtlasRenderer renderer;
   std::unique_ptr<viewer::SmoothSurface> smooth;
   if (o.smooth) smooth = std::make_unique<viewer::SmoothSurface>(models.front(), scene.textures(0));
-  const gl::Framebuffer target(width, height);
+  const gl::Framebuffer target(p.width, p.height);
   const int images = std::max(o.turntable, 1), frames = std::max(images, o.frames);
-  std::vector<double> cpuMs, gpuMs, frameMs;
-  std::vector<std::string> written;
-  viewer::FrameFigures figures;
-  viewer::SceneCpuFigures cpuFigures;
-  std::size_t uploadBytes = 0, splits = 0, welds = 0;
+  FrameLog log;
   Progress progress("render", std::size_t(frames));
   for (int f = 0; f < frames; ++f) {
     const viewer::Camera camera = o.turntable > 0 ? first.turned(2 * 3.14159265358979 * (f % images) / images) : first;
-    const viewer::FrameReport frame = smooth ? smoothFrame(*smooth, scene, o.smooth, !o.limitOnly, camera, style, target)
-                                             : viewer::drawFrame(scene, renderer, cpu, gpuLod, camera, style, target);
-    cpuFigures = frame.cpu;
-    figures = frame.gpu;
-    uploadBytes += frame.cpu.uploadBytes;
-    splits += frame.cpu.splits, welds += frame.cpu.welds;
-    frameMs.push_back(frame.ms);
-    cpuMs.push_back(frame.cpu.ms);
-    gpuMs.push_back(frame.gpu.gpuMs);
+    log.add(smooth ? smoothFrame(*smooth, scene, o.smooth, !o.limitOnly, camera, style, target)
+                   : viewer::drawFrame(scene, renderer, p.cpu, p.gpu, camera, style, target));
     if (f < images) {
-      written.push_back(framePath(o.output, f, images));
-      writePng(written.back(), target.readImage());
+      log.images.push_back(framePath(o.output, f, images));
+      writePng(log.images.back(), target.readImage());
     }
     progress.update(std::uint64_t(f + 1));
   }
   progress.finish();
   if (!o.capture.empty()) {
-    scene.refine(cpu, first);
+    scene.refine(p.cpu, first);
     const Mesh captured = weldIdenticalPositions(smooth ? smooth->capture(offsets(scene), first, scene.bounds(), o.smooth, !o.limitOnly)
-                                                        : renderer.capture(scene.items(), first, scene.bounds(), gpuLod));
+                                                        : renderer.capture(scene.items(), first, scene.bounds(), p.gpu));
     writeMesh(o.capture, captured);
     r["captured_vertices"] = captured.vertexCount();
     r["captured_triangles"] = captured.faceCount();
   }
+  log.report(r);
   r["renderer"] = gpu.needGl().info().renderer;
   r["mode"] = o.smooth ? (o.limitOnly ? "smooth limit (OpenSubdiv)" : "smooth with the atlas's detail (OpenSubdiv)") : "atlas";
   r["instances"] = scene.instances().size();
-  r["patches"] = figures.patches;
-  r["triangles"] = figures.triangles;
-  r["cpu_triangles"] = cpuFigures.cpuFaces;
-  r["cpu_ms"] = median(cpuMs);
-  r["gpu_ms"] = median(gpuMs);
-  r["frame_ms"] = median(frameMs);
-  r["fps"] = 1000 / std::max(median(frameMs), 1e-9);
-  r["triangles_per_second"] = double(figures.triangles) * 1000 / std::max(median(gpuMs), 1e-9);
-  r["upload_bytes"] = uploadBytes;  // patch lists, over all frames
-  r["cpu_splits"] = splits;         // over all frames: --cpu-error carries each instance's mesh on
-  r["cpu_welds"] = welds;
-  if (cpu.mode == viewer::CpuRefinement::Mode::Level) r["cpu_levels"] = {cpuFigures.minLevel, cpuFigures.maxLevel};
-  r["size"] = {width, height};
-  r["frames"] = frames;
-  r["images"] = written;
-  logInfo("render: " + std::to_string(figures.patches) + " patches, " + std::to_string(figures.triangles) + " triangles, frame " +
-          std::to_string(median(frameMs)) + " ms (CPU " + std::to_string(median(cpuMs)) + " ms, GPU " + std::to_string(median(gpuMs)) +
-          " ms) on " + r["renderer"].get<std::string>());
+  if (p.cpu.mode == viewer::CpuRefinement::Mode::Level) r["cpu_levels"] = {log.last.cpu.minLevel, log.last.cpu.maxLevel};
+  r["size"] = {p.width, p.height};
+  logInfo("render: " + std::to_string(log.last.gpu.patches) + " patches, " + std::to_string(log.last.gpu.triangles) +
+          " triangles, frame " + std::to_string(median(log.frameMs)) + " ms (CPU " + std::to_string(median(log.cpuMs)) +
+          " ms, GPU " + std::to_string(median(log.gpuMs)) + " ms) on " + r["renderer"].get<std::string>());
   return 0;
 }
 
