@@ -2,7 +2,6 @@
 // adaptive level, then GL tessellation of the atlas; PNG images, the GPU's triangles as a mesh, and
 // the frame's figures.
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -65,22 +64,6 @@ std::string framePath(const std::string& output, int frame, int frames) {
   char number[16];
   std::snprintf(number, sizeof number, "_%03d", frame);
   return (p.parent_path() / (p.stem().string() + number + p.extension().string())).string();
-}
-
-std::vector<Vec3> offsets(const viewer::Scene& scene) {
-  std::vector<Vec3> out;
-  for (const viewer::Instance& i : scene.instances()) out.push_back(i.offset);
-  return out;
-}
-
-// A frame of the smooth mode: OpenSubdiv's limit surface of each instance at level T.
-viewer::FrameReport smoothFrame(const viewer::SmoothSurface& smooth, const viewer::Scene& scene, int level, bool displaced,
-                                const viewer::Camera& camera, const viewer::DrawStyle& style, const gl::Framebuffer& target) {
-  const auto start = std::chrono::steady_clock::now();
-  viewer::FrameReport f;
-  f.gpu = smooth.draw(offsets(scene), camera, scene.bounds(), level, displaced, style, target);
-  f.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return f;
 }
 
 double median(std::vector<double> v) {
@@ -176,7 +159,7 @@ int render(const RenderOptions& o, nlohmann::json& r) {
   Progress progress("render", std::size_t(frames));
   for (int f = 0; f < frames; ++f) {
     const viewer::Camera camera = o.turntable > 0 ? first.turned(2 * 3.14159265358979 * (f % images) / images) : first;
-    log.add(smooth ? smoothFrame(*smooth, scene, o.smooth, !o.limitOnly, camera, style, target)
+    log.add(smooth ? viewer::drawSmoothFrame(scene, *smooth, o.smooth, !o.limitOnly, camera, style, target)
                    : viewer::drawFrame(scene, renderer, p.cpu, p.gpu, camera, style, target));
     if (f < images) {
       log.images.push_back(framePath(o.output, f, images));
@@ -187,7 +170,7 @@ int render(const RenderOptions& o, nlohmann::json& r) {
   progress.finish();
   if (!o.capture.empty()) {
     scene.refine(p.cpu, first);
-    const Mesh captured = weldIdenticalPositions(smooth ? smooth->capture(offsets(scene), first, scene.bounds(), o.smooth, !o.limitOnly)
+    const Mesh captured = weldIdenticalPositions(smooth ? smooth->capture(scene.offsets(), first, scene.bounds(), o.smooth, !o.limitOnly)
                                                         : renderer.capture(scene.items(), first, scene.bounds(), p.gpu));
     writeMesh(o.capture, captured);
     r["captured_vertices"] = captured.vertexCount();

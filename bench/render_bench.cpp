@@ -84,9 +84,7 @@ void speed(const std::string& name, const atlas::Model& model, int grid) {
   // set (bisection) so that we draw as many triangles as it does.
   const std::uint64_t first = ours(8).gpu.triangles;
   const viewer::SmoothSurface smooth(model, scene.textures(0));
-  std::vector<Vec3> offsets;
-  for (const viewer::Instance& i : scene.instances()) offsets.push_back(i.offset);
-  const double perLevel = 8.0 * double(smooth.baseFaces() * offsets.size());
+  const double perLevel = 8.0 * double(smooth.baseFaces() * scene.instances().size());
   const int level = std::clamp(int(std::lround(std::sqrt(double(first) / perLevel) / 2)) * 2, 2, 32);
   const double wanted = perLevel * level * level;
   double low = 1, high = 64, pixels = 8;
@@ -98,13 +96,7 @@ void speed(const std::string& name, const atlas::Model& model, int grid) {
   }
   const Timed a = timed([&] { return ours(pixels); });
   auto theirs = [&](const viewer::DrawStyle& style) {
-    return timed([&] {
-      const auto start = std::chrono::steady_clock::now();
-      viewer::FrameReport f;
-      f.gpu = smooth.draw(offsets, camera, scene.bounds(), level, false, style, target);
-      f.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-      return f;
-    });
+    return timed([&] { return viewer::drawSmoothFrame(scene, smooth, level, false, camera, style, target); });
   };
   const Timed b = theirs({});
   // The same pipeline for both: OpenSubdiv's evaluation through our geometry stage, as ours always

@@ -21,6 +21,7 @@ struct Line {
 struct Placed {
   Line line;
   std::uint32_t from, to;
+  atlas::SideAcross across;  // on a tile side: the tile across (kNoTile: none, or not a tile side)
 };
 
 Placed place(const Patch& p, int side, std::uint32_t n, const std::vector<std::array<atlas::SideAcross, 4>>& across) {
@@ -34,11 +35,11 @@ Placed place(const Patch& p, int side, std::uint32_t n, const std::vector<std::a
   if (!row && at == n) tileSide = 1;
   if (row && at == n) tileSide = 2, m0 = n - from - s, m1 = n - from;
   if (!row && at == 0) tileSide = 3, m0 = n - from - s, m1 = n - from;
-  if (tileSide < 0) return {{p.chart, row ? 0u : 1u, at}, from, from + s};
+  if (tileSide < 0) return {{p.chart, row ? 0u : 1u, at}, from, from + s, {}};
   const atlas::SideAcross& a = across[p.chart][std::size_t(tileSide)];
   if (a.tile != atlas::kNoTile && (a.tile < p.chart || (a.tile == p.chart && a.side < tileSide)))
-    return {{a.tile, 2u + std::uint32_t(a.side), 0}, n - m1, n - m0};
-  return {{p.chart, 2u + std::uint32_t(tileSide), 0}, m0, m1};
+    return {{a.tile, 2u + std::uint32_t(a.side), 0}, n - m1, n - m0, a};
+  return {{p.chart, 2u + std::uint32_t(tileSide), 0}, m0, m1, a};
 }
 
 std::uint64_t texelKey(std::uint32_t chart, std::uint32_t u, std::uint32_t v) {
@@ -57,17 +58,6 @@ std::uint32_t log2Of(std::uint32_t powerOfTwo) { return std::uint32_t(std::count
 
 // The largest power of two dividing x > 0.
 std::uint32_t lowBit(std::uint32_t x) { return x & (~x + 1); }
-
-// Whether side k of patch p lies on a tile border whose other tile has no detail chart while its own
-// tile has one.
-bool coarseSide(const Patch& p, int k, std::uint32_t n, const std::vector<std::array<atlas::SideAcross, 4>>& across,
-                const std::vector<bool>& hasDetail) {
-  if (hasDetail.empty() || !hasDetail[p.chart]) return false;
-  const int tileSide = k == 0 && p.v == 0 ? 0 : k == 1 && p.u + p.s == n ? 1 : k == 2 && p.v + p.s == n ? 2 : k == 3 && p.u == 0 ? 3 : -1;
-  if (tileSide < 0) return false;
-  const atlas::SideAcross& a = across[p.chart][std::size_t(tileSide)];
-  return a.tile != atlas::kNoTile && !hasDetail[a.tile];
-}
 
 }  // namespace
 
@@ -88,6 +78,7 @@ std::vector<GpuPatch> gpuPatches(const AdaptiveMesh& mesh, const std::vector<std
     std::uint32_t from, to;
     std::size_t patch;
     int side;
+    bool coarse;  // on a tile border whose own tile has a detail chart and the tile across none
   };
   std::unordered_map<std::uint64_t, std::pair<Line, std::vector<Side>>> lines;
   for (std::size_t i = 0; i < patches.size(); ++i) {
@@ -96,7 +87,8 @@ std::vector<GpuPatch> gpuPatches(const AdaptiveMesh& mesh, const std::vector<std
       const Placed at = place(p, k, n, across);
       auto& line = lines[at.line.key()];
       line.first = at.line;
-      line.second.push_back({at.from, at.to, i, k});
+      const bool coarse = !hasDetail.empty() && hasDetail[p.chart] && at.across.tile != atlas::kNoTile && !hasDetail[at.across.tile];
+      line.second.push_back({at.from, at.to, i, k, coarse});
     }
     // The inner grid must hold every CPU vertex strictly inside the patch.
     std::uint32_t spacing = p.s;
@@ -126,7 +118,7 @@ std::vector<GpuPatch> gpuPatches(const AdaptiveMesh& mesh, const std::vector<std
       const std::uint32_t bits = log2Of(spacing) | log2Of(to - from) << 3;
       for (std::size_t i = first; i < last; ++i) {
         GpuPatch& p = out[sides[i].patch];
-        p.sides |= (bits | std::uint32_t(coarseSide(patches[sides[i].patch], sides[i].side, n, across, hasDetail)) << 6) << (8 * sides[i].side);
+        p.sides |= (bits | std::uint32_t(sides[i].coarse) << 6) << (8 * sides[i].side);
       }
       first = last;
     }

@@ -32,6 +32,12 @@ void Scene::grid(int n) {
   grid_ = true;
 }
 
+std::vector<Vec3> Scene::offsets() const {
+  std::vector<Vec3> out;
+  for (const Instance& i : instances_) out.push_back(i.offset);
+  return out;
+}
+
 Box Scene::bounds() const {
   Box out{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}};
   for (const Instance& i : instances_) {
@@ -120,6 +126,15 @@ FrameReport drawFrame(Scene& scene, const AtlasRenderer& renderer, const CpuRefi
   FrameReport f;
   f.cpu = scene.refine(cpu, camera);
   f.gpu = renderer.draw(scene.items(), camera, scene.bounds(), gpu, style, target);  // ends with glFinish
+  f.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return f;
+}
+
+FrameReport drawSmoothFrame(const Scene& scene, const SmoothSurface& smooth, int level, bool displaced, const Camera& camera,
+                            const DrawStyle& style, const gl::Framebuffer& target) {
+  const auto start = std::chrono::steady_clock::now();
+  FrameReport f;
+  f.gpu = smooth.draw(scene.offsets(), camera, scene.bounds(), level, displaced, style, target);
   f.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return f;
 }

@@ -10,6 +10,7 @@
 
 #include "viewer/atlas_render.h"
 #include "viewer/model_lod.h"
+#include "viewer/smooth_render.h"
 
 namespace isoatlas::viewer {
 
@@ -33,6 +34,7 @@ public:
   explicit Scene(const std::vector<const atlas::Model*>& models);
   void grid(int n);  // replaces the single instance of model 0 the scene starts with
   const std::vector<Instance>& instances() const { return instances_; }
+  std::vector<Vec3> offsets() const;  // the instances' placements
   Box bounds() const;
   // Model 0 seen from the front, or the grid from the front and above, whole on the image.
   Camera defaultCamera(int width, int height) const;
@@ -70,5 +72,9 @@ struct FrameReport {
 // One frame of the cascade: the scene refined for the camera, drawn into `target`.
 FrameReport drawFrame(Scene& scene, const AtlasRenderer& renderer, const CpuRefinement& cpu, const GpuRefinement& gpu,
                       const Camera& camera, const DrawStyle& style, const gl::Framebuffer& target);
+// One frame of the smooth mode: OpenSubdiv's limit surface of every instance at level T, with the
+// atlas's detail when `displaced` (no CPU stage).
+FrameReport drawSmoothFrame(const Scene& scene, const SmoothSurface& smooth, int level, bool displaced, const Camera& camera,
+                            const DrawStyle& style, const gl::Framebuffer& target);
 
 }  // namespace isoatlas::viewer

@@ -38,24 +38,23 @@ double offTorus(const Mesh& m, double q) {
   return d[std::size_t(q * double(d.size() - 1))];
 }
 
+// The torus's smooth surface (isolation 2), captured at level T with or without the detail.
+struct Smooth {
+  AtlasTextures textures{(test::glContext(), torus().atlas)};
+  SmoothSurface smooth{torus(), textures, 2};
+  Box box = boundingBox(torus().base.positions);
+  Mesh capture(int t, bool detail) const { return smooth.capture({{0, 0, 0}}, Camera::framing(box, 64, 48), box, t, detail); }
+};
+
 TEST(SmoothRender, UniformLevelsMakeEightTSquaredTrianglesAFace) {
-  test::glContext();
-  const AtlasTextures textures(torus().atlas);
-  const SmoothSurface smooth(torus(), textures, 2);
-  const Box box = boundingBox(torus().base.positions);
-  const Camera camera = Camera::framing(box, 64, 48);
-  for (const int t : {2, 4, 6})
-    EXPECT_EQ(smooth.capture({{0, 0, 0}}, camera, box, t, false).faceCount(), smooth.baseFaces() * 8 * std::size_t(t * t)) << "T " << t;
+  const Smooth s;
+  for (const int t : {2, 4, 6}) EXPECT_EQ(s.capture(t, false).faceCount(), s.smooth.baseFaces() * 8 * std::size_t(t * t)) << "T " << t;
 }
 
 TEST(SmoothRender, TheAtlasDetailPutsTheLimitSurfaceOnTheTorus) {
-  test::glContext();
-  const AtlasTextures textures(torus().atlas);
-  const SmoothSurface smooth(torus(), textures, 2);
-  const Box box = boundingBox(torus().base.positions);
-  const Camera camera = Camera::framing(box, 64, 48);
-  const Mesh limit = smooth.capture({{0, 0, 0}}, camera, box, 8, false);
-  const Mesh detailed = smooth.capture({{0, 0, 0}}, camera, box, 8, true);
+  const Smooth s;
+  const Mesh limit = s.capture(8, false);
+  const Mesh detailed = s.capture(8, true);
   EXPECT_GT(offTorus(limit, 0.5), 0.05) << "a coarse cage's limit surface shrinks away from the torus";
   EXPECT_LT(offTorus(detailed, 0.5), 0.01) << "the atlas's detail brings it back";
   // Where the limit surface's (u, v) runs far from the chart's, a displacement along the normal
