@@ -15,7 +15,6 @@
 #include <cstdlib>
 #include <functional>
 #include <filesystem>
-#include <map>
 
 #include "app/model_building.h"
 #include "atlas/hausdorff.h"
@@ -23,6 +22,7 @@
 #include "core/gl/context.h"
 #include "core/image.h"
 #include "core/mesh_io.h"
+#include "core/mesh_topology.h"
 #include "core/text.h"
 #include "viewer/scene.h"
 #include "viewer/smooth_render.h"
@@ -40,15 +40,7 @@ double median(std::vector<double> v) {
 
 // Edges matched by one running the other way, over all edges, after welding by exact position.
 double watertight(const Mesh& captured) {
-  const Mesh welded = weldIdenticalPositions(captured);
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> balance;
-  for (std::size_t f = 0; f < welded.faceCount(); ++f) {
-    const auto c = welded.face(f);
-    for (std::size_t i = 0; i < 3; ++i) {
-      const std::uint32_t a = c[i], b = c[(i + 1) % 3];
-      if (a != b) balance[{std::min(a, b), std::max(a, b)}] += a < b ? 1 : -1;
-    }
-  }
+  const auto balance = directedEdgeBalance(weldIdenticalPositions(captured));
   std::size_t matched = 0;
   for (const auto& [edge, count] : balance) matched += count == 0;
   return double(matched) / double(std::max<std::size_t>(balance.size(), 1));

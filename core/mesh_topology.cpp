@@ -125,4 +125,16 @@ MeshTopology analyzeTopology(const Mesh& m) {
   return t;
 }
 
+std::map<std::pair<std::uint32_t, std::uint32_t>, int> directedEdgeBalance(const Mesh& mesh) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> balance;
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+    const auto c = mesh.face(f);
+    for (std::size_t i = 0; i < c.size(); ++i) {
+      const std::uint32_t a = c[i], b = c[(i + 1) % c.size()];
+      if (a != b) balance[{std::min(a, b), std::max(a, b)}] += a < b ? 1 : -1;
+    }
+  }
+  return balance;
+}
+
 }  // namespace isoatlas

@@ -7,6 +7,7 @@
 //   genus:    per component (2 - chi - boundary loops) / 2, summed; meaningful when manifold and oriented
 #pragma once
 #include <cstdint>
+#include <map>
 #include <string>
 
 #include "core/mesh.h"
@@ -29,5 +30,12 @@ struct MeshTopology {
 };
 
 MeshTopology analyzeTopology(const Mesh& mesh);
+
+// Per undirected edge (lower vertex first), how many of the faces' directed edges run along it one
+// way minus the other: 0 where every edge has a partner running back, as in a closed, consistently
+// oriented surface (a crack leaves an edge of one face). Edges from a vertex to itself are left out.
+// Counting directions rather than faces per edge stays exact where one position is two vertices
+// welded into one (several sheets meet there).
+std::map<std::pair<std::uint32_t, std::uint32_t>, int> directedEdgeBalance(const Mesh& mesh);
 
 }  // namespace isoatlas

@@ -19,6 +19,22 @@ TEST(MeshTopology, OctahedronIsAClosedSphere) {
   EXPECT_EQ(t.components, 1u);
 }
 
+// Every edge of a closed, oriented octahedron has its partner; a face taken away leaves its three
+// edges running one way only; an edge from a vertex to itself is not counted.
+TEST(MeshTopology, DirectedEdgeBalanceFindsUnpartneredEdges) {
+  Mesh m = test::octahedron();
+  auto balance = directedEdgeBalance(m);
+  EXPECT_EQ(balance.size(), 12u);
+  for (const auto& [edge, count] : balance) EXPECT_EQ(count, 0) << edge.first << "-" << edge.second;
+  Mesh open;
+  open.positions = m.positions;
+  for (std::size_t f = 1; f < m.faceCount(); ++f) open.addFace(m.face(f));
+  open.addFace({0, 0, 1});
+  int unmatched = 0;
+  for (const auto& [edge, count] : directedEdgeBalance(open)) unmatched += std::abs(count);
+  EXPECT_EQ(unmatched, 3);
+}
+
 TEST(MeshTopology, QuadTorusHasGenusOne) {
   const MeshTopology t = analyzeTopology(test::quadTorus(10, 7));
   EXPECT_TRUE(t.closed);

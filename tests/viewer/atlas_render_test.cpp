@@ -123,20 +123,11 @@ std::set<std::array<float, 3>> openSideTexels(const atlas::Model& model) {
 
 // Captured triangles welded by position: every directed edge is matched by one running the other way
 // (a crack leaves an edge of one triangle only), except on the model's own boundary. Counting
-// directions rather than faces per edge keeps this exact where the atlas holds one point twice.
+// directions (directedEdgeBalance) keeps this exact where the atlas holds one point twice (a gap it
+// filled with its nearest point).
 void expectNoBorderEdgesButTheModels(const Mesh& welded, const std::set<std::array<float, 3>>& boundary) {
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> balance;
-  for (std::size_t f = 0; f < welded.faceCount(); ++f) {
-    const auto c = welded.face(f);
-    for (std::size_t i = 0; i < 3; ++i) {
-      const std::uint32_t a = c[i], b = c[(i + 1) % 3];
-      if (a == b) continue;  // two texels of one position (a gap the atlas filled with its nearest point)
-      if (a < b) ++balance[{a, b}];
-      else --balance[{b, a}];
-    }
-  }
   std::size_t open = 0;
-  for (const auto& [edge, count] : balance) {
+  for (const auto& [edge, count] : directedEdgeBalance(welded)) {
     if (count == 0) continue;
     ++open;
     const bool onBoundary = boundary.count(asFloats(welded.positions[edge.first])) && boundary.count(asFloats(welded.positions[edge.second]));
