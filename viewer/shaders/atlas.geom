@@ -8,7 +8,7 @@ in vec3 tessWorld[];
 in vec3 tessNormal[];
 in vec2 tessTexel[];
 flat in uint tessChart[];
-uniform vec2 viewport;
+#include "wire.glsl"
 uniform uint chartSize;
 out vec3 worldPosition;
 out vec3 worldNormal;
@@ -16,19 +16,10 @@ noperspective out vec3 edgeDistance;
 flat out ivec3 edgeOnTileBorder;
 flat out uint chart;
 
-bool onSameTileSide(vec2 a, vec2 b) {
-  float n = float(chartSize - 1u);
-  return (a.x == 0.0 && b.x == 0.0) || (a.x == n && b.x == n) || (a.y == 0.0 && b.y == 0.0) || (a.y == n && b.y == n);
-}
-
 void main() {
-  vec2 s[3];
-  for (int i = 0; i < 3; ++i) s[i] = gl_in[i].gl_Position.xy / max(gl_in[i].gl_Position.w, 1e-6) * viewport * 0.5;
-  float twiceArea = abs((s[1].x - s[0].x) * (s[2].y - s[0].y) - (s[2].x - s[0].x) * (s[1].y - s[0].y));
-  float h[3];
-  for (int i = 0; i < 3; ++i) h[i] = twiceArea / max(length(s[(i + 2) % 3] - s[(i + 1) % 3]), 1e-6);
+  vec3 h = cornerHeights();
   ivec3 border;
-  for (int i = 0; i < 3; ++i) border[i] = onSameTileSide(tessTexel[(i + 1) % 3], tessTexel[(i + 2) % 3]) ? 1 : 0;
+  for (int i = 0; i < 3; ++i) border[i] = onOneSide(tessTexel[(i + 1) % 3], tessTexel[(i + 2) % 3], float(chartSize - 1u)) ? 1 : 0;
   for (int i = 0; i < 3; ++i) {
     gl_Position = gl_in[i].gl_Position;
     worldPosition = tessWorld[i];
