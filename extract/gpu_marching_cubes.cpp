@@ -6,7 +6,7 @@
 #include "core/gl/context.h"
 #include "core/gl/program.h"
 #include "core/gl/resources.h"
-#include "extract/gpu_scan.h"
+#include "core/gl/gpu_scan.h"
 #include "kExtractShaders.h"
 
 namespace isoatlas::extract {
@@ -91,7 +91,7 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   const gl::Program& countEdges = ctx.compute(gl::kExtractShaders, "extract/shaders/mc_count_edges.comp");
   const gl::Program& makeVertices = ctx.compute(gl::kExtractShaders, "extract/shaders/mc_vertices.comp", defines);
   const gl::Program& makeTriangles = ctx.compute(gl::kExtractShaders, "extract/shaders/mc_triangles.comp", defines);
-  GpuScan scan(ctx);
+  gl::GpuScan scan(ctx);
 
   // The field: the dense values, or the page table through which the shaders read the pool.
   gl::Buffer field;

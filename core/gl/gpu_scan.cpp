@@ -1,20 +1,20 @@
-#include "extract/gpu_scan.h"
+#include "core/gl/gpu_scan.h"
 
 #include <algorithm>
 
-#include "kExtractShaders.h"
+#include "kGlShaders.h"
 
-namespace isoatlas::extract {
+namespace isoatlas::gl {
 
-GpuScan::GpuScan(gl::Context& context)
-    : scanBlocks_(context.compute(gl::kExtractShaders, "extract/shaders/scan.comp", {{"SCAN_BLOCKS", "1"}})),
-      addOffsets_(context.compute(gl::kExtractShaders, "extract/shaders/scan.comp")) {}
+GpuScan::GpuScan(Context& context)
+    : scanBlocks_(context.compute(kGlShaders, "core/gl/shaders/scan.comp", {{"SCAN_BLOCKS", "1"}})),
+      addOffsets_(context.compute(kGlShaders, "core/gl/shaders/scan.comp")) {}
 
-std::uint32_t GpuScan::exclusive(gl::Buffer& values, std::uint32_t count) {
+std::uint32_t GpuScan::exclusive(Buffer& values, std::uint32_t count) {
   if (count == 0) return 0;
   const std::uint32_t groups = (count + 1023) / 1024;
-  gl::Buffer sums(std::size_t(groups) * 4 + 4);
-  const auto [gx, gy] = gl::dispatchGrid(groups);
+  Buffer sums(std::size_t(groups) * 4 + 4);
+  const auto [gx, gy] = dispatchGrid(groups);
   values.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
   sums.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
   scanBlocks_.use();
@@ -34,4 +34,4 @@ std::uint32_t GpuScan::exclusive(gl::Buffer& values, std::uint32_t count) {
   return total;
 }
 
-}  // namespace isoatlas::extract
+}  // namespace isoatlas::gl

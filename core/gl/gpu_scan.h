@@ -7,16 +7,16 @@
 #include "core/gl/context.h"
 #include "core/gl/resources.h"
 
-namespace isoatlas::extract {
+namespace isoatlas::gl {
 
 class GpuScan {
 public:
-  explicit GpuScan(gl::Context& context);
+  explicit GpuScan(Context& context);
   // Scans the first `count` values; returns their total.
-  std::uint32_t exclusive(gl::Buffer& values, std::uint32_t count);
+  std::uint32_t exclusive(Buffer& values, std::uint32_t count);
 
 private:
-  const gl::Program &scanBlocks_, &addOffsets_;
+  const Program &scanBlocks_, &addOffsets_;
 };
 
-}  // namespace isoatlas::extract
+}  // namespace isoatlas::gl

@@ -1,0 +1,170 @@
+#include "levelset/dvt/gpu_tree_passes.h"
+
+#include <algorithm>
+
+#include "core/error.h"
+#include "core/gl/gpu_scan.h"
+#include "core/gl/program.h"
+#include "core/gl/resources.h"
+#include "kDvtShaders.h"
+
+namespace isoatlas::levelset::dvt {
+namespace {
+
+constexpr GLuint kGroup = 64;
+constexpr GLbitfield kBarrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT;
+
+gl::Defines withRules(gl::Defines extra) {
+  gl::Defines d = ruleDefines();
+  d.insert(d.end(), extra.begin(), extra.end());
+  return d;
+}
+
+class GpuTreePasses final : public TreePasses {
+public:
+  explicit GpuTreePasses(gl::Context& context)
+      : markInput_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_mark.comp", withRules({{"MARK_INPUT", "1"}}))),
+        markCollapse_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_mark.comp", withRules({}))),
+        plan_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_plan.comp", withRules({}))),
+        restructure_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_restructure.comp", withRules({}))),
+        scan_(context),
+        counter_(4) {}
+
+  std::string name() const override { return "gpu"; }
+
+  void load(const VolumeTree& tree) override {
+    frame_ = tree.frame;
+    scales_ = childScales(frame_);
+    count_ = tree.nodeCount();
+    capacity_ = std::max<std::uint64_t>(count_, 1024);
+    pointers_ = gl::Buffer(capacity_ * sizeof(Pointer));
+    cells_ = gl::Buffer(capacity_ * 8);
+    pointers_.upload(tree.pointers.data(), count_ * sizeof(Pointer));
+    cells_.upload(tree.cells.data(), count_ * 8);
+    marks_ = gl::Buffer(capacity_ * 4);
+    remap_ = gl::Buffer((capacity_ + 1) * 4);
+    spareCapacity_ = 0;
+  }
+
+  VolumeTree download() const override {
+    VolumeTree t;
+    t.frame = frame_;
+    t.pointers = pointers_.read<Pointer>(count_);
+    t.cells = cells_.read<std::uint32_t>(2 * count_);
+    return t;
+  }
+
+  std::uint64_t nodeCount() const override { return count_; }
+  GpuTreeBuffers buffers() const { return {pointers_.id(), cells_.id()}; }
+
+  std::uint64_t bytes() const override {
+    return pointers_.bytes() + cells_.bytes() + spare_.bytes() + spareCells_.bytes() + marks_.bytes() + remap_.bytes() +
+           input_.bytes();
+  }
+
+  void setInput(const std::vector<InputVoxel>& input) override {
+    inputCount_ = input.size();
+    if (input_.bytes() < std::max<std::size_t>(inputCount_, 1) * sizeof(InputVoxel))
+      input_ = gl::Buffer(std::max<std::size_t>(inputCount_, 1) * sizeof(InputVoxel) * 5 / 4);
+    if (inputCount_ > 0) input_.upload(input.data(), inputCount_ * sizeof(InputVoxel));
+  }
+
+  std::uint64_t mark(Op op) override {
+    clearMarks();
+    if (inputCount_ == 0) return 0;
+    bindStreams();
+    input_.bindBase(GL_SHADER_STORAGE_BUFFER, 4);
+    markInput_.use();
+    glUniform1ui(markInput_.uniform("op"), std::uint32_t(op));
+    return run(markInput_, inputCount_);
+  }
+
+  std::uint64_t markCollapse() override {
+    clearMarks();
+    bindStreams();
+    markCollapse_.use();
+    return run(markCollapse_, count_);
+  }
+
+  Plan plan(bool allowExpand) override {
+    bindStreams();
+    plan_.use();
+    glUniform1ui(plan_.uniform("allowExpand"), allowExpand);
+    Plan p;
+    p.changes = run(plan_, count_);
+    // remap[count] is 0 (cleared with the marks' capacity below), so the scan leaves the total there.
+    p.nodes = scan_.exclusive(remap_, std::uint32_t(count_ + 1));
+    return p;
+  }
+
+  void restructure(const Plan& plan, bool allowExpand, std::uint64_t nodeLimit) override {
+    if (spareCapacity_ < plan.nodes) {
+      spareCapacity_ = std::min<std::uint64_t>(std::max<std::uint64_t>(plan.nodes, 2 * spareCapacity_), std::max(nodeLimit, plan.nodes));
+      spare_ = gl::Buffer(spareCapacity_ * sizeof(Pointer));
+      spareCells_ = gl::Buffer(spareCapacity_ * 8);
+    }
+    bindStreams();
+    spare_.bindBase(GL_SHADER_STORAGE_BUFFER, 6);
+    spareCells_.bindBase(GL_SHADER_STORAGE_BUFFER, 7);
+    restructure_.use();
+    glUniform1ui(restructure_.uniform("allowExpand"), allowExpand);
+    glUniform1fv(restructure_.uniform("childScales"), GLsizei(scales_.size()), scales_.data());
+    glUniform1ui(restructure_.uniform("count"), std::uint32_t(count_));
+    dispatch(restructure_, count_);
+    std::swap(pointers_, spare_);
+    std::swap(cells_, spareCells_);
+    std::swap(capacity_, spareCapacity_);
+    count_ = plan.nodes;
+    if (marks_.bytes() < capacity_ * 4) {
+      marks_ = gl::Buffer(capacity_ * 4);
+      remap_ = gl::Buffer((capacity_ + 1) * 4);
+    }
+  }
+
+private:
+  void bindStreams() {
+    pointers_.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
+    cells_.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
+    marks_.bindBase(GL_SHADER_STORAGE_BUFFER, 2);
+    remap_.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
+    counter_.bindBase(GL_SHADER_STORAGE_BUFFER, 5);
+  }
+  void clearMarks() {
+    marks_.fillZero();
+    remap_.fillZero();
+  }
+  static void dispatch(const gl::Program& program, std::uint64_t threads) {
+    if (threads == 0) return;
+    const auto [gx, gy] = gl::dispatchGrid((threads + kGroup - 1) / kGroup);
+    program.dispatch(gx, gy, 1, kBarrier);
+  }
+  // Runs `program` over `threads` threads with the counter zeroed; returns the counter.
+  std::uint64_t run(const gl::Program& program, std::uint64_t threads) {
+    const std::uint32_t zero = 0;
+    counter_.upload(&zero, 4);
+    glUniform1ui(program.uniform("count"), std::uint32_t(threads));
+    dispatch(program, threads);
+    std::uint32_t n = 0;
+    counter_.download(&n, 4);
+    return n;
+  }
+
+  const gl::Program &markInput_, &markCollapse_, &plan_, &restructure_;
+  gl::GpuScan scan_;
+  TreeFrame frame_;
+  std::vector<float> scales_;
+  std::uint64_t count_ = 0, capacity_ = 0, spareCapacity_ = 0, inputCount_ = 0;
+  gl::Buffer pointers_, cells_, spare_, spareCells_, marks_, remap_, input_, counter_;
+};
+
+}  // namespace
+
+std::unique_ptr<TreePasses> makeGpuTreePasses(gl::Context& context) { return std::make_unique<GpuTreePasses>(context); }
+
+GpuTreeBuffers gpuTreeBuffers(const TreePasses& passes) {
+  const auto* gpu = dynamic_cast<const GpuTreePasses*>(&passes);
+  require(gpu != nullptr, "the tree is not on the GPU");
+  return gpu->buffers();
+}
+
+}  // namespace isoatlas::levelset::dvt

@@ -1,0 +1,21 @@
+// GpuTreePasses: the DVT passes (tree_passes.h) as GL 4.5 compute shaders (shaders/dvt_*.comp) in the
+// context current when it is made (which must be current whenever it is used). The streams live in
+// GPU buffers, ping-ponged by the restructure pass; only pass counters (4 bytes) come back per pass.
+#pragma once
+#include <memory>
+
+#include "core/gl/context.h"
+#include "levelset/dvt/tree_passes.h"
+
+namespace isoatlas::levelset::dvt {
+
+std::unique_ptr<TreePasses> makeGpuTreePasses(gl::Context& context);
+
+// The GL buffers of a GPU tree, for renderers in the same context (viewer/dvt_render): the pointer
+// stream (16 bytes per node) and the node stream (8 bytes per node), nodeCount() nodes.
+struct GpuTreeBuffers {
+  unsigned pointers = 0, cells = 0;
+};
+GpuTreeBuffers gpuTreeBuffers(const TreePasses& passes);  // throws unless `passes` are GPU passes
+
+}  // namespace isoatlas::levelset::dvt

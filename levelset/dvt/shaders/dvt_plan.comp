@@ -1,0 +1,24 @@
+#version 450
+// The plan pass (tree_passes.h): per node how many nodes it becomes (CpuTreePasses::emitOf) into the
+// remap stream, to be prefix-summed; counts the changes in `counter`.
+layout(local_size_x = 64) in;
+#include "tree_rules.glsl"
+uniform bool allowExpand;
+
+void main() {
+  uint n = threadIndex();
+  if (n >= count) return;
+  Pointer p = pointers[n];
+  uint m = marks[n];
+  uint emit = 1u;
+  bool change = false;
+  if (p.parent == INVALID || (p.parent >= 0 && marks[p.parent] == MARK_COLLAPSE)) {
+    emit = 0u, change = true;
+  } else if (m == MARK_EXPAND) {
+    if (allowExpand) emit = 3u, change = true;
+  } else {
+    change = m == MARK_REDUCE || m == MARK_COLLAPSE;
+  }
+  remap[n] = emit;
+  if (change) atomicAdd(counter, 1u);
+}

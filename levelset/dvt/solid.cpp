@@ -1,0 +1,126 @@
+#include "levelset/dvt/solid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/error.h"
+
+namespace isoatlas::levelset::dvt {
+namespace {
+
+class Sphere final : public DistanceSolid {
+public:
+  Sphere(Vec3 c, double r) : c_(c), r_(r) {}
+  double signedDistance(const Vec3& p) const override { return norm(p - c_) - r_; }
+
+private:
+  Vec3 c_;
+  double r_;
+};
+
+class Box final : public DistanceSolid {
+public:
+  Box(Vec3 lo, Vec3 hi) : centre_((lo + hi) * 0.5), half_((hi - lo) * 0.5) {}
+  double signedDistance(const Vec3& p) const override {
+    Vec3 q;
+    for (int a = 0; a < 3; ++a) q[a] = std::abs(p[a] - centre_[a]) - half_[a];
+    const Vec3 outside{std::max(q.x, 0.0), std::max(q.y, 0.0), std::max(q.z, 0.0)};
+    return norm(outside) + std::min(std::max({q.x, q.y, q.z}), 0.0);
+  }
+
+private:
+  Vec3 centre_, half_;
+};
+
+class Capsule final : public DistanceSolid {
+public:
+  Capsule(Vec3 a, Vec3 b, double r) : a_(a), b_(b), r_(r) {}
+  double signedDistance(const Vec3& p) const override {
+    const Vec3 ab = b_ - a_, ap = p - a_;
+    const double len2 = dot(ab, ab);
+    const double t = len2 > 0 ? std::clamp(dot(ap, ab) / len2, 0.0, 1.0) : 0.0;
+    return norm(ap - ab * t) - r_;
+  }
+
+private:
+  Vec3 a_, b_;
+  double r_;
+};
+
+class Torus final : public DistanceSolid {
+public:
+  Torus(Vec3 c, double major, double minor) : c_(c), major_(major), minor_(minor) {}
+  double signedDistance(const Vec3& p) const override {
+    const Vec3 d = p - c_;
+    const double ring = std::hypot(d.x, d.y) - major_;
+    return std::hypot(ring, d.z) - minor_;
+  }
+
+private:
+  Vec3 c_;
+  double major_, minor_;
+};
+
+}  // namespace
+
+float boundValue(double insideness, double radius) {
+  const double v = std::clamp(insideness / radius, -1.0, 1.0);
+  return v > 0 ? std::max(float(v), kNearZero) : std::min(float(v), -kNearZero);
+}
+
+CellClass DistanceSolid::classify(const TreeFrame& frame, const Cell& cell) const {
+  const double d = signedDistance(frame.centreWorld(cell)), r = frame.radius(cell.depth);
+  return d < -r ? CellClass::Inside : (d >= r ? CellClass::Outside : CellClass::Crossed);
+}
+
+float DistanceSolid::value(const TreeFrame& frame, const Cell& cell) const {
+  return boundValue(-signedDistance(frame.centreWorld(cell)), frame.radius(cell.depth));
+}
+
+std::unique_ptr<DistanceSolid> parseBrush(const std::string& text) {
+  const auto colon = text.find(':');
+  const std::string kind = text.substr(0, colon);
+  const std::string usage = "\"" + text + "\": a shape is sphere:X,Y,Z,R  box:X0,Y0,Z0,X1,Y1,Z1  capsule:X0,Y0,Z0,X1,Y1,Z1,R  torus:X,Y,Z,R,r  or mesh:FILE";
+  require(colon != std::string::npos, usage);
+  std::vector<double> v;
+  std::size_t at = colon + 1;
+  while (at <= text.size()) {
+    const std::size_t end = std::min(text.find(',', at), text.size());
+    const std::string field = text.substr(at, end - at);
+    std::size_t used = 0;
+    double x = 0;
+    try {
+      x = std::stod(field, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    require(!field.empty() && used == field.size() && std::isfinite(x), "\"" + text + "\": \"" + field + "\" is not a finite number");
+    v.push_back(x);
+    at = end + 1;
+  }
+  auto need = [&](std::size_t n) {
+    require(v.size() == n, "\"" + text + "\": " + kind + " takes " + std::to_string(n) + " numbers, not " + std::to_string(v.size()));
+  };
+  auto positive = [&](double x, const char* what) { require(x > 0, "\"" + text + "\": the " + std::string(what) + " must be > 0"); };
+  if (kind == "sphere") {
+    need(4), positive(v[3], "radius");
+    return std::make_unique<Sphere>(Vec3{v[0], v[1], v[2]}, v[3]);
+  }
+  if (kind == "box") {
+    need(6);
+    for (int a = 0; a < 3; ++a) positive(v[3 + a] - v[a], "box's extent (X1 - X0, Y1 - Y0, Z1 - Z0)");
+    return std::make_unique<Box>(Vec3{v[0], v[1], v[2]}, Vec3{v[3], v[4], v[5]});
+  }
+  if (kind == "capsule") {
+    need(7), positive(v[6], "radius");
+    return std::make_unique<Capsule>(Vec3{v[0], v[1], v[2]}, Vec3{v[3], v[4], v[5]}, v[6]);
+  }
+  if (kind == "torus") {
+    need(5), positive(v[3], "major radius"), positive(v[4], "minor radius");
+    return std::make_unique<Torus>(Vec3{v[0], v[1], v[2]}, v[3], v[4]);
+  }
+  throw Error(usage);
+}
+
+}  // namespace isoatlas::levelset::dvt

@@ -1,0 +1,43 @@
+// Solids a DVT write takes (Jung et al., sec. 4.4): implicit brushes (sphere, box, capsule, torus),
+// closed triangle meshes (mesh_solid.h) and segmentations (volume_solid.h). A cell's centre is inside
+// a solid when the solid's inside-ness there is > 0.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "core/vec.h"
+#include "levelset/dvt/volume_tree.h"
+
+namespace isoatlas::levelset::dvt {
+
+enum class CellClass { Inside, Outside, Crossed };
+
+class Solid {
+public:
+  virtual ~Solid() = default;
+  // Inside: every point of the cell is inside; Outside: none is; Crossed: either may hold.
+  virtual CellClass classify(const TreeFrame& frame, const Cell& cell) const = 0;
+  // The cell's leaf value (volume_tree.h): the inside-ness of its centre over R(depth), clamped to
+  // [-1, 1], never 0 (boundValue).
+  virtual float value(const TreeFrame& frame, const Cell& cell) const = 0;
+};
+
+// A solid from a signed distance (negative inside, 1-Lipschitz, world units): a cell is inside when
+// its centre is deeper inside than the cell's radius, outside when farther out.
+class DistanceSolid : public Solid {
+public:
+  virtual double signedDistance(const Vec3& world) const = 0;
+  CellClass classify(const TreeFrame& frame, const Cell& cell) const override;
+  float value(const TreeFrame& frame, const Cell& cell) const override;
+};
+
+// Inside-ness over a radius as a leaf value: clamped to [-1, 1], at least kNearZero from 0 with the
+// sign of `insideness` (0 counts as outside).
+float boundValue(double insideness, double radius);
+
+// An implicit brush from its command-line form, in world coordinates: sphere:X,Y,Z,R
+// box:X0,Y0,Z0,X1,Y1,Z1  capsule:X0,Y0,Z0,X1,Y1,Z1,R  torus:X,Y,Z,R,r (in the plane z = Z). Throws
+// Error naming the text on a malformed one (unknown kind, wrong count, not finite, sizes <= 0).
+std::unique_ptr<DistanceSolid> parseBrush(const std::string& text);
+
+}  // namespace isoatlas::levelset::dvt

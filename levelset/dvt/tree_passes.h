@@ -1,0 +1,43 @@
+// TreePasses: the data-parallel passes a DVT write and collapse are made of (Jung et al., Alg. 3.1),
+// on the CPU (cpu_tree_passes, TBB) or the GPU (gpu_tree_passes, GL 4.5 compute). Both keep the
+// pointer and node streams (volume_tree.h) and a mark per node, and apply tree_rules.h; DynamicVolumeTree
+// drives them. One iteration of a write: mark (per input voxel: walk to its target depth, write
+// leaves of that depth, mark coarser leaves for expansion and finer subtrees for reduction), plan
+// (per node: how many nodes it becomes, 0, 1 or 3, prefix-summed into the remap stream), restructure
+// (scatter each node to its new index with its pointers remapped, new children after their parent).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "levelset/dvt/tree_rules.h"
+#include "levelset/dvt/volume_tree.h"
+
+namespace isoatlas::levelset::dvt {
+
+struct Plan {
+  std::uint64_t nodes = 0;    // after the restructure
+  std::uint64_t changes = 0;  // nodes removed, expanded, reduced or collapsed: 0 when the tree is final
+};
+
+class TreePasses {
+public:
+  virtual ~TreePasses() = default;
+  virtual std::string name() const = 0;  // "cpu" or "gpu"
+  virtual void load(const VolumeTree& tree) = 0;
+  virtual VolumeTree download() const = 0;
+  virtual std::uint64_t nodeCount() const = 0;
+  // Memory held: the streams and marks at their capacity, the input and the remap stream.
+  virtual std::uint64_t bytes() const = 0;
+  virtual void setInput(const std::vector<InputVoxel>& input) = 0;
+  // Clears the marks, then marks for the input; returns how many marks were set (with repeats).
+  virtual std::uint64_t mark(Op op) = 0;
+  // Clears the marks, then marks inner nodes whose two children are collapsible; returns how many.
+  virtual std::uint64_t markCollapse() = 0;
+  // The remap stream for the marks; expansions count only when allowed (the node budget).
+  virtual Plan plan(bool allowExpand) = 0;
+  // Makes the streams of the last plan; storage grows by doubling, to at most `nodeLimit` nodes.
+  virtual void restructure(const Plan& plan, bool allowExpand, std::uint64_t nodeLimit) = 0;
+};
+
+}  // namespace isoatlas::levelset::dvt

@@ -1,0 +1,51 @@
+// The per-node rules of a DVT write and collapse (Jung et al., sec. 4.2-4.3), shared by the CPU passes
+// (cpu_tree_passes) and, through the defines of ruleDefines(), their GLSL twin
+// levelset/dvt/shaders/tree_rules.glsl, so the two backends make the same streams bit for bit.
+#pragma once
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "levelset/dvt/volume_tree.h"
+
+namespace isoatlas::levelset::dvt {
+
+enum class Op : std::uint32_t { Union = 0, Subtract = 1 };
+
+// What the mark pass asks of a node (tree_rules.glsl: MARK_*).
+enum Mark : std::uint32_t { kMarkNone = 0, kMarkExpand = 1, kMarkReduce = 2, kMarkCollapse = 3 };
+
+// One voxel of an input: its cell (packed as in the node stream) at its target depth and its value
+// (volume_tree.h). Inputs of one write are disjoint cells holding some inside (value > -1).
+struct InputVoxel {
+  std::uint32_t xy = 0, zd = 0;
+  float value = kInside;
+  std::uint32_t unused = 0;  // 16 bytes, as the GPU reads it
+};
+InputVoxel inputVoxel(const Cell& c, float value);
+
+// The value an input voxel brings to a leaf: the input's own for a union, its complement for a
+// subtraction (inside-ness of "not in the input").
+inline float inputValue(Op op, float value) { return op == Op::Union ? value : -value; }
+// A leaf's value after the write (both arguments already as inputValue gives them).
+inline float combined(Op op, float leaf, float incoming) {
+  return op == Op::Union ? std::max(leaf, incoming) : std::min(leaf, incoming);
+}
+// A leaf no input of this kind can change (so a coarser leaf need not be expanded).
+inline bool saturated(Op op, float leaf) { return op == Op::Union ? leaf == kInside : leaf == kOutside; }
+// A child's value when its parent leaf is split: the parent's distance measured in the child's radius.
+inline float childValue(float parent, float scale) { return std::clamp(parent * scale, kOutside, kInside); }
+// Two sibling leaves one leaf can stand for (the redundancy optimisation): equal and uniform.
+inline bool collapsible(const Pointer& left, const Pointer& right) {
+  return left.leaf() && right.leaf() && left.value == right.value && (left.value == kInside || left.value == kOutside);
+}
+
+// Per depth d, R(d) / R(d + 1) (childValue's scale), as floats both backends read.
+std::vector<float> childScales(const TreeFrame& frame);
+
+// The constants above as GLSL defines.
+std::vector<std::pair<std::string, std::string>> ruleDefines();
+
+}  // namespace isoatlas::levelset::dvt

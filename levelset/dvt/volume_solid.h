@@ -1,0 +1,51 @@
+// Segmentations as DVT solids and frames, and trees back as volumes.
+//   frameOf(volume): the volume's own grid, 2^K voxels along each axis (K: the smallest that holds
+//   its largest dimension), so depth 3K cells are its voxels. frameAround: an isotropic grid around a
+//   world box, for inputs with no voxels (meshes).
+//   VolumeSolid: a mask (an integer volume, inside where nonzero) or a phi volume (floating point,
+//   inside where > 0, in voxel units as isoatlas segment --phi writes it), trilinear between voxel
+//   centres and outside past the volume's edges; cells are classified from the voxels their
+//   interpolation reads (a summed-volume table of the inside voxels).
+//   sampleMask / sampleField: the tree at voxel centres (a point on a split plane belongs to the
+//   upper half): a mask (uint8, 1 inside) with the frame's geometry over `dims`, or the inside-ness
+//   in world units (leaf value times its radius; > 0 inside) on the grid of the depth-d cells, for
+//   extract/ to mesh at iso 0.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "core/volume.h"
+#include "levelset/dvt/solid.h"
+
+namespace isoatlas::levelset::dvt {
+
+TreeFrame frameOf(const Volume& volume);
+TreeFrame frameAround(const Vec3& lo, const Vec3& hi, int voxelSplits);
+
+class VolumeSolid final : public Solid {
+public:
+  // `volume` must have frame's geometry (made by frameOf) and stay alive.
+  explicit VolumeSolid(const Volume& volume);
+  CellClass classify(const TreeFrame& frame, const Cell& cell) const override;
+  float value(const TreeFrame& frame, const Cell& cell) const override;
+
+private:
+  double field(const Vec3& index) const;  // inside-ness, trilinear; mask: +-1, phi: voxel units
+  double voxelField(std::int64_t i, std::int64_t j, std::int64_t k) const;
+  std::uint64_t insideIn(const std::array<std::int64_t, 3>& lo, const std::array<std::int64_t, 3>& hi) const;
+  const Volume& volume_;
+  bool mask_;
+  double unit_;  // world units of one voxel unit of phi (the smallest spacing)
+  std::vector<std::uint32_t> table_;  // (nx+1)(ny+1)(nz+1) counts of inside voxels below each corner
+};
+
+struct LeafSample {
+  float value = kOutside;
+  std::uint32_t depth = 0;
+};
+LeafSample sampleAt(const VolumeTree& tree, const Vec3& index);
+Volume sampleMask(const VolumeTree& tree, const std::array<std::int64_t, 3>& dims);
+Volume sampleField(const VolumeTree& tree, std::uint32_t depth);
+
+}  // namespace isoatlas::levelset::dvt

@@ -1,0 +1,131 @@
+#include "levelset/dvt/volume_tree.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace isoatlas::levelset::dvt {
+
+std::array<std::uint32_t, 2> packCell(const Cell& c) { return {c.x | (c.y << 16), c.z | (c.depth << 16)}; }
+
+Cell unpackCell(std::uint32_t xy, std::uint32_t zd) { return {xy & 0xffffu, xy >> 16, zd & 0xffffu, zd >> 16}; }
+
+Cell childCell(const Cell& c, int which) {
+  Cell child = c;
+  child.depth = c.depth + 1;
+  std::uint32_t& coordinate = splitAxis(c.depth) == 0 ? child.x : (splitAxis(c.depth) == 1 ? child.y : child.z);
+  coordinate = 2 * coordinate + std::uint32_t(which);
+  return child;
+}
+
+int childTowards(const Cell& c, std::uint32_t d) {
+  const int axis = splitAxis(d);
+  const std::uint32_t coordinate = axis == 0 ? c.x : (axis == 1 ? c.y : c.z);
+  // The split at depth d decides bit (splits below d) of the coordinate, counted from its low end.
+  return int((coordinate >> (splitsOf(axis, c.depth) - 1 - splitsOf(axis, d))) & 1u);
+}
+
+Vec3 TreeFrame::cellVoxels(std::uint32_t depth) const {
+  Vec3 s;
+  for (int a = 0; a < 3; ++a) s[a] = std::ldexp(1.0, voxelSplits - int(splitsOf(a, depth)));
+  return s;
+}
+
+Vec3 TreeFrame::centreIndex(const Cell& c) const {
+  const Vec3 s = cellVoxels(c.depth);
+  return {(c.x + 0.5) * s.x - 0.5, (c.y + 0.5) * s.y - 0.5, (c.z + 0.5) * s.z - 0.5};
+}
+
+Vec3 TreeFrame::centreWorld(const Cell& c) const {
+  const Vec3 i = centreIndex(c);
+  return origin + direction * Vec3{i.x * spacing.x, i.y * spacing.y, i.z * spacing.z};
+}
+
+double TreeFrame::radius(std::uint32_t depth) const {
+  const Vec3 s = cellVoxels(depth);
+  double r = 0;
+  for (int corner = 0; corner < 4; ++corner) {  // the other four are these negated
+    const Vec3 half{0.5 * s.x * spacing.x, (corner & 1 ? -0.5 : 0.5) * s.y * spacing.y, (corner & 2 ? -0.5 : 0.5) * s.z * spacing.z};
+    r = std::max(r, norm(direction * half));
+  }
+  return r;
+}
+
+VolumeTree VolumeTree::empty(const TreeFrame& frame) {
+  VolumeTree t;
+  t.frame = frame;
+  t.pointers = {Pointer{}};
+  const auto packed = packCell(Cell{});
+  t.cells = {packed[0], packed[1]};
+  return t;
+}
+
+std::size_t VolumeTree::leafCount() const {
+  return std::size_t(std::count_if(pointers.begin(), pointers.end(), [](const Pointer& p) { return p.leaf(); }));
+}
+
+std::uint32_t VolumeTree::maxDepth() const {
+  std::uint32_t d = 0;
+  for (std::size_t n = 0; n < nodeCount(); ++n) d = std::max(d, cells[2 * n + 1] >> 16);
+  return d;
+}
+
+std::size_t VolumeTree::leafAt(const Cell& c) const {
+  std::size_t n = 0;
+  for (std::uint32_t d = 0; !pointers[n].leaf() && d < c.depth; ++d)
+    n = std::size_t(childTowards(c, d) == 0 ? pointers[n].left : pointers[n].right);
+  return n;
+}
+
+std::string treeProblem(const VolumeTree& tree, bool pendingRemovals) {
+  const std::size_t count = tree.nodeCount();
+  if (count == 0) return "the tree has no root";
+  if (tree.cells.size() != 2 * count) return "the node stream's length does not match the pointer stream's";
+  if (tree.frame.voxelSplits < 0 || tree.frame.voxelSplits > kMaxDepth / 3) return "the frame's voxel splits are out of range";
+  if (tree.pointers[0].parent != kNone || !(tree.cell(0) == Cell{})) return "node 0 is not the root";
+  // Nodes on their way out (a parent always comes before its children in the stream).
+  std::vector<char> pending(count, 0);
+  for (std::size_t n = 1; n < count; ++n) {
+    const std::int32_t q = tree.pointers[n].parent;
+    if (q == kInvalid) {
+      if (!pendingRemovals) return "node " + std::to_string(n) + ": left marked for removal";
+      pending[n] = 1;
+    } else if (q < 0 || std::size_t(q) >= n) {
+      return "node " + std::to_string(n) + ": its parent does not come before it";
+    } else {
+      pending[n] = pending[std::size_t(q)];
+    }
+  }
+  // Walk the pre-order layout with an explicit stack, skipping the pending nodes.
+  std::vector<std::size_t> stack{0};
+  std::size_t next = 0;  // the index the walk expects next
+  while (!stack.empty()) {
+    const std::size_t n = stack.back();
+    stack.pop_back();
+    const std::string at = "node " + std::to_string(n) + ": ";
+    while (next < count && pending[next]) ++next;
+    if (n != next) return at + "not in pre-order";
+    ++next;
+    const Pointer& p = tree.pointers[n];
+    const Cell c = tree.cell(n);
+    if (c.depth > std::uint32_t(kMaxDepth)) return at + "deeper than the depth limit";
+    if (!std::isfinite(p.value) || p.value < kOutside || p.value > kInside || p.value == 0.0f)
+      return at + "value out of [-1, 1] or zero";
+    if (p.leaf()) {
+      if (p.right != kNone || p.left != kNone) return at + "a leaf with one child";
+      continue;
+    }
+    if (p.left <= std::int32_t(n) || p.right <= p.left || std::size_t(p.right) >= count) return at + "children not in pre-order";
+    for (int k = 0; k < 2; ++k) {
+      const std::size_t child = std::size_t(k == 0 ? p.left : p.right);
+      if (tree.pointers[child].parent != std::int32_t(n)) return at + "child " + std::to_string(child) + " names another parent";
+      if (!(tree.cell(child) == childCell(c, k))) return at + "child " + std::to_string(child) + " is not its half";
+    }
+    stack.push_back(std::size_t(p.right));
+    stack.push_back(std::size_t(p.left));
+  }
+ while (next < count && pending[next]) ++next;
+  if (next != count) return "nodes " + std::to_string(next) + " .. " + std::to_string(count - 1) + " are outside the tree";
+  return "";
+}
+
+}  // namespace isoatlas::levelset::dvt

@@ -1,0 +1,98 @@
+// VolumeTree: the dynamic volume tree (DVT) of Jung et al., as streams in pre-order.
+//
+// Space: a fixed box, split in halves along x, y, z in turn (depth 0 splits x, depth 1 y, depth 2 z,
+// ...), so a node's cell follows from its depth and its integer coordinates along each axis. The box
+// is a grid frame: voxels 0 .. 2^K - 1 along each axis of an indexed volume (TreeFrame), so depth 3K
+// cells are its voxels, deeper cells sub-voxels. Only leaves hold values.
+//
+// Streams, one entry per node, in pre-order (a node, its left subtree, its right subtree):
+//   pointers  parent, left, right (node indices; -1 none, kInvalid for a node whose subtree is being
+//             removed) and the value (leaves: see below; inner nodes: unused)
+//   cells     the node's cell: x | y << 16, z | depth << 16
+// The remap stream (old index -> new index) lives only while a write runs (tree_backend.h).
+//
+// Values, "inside-ness" as everywhere in isoatlas (phi > 0 inside): the signed distance from the
+// cell's centre to the surface, positive inside, over the cell's circumradius R(depth), clamped to
+// [-1, 1] and never 0. +1: the whole cell is inside; -1: the whole cell is outside; in between: a
+// narrow-band cell with a sub-voxel distance. A cell's centre is inside when its value is > 0.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/vec.h"
+
+namespace isoatlas::levelset::dvt {
+
+inline constexpr int kMaxDepth = 48;           // 16 splits per axis: coordinates fit 16 bits
+inline constexpr std::int32_t kNone = -1;      // no parent (the root) or no children (a leaf)
+inline constexpr std::int32_t kInvalid = -2;   // parent pointer of a node to be removed
+inline constexpr float kInside = 1.0f, kOutside = -1.0f;
+inline constexpr float kNearZero = 1e-6f;      // band values keep their sign: |value| >= this
+
+struct Pointer {
+  std::int32_t parent = kNone, left = kNone, right = kNone;
+  float value = kOutside;
+  bool leaf() const { return left < 0; }
+  bool operator==(const Pointer&) const = default;
+};
+
+struct Cell {
+  std::uint32_t x = 0, y = 0, z = 0, depth = 0;
+  bool operator==(const Cell&) const = default;
+};
+// The node stream's packing of a cell (two uint32: x | y << 16, z | depth << 16).
+std::array<std::uint32_t, 2> packCell(const Cell& c);
+Cell unpackCell(std::uint32_t xy, std::uint32_t zd);
+
+// How many times axis a (0 x, 1 y, 2 z) has been split above depth d.
+inline std::uint32_t splitsOf(int axis, std::uint32_t depth) { return (depth + 2 - std::uint32_t(axis)) / 3; }
+// The axis the node at depth d splits.
+inline int splitAxis(std::uint32_t depth) { return int(depth % 3); }
+// Child 0 (lower half) or 1 of `c` along its split axis.
+Cell childCell(const Cell& c, int which);
+// The child (0 or 1) of the depth-d ancestor of `c` that contains `c` (d < c.depth).
+int childTowards(const Cell& c, std::uint32_t d);
+
+// The box: the voxels 0 .. 2^K - 1 of a grid along each axis, its world placement as a Volume's.
+struct TreeFrame {
+  int voxelSplits = 8;  // K
+  Vec3 spacing{1, 1, 1}, origin{0, 0, 0};
+  Mat3 direction;
+  std::int64_t voxelsPerAxis() const { return std::int64_t(1) << voxelSplits; }
+  std::uint32_t voxelDepth() const { return std::uint32_t(3 * voxelSplits); }  // depth of cells = voxels
+  // The cell's centre in voxel index coordinates and in the world.
+  Vec3 centreIndex(const Cell& c) const;
+  Vec3 centreWorld(const Cell& c) const;
+  // The cell's size in voxels along each axis (fractional below the voxels).
+  Vec3 cellVoxels(std::uint32_t depth) const;
+  // Circumradius of a depth-d cell in world units (the largest centre-to-corner distance).
+  double radius(std::uint32_t depth) const;
+  bool operator==(const TreeFrame&) const = default;
+};
+
+struct VolumeTree {
+  TreeFrame frame;
+  std::vector<Pointer> pointers;      // the pointer stream
+  std::vector<std::uint32_t> cells;   // the node stream, two values per node (packCell)
+
+  static VolumeTree empty(const TreeFrame& frame);  // one outside root
+  std::size_t nodeCount() const { return pointers.size(); }
+  Cell cell(std::size_t n) const { return unpackCell(cells[2 * n], cells[2 * n + 1]); }
+  std::size_t leafCount() const;
+  std::uint32_t maxDepth() const;
+  std::uint64_t bytes() const { return pointers.size() * sizeof(Pointer) + cells.size() * 4; }
+  // The leaf holding `c` (or a coarser leaf containing it).
+  std::size_t leafAt(const Cell& c) const;
+  bool operator==(const VolumeTree&) const = default;
+};
+
+// What is wrong with a tree's streams, or "" when sound: pre-order layout (left = n + 1, right after
+// the left subtree), parent and child pointers agreeing, children's cells the halves of their
+// parent's, depths within kMaxDepth, values finite in [-1, 1] and nonzero, no kInvalid node left.
+// With `pendingRemovals`, as between the passes of a write: nodes whose parent is kInvalid (or is such
+// a node) may remain between the others, and the tree is checked without them.
+std::string treeProblem(const VolumeTree& tree, bool pendingRemovals = false);
+
+}  // namespace isoatlas::levelset::dvt

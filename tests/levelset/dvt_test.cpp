@@ -1,0 +1,158 @@
+// The dynamic volume tree: writes against a dense voxel reference, collapse, pointers after every
+// pass, the node budget, the GPU passes against the CPU's node for node, segmentations in and out.
+#include <gtest/gtest.h>
+
+#include <functional>
+
+#include "core/error.h"
+#include "levelset/dvt/cpu_tree_passes.h"
+#include "levelset/dvt/dynamic_volume_tree.h"
+#include "levelset/dvt/gpu_tree_passes.h"
+#include "levelset/dvt/rasterise.h"
+#include "levelset/dvt/volume_solid.h"
+#include "tests/gl_context.h"
+
+namespace isoatlas::levelset::dvt {
+namespace {
+
+// The unit cube as a 32^3 grid (voxel depth 15).
+TreeFrame unitFrame() { return frameAround({0, 0, 0}, {1, 1, 1}, 5); }
+
+std::unique_ptr<TreePasses> passesFor(const std::string& backend) {
+  return backend == "gpu" ? makeGpuTreePasses(test::glContext()) : makeCpuTreePasses();
+}
+
+// Every cell centre of depth `depth`, inside by the tree vs by `truth`; returns the mismatches.
+std::int64_t mismatches(const VolumeTree& tree, std::uint32_t depth, const std::function<bool(const Vec3&)>& truth) {
+  std::int64_t bad = 0;
+  const std::uint32_t n[3] = {1u << splitsOf(0, depth), 1u << splitsOf(1, depth), 1u << splitsOf(2, depth)};
+  for (std::uint32_t z = 0; z < n[2]; ++z)
+    for (std::uint32_t y = 0; y < n[1]; ++y)
+      for (std::uint32_t x = 0; x < n[0]; ++x) {
+        const Cell c{x, y, z, depth};
+        const bool inTree = sampleAt(tree, tree.frame.centreIndex(c)).value > 0;
+        bad += inTree != truth(tree.frame.centreWorld(c));
+      }
+  return bad;
+}
+
+bool inside(const DistanceSolid& s, const Vec3& p) { return s.signedDistance(p) < 0; }
+
+class Writes : public ::testing::TestWithParam<std::tuple<std::string, bool, std::uint32_t>> {};
+
+TEST_P(Writes, UnionAndSubtractMatchADenseReference) {
+  const auto [backend, hierarchical, depth] = GetParam();
+  const auto sphere = parseBrush("sphere:0.5,0.5,0.5,0.3");
+  const auto box = parseBrush("box:0.45,0.1,0.1,1.2,0.6,0.9");
+  const auto capsule = parseBrush("capsule:0.2,0.8,0.5,0.8,0.8,0.5,0.07");
+  DynamicVolumeTree tree(VolumeTree::empty(unitFrame()), passesFor(backend));
+  tree.write(rasterise(*sphere, unitFrame(), depth, hierarchical), Op::Union);
+  EXPECT_EQ(treeProblem(tree.tree()), "");
+  EXPECT_EQ(mismatches(tree.tree(), depth, [&](const Vec3& p) { return inside(*sphere, p); }), 0);
+  tree.write(rasterise(*box, unitFrame(), depth, hierarchical), Op::Subtract);
+  tree.write(rasterise(*capsule, unitFrame(), depth, hierarchical), Op::Union);
+  const VolumeTree t = tree.tree();
+  EXPECT_EQ(treeProblem(t), "");
+  auto truth = [&](const Vec3& p) { return (inside(*sphere, p) && !inside(*box, p)) || inside(*capsule, p); };
+  EXPECT_EQ(mismatches(t, depth, truth), 0);
+  const std::uint64_t before = tree.nodeCount();
+  EXPECT_GT(tree.collapse(), 0u);
+  EXPECT_LT(tree.nodeCount(), before);
+  EXPECT_EQ(treeProblem(tree.tree()), "");
+  EXPECT_EQ(mismatches(tree.tree(), depth, truth), 0) << "collapse changed the volume";
+  EXPECT_EQ(tree.collapse(), 0u) << "a second collapse still found equal siblings";
+}
+
+INSTANTIATE_TEST_SUITE_P(Dvt, Writes,
+                         ::testing::Combine(::testing::Values("cpu", "gpu"), ::testing::Bool(), ::testing::Values(15u, 16u)),
+                         [](const auto& info) {
+                           return std::get<0>(info.param) + (std::get<1>(info.param) ? "_hierarchical_" : "_flat_") +
+                                  std::to_string(std::get<2>(info.param));
+                         });
+
+TEST(Dvt, PointersAgreeAfterEveryPass) {
+  for (const std::string backend : {"cpu", "gpu"}) {
+    auto passes = passesFor(backend);
+    VolumeTree start = VolumeTree::empty(unitFrame());
+    passes->load(start);
+    int iterations = 0;
+    // A deep write, then a coarse one that reduces its subtrees, then a subtraction.
+    const std::vector<std::pair<std::string, std::pair<Op, std::uint32_t>>> writes = {
+        {"torus:0.5,0.5,0.5,0.3,0.1", {Op::Union, 17}}, {"sphere:0.6,0.5,0.5,0.2", {Op::Union, 9}},
+        {"box:0.3,0.3,0.3,0.6,0.6,0.6", {Op::Subtract, 16}}};
+    for (const auto& [shape, how] : writes) {
+      passes->setInput(rasterise(*parseBrush(shape), unitFrame(), how.second));
+      for (;; ++iterations) {
+        passes->mark(how.first);
+        const Plan plan = passes->plan(true);
+        if (plan.changes == 0) break;
+        passes->restructure(plan, true, 1u << 24);
+        ASSERT_EQ(treeProblem(passes->download(), true), "") << backend << ", " << shape << ", pass " << iterations;
+      }
+      ASSERT_EQ(treeProblem(passes->download()), "") << backend << ", " << shape;
+    }
+    EXPECT_GT(iterations, 20) << "the writes should take several passes each";
+  }
+}
+
+TEST(Dvt, GpuPassesMakeTheCpuStreamsNodeForNode) {
+  DynamicVolumeTree cpu(VolumeTree::empty(unitFrame()), makeCpuTreePasses(), {.collapseEvery = 3});
+  DynamicVolumeTree gpu(VolumeTree::empty(unitFrame()), makeGpuTreePasses(test::glContext()), {.collapseEvery = 3});
+  for (int step = 0; step < 8; ++step) {
+    const double a = 0.4 * step;
+    const std::string brush = "sphere:" + std::to_string(0.5 + 0.3 * std::cos(a)) + "," + std::to_string(0.5 + 0.3 * std::sin(a)) + ",0.5,0.08";
+    const auto input = rasterise(*parseBrush(brush), unitFrame(), 16 + step % 3);
+    const Op op = step == 5 ? Op::Subtract : Op::Union;
+    cpu.write(input, op), gpu.write(input, op);
+    const VolumeTree c = cpu.tree(), g = gpu.tree();
+    ASSERT_EQ(c.nodeCount(), g.nodeCount()) << "step " << step;
+    ASSERT_TRUE(c.cells == g.cells) << "step " << step;
+    for (std::size_t n = 0; n < c.nodeCount(); ++n) ASSERT_EQ(c.pointers[n], g.pointers[n]) << "step " << step << ", node " << n;
+  }
+}
+
+TEST(Dvt, NodeBudgetGivesAnErrorAndAValidTree) {
+  for (const std::string backend : {"cpu", "gpu"}) {
+    DynamicVolumeTree tree(VolumeTree::empty(unitFrame()), passesFor(backend), {.nodeLimit = 2000});
+    tree.write(rasterise(*parseBrush("sphere:0.5,0.5,0.5,0.3"), unitFrame(), 9), Op::Union);
+    EXPECT_THROW(tree.write(rasterise(*parseBrush("torus:0.5,0.5,0.5,0.3,0.05"), unitFrame(), 18), Op::Union), Error);
+    EXPECT_LE(tree.nodeCount(), 2000u);
+    EXPECT_EQ(treeProblem(tree.tree()), "") << backend;
+    // Still usable: a coarse subtraction fits and is applied.
+    const auto box = parseBrush("box:0,0,0,0.5,1,1");
+    tree.write(rasterise(*box, unitFrame(), 6), Op::Subtract);
+    EXPECT_EQ(treeProblem(tree.tree()), "") << backend;
+    EXPECT_LT(sampleAt(tree.tree(), tree.frame().centreIndex(Cell{0, 0, 0, 3})).value, 0) << backend;
+  }
+}
+
+TEST(Dvt, MaskRoundTripsThroughATree) {
+  Volume mask = Volume::zeros({23, 17, 12}, ScalarType::UInt8);
+  mask.spacing = {0.8, 1.0, 1.5};
+  mask.origin = {-3, 4, 10};
+  for (std::int64_t k = 0; k < 12; ++k)
+    for (std::int64_t j = 0; j < 17; ++j)
+      for (std::int64_t i = 0; i < 23; ++i)
+        if ((i - 11) * (i - 11) + (j - 8) * (j - 8) * 2 + (k - 6) * (k - 6) * 3 < 70 && (i + j + k) % 7 != 0)
+          mask.setValue(mask.index(i, j, k), 1);
+  const TreeFrame frame = frameOf(mask);
+  EXPECT_EQ(frame.voxelSplits, 5);
+  const VolumeSolid solid(mask);
+  DynamicVolumeTree tree(VolumeTree::empty(frame), makeCpuTreePasses());
+  tree.write(rasterise(solid, frame, frame.voxelDepth()), Op::Union);
+  tree.collapse();
+  const Volume back = sampleMask(tree.tree(), mask.dims);
+  EXPECT_EQ(back.data, mask.data);
+  EXPECT_EQ(back.origin, mask.origin);
+  EXPECT_EQ(back.spacing, mask.spacing);
+}
+
+TEST(Dvt, MalformedBrushesAreRefused) {
+  for (const char* bad : {"sphere", "sphere:1,2,3", "sphere:1,2,3,0", "sphere:1,2,x,4", "cube:1,2,3,4", "box:0,0,0,1,1,0",
+                          "torus:0,0,0,1", "capsule:0,0,0,1,1,1,-1", "sphere:1,2,3,nan", "sphere:1,2,3,4,", ""})
+    EXPECT_THROW(parseBrush(bad), Error) << bad;
+  EXPECT_THROW(rasterise(*parseBrush("sphere:0,0,0,1"), unitFrame(), kMaxDepth + 1), Error);
+}
+
+}  // namespace
+}  // namespace isoatlas::levelset::dvt
