@@ -42,5 +42,6 @@ void addBuildCommand(CLI::App& app, int& exitCode);
 void addEvalCommand(CLI::App& app, int& exitCode);
 void addEditDetailCommand(CLI::App& app, int& exitCode);
 void addRenderCommand(CLI::App& app, int& exitCode);
+void addEditCommand(CLI::App& app, int& exitCode);
 
 }  // namespace isoatlas::app

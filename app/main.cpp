@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
   addInfoCommand(app, exitCode);
   addProbeCommand(app, exitCode);
   addSegmentCommand(app, exitCode);
-  addPendingCommand(app, "edit", "boolean brush and mesh edits in a dynamic volume tree", "the DVT issue", exitCode);
+  addEditCommand(app, exitCode);
   addExtractCommand(app, exitCode);
   addBuildCommand(app, exitCode);
   addEvalCommand(app, exitCode);

@@ -1,7 +1,5 @@
 #include "atlas/model_file.h"
 
-#include <zlib.h>
-
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -10,106 +8,15 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/sectioned_file.h"
 
 namespace isoatlas::atlas {
 namespace {
 
 constexpr char kMagic[8] = {'I', 'S', 'O', 'A', 'T', 'L', 'A', 'S'};
 
-std::uint32_t crc(const char* data, std::size_t size) {
-  uLong c = crc32(0L, Z_NULL, 0);
-  while (size > 0) {  // zlib takes 32-bit lengths
-    const uInt n = uInt(std::min<std::size_t>(size, 1u << 30));
-    c = crc32(c, reinterpret_cast<const Bytef*>(data), n);
-    data += n, size -= n;
-  }
-  return std::uint32_t(c);
-}
-
-class Writer {
-public:
-  template <class T>
-  void put(T value) {
-    if constexpr (std::is_floating_point_v<T>) {
-      using Bits = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
-      put(std::bit_cast<Bits>(value));
-    } else {
-      using U = std::make_unsigned_t<T>;
-      const U u = U(value);
-      for (std::size_t i = 0; i < sizeof(T); ++i) bytes.push_back(char((u >> (8 * i)) & 0xff));
-    }
-  }
-  void putVec(const Vec3& v) { put(v.x), put(v.y), put(v.z); }
-  std::string bytes;
-};
-
-void writeSection(std::ofstream& out, const char tag[4], const Writer& w) {
-  Writer header;
-  header.bytes.assign(tag, 4);
-  header.put(std::uint64_t(w.bytes.size()));
-  header.put(crc(w.bytes.data(), w.bytes.size()));
-  out.write(header.bytes.data(), std::streamsize(header.bytes.size()));
-  out.write(w.bytes.data(), std::streamsize(w.bytes.size()));
-}
-
-class Reader {
-public:
-  Reader(const std::string& path, const std::string& bytes, std::string section, std::size_t begin, std::size_t end)
-      : path_(path), bytes_(bytes), section_(std::move(section)), at_(begin), end_(end) {}
-  template <class T>
-  T get() {
-    need(sizeof(T));
-    if constexpr (std::is_floating_point_v<T>) {
-      using Bits = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
-      return std::bit_cast<T>(get<Bits>());
-    } else {
-      using U = std::make_unsigned_t<T>;
-      U u = 0;
-      for (std::size_t i = 0; i < sizeof(T); ++i) u = U(u | (U(std::uint8_t(bytes_[at_ + i])) << (8 * i)));
-      at_ += sizeof(T);
-      return T(u);
-    }
-  }
-  // A count of items of `itemBytes` each that must fit in what is left of the section.
-  std::uint64_t count(std::size_t itemBytes, const char* what) {
-    const std::uint64_t n = get<std::uint64_t>();
-    fits(n, itemBytes, what);
-    return n;
-  }
-  void fits(std::uint64_t n, std::size_t itemBytes, const char* what) const {
-    if (n > (end_ - at_) / itemBytes) fail(std::string(what) + " count " + std::to_string(n) + " exceeds the section");
-  }
-  template <class T>
-  T finite() {
-    const T v = get<T>();
-    if (!std::isfinite(v)) fail("a real number is not finite");
-    return v;
-  }
-  Vec3 vec() {
-    Vec3 v;
-    v.x = finite<double>(), v.y = finite<double>(), v.z = finite<double>();
-    return v;
-  }
-  std::uint32_t index(std::uint64_t limit, const char* what) {
-    const std::uint32_t i = get<std::uint32_t>();
-    if (i >= limit) fail(std::string(what) + " index " + std::to_string(i) + " out of range");
-    return i;
-  }
-  [[noreturn]] void fail(const std::string& why) const {
-    throw Error(path_ + ": section " + section_ + ", byte " + std::to_string(at_) + ": " + why);
-  }
-  void need(std::size_t n) const {
-    if (n > end_ - at_) fail("the section ends early");
-  }
-  bool done() const { return at_ == end_; }
-  std::size_t left() const { return end_ - at_; }
-
-private:
-  const std::string& path_;
-  const std::string& bytes_;
-  std::string section_;
-  std::size_t at_, end_;
-};
+using Writer = SectionWriter;
+using Reader = SectionReader;
 
 // What the reader refuses in a base mesh beyond counts and ranges, or "" when it is sound: split
 // vertices' dense indices, triangles naming a vertex twice, a triangle in two tiles, tiles whose
@@ -272,16 +179,11 @@ void writeModel(const std::string& path, const Model& model) {
     for (const std::int64_t d : b.denseVertex) require(d < std::int64_t(model.dense.vertexCount()), path + ": a base vertex names a missing dense vertex");
   }
 
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error(path + ": cannot open for writing");
-  Writer header;
-  header.bytes.assign(kMagic, 8);
-  header.put(kModelVersion);
-  out.write(header.bytes.data(), std::streamsize(header.bytes.size()));
+  SectionedFileWriter out(path, kMagic, kModelVersion);
 
   Writer head;
   head.put(model.chartSize), head.put(model.foldedTexels), head.put(model.gapTexels);
-  writeSection(out, "HEAD", head);
+  out.section("HEAD", head);
 
   Writer base;
   base.put(std::uint64_t(b.vertexCount()));
@@ -290,7 +192,7 @@ void writeModel(const std::string& path, const Model& model) {
   for (const auto& t : b.triangles) base.put(t[0]), base.put(t[1]), base.put(t[2]);
   base.put(std::uint64_t(b.tiles.size()));
   for (const auto& t : b.tiles) base.put(t[0]), base.put(t[1]);
-  writeSection(out, "BASE", base);
+  out.section("BASE", base);
 
   Writer half;
   for (const BaseHalfedge& h : baseHalfedges(b, model.chartSize)) {
@@ -298,13 +200,13 @@ void writeModel(const std::string& path, const Model& model) {
     for (const std::uint8_t x : h.uv) half.put(x);
   }
   for (std::size_t v = 0; v < b.vertexCount(); ++v) half.put(std::uint8_t(0));
-  writeSection(out, "HALF", half);
+  out.section("HALF", half);
 
   Writer atlas;
   atlas.put(l.charts), atlas.put(l.columns), atlas.put(l.rows);
   for (const auto& p : model.atlas.positions) atlas.put(p[0]), atlas.put(p[1]), atlas.put(p[2]);
   for (const auto& n : model.atlas.normals) atlas.put(n[0]), atlas.put(n[1]), atlas.put(n[2]);
-  writeSection(out, "ATLS", atlas);
+  out.section("ATLS", atlas);
 
   if (!model.atlas.details.empty()) {
     Writer detail;
@@ -314,7 +216,7 @@ void writeModel(const std::string& path, const Model& model) {
       for (const auto& p : d.positions) detail.put(p[0]), detail.put(p[1]), detail.put(p[2]);
       for (const auto& n : d.normals) detail.put(n[0]), detail.put(n[1]), detail.put(n[2]);
     }
-    writeSection(out, "DETL", detail);
+    out.section("DETL", detail);
   }
 
   if (dense) {
@@ -323,24 +225,21 @@ void writeModel(const std::string& path, const Model& model) {
     for (const Vec3& p : model.dense.positions) d.putVec(p);
     d.put(std::uint64_t(model.dense.faceCount()));
     for (const std::uint32_t c : model.dense.faceVertices) d.put(c);
-    writeSection(out, "DENS", d);
+    out.section("DENS", d);
     Writer para;
     para.put(std::uint64_t(b.denseTriangle.size()));
     for (std::size_t i = 0; i < b.denseTriangle.size(); ++i) {
       para.put(b.denseTriangle[i]);
       for (const double w : b.denseBary[i]) para.put(w);
     }
-    writeSection(out, "PARA", para);
+    out.section("PARA", para);
   }
-  if (!out.flush()) throw Error(path + ": write failed (disk full?)", ErrorKind::Failure);
+  out.finish();
 }
 
 Model readModel(const std::string& path, const ModelReadOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open (missing or unreadable)");
-  const std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  if (bytes.size() < 12 || std::memcmp(bytes.data(), kMagic, 8) != 0) throw Error(path + ": not an isoatlas model file");
-  const std::uint32_t version = Reader(path, bytes, "header", 8, 12).get<std::uint32_t>();
+  const SectionedFile file = readSectionedFile(path, kMagic, "an isoatlas model file");
+  const std::uint32_t version = file.version;
   if (version == 1)
     throw Error(path + ": model format version 1 holds no atlas; build the model again with this isoatlas (isoatlas build)");
   if (version != kModelVersion)
@@ -348,19 +247,7 @@ Model readModel(const std::string& path, const ModelReadOptions& options) {
                 std::to_string(kModelVersion) + ")");
   Model model;
   std::set<std::string> seen;
-  std::size_t at = 12;
-  while (at < bytes.size()) {
-    if (bytes.size() - at < 16) throw Error(path + ": byte " + std::to_string(at) + ": truncated section header");
-    const std::string tag = bytes.substr(at, 4);
-    Reader header(path, bytes, tag, at + 4, at + 16);
-    const std::uint64_t size = header.get<std::uint64_t>();
-    const std::uint32_t sum = header.get<std::uint32_t>();
-    at += 16;
-    if (size > bytes.size() - at)
-      throw Error(path + ": section " + tag + ", byte " + std::to_string(at) + ": runs past the end of the file (truncated?)");
-    if (options.checksums && crc(bytes.data() + at, size) != sum)
-      throw Error(path + ": section " + tag + ", byte " + std::to_string(at) + ": checksum mismatch (the file is damaged)");
-    Reader r(path, bytes, tag, at, at + size);
+  forEachSection(file, options.checksums, [&](const std::string& tag, Reader& r) {
     const bool known = tag == "HEAD" || tag == "BASE" || tag == "HALF" || tag == "ATLS" || tag == "DETL" || tag == "DENS" || tag == "PARA";
     if (known && !seen.insert(tag).second) r.fail("a second " + tag + " section");  // would mix two models' counts
     // Each section may rely on those it names having come first.
@@ -402,8 +289,7 @@ Model readModel(const std::string& path, const ModelReadOptions& options) {
                std::to_string(model.dense.vertexCount()));
     }
     if (known && !r.done()) r.fail("trailing bytes");
-    at += size;
-  }
+  });
   for (const char* tag : {"HEAD", "BASE", "HALF", "ATLS"})
     if (!seen.count(tag)) throw Error(path + ": the model lacks its " + std::string(tag) + " section");
   if (seen.count("DENS") != seen.count("PARA")) throw Error(path + ": the dense mesh comes without its parametrisation (DENS, PARA)");

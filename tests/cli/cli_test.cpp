@@ -534,6 +534,84 @@ TEST(Cli, RenderDrawsAModelWithoutCracksAndAGridOfThem) {
 
 // The demo's seeds and parameters go with Colin27's T1 however its path is written (here absolute,
 // with a ./ inside), and with no other volume of that name.
+TEST(Cli, EditAppliesBrushesOnBothBackendsAsADenseReferenceSays) {
+  const auto dir = test::scratchDir();
+  Volume mask = Volume::zeros({40, 36, 30}, ScalarType::UInt8);
+  mask.spacing = {1, 1, 1.2};
+  mask.origin = {-18, -20, -15};
+  for (std::int64_t k = 0; k < 30; ++k)
+    for (std::int64_t j = 0; j < 36; ++j)
+      for (std::int64_t i = 0; i < 40; ++i)
+        if (norm(mask.indexToWorld({double(i), double(j), double(k)}) - Vec3{0, 0, 2}) < 10) mask.setValue(mask.index(i, j, k), 1);
+  const std::string input = (dir / "mask.nii.gz").string();
+  writeVolume(input, mask);
+  const std::string edits = " --union sphere:9,0,2,6 --subtract box:-20,-20,-20,-2,20,20 --union capsule:-12,-12,0,-12,12,0,2.5";
+  auto expected = [&](const Vec3& p) {
+    const bool box = p.x > -20 && p.x < -2 && p.y > -20 && p.y < 20 && p.z > -20 && p.z < 20;
+    const Vec3 a{-12, -12, 0};
+    const double t = std::clamp((p.y + 12) / 24, 0.0, 1.0);
+    const bool capsule = norm(p - (a + Vec3{0, 24 * t, 0})) < 2.5;
+    return ((norm(p - Vec3{0, 0, 2}) < 10 || norm(p - Vec3{9, 0, 2}) < 6) && !box) || capsule;
+  };
+  std::vector<std::byte> cpuVoxels;
+  for (const char* backend : {"cpu", "gpu"}) {
+    const std::string out = (dir / (std::string(backend) + ".nii.gz")).string(), report = (dir / "e.json").string();
+    const Result r = run("edit " + input + edits + " --backend " + backend + " -o " + out + " --report " + report);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Volume edited = readVolume(out);
+    EXPECT_EQ(edited.dims, mask.dims);
+    EXPECT_EQ(edited.origin, mask.origin);
+    std::int64_t wrong = 0, inside = 0;
+    for (std::int64_t k = 0; k < 30; ++k)
+      for (std::int64_t j = 0; j < 36; ++j)
+        for (std::int64_t i = 0; i < 40; ++i) {
+          const bool in = edited.at(i, j, k) == 1;
+          inside += in;
+          wrong += in != expected(mask.indexToWorld({double(i), double(j), double(k)}));
+        }
+    EXPECT_EQ(wrong, 0) << backend;
+    EXPECT_GT(inside, 1000);
+    if (cpuVoxels.empty()) cpuVoxels = edited.data;
+    EXPECT_TRUE(edited.data == cpuVoxels) << "the backends disagree";
+    const auto j = nlohmann::json::parse(test::readBytes(report));
+    for (const char* key : {"nodes", "leaves", "depth_max", "seconds_write", "seconds_collapse", "bytes", "backend"})
+      EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_EQ(j["backend"], backend);
+    EXPECT_EQ(j["depth"], 18) << "the default depth is the input's voxels (64 = 2^6 a side)";
+  }
+  // A saved tree edits on, and comes back as the same voxels.
+  const std::string tree = (dir / "t.dvt").string(), back = (dir / "back.nii.gz").string();
+  ASSERT_EQ(run("edit " + input + edits + " -o " + tree).code, 0);
+  ASSERT_EQ(run("edit " + tree + " -o " + back).code, 0);
+  const Volume again = readVolume(back);
+  ASSERT_EQ(again.dims[0], 64);
+  for (std::int64_t k = 0; k < 30; ++k)
+    for (std::int64_t j = 0; j < 36; ++j)
+      for (std::int64_t i = 0; i < 40; ++i) ASSERT_EQ(again.at(i, j, k), double(std::to_integer<int>(cpuVoxels[mask.index(i, j, k)])));
+  // A mesh out, and a closed mesh in.
+  const std::string surface = (dir / "edited.ply").string(), torus = (dir / "torus.off").string();
+  ASSERT_EQ(run("edit " + tree + " -o " + surface).code, 0);
+  const MeshTopology t = analyzeTopology(readMesh(surface));
+  EXPECT_TRUE(t.closed && t.manifold);
+  writeMesh(torus, test::torusMesh(40, 20));
+  ASSERT_EQ(run("edit " + torus + " --depth 18 --subtract box:-5,-5,-5,0,5,5 -o " + surface).code, 0);
+  const MeshTopology cut = analyzeTopology(readMesh(surface));
+  EXPECT_TRUE(cut.closed && cut.manifold);
+  EXPECT_EQ(cut.genus, 0) << "half a torus";
+
+  expectBadInput("edit " + input + " --union sphere:1,2,3 -o " + back, "sphere takes 4 numbers");
+  expectBadInput("edit " + input + " --subtract cube:1,2,3,4 -o " + back, "a shape is sphere:");
+  expectBadInput("edit " + input + " --depth 60 --union sphere:1,2,3,4 -o " + back, "past the tree's limit");
+  expectBadInput("edit " + input + " --union sphere:1,2,3,4 -o x.png", "write a mask");
+  expectBadInput("edit " + input + " --union mesh:" + (dir / "none.off").string() + " -o " + back, "none.off");
+  test::writeBytes(dir / "bad.dvt", "ISOA-DVT\x01");
+  expectBadInput("edit " + (dir / "bad.dvt").string() + " -o " + back, "bad.dvt");
+  std::string damaged = test::readBytes(tree);
+  damaged[damaged.size() - 5] ^= 0x40;
+  test::writeBytes(dir / "damaged.dvt", damaged);
+  expectBadInput("edit " + (dir / "damaged.dvt").string() + " -o " + back, "checksum");
+}
+
 TEST(Cli, RunKnowsTheDemoVolumeByItsIdentity) {
   const std::string ch2 = std::string(ISOATLAS_DATA) + "/./volumes/ch2.nii.gz";
   if (!std::filesystem::exists(ch2)) GTEST_SKIP() << "run scripts/fetch-data for the end-to-end data";

@@ -1,5 +1,5 @@
 // libFuzzer target for one file reader, chosen at build time by FUZZ_EXT (".nii", ".nrrd", ".inr",
-// ".off", ".isoatlas", ...). The input is written to a file with that extension and read back; an isoatlas::Error
+// ".off", ".isoatlas", ".dvt", ...). The input is written to a file with that extension and read back; an isoatlas::Error
 // is the expected way to fail, anything else (a crash, a sanitizer report, a hang) is a bug.
 #include <unistd.h>
 
@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "core/mesh_io.h"
 #include "core/volume_io.h"
+#include "levelset/dvt/dvt_file.h"
 
 namespace {
 const std::string& scratchPath() {
@@ -41,6 +42,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     if (scratchPath().ends_with(".isoatlas")) {
       isoatlas::atlas::readModel(scratchPath(), {.checksums = false});  // so damaged payloads reach the parsers
+    } else if (scratchPath().ends_with(".dvt")) {
+      isoatlas::levelset::dvt::readDvt(scratchPath(), false);
     } else if (isoatlas::isMeshPath(scratchPath())) {
       const isoatlas::Mesh m = isoatlas::readMesh(scratchPath());
       isoatlas::requireManifold(m, scratchPath());

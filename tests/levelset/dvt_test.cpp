@@ -6,11 +6,13 @@
 
 #include "core/error.h"
 #include "levelset/dvt/cpu_tree_passes.h"
+#include "levelset/dvt/dvt_file.h"
 #include "levelset/dvt/dynamic_volume_tree.h"
 #include "levelset/dvt/gpu_tree_passes.h"
 #include "levelset/dvt/rasterise.h"
 #include "levelset/dvt/volume_solid.h"
 #include "tests/gl_context.h"
+#include "tests/test_util.h"
 
 namespace isoatlas::levelset::dvt {
 namespace {
@@ -145,6 +147,27 @@ TEST(Dvt, MaskRoundTripsThroughATree) {
   EXPECT_EQ(back.data, mask.data);
   EXPECT_EQ(back.origin, mask.origin);
   EXPECT_EQ(back.spacing, mask.spacing);
+}
+
+TEST(Dvt, FileRoundTripAndDamage) {
+  TreeFrame frame = unitFrame();
+  frame.direction.m[0] = {0, -1, 0}, frame.direction.m[1] = {1, 0, 0};
+  DynamicVolumeTree tree(VolumeTree::empty(frame), makeCpuTreePasses());
+  tree.write(rasterise(*parseBrush("torus:0.2,0.5,0.5,0.3,0.1"), frame, 17), Op::Union);
+  const auto dir = test::scratchDir();
+  const std::string path = (dir / "t.dvt").string();
+  writeDvt(path, tree.tree());
+  EXPECT_TRUE(readDvt(path) == tree.tree());
+  const std::string bytes = test::readBytes(path);
+  for (const std::size_t cut : {std::size_t(3), std::size_t(13), std::size_t(40), bytes.size() - 1}) {
+    test::writeBytes(dir / "cut.dvt", bytes.substr(0, cut));
+    EXPECT_THROW(readDvt((dir / "cut.dvt").string()), Error) << cut;
+  }
+  // A child pointing elsewhere, with the checksum not checked: the tree check refuses it.
+  VolumeTree bad = tree.tree();
+  std::swap(bad.pointers[1].left, bad.pointers[1].right);
+  EXPECT_NE(treeProblem(bad), "");
+  EXPECT_THROW(writeDvt(path, bad), Error);
 }
 
 TEST(Dvt, MalformedBrushesAreRefused) {

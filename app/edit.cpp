@@ -1,0 +1,72 @@
+// isoatlas edit: boolean brush and mesh edits of a segmentation in a dynamic volume tree.
+#include "app/command.h"
+#include "app/options.h"
+#include "app/volume_editing.h"
+#include "core/error.h"
+#include "core/gz_file.h"
+#include "core/mesh_io.h"
+#include "core/mesh_topology.h"
+#include "core/progress.h"
+#include "core/volume_io.h"
+#include "extract/extract_surface.h"
+#include "levelset/dvt/dvt_file.h"
+#include "levelset/dvt/volume_solid.h"
+
+namespace isoatlas::app {
+namespace dvt = levelset::dvt;
+
+struct EditCommandOptions {
+  std::string input, output, backend = "auto";
+  std::optional<std::uint32_t> depth;
+  std::vector<EditStep> steps;
+  bool flat = false;
+  std::uint64_t nodeLimit = dvt::TreeOptions{}.nodeLimit;
+};
+
+void addEditCommand(CLI::App& app, int& exitCode) {
+  auto* sub = app.add_subcommand("edit", "boolean brush and mesh edits of a segmentation in a dynamic volume tree");
+  auto o = std::make_shared<EditCommandOptions>();
+  sub->add_option("input", o->input, "a mask or phi volume, a closed mesh (.ply/.off/.obj/.stl) or a tree (.dvt)")->required();
+  sub->add_option("--depth", o->depth, "tree depth of the edits (3 per halving of the voxels; default: the input's voxels, 24 for a mesh)");
+  const std::string shapes = "SHAPE in world coordinates: sphere:X,Y,Z,R  box:X0,Y0,Z0,X1,Y1,Z1  capsule:X0,Y0,Z0,X1,Y1,Z1,R  torus:X,Y,Z,R,r  mesh:FILE";
+  // Callbacks as each option is parsed, so unions and subtractions keep the command line's order.
+  sub->add_option_function<std::string>("--union", [o](const std::string& s) { o->steps.push_back({dvt::Op::Union, s}); },
+                                        "add a " + shapes + "; repeatable")
+      ->trigger_on_parse();
+  sub->add_option_function<std::string>("--subtract", [o](const std::string& s) { o->steps.push_back({dvt::Op::Subtract, s}); },
+                                        "carve a SHAPE out; repeatable, applied in order with --union")
+      ->trigger_on_parse();
+  sub->add_flag("--flat", o->flat, "rasterise every shape at the full depth (no hierarchical rasterisation)");
+  sub->add_option("--node-limit", o->nodeLimit, "most nodes the tree may grow to")->capture_default_str();
+  sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
+  sub->add_option("-o,--output", o->output, "a mask (.nii.gz, the input's geometry), a mesh (.ply/.off/.obj) or a tree (.dvt)")->required();
+  bindAction(*sub, [o](nlohmann::json& r) {
+    const bool toTree = endsWith(o->output, ".dvt"), toMesh = isMeshPath(o->output) && !endsWith(o->output, ".stl");
+    require(toTree || toMesh || isVolumePath(o->output), o->output + ": write a mask (.nii.gz, .nrrd, ...), a mesh (.ply, .off, .obj) or a tree (.dvt)");
+    require(o->nodeLimit >= 1, "--node-limit must be >= 1");
+    const EditRequest request{.depth = o->depth, .steps = o->steps, .hierarchical = !o->flat, .nodeLimit = o->nodeLimit};
+    const EditInput input = readEditInput(o->input, request);
+    Gpu gpu = chooseBackend(o->backend);
+    const EditedTree edited = applyEdits(input, request, gpu);
+    r.update(edited.figures());
+    r["renderer"] = gpu.renderer;
+    r["edits"] = request.steps.size();
+    if (toTree) {
+      dvt::writeDvt(o->output, edited.tree->tree());
+    } else if (toMesh) {
+      const Volume field = dvt::sampleField(edited.tree->tree(), std::max(edited.depth, edited.tree->frame().voxelDepth()));
+      extract::ExtractStats stats;
+      const Mesh mesh = extract::extractSurface(field, {.iso = 0.0f, .gpu = gpu.backend == levelset::Backend::Gpu}, &stats);
+      if (mesh.faceCount() == 0) throw Error(o->output + ": the edited volume is empty (no surface)", ErrorKind::Failure);
+      writeMesh(o->output, mesh);
+      r["mesh"] = meshFigures(mesh, stats);
+    } else {
+      writeVolume(o->output, editedMask(edited));
+    }
+    logInfo("edit: " + std::to_string(request.steps.size()) + " edits, " + std::to_string(edited.tree->nodeCount()) + " nodes on the " +
+            edited.backend + " -> " + o->output);
+    return 0;
+  }, exitCode);
+}
+
+}  // namespace isoatlas::app

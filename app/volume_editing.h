@@ -1,0 +1,62 @@
+// The edits `edit` and `run` share: a volume tree from a segmentation, a closed mesh or a .dvt file,
+// union and subtract steps (brushes or meshes) applied in order on the chosen backend, collapsed at
+// the end, and the result as a mask in the input's geometry, a mesh (through extract/) or a tree.
+#pragma once
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/options.h"
+#include "core/volume.h"
+#include "core/mesh.h"
+#include "levelset/dvt/dynamic_volume_tree.h"
+#include "levelset/dvt/solid.h"
+
+namespace isoatlas::app {
+
+struct EditStep {
+  levelset::dvt::Op op = levelset::dvt::Op::Union;
+  std::string shape;  // sphere:..., box:..., capsule:..., torus:..., mesh:FILE (levelset/dvt/solid.h)
+};
+
+struct EditRequest {
+  std::optional<std::uint32_t> depth;  // default: the input's voxels
+  std::vector<EditStep> steps;
+  bool hierarchical = true;             // hierarchical rasterisation (rasterise.h)
+  std::uint64_t nodeLimit = levelset::dvt::TreeOptions{}.nodeLimit;
+};
+
+struct EditedTree {
+  std::unique_ptr<levelset::dvt::DynamicVolumeTree> tree;
+  std::array<std::int64_t, 3> dims{0, 0, 0};  // the input's voxels (a volume's own, else the frame's grid)
+  std::uint32_t depth = 0;
+  std::string backend;
+  double secondsWrite = 0, secondsCollapse = 0;
+  std::uint64_t inputVoxels = 0;
+  // nodes, leaves, depth_max, seconds_write, seconds_collapse, bytes, backend, depth, input_voxels
+  nlohmann::json figures() const;
+};
+
+// What an edit starts from, read and checked before any GPU work: one of a volume (mask or phi), a
+// closed mesh or a saved tree; and the steps' solids (brushes parsed, meshes read).
+struct EditInput {
+  std::optional<Volume> volume;
+  std::optional<Mesh> mesh;
+  std::unique_ptr<levelset::dvt::DistanceSolid> meshSolid;  // with `mesh`
+  std::optional<levelset::dvt::VolumeTree> tree;
+  std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>> solids;  // one per step
+};
+EditInput readEditInput(const std::string& input, const EditRequest& request);
+
+// A tree of a segmentation (mask or phi volume) in its own grid, at `depth` (default its voxels).
+EditedTree treeOfVolume(const Volume& volume, std::optional<std::uint32_t> depth, Gpu& gpu, std::uint64_t nodeLimit);
+// The input's tree with the request's steps applied, then collapsed.
+EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& gpu);
+void applySteps(EditedTree& edited, const EditRequest& request, const EditInput& input);
+// The edited tree as a mask (uint8, 1 inside) over the input's voxels.
+Volume editedMask(const EditedTree& edited);
+
+}  // namespace isoatlas::app
