@@ -10,7 +10,9 @@
 #include "core/volume_io.h"
 #include "extract/extract_surface.h"
 #include "levelset/dvt/dvt_file.h"
+#include "levelset/dvt/gpu_tree_passes.h"
 #include "levelset/dvt/volume_solid.h"
+#include "viewer/dvt_render.h"
 
 namespace isoatlas::app {
 namespace dvt = levelset::dvt;
@@ -20,6 +22,8 @@ struct EditCommandOptions {
   std::optional<std::uint32_t> depth;
   std::vector<EditStep> steps;
   bool flat = false;
+  std::string render, renderMode = "raycast";
+  std::vector<int> size{800, 600};
   std::uint64_t nodeLimit = dvt::TreeOptions{}.nodeLimit;
 };
 
@@ -39,11 +43,17 @@ void addEditCommand(CLI::App& app, int& exitCode) {
   sub->add_flag("--flat", o->flat, "rasterise every shape at the full depth (no hierarchical rasterisation)");
   sub->add_option("--node-limit", o->nodeLimit, "most nodes the tree may grow to")->capture_default_str();
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
+  sub->add_option("--render", o->render, "also draw the edited tree to this PNG");
+  sub->add_option("--render-mode", o->renderMode, "raycast (rays through the tree, sub-voxel surface) or cubes (one per inside leaf)")
+      ->capture_default_str();
+  sub->add_option("--size", o->size, "the picture's width,height")->delimiter(',')->expected(2)->capture_default_str();
   sub->add_option("-o,--output", o->output, "a mask (.nii.gz, the input's geometry), a mesh (.ply/.off/.obj) or a tree (.dvt)")->required();
   bindAction(*sub, [o](nlohmann::json& r) {
     const bool toTree = endsWith(o->output, ".dvt"), toMesh = isMeshPath(o->output) && !endsWith(o->output, ".stl");
     require(toTree || toMesh || isVolumePath(o->output), o->output + ": write a mask (.nii.gz, .nrrd, ...), a mesh (.ply, .off, .obj) or a tree (.dvt)");
     require(o->nodeLimit >= 1, "--node-limit must be >= 1");
+    require(o->renderMode == "raycast" || o->renderMode == "cubes", "--render-mode must be raycast or cubes, not " + o->renderMode);
+    require(o->render.empty() || endsWith(o->render, ".png"), o->render + ": --render writes a PNG");
     const EditRequest request{.depth = o->depth, .steps = o->steps, .hierarchical = !o->flat, .nodeLimit = o->nodeLimit};
     const EditInput input = readEditInput(o->input, request);
     Gpu gpu = chooseBackend(o->backend);
@@ -62,6 +72,12 @@ void addEditCommand(CLI::App& app, int& exitCode) {
       r["mesh"] = meshFigures(mesh, stats);
     } else {
       writeVolume(o->output, editedMask(edited));
+    }
+    if (!o->render.empty()) {
+      viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(edited.tree->tree()), o->size[0], o->size[1], {0.6, 1, -0.5}),
+                           .mode = o->renderMode == "cubes" ? viewer::DvtRenderMode::Cubes : viewer::DvtRenderMode::RayCast};
+      writePng(o->render, renderEditedTree(edited, view, gpu));
+      r["render"] = o->render;
     }
     logInfo("edit: " + std::to_string(request.steps.size()) + " edits, " + std::to_string(edited.tree->nodeCount()) + " nodes on the " +
             edited.backend + " -> " + o->output);

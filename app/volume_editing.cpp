@@ -120,6 +120,12 @@ void applySteps(EditedTree& e, const EditRequest& request, const EditInput& inpu
   e.secondsCollapse = secondsSince(begin);
 }
 
+Image renderEditedTree(const EditedTree& e, const viewer::DvtView& view, Gpu& gpu) {
+  gpu.needGl();
+  if (e.backend != "gpu") return viewer::renderTree(e.tree->tree(), view);
+  return viewer::renderTree(dvt::gpuTreeBuffers(e.tree->passes()), e.tree->nodeCount(), e.tree->frame(), view);
+}
+
 Volume editedMask(const EditedTree& e) { return dvt::sampleMask(e.tree->tree(), e.dims); }
 
 }  // namespace isoatlas::app

@@ -14,6 +14,7 @@
 #include "core/mesh.h"
 #include "levelset/dvt/dynamic_volume_tree.h"
 #include "levelset/dvt/solid.h"
+#include "viewer/dvt_render.h"
 
 namespace isoatlas::app {
 
@@ -56,6 +57,8 @@ EditedTree treeOfVolume(const Volume& volume, std::optional<std::uint32_t> depth
 // The input's tree with the request's steps applied, then collapsed.
 EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& gpu);
 void applySteps(EditedTree& edited, const EditRequest& request, const EditInput& input);
+// A picture of the edited tree: from the GPU tree's own buffers, else its streams uploaded.
+Image renderEditedTree(const EditedTree& edited, const viewer::DvtView& view, Gpu& gpu);
 // The edited tree as a mask (uint8, 1 inside) over the input's voxels.
 Volume editedMask(const EditedTree& edited);
 

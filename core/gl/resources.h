@@ -104,6 +104,7 @@ public:
   void bind() const;
   std::vector<unsigned char> readRgba() const;  // rows bottom to top, as GL stores them
   Image readImage() const;                       // RGB, rows top to bottom
+  const Texture& colour() const { return colour_; }
   int width() const { return w_; }
   int height() const { return h_; }
 

@@ -161,6 +161,8 @@ private:
 
 std::unique_ptr<TreePasses> makeGpuTreePasses(gl::Context& context) { return std::make_unique<GpuTreePasses>(context); }
 
+const gl::EmbeddedShader* treeShaderFiles() { return gl::kDvtShaders; }
+
 GpuTreeBuffers gpuTreeBuffers(const TreePasses& passes) {
   const auto* gpu = dynamic_cast<const GpuTreePasses*>(&passes);
   require(gpu != nullptr, "the tree is not on the GPU");

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "core/gl/context.h"
+#include "core/gl/shader_library.h"
 #include "levelset/dvt/tree_passes.h"
 
 namespace isoatlas::levelset::dvt {
@@ -17,5 +18,7 @@ struct GpuTreeBuffers {
   unsigned pointers = 0, cells = 0;
 };
 GpuTreeBuffers gpuTreeBuffers(const TreePasses& passes);  // throws unless `passes` are GPU passes
+// The tree's shader files (levelset/dvt/shaders/...), for renderers that include tree_layout.glsl.
+const gl::EmbeddedShader* treeShaderFiles();
 
 }  // namespace isoatlas::levelset::dvt

@@ -582,7 +582,9 @@ TEST(Cli, EditAppliesBrushesOnBothBackendsAsADenseReferenceSays) {
   // A saved tree edits on, and comes back as the same voxels.
   const std::string tree = (dir / "t.dvt").string(), back = (dir / "back.nii.gz").string();
   ASSERT_EQ(run("edit " + input + edits + " -o " + tree).code, 0);
-  ASSERT_EQ(run("edit " + tree + " -o " + back).code, 0);
+  const std::string picture = (dir / "tree.png").string();
+  ASSERT_EQ(run("edit " + tree + " -o " + back + " --render " + picture + " --render-mode cubes --size 120,90").code, 0);
+  EXPECT_EQ(readPng(picture).width, 120);
   const Volume again = readVolume(back);
   ASSERT_EQ(again.dims[0], 64);
   for (std::int64_t k = 0; k < 30; ++k)
@@ -603,6 +605,7 @@ TEST(Cli, EditAppliesBrushesOnBothBackendsAsADenseReferenceSays) {
   expectBadInput("edit " + input + " --subtract cube:1,2,3,4 -o " + back, "a shape is sphere:");
   expectBadInput("edit " + input + " --depth 60 --union sphere:1,2,3,4 -o " + back, "past the tree's limit");
   expectBadInput("edit " + input + " --union sphere:1,2,3,4 -o x.png", "write a mask");
+  expectBadInput("edit " + input + " -o " + back + " --render t.png --render-mode splat", "--render-mode");
   expectBadInput("edit " + input + " --union mesh:" + (dir / "none.off").string() + " -o " + back, "none.off");
   test::writeBytes(dir / "bad.dvt", "ISOA-DVT\x01");
   expectBadInput("edit " + (dir / "bad.dvt").string() + " -o " + back, "bad.dvt");

@@ -1,0 +1,162 @@
+// bench_dvt: the torus drawing of Jung et al. (Fig. 7) beside OpenVDB's CSG on narrow-band level sets.
+//   A sphere brush of radius 0.04 moves 120 steps of 3 degrees around a circle of radius 0.3 in the unit
+//   cube (a union each step), then a brush of radius 0.02 carves a groove along the top of the tube
+//   (a subtraction each step). Voxel size 5 % of the brush (1/512 of the cube) and 1.25 % (1/2048).
+//   isoatlas: the four variants of Fig. 7: with and without the redundancy optimisation (collapse every
+//   10 writes) and hierarchical rasterisation; a step is rasterise + write (+ the collapse when due).
+//   OpenVDB: createLevelSetSphere (half width 3 voxels) + csgUnion / csgDifference per step.
+//   Figures: ms per step (median, over the drawing and the carving), nodes or active voxels, memory.
+//   Plots bench/dvt_steps.png. With ISOATLAS_BENCH_GPU=1 the GPU backend too (ROHR).
+// Usage: bench_dvt [DATA] (no data needed).
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Composite.h>
+#include <openvdb/tools/LevelSetSphere.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+
+#include "bench/bench_util.h"
+#include "core/gl/context.h"
+#include "core/image.h"
+#include "core/plot.h"
+#include "levelset/dvt/cpu_tree_passes.h"
+#include "levelset/dvt/dynamic_volume_tree.h"
+#include "levelset/dvt/gpu_tree_passes.h"
+#include "levelset/dvt/rasterise.h"
+
+namespace isoatlas {
+namespace dvt = levelset::dvt;
+namespace {
+
+constexpr int kSteps = 120;
+constexpr double kBrush = 0.04, kGroove = 0.02, kCircle = 0.3;
+
+Vec3 along(int step, double lift) {
+  const double a = step * 3.0 * std::numbers::pi / 180.0;
+  return {0.5 + kCircle * std::cos(a), 0.5 + kCircle * std::sin(a), 0.5 + lift};
+}
+std::string sphere(const Vec3& c, double r) {
+  return "sphere:" + std::to_string(c.x) + "," + std::to_string(c.y) + "," + std::to_string(c.z) + "," + std::to_string(r);
+}
+
+// The unit cube as 2^K voxels a side.
+dvt::TreeFrame unitCube(int k) {
+  dvt::TreeFrame f;
+  f.voxelSplits = k;
+  const double h = 1.0 / double(f.voxelsPerAxis());
+  f.spacing = {h, h, h};
+  f.origin = {0.5 * h, 0.5 * h, 0.5 * h};
+  return f;
+}
+
+struct Trace {
+  std::vector<double> ms, size;  // per step: time and nodes (or active voxels)
+  double bytesPeak = 0;
+};
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+Trace drawOurs(int k, bool collapse, bool hierarchical, std::unique_ptr<dvt::TreePasses> passes) {
+  const dvt::TreeFrame frame = unitCube(k);
+  dvt::DynamicVolumeTree tree(dvt::VolumeTree::empty(frame), std::move(passes),
+                              {.nodeLimit = std::uint64_t(1) << 28, .collapseEvery = collapse ? 10 : 0});
+  Trace t;
+  for (int step = 0; step < 2 * kSteps; ++step) {
+    const bool carve = step >= kSteps;
+    const auto brush = dvt::parseBrush(carve ? sphere(along(step, kBrush), kGroove) : sphere(along(step, 0), kBrush));
+    const auto start = std::chrono::steady_clock::now();
+    tree.write(dvt::rasterise(*brush, frame, frame.voxelDepth(), hierarchical), carve ? dvt::Op::Subtract : dvt::Op::Union);
+    glFinish();
+    t.ms.push_back(1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    t.size.push_back(double(tree.nodeCount()));
+    t.bytesPeak = std::max(t.bytesPeak, double(tree.bytes()));
+  }
+  return t;
+}
+
+Trace drawOpenVdb(int k) {
+  const float voxel = float(1.0 / double(std::int64_t(1) << k));
+  auto grid = openvdb::FloatGrid::create(3.0f * voxel);
+  grid->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+  grid->setGridClass(openvdb::GRID_LEVEL_SET);
+  Trace t;
+  for (int step = 0; step < 2 * kSteps; ++step) {
+    const bool carve = step >= kSteps;
+    const Vec3 c = carve ? along(step, kBrush) : along(step, 0);
+    const auto start = std::chrono::steady_clock::now();
+    auto brush = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(float(carve ? kGroove : kBrush),
+                                                                         openvdb::Vec3f(float(c.x), float(c.y), float(c.z)), voxel, 3.0f);
+    if (carve) openvdb::tools::csgDifference(*grid, *brush);
+    else openvdb::tools::csgUnion(*grid, *brush);
+    t.ms.push_back(1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    t.size.push_back(double(grid->activeVoxelCount()));
+    t.bytesPeak = std::max(t.bytesPeak, double(grid->memUsage()));
+  }
+  return t;
+}
+
+std::vector<double> steps(int from, int to) {
+  std::vector<double> x;
+  for (int i = from; i < to; ++i) x.push_back(i + 1);
+  return x;
+}
+std::vector<double> part(const std::vector<double>& v, int from, int to) { return {v.begin() + from, v.begin() + to}; }
+
+}  // namespace
+}  // namespace isoatlas
+
+int main() {
+  using namespace isoatlas;
+  openvdb::initialize();
+  const bool gpu = std::getenv("ISOATLAS_BENCH_GPU") && std::string(std::getenv("ISOATLAS_BENCH_GPU")) == "1";
+  auto context = gl::Context::headless();  // the CPU variants call glFinish harmlessly
+  const std::string device = gpu ? context->info().renderer : "";
+  std::vector<PlotSeries> timeSeries, nodeSeries;
+  for (const int k : {9, 11}) {
+    const std::string size = k == 9 ? "voxel 5% of the brush (512^3)" : "voxel 1.25% of the brush (2048^3)";
+    const Trace vdb = drawOpenVdb(k);
+    struct Variant {
+      const char* name;
+      bool collapse, hierarchical;
+    };
+    // The flat variants (every voxel of the brush at full depth) only at the coarser size: at 2048^3
+    // a brush is ~1.5 million voxels a step.
+    std::vector<Variant> variants{{"ROHR", true, true}, {"HR", false, true}};
+    if (k == 9) variants.insert(variants.end(), {{"RO", true, false}, {"NO", false, false}});
+    for (const Variant& v : variants) {
+      const Trace ours = drawOurs(k, v.collapse, v.hierarchical, dvt::makeCpuTreePasses());
+      const std::string name = std::string("torus drawing, ") + v.name + ", " + size;
+      bench::report("dvt", name + ", union", "ms per step (median)", median(part(ours.ms, 0, kSteps)), "openvdb-csgUnion",
+                    median(part(vdb.ms, 0, kSteps)));
+      bench::report("dvt", name + ", subtract", "ms per step (median)", median(part(ours.ms, kSteps, 2 * kSteps)), "openvdb-csgDifference",
+                    median(part(vdb.ms, kSteps, 2 * kSteps)));
+      bench::report("dvt", name, "memory peak (MiB)", ours.bytesPeak / 1048576.0, "openvdb-memUsage", vdb.bytesPeak / 1048576.0);
+      bench::report("dvt", name, "nodes (isoatlas) / active voxels (openvdb), final", ours.size.back(), "openvdb", vdb.size.back(), true);
+      if (k == 9) {
+        timeSeries.push_back({std::string(v.name), steps(0, 2 * kSteps), ours.ms});
+        nodeSeries.push_back({std::string(v.name), steps(0, 2 * kSteps), ours.size});
+      }
+    }
+    if (gpu) {
+      const Trace ours = drawOurs(k, true, true, dvt::makeGpuTreePasses(*context));
+      const std::string name = std::string("torus drawing, ROHR on the GPU, ") + size;
+      bench::report("dvt", name + ", union", "ms per step (median)", median(part(ours.ms, 0, kSteps)), "openvdb-csgUnion",
+                    median(part(vdb.ms, 0, kSteps)), true, device);
+      bench::report("dvt", name + ", subtract", "ms per step (median)", median(part(ours.ms, kSteps, 2 * kSteps)), "openvdb-csgDifference",
+                    median(part(vdb.ms, kSteps, 2 * kSteps)), true, device);
+    }
+    if (k == 9) {
+      timeSeries.push_back({"OpenVDB", steps(0, 2 * kSteps), vdb.ms});
+    }
+  }
+  const std::string dir = ISOATLAS_BENCH_DIR;
+  writePng(dir + "/dvt_steps.png",
+           linePlot(timeSeries, {.title = "Torus drawing (steps 1-120), then carving (121-240), voxel 5% of the brush",
+                                 .xLabel = "step", .yLabel = "ms per step"}));
+  writePng(dir + "/dvt_nodes.png", linePlot(nodeSeries, {.title = "Tree nodes per step, voxel 5% of the brush", .xLabel = "step", .yLabel = "nodes"}));
+  return 0;
+}

@@ -1,0 +1,49 @@
+// Pictures of a dynamic volume tree (levelset/dvt), drawn in the current GL context straight from the
+// tree's pointer and node streams (Jung et al., sec. 5.1):
+//   Cubes:   one instanced cube per inside leaf (the vertex stage drops every other node), flat shaded.
+//   RayCast: a ray per pixel walks the tree from leaf to leaf (empty leaves are skipped whole) to the
+//            first leaf whose centre is inside; the hit and the normal come from the sub-voxel
+//            distances (the inside-ness field's gradient, from the leaves around the hit).
+// DvtRenderer draws buffers a GPU tree already has (gpuTreeBuffers) or uploads a CPU tree's streams.
+#pragma once
+#include <memory>
+
+#include "core/gl/context.h"
+#include "core/gl/resources.h"
+#include "core/image.h"
+#include "levelset/dvt/gpu_tree_passes.h"
+#include "levelset/dvt/volume_tree.h"
+#include "viewer/camera.h"
+
+namespace isoatlas::viewer {
+
+enum class DvtRenderMode { Cubes, RayCast };
+
+struct DvtView {
+  Camera camera;
+  DvtRenderMode mode = DvtRenderMode::RayCast;
+  Vec3 colour{0.93, 0.78, 0.62}, background{1, 1, 1};
+};
+
+class DvtRenderer {
+public:
+  explicit DvtRenderer(gl::Context& context);
+  // Draws into the bound framebuffer (of the camera's size).
+  void draw(const levelset::dvt::GpuTreeBuffers& buffers, std::uint64_t nodeCount, const levelset::dvt::TreeFrame& frame,
+            const DvtView& view);
+
+private:
+  const gl::Program &cubes_, &rayCast_;
+  gl::VertexArray vao_;
+  std::unique_ptr<gl::Framebuffer> rays_;  // the ray caster's picture, at the last camera's size
+};
+
+// The world box of the tree's inside leaves (the whole box when there are none).
+Box insideBounds(const levelset::dvt::VolumeTree& tree);
+// A picture of a tree, drawn offscreen in the current context and read back (rows top to bottom):
+// from a GPU tree's buffers, or a CPU tree's streams uploaded.
+Image renderTree(const levelset::dvt::GpuTreeBuffers& buffers, std::uint64_t nodeCount, const levelset::dvt::TreeFrame& frame,
+                 const DvtView& view);
+Image renderTree(const levelset::dvt::VolumeTree& tree, const DvtView& view);
+
+}  // namespace isoatlas::viewer
