@@ -22,6 +22,7 @@ public:
     pointers_ = tree.pointers;
     cells_ = tree.cells;
     marks_.assign(pointers_.size(), kMarkNone);
+    removals_.assign(pointers_.size() + 1, 0);
   }
 
   VolumeTree download() const override {
@@ -36,21 +37,25 @@ public:
 
   std::uint64_t bytes() const override {
     return pointers_.capacity() * sizeof(Pointer) + cells_.capacity() * 4 + marks_.capacity() * 4 +
-           remap_.capacity() * 4 + input_.capacity() * sizeof(InputVoxel);
+           remap_.capacity() * 4 + removals_.capacity() * 4 + input_.capacity() * sizeof(InputVoxel);
   }
 
   void setInput(const std::vector<InputVoxel>& input) override { input_ = input; }
 
   std::uint64_t mark(Op op) override {
     clearMarks();
-    return sum(input_.size(), [&](std::size_t i) { return markFor(input_[i], op); });
+    const std::uint64_t marks = sum(input_.size(), [&](std::size_t i) { return markFor(input_[i], op); });
+    // The reduced subtrees: +1 at their root and -1 at their last node, summed before each node: > 0
+    // for the nodes below a reduced root (removed whole by the next restructure).
+    if (reduced_) std::exclusive_scan(removals_.begin(), removals_.end(), removals_.begin(), std::int32_t(0));
+    return marks;
   }
 
   std::uint64_t markCollapse() override {
     clearMarks();
     return sum(pointers_.size(), [&](std::size_t n) -> std::uint64_t {
       const Pointer& p = pointers_[n];
-      if (p.leaf() || p.parent == kInvalid || !collapsible(pointers_[std::size_t(p.left)], pointers_[std::size_t(p.right)])) return 0;
+      if (p.leaf() || !collapsible(pointers_[std::size_t(p.left)], pointers_[std::size_t(p.right)])) return 0;
       marks_[n] = kMarkCollapse;
       return 1;
     });
@@ -72,14 +77,16 @@ public:
   }
 
   void restructure(const Plan& plan, bool allowExpand, std::uint64_t) override {
-    std::vector<Pointer> pointers(plan.nodes);
-    std::vector<std::uint32_t> cells(2 * plan.nodes);
+    // Into the spare streams (kept between writes, so no allocation or clearing per pass).
+    spare_.resize(plan.nodes);
+    spareCells_.resize(2 * plan.nodes);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pointers_.size(), kGrain), [&](const auto& r) {
-      for (std::size_t n = r.begin(); n < r.end(); ++n) writeNode(n, allowExpand, pointers, cells);
+      for (std::size_t n = r.begin(); n < r.end(); ++n) writeNode(n, allowExpand);
     });
-    pointers_ = std::move(pointers);
-    cells_ = std::move(cells);
-    marks_.assign(pointers_.size(), kMarkNone);
+    std::swap(pointers_, spare_);
+    std::swap(cells_, spareCells_);
+    marks_.resize(pointers_.size());
+    removals_.resize(pointers_.size() + 1);
   }
 
 private:
@@ -94,7 +101,11 @@ private:
         std::plus<>());
   }
 
-  void clearMarks() { std::fill(marks_.begin(), marks_.end(), std::uint32_t(kMarkNone)); }
+  void clearMarks() {
+    std::fill(marks_.begin(), marks_.end(), std::uint32_t(kMarkNone));
+    if (reduced_) std::fill(removals_.begin(), removals_.end(), 0);
+    reduced_ = false;
+  }
   void setMark(std::size_t n, Mark m) { std::atomic_ref<std::uint32_t>(marks_[n]).store(m, std::memory_order_relaxed); }
   Mark markOf(std::size_t n) const { return Mark(marks_[n]); }
 
@@ -118,16 +129,29 @@ private:
       if (d == c.depth) {
         p.value = incoming;  // the value of the leaf it becomes (no other input voxel reaches n)
         setMark(n, kMarkReduce);
+        std::atomic_ref<std::int32_t>(removals_[n]).fetch_add(1, std::memory_order_relaxed);
+        std::atomic_ref<std::int32_t>(removals_[subtreeEnd(n) - 1]).fetch_sub(1, std::memory_order_relaxed);
+        std::atomic_ref<bool>(reduced_).store(true, std::memory_order_relaxed);
         return 1;
       }
       n = std::size_t(childTowards(c, d) == 0 ? p.left : p.right);
     }
   }
 
+  // The index just past n's subtree (tree_rules.glsl: subtreeEnd).
+  std::size_t subtreeEnd(std::size_t n) const {
+    for (std::size_t m = n; m != 0;) {
+      const auto q = std::size_t(pointers_[m].parent);
+      if (pointers_[q].left == std::int32_t(m)) return std::size_t(pointers_[q].right);
+      m = q;
+    }
+    return pointers_.size();
+  }
+
   // How many nodes n becomes, and whether that changes the tree (tree_rules.glsl: emitOf).
   std::pair<std::uint32_t, std::uint64_t> emitOf(std::size_t n, bool allowExpand) const {
     const Pointer& p = pointers_[n];
-    if (p.parent == kInvalid) return {0, 1};
+    if (removals_[n] > 0) return {0, 1};  // inside a reduced subtree
     if (p.parent >= 0 && markOf(std::size_t(p.parent)) == kMarkCollapse) return {0, 1};
     const Mark m = markOf(n);
     if (m == kMarkExpand) return allowExpand ? std::pair<std::uint32_t, std::uint64_t>{3, 1} : std::pair<std::uint32_t, std::uint64_t>{1, 0};
@@ -135,17 +159,14 @@ private:
   }
 
   // The restructure pass for one old node (tree_rules.glsl: writeNode).
-  void writeNode(std::size_t n, bool allowExpand, std::vector<Pointer>& pointers, std::vector<std::uint32_t>& cells) const {
+  void writeNode(std::size_t n, bool allowExpand) {
     if (remap_[n + 1] == remap_[n]) return;  // removed
     const std::uint32_t o = remap_[n];
     const Pointer& p = pointers_[n];
     const Mark m = markOf(n);
     Pointer out;
     out.value = p.value;
-    if (p.parent >= 0) {
-      const auto q = std::size_t(p.parent);
-      out.parent = markOf(q) == kMarkReduce || pointers_[q].parent == kInvalid ? kInvalid : std::int32_t(remap_[q]);
-    }
+    if (p.parent >= 0) out.parent = std::int32_t(remap_[std::size_t(p.parent)]);  // a kept node's parent is kept
     const bool expand = m == kMarkExpand && allowExpand;
     if (m == kMarkCollapse) out.value = pointers_[std::size_t(p.left)].value;
     if (expand) {
@@ -153,22 +174,24 @@ private:
     } else if (!p.leaf() && m != kMarkReduce && m != kMarkCollapse) {
       out.left = std::int32_t(remap_[std::size_t(p.left)]), out.right = std::int32_t(remap_[std::size_t(p.right)]);
     }
-    pointers[o] = out;
-    cells[2 * o] = cells_[2 * n], cells[2 * o + 1] = cells_[2 * n + 1];
+    spare_[o] = out;
+    spareCells_[2 * o] = cells_[2 * n], spareCells_[2 * o + 1] = cells_[2 * n + 1];
     if (!expand) return;
     const Cell c = unpackCell(cells_[2 * n], cells_[2 * n + 1]);
     for (int k = 0; k < 2; ++k) {
       const std::uint32_t child = o + 1 + std::uint32_t(k);
-      pointers[child] = Pointer{std::int32_t(o), kNone, kNone, childValue(p.value, scales_[c.depth])};
+      spare_[child] = Pointer{std::int32_t(o), kNone, kNone, childValue(p.value, scales_[c.depth])};
       const auto packed = packCell(childCell(c, k));
-      cells[2 * child] = packed[0], cells[2 * child + 1] = packed[1];
+      spareCells_[2 * child] = packed[0], spareCells_[2 * child + 1] = packed[1];
     }
   }
 
   TreeFrame frame_;
   std::vector<float> scales_;
-  std::vector<Pointer> pointers_;
-  std::vector<std::uint32_t> cells_, marks_, remap_;
+  std::vector<Pointer> pointers_, spare_;
+  std::vector<std::uint32_t> cells_, spareCells_, marks_, remap_;
+  std::vector<std::int32_t> removals_;  // ranges of reduced subtrees (plan)
+  bool reduced_ = false;               // a reduce mark was set since the marks were cleared
   std::vector<InputVoxel> input_;
 };
 

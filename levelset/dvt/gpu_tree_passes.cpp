@@ -28,7 +28,7 @@ public:
         plan_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_plan.comp", withRules({}))),
         restructure_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_restructure.comp", withRules({}))),
         scan_(context),
-        counter_(4) {}
+        counter_(8) {}
 
   std::string name() const override { return "gpu"; }
 
@@ -43,6 +43,7 @@ public:
     cells_.upload(tree.cells.data(), count_ * 8);
     marks_ = gl::Buffer(capacity_ * 4);
     remap_ = gl::Buffer((capacity_ + 1) * 4);
+    removals_ = gl::Buffer((capacity_ + 1) * 4);
     spareCapacity_ = 0;
   }
 
@@ -59,7 +60,7 @@ public:
 
   std::uint64_t bytes() const override {
     return pointers_.bytes() + cells_.bytes() + spare_.bytes() + spareCells_.bytes() + marks_.bytes() + remap_.bytes() +
-           input_.bytes();
+           removals_.bytes() + input_.bytes();
   }
 
   void setInput(const std::vector<InputVoxel>& input) override {
@@ -73,10 +74,15 @@ public:
     clearMarks();
     if (inputCount_ == 0) return 0;
     bindStreams();
-    input_.bindBase(GL_SHADER_STORAGE_BUFFER, 4);
+    input_.bindBase(GL_SHADER_STORAGE_BUFFER, 6);
     markInput_.use();
     glUniform1ui(markInput_.uniform("op"), std::uint32_t(op));
-    return run(markInput_, inputCount_);
+    glUniform1ui(markInput_.uniform("nodes"), std::uint32_t(count_));
+    const std::uint64_t marks = run(markInput_, inputCount_);
+    // The reduced subtrees' ranges summed before each node: > 0 below a reduced node (the plan
+    // removes those whole). Signed sums in unsigned words come out right: every prefix is >= 0.
+    if (reduces_ > 0) scan_.exclusive(removals_, std::uint32_t(count_ + 1));
+    return marks;
   }
 
   std::uint64_t markCollapse() override {
@@ -118,6 +124,7 @@ public:
     if (marks_.bytes() < capacity_ * 4) {
       marks_ = gl::Buffer(capacity_ * 4);
       remap_ = gl::Buffer((capacity_ + 1) * 4);
+      removals_ = gl::Buffer((capacity_ + 1) * 4);
     }
   }
 
@@ -127,34 +134,38 @@ private:
     cells_.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
     marks_.bindBase(GL_SHADER_STORAGE_BUFFER, 2);
     remap_.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
+    removals_.bindBase(GL_SHADER_STORAGE_BUFFER, 4);
     counter_.bindBase(GL_SHADER_STORAGE_BUFFER, 5);
   }
   void clearMarks() {
     marks_.fillZero();
     remap_.fillZero();
+    removals_.fillZero();
   }
   static void dispatch(const gl::Program& program, std::uint64_t threads) {
     if (threads == 0) return;
     const auto [gx, gy] = gl::dispatchGrid((threads + kGroup - 1) / kGroup);
     program.dispatch(gx, gy, 1, kBarrier);
   }
-  // Runs `program` over `threads` threads with the counter zeroed; returns the counter.
+  // Runs `program` over `threads` threads with the counters zeroed; returns the first (the second,
+  // the reduce marks, is kept in reduces_).
   std::uint64_t run(const gl::Program& program, std::uint64_t threads) {
-    const std::uint32_t zero = 0;
-    counter_.upload(&zero, 4);
+    const std::uint32_t zero[2] = {0, 0};
+    counter_.upload(zero, 8);
     glUniform1ui(program.uniform("count"), std::uint32_t(threads));
     dispatch(program, threads);
-    std::uint32_t n = 0;
-    counter_.download(&n, 4);
-    return n;
+    std::uint32_t n[2] = {0, 0};
+    counter_.download(n, 8);
+    reduces_ = n[1];
+    return n[0];
   }
 
   const gl::Program &markInput_, &markCollapse_, &plan_, &restructure_;
   gl::GpuScan scan_;
   TreeFrame frame_;
   std::vector<float> scales_;
-  std::uint64_t count_ = 0, capacity_ = 0, spareCapacity_ = 0, inputCount_ = 0;
-  gl::Buffer pointers_, cells_, spare_, spareCells_, marks_, remap_, input_, counter_;
+  std::uint64_t count_ = 0, capacity_ = 0, spareCapacity_ = 0, inputCount_ = 0, reduces_ = 0;
+  gl::Buffer pointers_, cells_, spare_, spareCells_, marks_, remap_, removals_, input_, counter_;
 };
 
 }  // namespace

@@ -17,7 +17,7 @@ std::vector<float> childScales(const TreeFrame& frame) {
 
 std::vector<std::pair<std::string, std::string>> ruleDefines() {
   return {{"MAX_DEPTH", std::to_string(kMaxDepth)},     {"NONE", std::to_string(kNone)},
-          {"INVALID", std::to_string(kInvalid)},        {"INSIDE", gl::glslFloat(kInside)},
+          {"INSIDE", gl::glslFloat(kInside)},
           {"OUTSIDE", gl::glslFloat(kOutside)},         {"MARK_NONE", std::to_string(kMarkNone) + "u"},
           {"MARK_EXPAND", std::to_string(kMarkExpand) + "u"}, {"MARK_REDUCE", std::to_string(kMarkReduce) + "u"},
           {"MARK_COLLAPSE", std::to_string(kMarkCollapse) + "u"}, {"OP_UNION", std::to_string(unsigned(Op::Union)) + "u"}};

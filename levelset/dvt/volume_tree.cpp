@@ -76,33 +76,19 @@ std::size_t VolumeTree::leafAt(const Cell& c) const {
   return n;
 }
 
-std::string treeProblem(const VolumeTree& tree, bool pendingRemovals) {
+std::string treeProblem(const VolumeTree& tree) {
   const std::size_t count = tree.nodeCount();
   if (count == 0) return "the tree has no root";
   if (tree.cells.size() != 2 * count) return "the node stream's length does not match the pointer stream's";
   if (tree.frame.voxelSplits < 0 || tree.frame.voxelSplits > kMaxDepth / 3) return "the frame's voxel splits are out of range";
   if (tree.pointers[0].parent != kNone || !(tree.cell(0) == Cell{})) return "node 0 is not the root";
-  // Nodes on their way out (a parent always comes before its children in the stream).
-  std::vector<char> pending(count, 0);
-  for (std::size_t n = 1; n < count; ++n) {
-    const std::int32_t q = tree.pointers[n].parent;
-    if (q == kInvalid) {
-      if (!pendingRemovals) return "node " + std::to_string(n) + ": left marked for removal";
-      pending[n] = 1;
-    } else if (q < 0 || std::size_t(q) >= n) {
-      return "node " + std::to_string(n) + ": its parent does not come before it";
-    } else {
-      pending[n] = pending[std::size_t(q)];
-    }
-  }
-  // Walk the pre-order layout with an explicit stack, skipping the pending nodes.
+  // Walk the pre-order layout with an explicit stack.
   std::vector<std::size_t> stack{0};
   std::size_t next = 0;  // the index the walk expects next
   while (!stack.empty()) {
     const std::size_t n = stack.back();
     stack.pop_back();
     const std::string at = "node " + std::to_string(n) + ": ";
-    while (next < count && pending[next]) ++next;
     if (n != next) return at + "not in pre-order";
     ++next;
     const Pointer& p = tree.pointers[n];
@@ -114,7 +100,7 @@ std::string treeProblem(const VolumeTree& tree, bool pendingRemovals) {
       if (p.right != kNone || p.left != kNone) return at + "a leaf with one child";
       continue;
     }
-    if (p.left <= std::int32_t(n) || p.right <= p.left || std::size_t(p.right) >= count) return at + "children not in pre-order";
+    if (std::size_t(p.left) != n + 1 || p.right <= p.left || std::size_t(p.right) >= count) return at + "children not in pre-order";
     for (int k = 0; k < 2; ++k) {
       const std::size_t child = std::size_t(k == 0 ? p.left : p.right);
       if (tree.pointers[child].parent != std::int32_t(n)) return at + "child " + std::to_string(child) + " names another parent";
@@ -123,7 +109,6 @@ std::string treeProblem(const VolumeTree& tree, bool pendingRemovals) {
     stack.push_back(std::size_t(p.right));
     stack.push_back(std::size_t(p.left));
   }
- while (next < count && pending[next]) ++next;
   if (next != count) return "nodes " + std::to_string(next) + " .. " + std::to_string(count - 1) + " are outside the tree";
   return "";
 }

@@ -6,8 +6,8 @@
 // cells are its voxels, deeper cells sub-voxels. Only leaves hold values.
 //
 // Streams, one entry per node, in pre-order (a node, its left subtree, its right subtree):
-//   pointers  parent, left, right (node indices; -1 none, kInvalid for a node whose subtree is being
-//             removed) and the value (leaves: see below; inner nodes: unused)
+//   pointers  parent, left, right (node indices; -1 none) and the value (leaves: see below; inner
+//             nodes: unused)
 //   cells     the node's cell: x | y << 16, z | depth << 16
 // The remap stream (old index -> new index) lives only while a write runs (tree_backend.h).
 //
@@ -27,7 +27,6 @@ namespace isoatlas::levelset::dvt {
 
 inline constexpr int kMaxDepth = 48;           // 16 splits per axis: coordinates fit 16 bits
 inline constexpr std::int32_t kNone = -1;      // no parent (the root) or no children (a leaf)
-inline constexpr std::int32_t kInvalid = -2;   // parent pointer of a node to be removed
 inline constexpr float kInside = 1.0f, kOutside = -1.0f;
 inline constexpr float kNearZero = 1e-6f;      // band values keep their sign: |value| >= this
 
@@ -90,9 +89,7 @@ struct VolumeTree {
 
 // What is wrong with a tree's streams, or "" when sound: pre-order layout (left = n + 1, right after
 // the left subtree), parent and child pointers agreeing, children's cells the halves of their
-// parent's, depths within kMaxDepth, values finite in [-1, 1] and nonzero, no kInvalid node left.
-// With `pendingRemovals`, as between the passes of a write: nodes whose parent is kInvalid (or is such
-// a node) may remain between the others, and the tree is checked without them.
-std::string treeProblem(const VolumeTree& tree, bool pendingRemovals = false);
+// parent's, depths within kMaxDepth, values finite in [-1, 1] and nonzero.
+std::string treeProblem(const VolumeTree& tree);
 
 }  // namespace isoatlas::levelset::dvt

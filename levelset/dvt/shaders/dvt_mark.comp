@@ -3,8 +3,9 @@
 // per node the collapse test (markCollapse). Counts the marks set in `counter`.
 layout(local_size_x = 64) in;
 #include "tree_rules.glsl"
-layout(std430, binding = 4) readonly buffer Input { InputVoxel inputs[]; };
+layout(std430, binding = 6) readonly buffer Input { InputVoxel inputs[]; };
 uniform uint op;
+uniform uint nodes;  // the tree's node count
 
 void main() {
   uint i = threadIndex();
@@ -31,14 +32,18 @@ void main() {
     if (d == target) {
       pointers[n].value = incoming;
       marks[n] = MARK_REDUCE;
+      // Its subtree's range, for the scan that removes it whole.
+      atomicAdd(removals[n], 1);
+      atomicAdd(removals[subtreeEnd(n, nodes) - 1u], -1);
       atomicAdd(counter, 1u);
+      atomicAdd(reduces, 1u);
       return;
     }
     n = uint(childTowards(cell, d) == 0 ? p.left : p.right);
   }
 #else
   Pointer p = pointers[i];
-  if (isLeaf(p) || p.parent == INVALID || !collapsible(pointers[p.left], pointers[p.right])) return;
+  if (isLeaf(p) || !collapsible(pointers[p.left], pointers[p.right])) return;
   marks[i] = MARK_COLLAPSE;
   atomicAdd(counter, 1u);
 #endif

@@ -12,7 +12,7 @@ void main() {
   uint m = marks[n];
   uint emit = 1u;
   bool change = false;
-  if (p.parent == INVALID || (p.parent >= 0 && marks[p.parent] == MARK_COLLAPSE)) {
+  if (removals[n] > 0 || (p.parent >= 0 && marks[p.parent] == MARK_COLLAPSE)) {  // below a reduced node, or collapsed
     emit = 0u, change = true;
   } else if (m == MARK_EXPAND) {
     if (allowExpand) emit = 3u, change = true;

@@ -15,10 +15,7 @@ void main() {
   Pointer p = pointers[n];
   uint m = marks[n];
   Pointer outp = Pointer(NONE, NONE, NONE, p.value);
-  if (p.parent >= 0) {
-    uint q = uint(p.parent);
-    outp.parent = marks[q] == MARK_REDUCE || pointers[q].parent == INVALID ? INVALID : int(remap[q]);
-  }
+  if (p.parent >= 0) outp.parent = int(remap[p.parent]);  // a kept node's parent is kept
   bool expand = m == MARK_EXPAND && allowExpand;
   if (m == MARK_COLLAPSE) outp.value = pointers[p.left].value;
   if (expand) {

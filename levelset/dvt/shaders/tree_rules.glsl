@@ -6,7 +6,8 @@ layout(std430, binding = 0) buffer Pointers { Pointer pointers[]; };
 layout(std430, binding = 1) readonly buffer Cells { uvec2 cells[]; };
 layout(std430, binding = 2) buffer Marks { uint marks[]; };
 layout(std430, binding = 3) buffer Remap { uint remap[]; };
-layout(std430, binding = 5) buffer Counter { uint counter; };
+layout(std430, binding = 4) buffer Removals { int removals[]; };  // reduced subtrees' ranges (dvt_mark.comp)
+layout(std430, binding = 5) buffer Counter { uint counter, reduces; };
 
 uniform uint count;  // the threads wanted: input voxels or nodes
 
@@ -19,6 +20,16 @@ float inputValue(uint op, float value) { return op == OP_UNION ? value : -value;
 float combined(uint op, float leaf, float incoming) { return op == OP_UNION ? max(leaf, incoming) : min(leaf, incoming); }
 bool saturated(uint op, float leaf) { return op == OP_UNION ? leaf == INSIDE : leaf == OUTSIDE; }
 float childValue(float parent, float scale) { return clamp(parent * scale, OUTSIDE, INSIDE); }
+// The index just past n's subtree (CpuTreePasses::subtreeEnd).
+uint subtreeEnd(uint n, uint nodes) {
+  for (uint m = n; m != 0u;) {
+    uint q = uint(pointers[m].parent);
+    if (pointers[q].left == int(m)) return uint(pointers[q].right);
+    m = q;
+  }
+  return nodes;
+}
+
 bool collapsible(Pointer left, Pointer right) {
   return isLeaf(left) && isLeaf(right) && left.value == right.value && (left.value == INSIDE || left.value == OUTSIDE);
 }
