@@ -22,10 +22,17 @@ WriteStats DynamicVolumeTree::write(const std::vector<InputVoxel>& input, Op op)
   const auto start = std::chrono::steady_clock::now();
   WriteStats stats;
   stats.inputVoxels = input.size();
-  passes_->setInput(input);
+  if (inPreOrder(input)) {
+    passes_->setInput(input);
+  } else {
+    std::vector<InputVoxel> sorted = input;
+    sortInPreOrder(sorted);
+    passes_->setInput(sorted);
+  }
   bool allowExpand = true;
   for (;; ++stats.iterations) {
-    passes_->mark(op);
+    // No marks: the voxels were written into leaves of their depth and nothing is left to change.
+    if (passes_->mark(op) == 0) break;
     Plan plan = passes_->plan(allowExpand);
     if (plan.nodes > options_.nodeLimit) {
       // Over budget: finish what needs no new nodes (removals), so the streams end as a valid tree.
@@ -52,7 +59,7 @@ WriteStats DynamicVolumeTree::write(const std::vector<InputVoxel>& input, Op op)
 
 std::uint64_t DynamicVolumeTree::collapse() {
   const std::uint64_t before = passes_->nodeCount();
-  while (passes_->markCollapse() > 0) passes_->restructure(passes_->plan(false), false, options_.nodeLimit);
+  while (passes_->markCollapse() > 0) passes_->restructure(passes_->plan(false), false, options_.nodeLimit);  // one level a pass
   return before - passes_->nodeCount();
 }
 

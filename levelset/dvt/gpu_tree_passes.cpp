@@ -25,6 +25,7 @@ public:
   explicit GpuTreePasses(gl::Context& context)
       : markInput_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_mark.comp", withRules({{"MARK_INPUT", "1"}}))),
         markCollapse_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_mark.comp", withRules({}))),
+        runs_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_runs.comp", withRules({}))),
         plan_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_plan.comp", withRules({}))),
         restructure_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_restructure.comp", withRules({}))),
         scan_(context),
@@ -44,6 +45,7 @@ public:
     marks_ = gl::Buffer(capacity_ * 4);
     remap_ = gl::Buffer((capacity_ + 1) * 4);
     removals_ = gl::Buffer((capacity_ + 1) * 4);
+    expansions_ = gl::Buffer(capacity_ * 16);
     spareCapacity_ = 0;
   }
 
@@ -60,13 +62,15 @@ public:
 
   std::uint64_t bytes() const override {
     return pointers_.bytes() + cells_.bytes() + spare_.bytes() + spareCells_.bytes() + marks_.bytes() + remap_.bytes() +
-           removals_.bytes() + input_.bytes();
+           removals_.bytes() + expansions_.bytes() + input_.bytes() + hits_.bytes();
   }
 
   void setInput(const std::vector<InputVoxel>& input) override {
     inputCount_ = input.size();
-    if (input_.bytes() < std::max<std::size_t>(inputCount_, 1) * sizeof(InputVoxel))
+    if (input_.bytes() < std::max<std::size_t>(inputCount_, 1) * sizeof(InputVoxel)) {
       input_ = gl::Buffer(std::max<std::size_t>(inputCount_, 1) * sizeof(InputVoxel) * 5 / 4);
+      hits_ = gl::Buffer(input_.bytes() / sizeof(InputVoxel) * 4);
+    }
     if (inputCount_ > 0) input_.upload(input.data(), inputCount_ * sizeof(InputVoxel));
   }
 
@@ -74,7 +78,6 @@ public:
     clearMarks();
     if (inputCount_ == 0) return 0;
     bindStreams();
-    input_.bindBase(GL_SHADER_STORAGE_BUFFER, 6);
     markInput_.use();
     glUniform1ui(markInput_.uniform("op"), std::uint32_t(op));
     glUniform1ui(markInput_.uniform("nodes"), std::uint32_t(count_));
@@ -87,6 +90,7 @@ public:
 
   std::uint64_t markCollapse() override {
     clearMarks();
+    inputCount_ = 0;  // no voxel expands anything in a collapse (setInput brings them back)
     bindStreams();
     markCollapse_.use();
     return run(markCollapse_, count_);
@@ -94,11 +98,17 @@ public:
 
   Plan plan(bool allowExpand) override {
     bindStreams();
+    expansions_.fillZero();
+    if (inputCount_ > 0) {
+      runs_.use();
+      run(runs_, inputCount_);
+    }
+    const std::uint32_t zero = 0;  // remap[count]: the scan leaves the total there
+    remap_.upload(&zero, 4, count_ * 4);
     plan_.use();
     glUniform1ui(plan_.uniform("allowExpand"), allowExpand);
     Plan p;
     p.changes = run(plan_, count_);
-    // remap[count] is 0 (cleared with the marks' capacity below), so the scan leaves the total there.
     p.nodes = scan_.exclusive(remap_, std::uint32_t(count_ + 1));
     return p;
   }
@@ -125,6 +135,7 @@ public:
       marks_ = gl::Buffer(capacity_ * 4);
       remap_ = gl::Buffer((capacity_ + 1) * 4);
       removals_ = gl::Buffer((capacity_ + 1) * 4);
+      expansions_ = gl::Buffer(capacity_ * 16);
     }
   }
 
@@ -135,6 +146,8 @@ private:
     marks_.bindBase(GL_SHADER_STORAGE_BUFFER, 2);
     remap_.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
     removals_.bindBase(GL_SHADER_STORAGE_BUFFER, 4);
+    if (input_.bytes() > 0) input_.bindBase(GL_SHADER_STORAGE_BUFFER, 8), hits_.bindBase(GL_SHADER_STORAGE_BUFFER, 9);
+    expansions_.bindBase(GL_SHADER_STORAGE_BUFFER, 10);
     counter_.bindBase(GL_SHADER_STORAGE_BUFFER, 5);
   }
   void clearMarks() {
@@ -160,12 +173,12 @@ private:
     return n[0];
   }
 
-  const gl::Program &markInput_, &markCollapse_, &plan_, &restructure_;
+  const gl::Program &markInput_, &markCollapse_, &runs_, &plan_, &restructure_;
   gl::GpuScan scan_;
   TreeFrame frame_;
   std::vector<float> scales_;
   std::uint64_t count_ = 0, capacity_ = 0, spareCapacity_ = 0, inputCount_ = 0, reduces_ = 0;
-  gl::Buffer pointers_, cells_, spare_, spareCells_, marks_, remap_, removals_, input_, counter_;
+  gl::Buffer pointers_, cells_, spare_, spareCells_, marks_, remap_, removals_, expansions_, input_, hits_, counter_;
 };
 
 }  // namespace

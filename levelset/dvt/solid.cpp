@@ -69,13 +69,13 @@ float boundValue(double insideness, double radius) {
   return v > 0 ? std::max(float(v), kNearZero) : std::min(float(v), -kNearZero);
 }
 
-CellClass DistanceSolid::classify(const TreeFrame& frame, const Cell& cell) const {
-  const double d = signedDistance(frame.centreWorld(cell)), r = frame.radius(cell.depth);
-  return d < -r ? CellClass::Inside : (d >= r ? CellClass::Outside : CellClass::Crossed);
+CellClass DistanceSolid::classify(const TreeFrame& frame, const Cell& cell, double radius) const {
+  const double d = signedDistance(frame.centreWorld(cell));
+  return d < -radius ? CellClass::Inside : (d >= radius ? CellClass::Outside : CellClass::Crossed);
 }
 
-float DistanceSolid::value(const TreeFrame& frame, const Cell& cell) const {
-  return boundValue(-signedDistance(frame.centreWorld(cell)), frame.radius(cell.depth));
+float DistanceSolid::value(const TreeFrame& frame, const Cell& cell, double radius) const {
+  return boundValue(-signedDistance(frame.centreWorld(cell)), radius);
 }
 
 std::unique_ptr<DistanceSolid> parseBrush(const std::string& text) {

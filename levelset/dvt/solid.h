@@ -15,11 +15,12 @@ enum class CellClass { Inside, Outside, Crossed };
 class Solid {
 public:
   virtual ~Solid() = default;
-  // Inside: every point of the cell is inside; Outside: none is; Crossed: either may hold.
-  virtual CellClass classify(const TreeFrame& frame, const Cell& cell) const = 0;
+  // Inside: every point of the cell is inside; Outside: none is; Crossed: either may hold. `radius`:
+  // frame.radius(cell.depth), which the caller keeps per depth.
+  virtual CellClass classify(const TreeFrame& frame, const Cell& cell, double radius) const = 0;
   // The cell's leaf value (volume_tree.h): the inside-ness of its centre over R(depth), clamped to
   // [-1, 1], never 0 (boundValue).
-  virtual float value(const TreeFrame& frame, const Cell& cell) const = 0;
+  virtual float value(const TreeFrame& frame, const Cell& cell, double radius) const = 0;
 };
 
 // A solid from a signed distance (negative inside, 1-Lipschitz, world units): a cell is inside when
@@ -27,8 +28,8 @@ public:
 class DistanceSolid : public Solid {
 public:
   virtual double signedDistance(const Vec3& world) const = 0;
-  CellClass classify(const TreeFrame& frame, const Cell& cell) const override;
-  float value(const TreeFrame& frame, const Cell& cell) const override;
+  CellClass classify(const TreeFrame& frame, const Cell& cell, double radius) const override;
+  float value(const TreeFrame& frame, const Cell& cell, double radius) const override;
 };
 
 // Inside-ness over a radius as a leaf value: clamped to [-1, 1], at least kNearZero from 0 with the

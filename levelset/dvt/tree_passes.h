@@ -1,10 +1,19 @@
 // TreePasses: the data-parallel passes a DVT write and collapse are made of (Jung et al., Alg. 3.1),
 // on the CPU (cpu_tree_passes, TBB) or the GPU (gpu_tree_passes, GL 4.5 compute). Both keep the
 // pointer and node streams (volume_tree.h) and a mark per node, and apply tree_rules.h; DynamicVolumeTree
-// drives them. One iteration of a write: mark (per input voxel: walk to its target depth, write
-// leaves of that depth, mark coarser leaves for expansion and finer subtrees for reduction), plan
-// (per node: how many nodes it becomes, 0, 1 or 3, prefix-summed into the remap stream), restructure
-// (scatter each node to its new index with its pointers remapped, new children after their parent).
+// drives them. One iteration of a write:
+//   mark         per input voxel: walk to its target depth; write leaves of that depth, mark a coarser
+//                leaf for expansion (and note it as the voxel's hit), mark a finer subtree for
+//                reduction (its pre-order range, for one scan that removes it whole)
+//   plan         per input voxel: what its leaf's expansion needs for it (the ancestors of the voxel
+//                below the leaf not shared with the previous voxel; voxels in one leaf are
+//                consecutive, being in pre-order); per node: how many nodes it becomes (0 removed,
+//                1, or 1 + the new subtree under an expanded leaf), prefix-summed into the remap stream
+//   restructure  per node: scatter to its new index with its pointers remapped; an expanded leaf
+//                writes its new subtree after itself: the smallest that holds its voxels' cells, cut
+//                kExpandLevels below the leaf (voxels deeper expand on in the next iteration)
+// An expansion thus goes down up to kExpandLevels levels at once, where the paper adds one level per
+// iteration; the tree after the write is the same.
 #pragma once
 #include <cstdint>
 #include <string>

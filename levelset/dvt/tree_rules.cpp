@@ -1,5 +1,7 @@
 #include "levelset/dvt/tree_rules.h"
 
+#include <tbb/parallel_sort.h>
+
 #include "core/gl/program.h"
 
 namespace isoatlas::levelset::dvt {
@@ -7,6 +9,32 @@ namespace isoatlas::levelset::dvt {
 InputVoxel inputVoxel(const Cell& c, float value) {
   const auto packed = packCell(c);
   return {packed[0], packed[1], value, 0};
+}
+
+std::uint64_t preOrderKey(const Cell& c) {
+  std::uint64_t key = 0;
+  for (std::uint32_t d = 0; d < c.depth; ++d) key |= std::uint64_t(childTowards(c, d)) << (kMaxDepth - 1 - int(d));
+  return key;
+}
+
+namespace {
+std::uint64_t keyOf(const InputVoxel& v) { return preOrderKey(unpackCell(v.xy, v.zd)); }
+}  // namespace
+
+void sortInPreOrder(std::vector<InputVoxel>& input) {
+  tbb::parallel_sort(input.begin(), input.end(), [](const InputVoxel& a, const InputVoxel& b) { return keyOf(a) < keyOf(b); });
+}
+
+bool inPreOrder(const std::vector<InputVoxel>& input) {
+  for (std::size_t i = 1; i < input.size(); ++i)
+    if (keyOf(input[i - 1]) >= keyOf(input[i])) return false;
+  return true;
+}
+
+std::uint32_t commonDepth(const Cell& a, const Cell& b) {
+  std::uint32_t d = 0;
+  while (d < a.depth && d < b.depth && childTowards(a, d) == childTowards(b, d)) ++d;
+  return d;
 }
 
 std::vector<float> childScales(const TreeFrame& frame) {
@@ -20,7 +48,8 @@ std::vector<std::pair<std::string, std::string>> ruleDefines() {
           {"INSIDE", gl::glslFloat(kInside)},
           {"OUTSIDE", gl::glslFloat(kOutside)},         {"MARK_NONE", std::to_string(kMarkNone) + "u"},
           {"MARK_EXPAND", std::to_string(kMarkExpand) + "u"}, {"MARK_REDUCE", std::to_string(kMarkReduce) + "u"},
-          {"MARK_COLLAPSE", std::to_string(kMarkCollapse) + "u"}, {"OP_UNION", std::to_string(unsigned(Op::Union)) + "u"}};
+          {"MARK_COLLAPSE", std::to_string(kMarkCollapse) + "u"}, {"OP_UNION", std::to_string(unsigned(Op::Union)) + "u"},
+          {"EXPAND_LEVELS", std::to_string(kExpandLevels) + "u"}};
 }
 
 }  // namespace isoatlas::levelset::dvt

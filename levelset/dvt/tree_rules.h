@@ -14,6 +14,10 @@ namespace isoatlas::levelset::dvt {
 
 enum class Op : std::uint32_t { Union = 0, Subtract = 1 };
 
+// The most levels one restructure adds below an expanded leaf (EXPAND_LEVELS): its new subtree is at
+// most 2^9 - 2 nodes, made by one thread (llvmpipe ends a shader's loops after 65535 turns).
+inline constexpr std::uint32_t kExpandLevels = 8;
+
 // What the mark pass asks of a node (tree_rules.glsl: MARK_*).
 enum Mark : std::uint32_t { kMarkNone = 0, kMarkExpand = 1, kMarkReduce = 2, kMarkCollapse = 3 };
 
@@ -41,6 +45,15 @@ inline float childValue(float parent, float scale) { return std::clamp(parent * 
 inline bool collapsible(const Pointer& left, const Pointer& right) {
   return left.leaf() && right.leaf() && left.value == right.value && (left.value == kInside || left.value == kOutside);
 }
+
+// The position of a cell in pre-order (its path of child choices from the root, left-aligned in 48
+// bits): inputs of a write come sorted by it (rasterise sorts them; DynamicVolumeTree::write sorts
+// any that are not), so the voxels inside one leaf are next to each other.
+std::uint64_t preOrderKey(const Cell& c);
+void sortInPreOrder(std::vector<InputVoxel>& input);
+bool inPreOrder(const std::vector<InputVoxel>& input);
+// The depth of the deepest common ancestor of two cells of which neither contains the other.
+std::uint32_t commonDepth(const Cell& a, const Cell& b);
 
 // Per depth d, R(d) / R(d + 1) (childValue's scale), as floats both backends read.
 std::vector<float> childScales(const TreeFrame& frame);

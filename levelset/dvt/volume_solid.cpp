@@ -77,7 +77,7 @@ std::uint64_t VolumeSolid::insideIn(const std::array<std::int64_t, 3>& lo, const
                        t(a[0], b[1], a[2]) + t(b[0], a[1], a[2]) - t(a[0], a[1], a[2]));
 }
 
-CellClass VolumeSolid::classify(const TreeFrame& frame, const Cell& cell) const {
+CellClass VolumeSolid::classify(const TreeFrame& frame, const Cell& cell, double) const {
   const Vec3 c = frame.centreIndex(cell), s = frame.cellVoxels(cell.depth);
   std::array<std::int64_t, 3> lo, hi;  // the voxels the interpolation reads anywhere in the cell
   std::uint64_t voxels = 1;
@@ -90,9 +90,9 @@ CellClass VolumeSolid::classify(const TreeFrame& frame, const Cell& cell) const 
   return inside == 0 ? CellClass::Outside : (inside == voxels ? CellClass::Inside : CellClass::Crossed);
 }
 
-float VolumeSolid::value(const TreeFrame& frame, const Cell& cell) const {
+float VolumeSolid::value(const TreeFrame& frame, const Cell& cell, double radius) const {
   const double f = field(frame.centreIndex(cell));
-  return mask_ ? boundValue(f, 1.0) : boundValue(f * unit_, frame.radius(cell.depth));
+  return mask_ ? boundValue(f, 1.0) : boundValue(f * unit_, radius);
 }
 
 LeafSample sampleAt(const VolumeTree& tree, const Vec3& index) {

@@ -27,8 +27,8 @@ class VolumeSolid final : public Solid {
 public:
   // `volume` must have frame's geometry (made by frameOf) and stay alive.
   explicit VolumeSolid(const Volume& volume);
-  CellClass classify(const TreeFrame& frame, const Cell& cell) const override;
-  float value(const TreeFrame& frame, const Cell& cell) const override;
+  CellClass classify(const TreeFrame& frame, const Cell& cell, double radius) const override;
+  float value(const TreeFrame& frame, const Cell& cell, double radius) const override;
 
 private:
   double field(const Vec3& index) const;  // inside-ness, trilinear; mask: +-1, phi: voxel units

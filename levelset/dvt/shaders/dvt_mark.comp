@@ -3,7 +3,6 @@
 // per node the collapse test (markCollapse). Counts the marks set in `counter`.
 layout(local_size_x = 64) in;
 #include "tree_rules.glsl"
-layout(std430, binding = 6) readonly buffer Input { InputVoxel inputs[]; };
 uniform uint op;
 uniform uint nodes;  // the tree's node count
 
@@ -16,6 +15,7 @@ void main() {
   uint target = depthOf(cell);
   float incoming = inputValue(op, v.value);
   uint n = 0u;
+  hits[i] = NO_HIT;
   for (uint d = 0u;; ++d) {
     Pointer p = pointers[n];
     if (isLeaf(p)) {
@@ -26,6 +26,7 @@ void main() {
       }
       if (saturated(op, p.value)) return;
       marks[n] = MARK_EXPAND;
+      hits[i] = n;
       atomicAdd(counter, 1u);
       return;
     }

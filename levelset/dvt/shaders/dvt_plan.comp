@@ -15,7 +15,7 @@ void main() {
   if (removals[n] > 0 || (p.parent >= 0 && marks[p.parent] == MARK_COLLAPSE)) {  // below a reduced node, or collapsed
     emit = 0u, change = true;
   } else if (m == MARK_EXPAND) {
-    if (allowExpand) emit = 3u, change = true;
+    if (allowExpand) emit = 1u + expansions[n].size, change = true;
   } else {
     change = m == MARK_REDUCE || m == MARK_COLLAPSE;
   }

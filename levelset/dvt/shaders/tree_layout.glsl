@@ -20,6 +20,13 @@ int childTowards(uvec2 cell, uint d) {
   uint axis = d % 3u;
   return int((coordinate(cell, axis) >> (splitsOf(axis, depthOf(cell)) - 1u - splitsOf(axis, d))) & 1u);
 }
+// The depth of the deepest common ancestor of two cells of which neither contains the other.
+uint commonDepth(uvec2 a, uvec2 b) {
+  uint d = 0u;
+  while (d < depthOf(a) && d < depthOf(b) && childTowards(a, d) == childTowards(b, d)) ++d;
+  return d;
+}
+
 uvec2 childCell(uvec2 cell, int which) {
   uint axis = depthOf(cell) % 3u;
   uint c = 2u * coordinate(cell, axis) + uint(which);

@@ -8,6 +8,15 @@ layout(std430, binding = 2) buffer Marks { uint marks[]; };
 layout(std430, binding = 3) buffer Remap { uint remap[]; };
 layout(std430, binding = 4) buffer Removals { int removals[]; };  // reduced subtrees' ranges (dvt_mark.comp)
 layout(std430, binding = 5) buffer Counter { uint counter, reduces; };
+layout(std430, binding = 8) readonly buffer Input { InputVoxel inputs[]; };
+layout(std430, binding = 9) buffer Hits { uint hits[]; };  // per input voxel: the leaf it expands, or NO_HIT
+struct Expansion {
+  uint size, begin, end, unused;  // an expanded leaf's new nodes, and its voxels [begin, end)
+};
+layout(std430, binding = 10) buffer Expansions { Expansion expansions[]; };
+const uint NO_HIT = 0xffffffffu;
+
+uvec2 inputCell(uint i) { return uvec2(inputs[i].xy, inputs[i].zd); }
 
 uniform uint count;  // the threads wanted: input voxels or nodes
 
