@@ -20,7 +20,7 @@ namespace dvt = levelset::dvt;
 struct EditCommandOptions {
   std::string input, output, backend = "auto";
   std::optional<std::uint32_t> depth;
-  std::vector<EditStep> steps;
+  std::shared_ptr<std::vector<EditStep>> steps = std::make_shared<std::vector<EditStep>>();
   bool flat = false;
   std::string render, renderMode = "raycast";
   std::vector<int> size{800, 600};
@@ -32,14 +32,7 @@ void addEditCommand(CLI::App& app, int& exitCode) {
   auto o = std::make_shared<EditCommandOptions>();
   sub->add_option("input", o->input, "a mask or phi volume, a closed mesh (.ply/.off/.obj/.stl) or a tree (.dvt)")->required();
   sub->add_option("--depth", o->depth, "tree depth of the edits (3 per halving of the voxels; default: the input's voxels, 24 for a mesh)");
-  const std::string shapes = "SHAPE in world coordinates: sphere:X,Y,Z,R  box:X0,Y0,Z0,X1,Y1,Z1  capsule:X0,Y0,Z0,X1,Y1,Z1,R  torus:X,Y,Z,R,r  mesh:FILE";
-  // Callbacks as each option is parsed, so unions and subtractions keep the command line's order.
-  sub->add_option_function<std::string>("--union", [o](const std::string& s) { o->steps.push_back({dvt::Op::Union, s}); },
-                                        "add a " + shapes + "; repeatable")
-      ->trigger_on_parse();
-  sub->add_option_function<std::string>("--subtract", [o](const std::string& s) { o->steps.push_back({dvt::Op::Subtract, s}); },
-                                        "carve a SHAPE out; repeatable, applied in order with --union")
-      ->trigger_on_parse();
+  addEditStepOptions(*sub, o->steps);
   sub->add_flag("--flat", o->flat, "rasterise every shape at the full depth (no hierarchical rasterisation)");
   sub->add_option("--node-limit", o->nodeLimit, "most nodes the tree may grow to")->capture_default_str();
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
@@ -54,7 +47,7 @@ void addEditCommand(CLI::App& app, int& exitCode) {
     require(o->nodeLimit >= 1, "--node-limit must be >= 1");
     require(o->renderMode == "raycast" || o->renderMode == "cubes", "--render-mode must be raycast or cubes, not " + o->renderMode);
     require(o->render.empty() || endsWith(o->render, ".png"), o->render + ": --render writes a PNG");
-    const EditRequest request{.depth = o->depth, .steps = o->steps, .hierarchical = !o->flat, .nodeLimit = o->nodeLimit};
+    const EditRequest request{.depth = o->depth, .steps = *o->steps, .hierarchical = !o->flat, .nodeLimit = o->nodeLimit};
     const EditInput input = readEditInput(o->input, request);
     Gpu gpu = chooseBackend(o->backend);
     const EditedTree edited = applyEdits(input, request, gpu);

@@ -9,6 +9,9 @@
 #include "app/model_building.h"
 #include "app/options.h"
 #include "app/segmentation.h"
+#include "app/volume_editing.h"
+#include "levelset/dvt/volume_solid.h"
+#include "viewer/dvt_render.h"
 #include "levelset/level_set.h"
 #include "core/error.h"
 #include "core/image.h"
@@ -37,6 +40,9 @@ bool isDemoVolume(const std::string& path, const Volume& v) {
 const levelset::SpeedParams kDemoParams{112, 14, 0.8f};
 const Vec3 kDemoSeeds[] = {{64, 115, 101}, {116, 115, 101}};
 constexpr double kDemoSeedRadius = 4;
+// The demo's edit of the segmentation: a ball carved out of the left hemisphere's white matter from
+// its side, where the renders from the left see the crater.
+const char* const kDemoEdit = "sphere:-50,5,25,20";
 
 struct RunOptions {
   std::vector<std::string> seeds;
@@ -46,6 +52,7 @@ struct RunOptions {
   ModelRequest model;
   int chart = 33;
   std::string levels = "even";  // the levels run measures: "even" (0, 2, ..., the whole chart) or eval's form
+  std::shared_ptr<std::vector<EditStep>> edits = std::make_shared<std::vector<EditStep>>();
 };
 
 struct Stage {
@@ -150,6 +157,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--backend", options->backend, "gpu, cpu or auto")->capture_default_str();
   sub->add_option("--iterations,-n", options->iterations, "most iterations of the segmentation (it stops once converged)")
       ->capture_default_str();
+  addEditStepOptions(*sub, options->edits);
   sub->add_option("--base-ratio", options->model.baseRatio, "base vertices of the model as a fraction of the surface's")
       ->capture_default_str();
   sub->add_option("--chart", options->chart, "chart size of the model, 2^k + 1")->capture_default_str();
@@ -176,6 +184,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
     std::filesystem::create_directories(dir, ec);
     require(!ec, *outDir + ": cannot create the output folder: " + ec.message());
 
+    stepSolids(*options->edits);  // bad shapes are reported before any work
     // The process's one GL context: the solver, the extraction from its pages and the renders share it.
     Gpu gpu = chooseBackend(options->backend);
     std::vector<Stage> stages;
@@ -196,10 +205,13 @@ void addRunCommand(CLI::App& app, int& exitCode) {
     std::vector<Ball> seeds;
     for (const std::string& s : options->seeds) seeds.push_back(parseBall(s, "--seed", kDemoSeedRadius));
     levelset::SpeedParams params{float(options->target), float(options->width), float(options->alpha)};
+    EditRequest edits{.steps = *options->edits};
     if (seeds.empty() && isDemoVolume(*input, volume)) {
       for (const Vec3& seed : kDemoSeeds) seeds.push_back({seed, kDemoSeedRadius});
       params = kDemoParams;
+      if (edits.steps.empty()) edits.steps.push_back({levelset::dvt::Op::Subtract, kDemoEdit});
     }
+    const auto editSolids = stepSolids(edits.steps);
     std::optional<Mesh> surface;
     if (seeds.empty()) {
       stages.push_back({"segment", "skipped", "no --seed given (and the input is not the demo volume)"});
@@ -221,10 +233,31 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                         std::to_string(s.insideVoxels) + " voxels in " + std::to_string(s.stats.iterations) +
                             " iterations (" + (s.stats.converged ? "converged" : "not converged") +
                             "): mask.nii.gz, phi.nii.gz"});
-      // Extract: marching cubes over the level set's active pages, read where the solver keeps them.
       extract::ExtractStats extractStats;
-      surface = extract::extractLevelSet(*s.levelSet, {.largestComponent = true, .gpu = s.backend == levelset::Backend::Gpu},
-                                         &extractStats);
+      if (edits.steps.empty()) {
+        stages.push_back({"edit", "skipped", "no --union or --subtract given"});
+        // Extract: marching cubes over the level set's active pages, read where the solver keeps them.
+        surface = extract::extractLevelSet(*s.levelSet, {.largestComponent = true, .gpu = s.backend == levelset::Backend::Gpu},
+                                           &extractStats);
+      } else {
+        // Edit: the segmentation's phi in a dynamic volume tree, the shapes applied, then marching
+        // cubes over the edited tree's distances.
+        EditedTree edited = treeOfVolume(s.phi, {}, gpu, edits.nodeLimit);
+        applySteps(edited, edits, editSolids);
+        const levelset::dvt::VolumeTree tree = edited.tree->tree();
+        writeVolume(products.add("mask_edited.nii.gz", "the segmentation after the edits: uint8, 1 inside"), levelset::dvt::sampleMask(tree, volume.dims));
+        viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(tree), 800, 600, {1, 0.3, -0.3})};
+        writePng(products.add("edited_tree.png", "the edited segmentation, ray cast straight from the volume tree", true),
+                 renderEditedTree(edited, view, gpu));
+        r["edit"] = edited.figures();
+        std::string what;
+        for (const EditStep& e : edits.steps) what += std::string(what.empty() ? "" : ", ") + (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") + e.shape;
+        r["edit"]["edits"] = what;
+        stages.push_back({"edit", "done", what + ": " + std::to_string(tree.nodeCount()) + " nodes on the " + edited.backend +
+                                              ": mask_edited.nii.gz, edited_tree.png"});
+        surface = extract::extractSurface(levelset::dvt::sampleField(tree, tree.frame.voxelDepth()),
+                                          {.iso = 0.0f, .largestComponent = true, .gpu = s.backend == levelset::Backend::Gpu}, &extractStats);
+      }
       writeMesh(products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), *surface);
       r["extract"] = meshFigures(*surface, extractStats);
       stages.push_back({"extract", "done",

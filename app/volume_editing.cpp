@@ -63,18 +63,36 @@ EditedTree treeOfVolume(const Volume& volume, std::optional<std::uint32_t> depth
   return e;
 }
 
+void addEditStepOptions(CLI::App& sub, const std::shared_ptr<std::vector<EditStep>>& steps) {
+  const std::string shapes =
+      "SHAPE in world coordinates: sphere:X,Y,Z,R  box:X0,Y0,Z0,X1,Y1,Z1  capsule:X0,Y0,Z0,X1,Y1,Z1,R  torus:X,Y,Z,R,r  mesh:FILE";
+  // Callbacks as each option is parsed, so unions and subtractions keep the command line's order.
+  sub.add_option_function<std::string>("--union", [steps](const std::string& s) { steps->push_back({dvt::Op::Union, s}); },
+                                       "add a " + shapes + "; repeatable")
+      ->trigger_on_parse();
+  sub.add_option_function<std::string>("--subtract", [steps](const std::string& s) { steps->push_back({dvt::Op::Subtract, s}); },
+                                       "carve a SHAPE out; repeatable, applied in order with --union")
+      ->trigger_on_parse();
+}
+
+std::vector<std::unique_ptr<dvt::DistanceSolid>> stepSolids(const std::vector<EditStep>& steps) {
+  std::vector<std::unique_ptr<dvt::DistanceSolid>> solids;
+  for (const EditStep& step : steps) {
+    if (step.shape.starts_with("mesh:")) {
+      const std::string file = step.shape.substr(5);
+      solids.push_back(dvt::meshSolid(readMesh(file), file));
+    } else {
+      solids.push_back(dvt::parseBrush(step.shape));
+    }
+  }
+  return solids;
+}
+
 EditInput readEditInput(const std::string& path, const EditRequest& request) {
   require(!request.depth || *request.depth <= std::uint32_t(dvt::kMaxDepth),
           "--depth " + std::to_string(request.depth.value_or(0)) + " is past the tree's limit of " + std::to_string(dvt::kMaxDepth));
   EditInput in;
-  for (const EditStep& step : request.steps) {
-    if (step.shape.starts_with("mesh:")) {
-      const std::string file = step.shape.substr(5);
-      in.solids.push_back(dvt::meshSolid(readMesh(file), file));
-    } else {
-      in.solids.push_back(dvt::parseBrush(step.shape));
-    }
-  }
+  in.solids = stepSolids(request.steps);
   if (endsWith(path, ".dvt")) {
     in.tree = dvt::readDvt(path);
   } else if (isMeshPath(path)) {
@@ -104,14 +122,14 @@ EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& g
   } else {
     e = treeOfVolume(*input.volume, request.depth, gpu, request.nodeLimit);
   }
-  applySteps(e, request, input);
+  applySteps(e, request, input.solids);
   return e;
 }
 
-void applySteps(EditedTree& e, const EditRequest& request, const EditInput& input) {
+void applySteps(EditedTree& e, const EditRequest& request, const std::vector<std::unique_ptr<dvt::DistanceSolid>>& solids) {
   for (std::size_t i = 0; i < request.steps.size(); ++i) {
     const EditStep& step = request.steps[i];
-    write(e, *input.solids.at(i), step.op, request.hierarchical);
+    write(e, *solids.at(i), step.op, request.hierarchical);
     logInfo("edit: " + std::string(step.op == dvt::Op::Union ? "union " : "subtract ") + step.shape + " (" +
             std::to_string(i + 1) + "/" + std::to_string(request.steps.size()) + "), " + std::to_string(e.tree->nodeCount()) + " nodes");
   }

@@ -2,6 +2,7 @@
 // union and subtract steps (brushes or meshes) applied in order on the chosen backend, collapsed at
 // the end, and the result as a mask in the input's geometry, a mesh (through extract/) or a tree.
 #pragma once
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <memory>
@@ -22,6 +23,11 @@ struct EditStep {
   levelset::dvt::Op op = levelset::dvt::Op::Union;
   std::string shape;  // sphere:..., box:..., capsule:..., torus:..., mesh:FILE (levelset/dvt/solid.h)
 };
+
+// --union SHAPE and --subtract SHAPE on `sub`, each adding a step in command-line order.
+void addEditStepOptions(CLI::App& sub, const std::shared_ptr<std::vector<EditStep>>& steps);
+// The steps' solids: brushes parsed, meshes read (throws Error naming the shape or the file).
+std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>> stepSolids(const std::vector<EditStep>& steps);
 
 struct EditRequest {
   std::optional<std::uint32_t> depth;  // default: the input's voxels
@@ -56,7 +62,7 @@ EditInput readEditInput(const std::string& input, const EditRequest& request);
 EditedTree treeOfVolume(const Volume& volume, std::optional<std::uint32_t> depth, Gpu& gpu, std::uint64_t nodeLimit);
 // The input's tree with the request's steps applied, then collapsed.
 EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& gpu);
-void applySteps(EditedTree& edited, const EditRequest& request, const EditInput& input);
+void applySteps(EditedTree& edited, const EditRequest& request, const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids);
 // A picture of the edited tree: from the GPU tree's own buffers, else its streams uploaded.
 Image renderEditedTree(const EditedTree& edited, const viewer::DvtView& view, Gpu& gpu);
 // The edited tree as a mask (uint8, 1 inside) over the input's voxels.

@@ -224,6 +224,33 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
   }
 }
 
+// run's edit before extraction: a box cutting the phantom's ring leaves a closed surface of genus 0.
+TEST(Cli, RunEditsTheSegmentationBeforeExtraction) {
+  const auto dir = test::scratchDir();
+  const auto [torus, truth] = torusVolume(dir);
+  const auto out = dir / "edited";
+  // The ring's centre is at (-0.2, -0.6, 1.4) mm and its radius 8 mm: the box cuts the tube at +x.
+  const Result r = run("run " + torus.string() + " -o " + out.string() + " --seed 31,18,14,2 --target 200 --width 60 " +
+                       "--backend cpu --samples 5000 --subtract box:4,-4,-20,14,3,20");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const MeshTopology t = analyzeTopology(readMesh((out / "surface.ply").string()));
+  EXPECT_TRUE(t.closed && t.manifold) << t.firstProblem;
+  EXPECT_EQ(t.genus, 0) << "the ring is cut";
+  const auto report = nlohmann::json::parse(test::readBytes(out / "report.json"));
+  EXPECT_EQ(report["extract"]["path"], "cpu dense") << "extracted from the edited tree";
+  for (const char* key : {"nodes", "leaves", "depth_max", "seconds_write", "bytes", "backend"}) EXPECT_TRUE(report["edit"].contains(key)) << key;
+  const Volume before = readVolume((out / "mask.nii.gz").string()), after = readVolume((out / "mask_edited.nii.gz").string());
+  std::int64_t removed = 0, added = 0;
+  for (std::size_t n = 0; n < before.voxelCount(); ++n) {
+    removed += before.value(n) == 1 && after.value(n) == 0;
+    added += before.value(n) == 0 && after.value(n) == 1;
+  }
+  EXPECT_GT(removed, 50);
+  EXPECT_EQ(added, 0) << "a subtraction adds nothing";
+  EXPECT_GT(readPng((out / "edited_tree.png").string()).width, 0);
+  expectBadInput("run " + torus.string() + " -o " + out.string() + " --subtract ball:1,2,3", "a shape is sphere:");
+}
+
 // A 40x36x30 volume: a bright ball (200) of radius 9 around (20,18,15) in a background of 50.
 std::filesystem::path ballVolume(const std::filesystem::path& dir) {
   Volume v = Volume::zeros({40, 36, 30}, ScalarType::UInt8);
