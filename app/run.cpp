@@ -240,9 +240,9 @@ void addRunCommand(CLI::App& app, int& exitCode) {
         surface = extract::extractLevelSet(*s.levelSet, {.largestComponent = true, .gpu = s.backend == levelset::Backend::Gpu},
                                            &extractStats);
       } else {
-        // Edit: the segmentation's phi in a dynamic volume tree, the shapes applied, then marching
-        // cubes over the edited tree's distances.
-        EditedTree edited = treeOfVolume(s.phi, {}, gpu, edits.nodeLimit);
+        // Edit: the level set's phi, read from its pages, in a dynamic volume tree; the shapes
+        // applied; then marching cubes over the edited tree's distances.
+        EditedTree edited = treeOfLevelSet(*s.levelSet, {}, gpu, edits.nodeLimit);
         applySteps(edited, edits, editSolids);
         const levelset::dvt::VolumeTree tree = edited.tree->tree();
         writeVolume(products.add("mask_edited.nii.gz", "the segmentation after the edits: uint8, 1 inside"), levelset::dvt::sampleMask(tree, volume.dims));

@@ -13,6 +13,7 @@
 #include "levelset/dvt/mesh_solid.h"
 #include "levelset/dvt/rasterise.h"
 #include "levelset/dvt/volume_solid.h"
+#include "levelset/level_set.h"
 
 namespace isoatlas::app {
 namespace dvt = levelset::dvt;
@@ -86,6 +87,13 @@ std::vector<std::unique_ptr<dvt::DistanceSolid>> stepSolids(const std::vector<Ed
     }
   }
   return solids;
+}
+
+EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, std::optional<std::uint32_t> depth, Gpu& gpu, std::uint64_t nodeLimit) {
+  const dvt::TreeFrame frame = dvt::frameOf(levelSet.geometry());
+  EditedTree e = start(dvt::VolumeTree::empty(frame), levelSet.geometry().dims, checkedDepth(depth, frame), gpu, nodeLimit);
+  write(e, dvt::VolumeSolid(levelSet), dvt::Op::Union, true);
+  return e;
 }
 
 EditInput readEditInput(const std::string& path, const EditRequest& request) {

@@ -60,6 +60,8 @@ EditInput readEditInput(const std::string& input, const EditRequest& request);
 
 // A tree of a segmentation (mask or phi volume) in its own grid, at `depth` (default its voxels).
 EditedTree treeOfVolume(const Volume& volume, std::optional<std::uint32_t> depth, Gpu& gpu, std::uint64_t nodeLimit);
+// The same from a level set's pages, where its backend keeps them (no dense phi).
+EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, std::optional<std::uint32_t> depth, Gpu& gpu, std::uint64_t nodeLimit);
 // The input's tree with the request's steps applied, then collapsed.
 EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& gpu);
 void applySteps(EditedTree& edited, const EditRequest& request, const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids);

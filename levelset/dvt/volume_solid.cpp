@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "levelset/level_set.h"
 
 namespace isoatlas::levelset::dvt {
 
@@ -33,9 +34,22 @@ TreeFrame frameAround(const Vec3& lo, const Vec3& hi, int voxelSplits) {
 }
 
 VolumeSolid::VolumeSolid(const Volume& volume)
-    : volume_(volume), mask_(!isFloating(volume.type)),
-      unit_(std::min({volume.spacing.x, volume.spacing.y, volume.spacing.z})) {
-  const auto [nx, ny, nz] = volume.dims;
+    : dims_(volume.dims), voxel_([&volume](std::int64_t i, std::int64_t j, std::int64_t k) { return volume.at(i, j, k); }),
+      mask_(!isFloating(volume.type)), unit_(std::min({volume.spacing.x, volume.spacing.y, volume.spacing.z})) {
+  buildTable();
+}
+
+VolumeSolid::VolumeSolid(const LevelSet& levelSet)
+    : dims_(levelSet.geometry().dims), mask_(false),
+      unit_(std::min({levelSet.geometry().spacing.x, levelSet.geometry().spacing.y, levelSet.geometry().spacing.z})) {
+  const float* pool = levelSet.phiPoolOnHost();
+  const PageManager& pages = levelSet.pages();
+  voxel_ = [pool, &pages](std::int64_t i, std::int64_t j, std::int64_t k) { return double(pool[pages.poolTexel(i, j, k)]); };
+  buildTable();
+}
+
+void VolumeSolid::buildTable() {
+  const auto [nx, ny, nz] = dims_;
   table_.assign(std::size_t((nx + 1) * (ny + 1) * (nz + 1)), 0);
   auto at = [&](std::int64_t i, std::int64_t j, std::int64_t k) -> std::uint32_t& {
     return table_[std::size_t((k * (ny + 1) + j) * (nx + 1) + i)];
@@ -48,8 +62,8 @@ VolumeSolid::VolumeSolid(const Volume& volume)
 }
 
 double VolumeSolid::voxelField(std::int64_t i, std::int64_t j, std::int64_t k) const {
-  if (i < 0 || j < 0 || k < 0 || i >= volume_.dims[0] || j >= volume_.dims[1] || k >= volume_.dims[2]) return -1;
-  const double v = volume_.at(i, j, k);
+  if (i < 0 || j < 0 || k < 0 || i >= dims_[0] || j >= dims_[1] || k >= dims_[2]) return -1;
+  const double v = voxel_(i, j, k);
   return mask_ ? (v != 0 ? 1.0 : -1.0) : v;
 }
 
@@ -67,11 +81,11 @@ double VolumeSolid::field(const Vec3& index) const {
 std::uint64_t VolumeSolid::insideIn(const std::array<std::int64_t, 3>& lo, const std::array<std::int64_t, 3>& hi) const {
   std::array<std::int64_t, 3> a, b;  // clipped to the volume, as table corners
   for (int x = 0; x < 3; ++x) {
-    a[x] = std::clamp<std::int64_t>(lo[x], 0, volume_.dims[x]);
-    b[x] = std::clamp<std::int64_t>(hi[x] + 1, 0, volume_.dims[x]);
+    a[x] = std::clamp<std::int64_t>(lo[x], 0, dims_[x]);
+    b[x] = std::clamp<std::int64_t>(hi[x] + 1, 0, dims_[x]);
     if (b[x] <= a[x]) return 0;
   }
-  const auto [nx, ny, nz] = volume_.dims;
+  const auto [nx, ny, nz] = dims_;
   auto t = [&](std::int64_t i, std::int64_t j, std::int64_t k) -> std::int64_t { return table_[std::size_t((k * (ny + 1) + j) * (nx + 1) + i)]; };
   return std::uint64_t(t(b[0], b[1], b[2]) - t(a[0], b[1], b[2]) - t(b[0], a[1], b[2]) - t(b[0], b[1], a[2]) + t(a[0], a[1], b[2]) +
                        t(a[0], b[1], a[2]) + t(b[0], a[1], a[2]) - t(a[0], a[1], a[2]));

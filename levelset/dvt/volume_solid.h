@@ -3,9 +3,10 @@
 //   its largest dimension), so depth 3K cells are its voxels. frameAround: an isotropic grid around a
 //   world box, for inputs with no voxels (meshes).
 //   VolumeSolid: a mask (an integer volume, inside where nonzero) or a phi volume (floating point,
-//   inside where > 0, in voxel units as isoatlas segment --phi writes it), trilinear between voxel
-//   centres and outside past the volume's edges; cells are classified from the voxels their
-//   interpolation reads (a summed-volume table of the inside voxels).
+//   inside where > 0, in voxel units as isoatlas segment --phi writes it), or a level set's phi read
+//   from its pages where its backend keeps them (no dense phi); trilinear between voxel centres and
+//   outside past the volume's edges; cells are classified from the voxels their interpolation reads
+//   (a summed-volume table of the inside voxels).
 //   sampleMask / sampleField: the tree at voxel centres (a point on a split plane belongs to the
 //   upper half): a mask (uint8, 1 inside) with the frame's geometry over `dims`, or the inside-ness
 //   in world units (leaf value times its radius; > 0 inside) on the grid of the depth-d cells, for
@@ -13,10 +14,15 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "core/volume.h"
 #include "levelset/dvt/solid.h"
+
+namespace isoatlas::levelset {
+class LevelSet;
+}
 
 namespace isoatlas::levelset::dvt {
 
@@ -25,8 +31,9 @@ TreeFrame frameAround(const Vec3& lo, const Vec3& hi, int voxelSplits);
 
 class VolumeSolid final : public Solid {
 public:
-  // `volume` must have frame's geometry (made by frameOf) and stay alive.
+  // The source must stay alive; frames for it come from frameOf(volume) or frameOf(levelSet.geometry()).
   explicit VolumeSolid(const Volume& volume);
+  explicit VolumeSolid(const levelset::LevelSet& levelSet);
   CellClass classify(const TreeFrame& frame, const Cell& cell, double radius) const override;
   float value(const TreeFrame& frame, const Cell& cell, double radius) const override;
 
@@ -34,7 +41,9 @@ private:
   double field(const Vec3& index) const;  // inside-ness, trilinear; mask: +-1, phi: voxel units
   double voxelField(std::int64_t i, std::int64_t j, std::int64_t k) const;
   std::uint64_t insideIn(const std::array<std::int64_t, 3>& lo, const std::array<std::int64_t, 3>& hi) const;
-  const Volume& volume_;
+  void buildTable();
+  std::array<std::int64_t, 3> dims_;
+  std::function<double(std::int64_t, std::int64_t, std::int64_t)> voxel_;  // the source's value
   bool mask_;
   double unit_;  // world units of one voxel unit of phi (the smallest spacing)
   std::vector<std::uint32_t> table_;  // (nx+1)(ny+1)(nz+1) counts of inside voxels below each corner

@@ -11,6 +11,7 @@
 #include "levelset/dvt/gpu_tree_passes.h"
 #include "levelset/dvt/rasterise.h"
 #include "levelset/dvt/volume_solid.h"
+#include "levelset/level_set.h"
 #include "tests/gl_context.h"
 #include "tests/test_util.h"
 
@@ -168,6 +169,26 @@ TEST(Dvt, FileRoundTripAndDamage) {
   std::swap(bad.pointers[1].left, bad.pointers[1].right);
   EXPECT_NE(treeProblem(bad), "");
   EXPECT_THROW(writeDvt(path, bad), Error);
+}
+
+TEST(Dvt, LevelSetPagesMakeTheTreeOfItsMask) {
+  Volume source = Volume::zeros({40, 34, 20}, ScalarType::UInt8);
+  source.spacing = {1, 1, 1.5};
+  for (std::int64_t k = 0; k < 20; ++k)
+    for (std::int64_t j = 0; j < 34; ++j)
+      for (std::int64_t i = 0; i < 40; ++i)
+        source.setValue(source.index(i, j, k), (i - 18) * (i - 18) + (j - 16) * (j - 16) + 4 * (k - 9) * (k - 9) < 140 ? 200 : 40);
+  levelset::LevelSet levelSet(source, {200, 60, 0.8f}, {.backend = levelset::Backend::Cpu});
+  levelSet.addSphere({18, 16, 9}, 3);
+  levelSet.run({.maxIterations = 40});
+  const TreeFrame frame = frameOf(levelSet.geometry());
+  DynamicVolumeTree tree(VolumeTree::empty(frame), makeCpuTreePasses());
+  tree.write(rasterise(VolumeSolid(levelSet), frame, frame.voxelDepth()), Op::Union);
+  const Volume mask = levelSet.mask(), back = sampleMask(tree.tree(), mask.dims);
+  std::int64_t inside = 0;
+  for (std::size_t n = 0; n < mask.voxelCount(); ++n) inside += mask.value(n) > 0;
+  EXPECT_GT(inside, 500);
+  EXPECT_EQ(back.data, mask.data);
 }
 
 TEST(Dvt, MalformedBrushesAreRefused) {
