@@ -22,6 +22,7 @@ struct EditCommandOptions {
   std::optional<std::uint32_t> depth;
   std::shared_ptr<std::vector<EditStep>> steps = std::make_shared<std::vector<EditStep>>();
   bool flat = false;
+  int collapseEvery = 0;
   std::string render, renderMode = "raycast";
   std::vector<int> size{800, 600};
   std::uint64_t nodeLimit = dvt::TreeOptions{}.nodeLimit;
@@ -34,6 +35,7 @@ void addEditCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--depth", o->depth, "tree depth of the edits (3 per halving of the voxels; default: the input's voxels, 24 for a mesh)");
   addEditStepOptions(*sub, o->steps);
   sub->add_flag("--flat", o->flat, "rasterise every shape at the full depth (no hierarchical rasterisation)");
+  sub->add_option("--collapse-every", o->collapseEvery, "also collapse after every K writes (the input's conversion is the first; the tree is collapsed at the end anyway)");
   sub->add_option("--node-limit", o->nodeLimit, "most nodes the tree may grow to")->capture_default_str();
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
   sub->add_option("--render", o->render, "also draw the edited tree to this PNG");
@@ -45,9 +47,11 @@ void addEditCommand(CLI::App& app, int& exitCode) {
     const bool toTree = endsWith(o->output, ".dvt"), toMesh = isMeshPath(o->output) && !endsWith(o->output, ".stl");
     require(toTree || toMesh || isVolumePath(o->output), o->output + ": write a mask (.nii.gz, .nrrd, ...), a mesh (.ply, .off, .obj) or a tree (.dvt)");
     require(o->nodeLimit >= 1, "--node-limit must be >= 1");
+    require(o->collapseEvery >= 0, "--collapse-every must be >= 0");
     require(o->renderMode == "raycast" || o->renderMode == "cubes", "--render-mode must be raycast or cubes, not " + o->renderMode);
     require(o->render.empty() || endsWith(o->render, ".png"), o->render + ": --render writes a PNG");
-    const EditRequest request{.depth = o->depth, .steps = *o->steps, .hierarchical = !o->flat, .nodeLimit = o->nodeLimit};
+    const EditRequest request{.depth = o->depth, .steps = *o->steps, .hierarchical = !o->flat, .nodeLimit = o->nodeLimit,
+                               .collapseEvery = o->collapseEvery};
     const EditInput input = readEditInput(o->input, request);
     Gpu gpu = chooseBackend(o->backend);
     const EditedTree edited = applyEdits(input, request, gpu);

@@ -1,4 +1,4 @@
-// isoatlas info FILE | --gl: what a volume or mesh file holds, or what the GL driver offers.
+// isoatlas info FILE | --gl: what a volume, mesh or volume-tree file holds, or what the GL driver offers.
 #include <cstdio>
 
 #include "app/command.h"
@@ -6,7 +6,9 @@
 #include "core/gl/context.h"
 #include "core/mesh_io.h"
 #include "core/mesh_topology.h"
+#include "core/gz_file.h"
 #include "core/volume_io.h"
+#include "levelset/dvt/dvt_file.h"
 
 namespace isoatlas::app {
 namespace {
@@ -64,6 +66,32 @@ int meshInfo(const std::string& path, nlohmann::json& r) {
   return 0;
 }
 
+int treeInfo(const std::string& path, nlohmann::json& r) {
+  const levelset::dvt::VolumeTree t = levelset::dvt::readDvt(path);
+  std::size_t inside = 0, band = 0;
+  for (const auto& p : t.pointers)
+    if (p.leaf()) inside += p.value == levelset::dvt::kInside, band += p.value > levelset::dvt::kOutside && p.value < levelset::dvt::kInside;
+  const std::int64_t n = t.frame.voxelsPerAxis();
+  r["kind"] = "volume tree";
+  r["file"] = path;
+  r["nodes"] = t.nodeCount();
+  r["leaves"] = t.leafCount();
+  r["inside_leaves"] = inside;
+  r["band_leaves"] = band;
+  r["depth_max"] = t.maxDepth();
+  r["voxel_depth"] = t.frame.voxelDepth();
+  r["grid"] = {n, n, n};
+  r["spacing"] = vec(t.frame.spacing);
+  r["origin"] = vec(t.frame.origin);
+  r["bytes"] = t.bytes();
+  std::printf("%s: volume tree, %zu nodes, %zu leaves (%zu inside, %zu in the narrow band)\n", path.c_str(), t.nodeCount(),
+              t.leafCount(), inside, band);
+  std::printf("  depth up to %u (the grid's voxels at %u: %lld^3)\n", t.maxDepth(), t.frame.voxelDepth(), (long long)n);
+  std::printf("  spacing   %g x %g x %g mm, origin (%g, %g, %g) mm\n", t.frame.spacing.x, t.frame.spacing.y, t.frame.spacing.z,
+              t.frame.origin.x, t.frame.origin.y, t.frame.origin.z);
+  return 0;
+}
+
 int glInfo(nlohmann::json& r) {
   auto ctx = gl::Context::headless();
   const gl::Info& i = ctx->info();
@@ -98,17 +126,18 @@ int glInfo(nlohmann::json& r) {
 }  // namespace
 
 void addInfoCommand(CLI::App& app, int& exitCode) {
-  auto* sub = app.add_subcommand("info", "what a volume or mesh file holds, or (--gl) what the GPU offers");
+  auto* sub = app.add_subcommand("info", "what a volume, mesh or volume-tree file holds, or (--gl) what the GPU offers");
   auto file = std::make_shared<std::string>();
   auto gl = std::make_shared<bool>(false);
-  sub->add_option("file", *file, "volume (.nii .nii.gz .nrrd .nhdr .inr .inr.gz) or mesh (.off .ply .obj .stl)");
+  sub->add_option("file", *file, "volume (.nii .nii.gz .nrrd .nhdr .inr .inr.gz), mesh (.off .ply .obj .stl) or volume tree (.dvt)");
   sub->add_flag("--gl", *gl, "print the OpenGL renderer, version and the limits isoatlas relies on");
   bindAction(*sub, [file, gl](nlohmann::json& r) {
     if (*gl) return glInfo(r);
     require(!file->empty(), "give a FILE, or --gl");
     if (isVolumePath(*file)) return volumeInfo(*file, r);
     if (isMeshPath(*file)) return meshInfo(*file, r);
-    throw Error(*file + ": unknown file type (volumes: .nii .nii.gz .nrrd .nhdr .inr .inr.gz; meshes: .off .ply .obj .stl)");
+    if (endsWith(*file, ".dvt")) return treeInfo(*file, r);
+    throw Error(*file + ": unknown file type (volumes: .nii .nii.gz .nrrd .nhdr .inr .inr.gz; meshes: .off .ply .obj .stl; trees: .dvt)");
   }, exitCode);
 }
 

@@ -242,7 +242,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       } else {
         // Edit: the level set's phi, read from its pages, in a dynamic volume tree; the shapes
         // applied; then marching cubes over the edited tree's distances.
-        EditedTree edited = treeOfLevelSet(*s.levelSet, {}, gpu, edits.nodeLimit);
+        EditedTree edited = treeOfLevelSet(*s.levelSet, edits, gpu);
         applySteps(edited, edits, editSolids);
         const levelset::dvt::VolumeTree tree = edited.tree->tree();
         writeVolume(products.add("mask_edited.nii.gz", "the segmentation after the edits: uint8, 1 inside"), levelset::dvt::sampleMask(tree, volume.dims));

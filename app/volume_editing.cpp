@@ -31,11 +31,11 @@ std::uint32_t checkedDepth(std::optional<std::uint32_t> depth, const dvt::TreeFr
 }
 
 EditedTree start(const dvt::VolumeTree& tree, std::array<std::int64_t, 3> dims, std::uint32_t depth, Gpu& gpu,
-                 std::uint64_t nodeLimit) {
+                 std::uint64_t nodeLimit, int collapseEvery = 0) {
   EditedTree e;
   const bool onGpu = gpu.backend == levelset::Backend::Gpu;
   auto passes = onGpu ? dvt::makeGpuTreePasses(gpu.needGl()) : dvt::makeCpuTreePasses();
-  e.tree = std::make_unique<dvt::DynamicVolumeTree>(tree, std::move(passes), dvt::TreeOptions{.nodeLimit = nodeLimit});
+  e.tree = std::make_unique<dvt::DynamicVolumeTree>(tree, std::move(passes), dvt::TreeOptions{.nodeLimit = nodeLimit, .collapseEvery = collapseEvery});
   e.dims = dims, e.depth = depth, e.backend = onGpu ? "gpu" : "cpu";
   return e;
 }
@@ -57,9 +57,10 @@ nlohmann::json EditedTree::figures() const {
           {"backend", backend}, {"input_voxels", inputVoxels}};
 }
 
-EditedTree treeOfVolume(const Volume& volume, std::optional<std::uint32_t> depth, Gpu& gpu, std::uint64_t nodeLimit) {
+EditedTree treeOfVolume(const Volume& volume, const EditRequest& request, Gpu& gpu) {
   const dvt::TreeFrame frame = dvt::frameOf(volume);
-  EditedTree e = start(dvt::VolumeTree::empty(frame), volume.dims, checkedDepth(depth, frame), gpu, nodeLimit);
+  EditedTree e = start(dvt::VolumeTree::empty(frame), volume.dims, checkedDepth(request.depth, frame), gpu, request.nodeLimit,
+                       request.collapseEvery);
   write(e, dvt::VolumeSolid(volume), dvt::Op::Union, true);
   return e;
 }
@@ -89,9 +90,10 @@ std::vector<std::unique_ptr<dvt::DistanceSolid>> stepSolids(const std::vector<Ed
   return solids;
 }
 
-EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, std::optional<std::uint32_t> depth, Gpu& gpu, std::uint64_t nodeLimit) {
+EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest& request, Gpu& gpu) {
   const dvt::TreeFrame frame = dvt::frameOf(levelSet.geometry());
-  EditedTree e = start(dvt::VolumeTree::empty(frame), levelSet.geometry().dims, checkedDepth(depth, frame), gpu, nodeLimit);
+  EditedTree e = start(dvt::VolumeTree::empty(frame), levelSet.geometry().dims, checkedDepth(request.depth, frame), gpu,
+                       request.nodeLimit, request.collapseEvery);
   write(e, dvt::VolumeSolid(levelSet), dvt::Op::Union, true);
   return e;
 }
@@ -116,7 +118,7 @@ EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& g
   EditedTree e;
   if (input.tree) {
     const auto n = input.tree->frame.voxelsPerAxis();
-    e = start(*input.tree, {n, n, n}, checkedDepth(request.depth, input.tree->frame), gpu, request.nodeLimit);
+    e = start(*input.tree, {n, n, n}, checkedDepth(request.depth, input.tree->frame), gpu, request.nodeLimit, request.collapseEvery);
   } else if (input.mesh) {
     const Mesh& mesh = *input.mesh;
     Vec3 lo = mesh.positions.front(), hi = lo;
@@ -125,10 +127,10 @@ EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& g
     const std::uint32_t depth = request.depth.value_or(24);
     const dvt::TreeFrame frame = dvt::frameAround(lo, hi, int(std::min<std::uint32_t>((depth + 2) / 3, dvt::kMaxDepth / 3)));
     const auto n = frame.voxelsPerAxis();
-    e = start(dvt::VolumeTree::empty(frame), {n, n, n}, depth, gpu, request.nodeLimit);
+    e = start(dvt::VolumeTree::empty(frame), {n, n, n}, depth, gpu, request.nodeLimit, request.collapseEvery);
     write(e, *input.meshSolid, dvt::Op::Union, request.hierarchical);
   } else {
-    e = treeOfVolume(*input.volume, request.depth, gpu, request.nodeLimit);
+    e = treeOfVolume(*input.volume, request, gpu);
   }
   applySteps(e, request, input.solids);
   return e;

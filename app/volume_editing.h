@@ -34,6 +34,7 @@ struct EditRequest {
   std::vector<EditStep> steps;
   bool hierarchical = true;             // hierarchical rasterisation (rasterise.h)
   std::uint64_t nodeLimit = levelset::dvt::TreeOptions{}.nodeLimit;
+  int collapseEvery = 0;                // also collapse after every k edits (0: only at the end)
 };
 
 struct EditedTree {
@@ -58,10 +59,11 @@ struct EditInput {
 };
 EditInput readEditInput(const std::string& input, const EditRequest& request);
 
-// A tree of a segmentation (mask or phi volume) in its own grid, at `depth` (default its voxels).
-EditedTree treeOfVolume(const Volume& volume, std::optional<std::uint32_t> depth, Gpu& gpu, std::uint64_t nodeLimit);
+// A tree of a segmentation (mask or phi volume) in its own grid, at the request's depth (default its
+// voxels), node limit and collapse period (its steps are not applied: applySteps).
+EditedTree treeOfVolume(const Volume& volume, const EditRequest& request, Gpu& gpu);
 // The same from a level set's pages, where its backend keeps them (no dense phi).
-EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, std::optional<std::uint32_t> depth, Gpu& gpu, std::uint64_t nodeLimit);
+EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest& request, Gpu& gpu);
 // The input's tree with the request's steps applied, then collapsed.
 EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& gpu);
 void applySteps(EditedTree& edited, const EditRequest& request, const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids);

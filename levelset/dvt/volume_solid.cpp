@@ -49,7 +49,7 @@ VolumeSolid::VolumeSolid(const LevelSet& levelSet)
 }
 
 void VolumeSolid::buildTable() {
-  const auto [nx, ny, nz] = dims_;
+  const std::int64_t nx = dims_[0], ny = dims_[1], nz = dims_[2];
   table_.assign(std::size_t((nx + 1) * (ny + 1) * (nz + 1)), 0);
   auto at = [&](std::int64_t i, std::int64_t j, std::int64_t k) -> std::uint32_t& {
     return table_[std::size_t((k * (ny + 1) + j) * (nx + 1) + i)];
@@ -85,7 +85,7 @@ std::uint64_t VolumeSolid::insideIn(const std::array<std::int64_t, 3>& lo, const
     b[x] = std::clamp<std::int64_t>(hi[x] + 1, 0, dims_[x]);
     if (b[x] <= a[x]) return 0;
   }
-  const auto [nx, ny, nz] = dims_;
+  const std::int64_t nx = dims_[0], ny = dims_[1];
   auto t = [&](std::int64_t i, std::int64_t j, std::int64_t k) -> std::int64_t { return table_[std::size_t((k * (ny + 1) + j) * (nx + 1) + i)]; };
   return std::uint64_t(t(b[0], b[1], b[2]) - t(a[0], b[1], b[2]) - t(b[0], a[1], b[2]) - t(b[0], b[1], a[2]) + t(a[0], a[1], b[2]) +
                        t(a[0], b[1], a[2]) + t(b[0], a[1], a[2]) - t(a[0], a[1], a[2]));

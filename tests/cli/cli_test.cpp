@@ -617,6 +617,12 @@ TEST(Cli, EditAppliesBrushesOnBothBackendsAsADenseReferenceSays) {
   for (std::int64_t k = 0; k < 30; ++k)
     for (std::int64_t j = 0; j < 36; ++j)
       for (std::int64_t i = 0; i < 40; ++i) ASSERT_EQ(again.at(i, j, k), double(std::to_integer<int>(cpuVoxels[mask.index(i, j, k)])));
+  const Result info = run("info " + tree + " --report " + (dir / "i.json").string());
+  ASSERT_EQ(info.code, 0) << info.err;
+  const auto ij = nlohmann::json::parse(test::readBytes(dir / "i.json"));
+  EXPECT_EQ(ij["kind"], "volume tree");
+  EXPECT_GT(ij["inside_leaves"].get<int>(), 0);
+  EXPECT_EQ(ij["voxel_depth"], 18);
   // A mesh out, and a closed mesh in.
   const std::string surface = (dir / "edited.ply").string(), torus = (dir / "torus.off").string();
   ASSERT_EQ(run("edit " + tree + " -o " + surface).code, 0);
