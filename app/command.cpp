@@ -40,14 +40,4 @@ void bindAction(CLI::App& sub, const Action& action, int& exitCode) {
   });
 }
 
-void addPendingCommand(CLI::App& app, const std::string& name, const std::string& what, const std::string& issue,
-                       int& exitCode) {
-  CLI::App* sub = app.add_subcommand(name, what + " (not built yet)");
-  sub->allow_extras();
-  sub->callback([name, issue, &exitCode] {
-    std::fprintf(stderr, "isoatlas %s: this stage is not built yet (%s)\n", name.c_str(), issue.c_str());
-    exitCode = 1;
-  });
-}
-
 }  // namespace isoatlas::app

@@ -24,10 +24,6 @@ using Action = std::function<int(nlohmann::json& report)>;
 // stderr and exit 2 (bad input) or 1 (failure); the report is written on success.
 void bindAction(CLI::App& sub, const Action& action, int& exitCode);
 
-// A subcommand whose stage has not been built: it says so and exits 1.
-void addPendingCommand(CLI::App& app, const std::string& name, const std::string& what, const std::string& issue,
-                       int& exitCode);
-
 void writeJsonFile(const std::string& path, const nlohmann::json& json);
 
 // vertices, triangles, components, closed, manifold, euler, genus, seconds, cells_visited, ...
@@ -43,5 +39,6 @@ void addEvalCommand(CLI::App& app, int& exitCode);
 void addEditDetailCommand(CLI::App& app, int& exitCode);
 void addRenderCommand(CLI::App& app, int& exitCode);
 void addEditCommand(CLI::App& app, int& exitCode);
+void addViewCommand(CLI::App& app, int& exitCode);
 
 }  // namespace isoatlas::app

@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
   addEvalCommand(app, exitCode);
   addEditDetailCommand(app, exitCode);
   addRenderCommand(app, exitCode);
-  addPendingCommand(app, "view", "interactive viewer", "the viewer issue", exitCode);
+  addViewCommand(app, exitCode);
   addRunCommand(app, exitCode);
 
   if (argc > 1 && argv[1][0] != '-') {

@@ -59,10 +59,20 @@ TEST(Cli, UsageErrorsExitTwo) {
   expectBadInput("info", "give a FILE");
 }
 
-TEST(Cli, StagesNotBuiltSaySoAndExitOne) {
-  const Result r = run("view model.isoatlas");
-  EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("not built yet"), std::string::npos);
+TEST(Cli, ViewWithoutADisplaySaysSoAndExitsTwo) {
+  const auto dir = test::scratchDir();
+  const std::string mask = (dir / "m.nii.gz").string(), tree = (dir / "t.dvt").string();
+  writeVolume(mask, test::rampVolume(ScalarType::UInt8, {8, 8, 8}));
+  ASSERT_EQ(run("edit " + mask + " --union sphere:3,3,3,2 -o " + tree).code, 0);
+  // The variables of a display unset, whatever the machine running the tests has.
+  const std::string noDisplay = std::string(ISOATLAS_EXE) + " view " + tree + " --frames 2 --screenshot x.png";
+  const auto err = dir / "view.err";
+  const int status = std::system(("env -u DISPLAY -u WAYLAND_DISPLAY " + noDisplay + " 2>" + err.string()).c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  const std::string message = test::readBytes(err);
+  EXPECT_EQ(lines(message), 1u) << message;
+  EXPECT_NE(message.find("needs a display"), std::string::npos) << message;
+  expectBadInput("view " + (dir / "missing.dvt").string(), "missing.dvt");
 }
 
 TEST(Cli, InfoOnAVolumeWritesAReport) {

@@ -18,6 +18,7 @@
 #include "multires/triangle_pairing.h"
 #include "tests/gl_context.h"
 #include "tests/multires/mesh_shapes.h"
+#include "tests/viewer/test_models.h"
 #include "viewer/atlas_render.h"
 #include "viewer/cpu_level.h"
 #include "viewer/model_lod.h"
@@ -25,14 +26,7 @@
 namespace isoatlas::viewer {
 namespace {
 
-atlas::Model buildModel(Mesh dense, double ratio, std::uint32_t chartSize) {
-  atlas::Model m;
-  m.chartSize = chartSize;
-  m.base = multires::simplifyStellar(dense, {.vertexRatio = ratio});
-  multires::pairTriangles(m.base, dense);
-  m.atlas = atlas::makeAtlas(dense, m.base, chartSize);
-  return m;
-}
+using test::buildModel;
 const atlas::Model& torus() {
   static const atlas::Model m = buildModel(test::torusMesh(48, 24), 0.04, 17);
   return m;
