@@ -1,5 +1,8 @@
 // isoatlas: from a 3D scan to a surface you can edit and render at any level of detail.
+#include <oneapi/tbb/global_control.h>
+
 #include <cstdio>
+#include <new>
 
 #include "app/command.h"
 
@@ -9,6 +12,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "isoatlas 0.1.0");
   app.require_subcommand(1);
   int exitCode = 0;
+  // TBB's worker threads are joined before the process exits (below), so that nothing of ours runs
+  // while exit handlers do: LeakSanitizer's tracer crashed now and then on threads still alive then.
+  oneapi::tbb::task_scheduler_handle workers{oneapi::tbb::attach{}};
 
   addInfoCommand(app, exitCode);
   addProbeCommand(app, exitCode);
@@ -42,5 +48,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "isoatlas: %s (see isoatlas --help)\n", e.what());
     return 2;
   }
+  oneapi::tbb::finalize(workers, std::nothrow);
   return exitCode;
 }
