@@ -1,4 +1,6 @@
 // isoatlas edit: boolean brush and mesh edits of a segmentation in a dynamic volume tree.
+#include <algorithm>
+
 #include "app/command.h"
 #include "app/options.h"
 #include "app/volume_editing.h"
@@ -61,7 +63,9 @@ void addEditCommand(CLI::App& app, int& exitCode) {
     if (toTree) {
       dvt::writeDvt(o->output, edited.tree->tree());
     } else if (toMesh) {
-      const Volume field = dvt::sampleField(edited.tree->tree(), std::max(edited.depth, edited.tree->frame().voxelDepth()));
+      // On the input's voxels, or finer for a finer edit: at most one halving more (8 times the voxels).
+      const std::uint32_t voxels = edited.tree->frame().voxelDepth();
+      const Volume field = dvt::sampleField(edited.tree->tree(), std::clamp(edited.depth, voxels, voxels + 3));
       extract::ExtractStats stats;
       const Mesh mesh = extract::extractSurface(field, {.iso = 0.0f, .gpu = gpu.backend == levelset::Backend::Gpu}, &stats);
       if (mesh.faceCount() == 0) throw Error(o->output + ": the edited volume is empty (no surface)", ErrorKind::Failure);
