@@ -77,7 +77,7 @@ Box frameBox(const dvt::TreeFrame& f) {
   const double side = double(f.voxelsPerAxis()) - 0.5;
   for (int k = 0; k < 8; ++k) {
     const Vec3 index{k & 1 ? side : -0.5, k & 2 ? side : -0.5, k & 4 ? side : -0.5};
-    corners.push_back(f.origin + f.direction * Vec3{index.x * f.spacing.x, index.y * f.spacing.y, index.z * f.spacing.z});
+    corners.push_back(f.indexToWorld(index));
   }
   return boundingBox(corners);
 }
@@ -141,8 +141,7 @@ Box insideBounds(const dvt::VolumeTree& tree) {
     const Vec3 centre = tree.frame.centreIndex(c), s = tree.frame.cellVoxels(c.depth);
     for (int k = 0; k < 8; ++k) {
       const Vec3 index{centre.x + (k & 1 ? 0.5 : -0.5) * s.x, centre.y + (k & 2 ? 0.5 : -0.5) * s.y, centre.z + (k & 4 ? 0.5 : -0.5) * s.z};
-      corners.push_back(tree.frame.origin + tree.frame.direction * Vec3{index.x * tree.frame.spacing.x, index.y * tree.frame.spacing.y,
-                                                                        index.z * tree.frame.spacing.z});
+      corners.push_back(tree.frame.indexToWorld(index));
     }
   }
   return corners.empty() ? frameBox(tree.frame) : boundingBox(corners);

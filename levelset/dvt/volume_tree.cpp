@@ -35,8 +35,7 @@ Vec3 TreeFrame::centreIndex(const Cell& c) const {
   return {(c.x + 0.5) * s.x - 0.5, (c.y + 0.5) * s.y - 0.5, (c.z + 0.5) * s.z - 0.5};
 }
 
-Vec3 TreeFrame::centreWorld(const Cell& c) const {
-  const Vec3 i = centreIndex(c);
+Vec3 TreeFrame::indexToWorld(const Vec3& i) const {
   return origin + direction * Vec3{i.x * spacing.x, i.y * spacing.y, i.z * spacing.z};
 }
 
@@ -67,13 +66,6 @@ std::uint32_t VolumeTree::maxDepth() const {
   std::uint32_t d = 0;
   for (std::size_t n = 0; n < nodeCount(); ++n) d = std::max(d, cells[2 * n + 1] >> 16);
   return d;
-}
-
-std::size_t VolumeTree::leafAt(const Cell& c) const {
-  std::size_t n = 0;
-  for (std::uint32_t d = 0; !pointers[n].leaf() && d < c.depth; ++d)
-    n = std::size_t(childTowards(c, d) == 0 ? pointers[n].left : pointers[n].right);
-  return n;
 }
 
 std::string treeProblem(const VolumeTree& tree) {

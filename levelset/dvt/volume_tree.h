@@ -61,9 +61,11 @@ struct TreeFrame {
   Mat3 direction;
   std::int64_t voxelsPerAxis() const { return std::int64_t(1) << voxelSplits; }
   std::uint32_t voxelDepth() const { return std::uint32_t(3 * voxelSplits); }  // depth of cells = voxels
+  // A point in voxel index coordinates in the world (as Volume::indexToWorld).
+  Vec3 indexToWorld(const Vec3& index) const;
   // The cell's centre in voxel index coordinates and in the world.
   Vec3 centreIndex(const Cell& c) const;
-  Vec3 centreWorld(const Cell& c) const;
+  Vec3 centreWorld(const Cell& c) const { return indexToWorld(centreIndex(c)); }
   // The cell's size in voxels along each axis (fractional below the voxels).
   Vec3 cellVoxels(std::uint32_t depth) const;
   // Circumradius of a depth-d cell in world units (the largest centre-to-corner distance).
@@ -82,8 +84,6 @@ struct VolumeTree {
   std::size_t leafCount() const;
   std::uint32_t maxDepth() const;
   std::uint64_t bytes() const { return pointers.size() * sizeof(Pointer) + cells.size() * 4; }
-  // The leaf holding `c` (or a coarser leaf containing it).
-  std::size_t leafAt(const Cell& c) const;
   bool operator==(const VolumeTree&) const = default;
 };
 
