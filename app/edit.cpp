@@ -57,27 +57,28 @@ void addEditCommand(CLI::App& app, int& exitCode) {
     const EditInput input = readEditInput(o->input, request);
     Gpu gpu = chooseBackend(o->backend);
     const EditedTree edited = applyEdits(input, request, gpu);
-    r.update(edited.figures());
+    const dvt::VolumeTree tree = edited.tree->tree();
+    r.update(edited.figures(tree));
     r["renderer"] = gpu.renderer;
     r["edits"] = request.steps.size();
     if (toTree) {
-      dvt::writeDvt(o->output, edited.tree->tree());
+      dvt::writeDvt(o->output, tree);
     } else if (toMesh) {
       // On the input's voxels, or finer for a finer edit: at most one halving more (8 times the voxels).
       const std::uint32_t voxels = edited.tree->frame().voxelDepth();
-      const Volume field = dvt::sampleField(edited.tree->tree(), std::clamp(edited.depth, voxels, voxels + 3));
+      const Volume field = dvt::sampleField(tree, std::clamp(edited.depth, voxels, voxels + 3));
       extract::ExtractStats stats;
       const Mesh mesh = extract::extractSurface(field, {.iso = 0.0f, .gpu = gpu.backend == levelset::Backend::Gpu}, &stats);
       if (mesh.faceCount() == 0) throw Error(o->output + ": the edited volume is empty (no surface)", ErrorKind::Failure);
       writeMesh(o->output, mesh);
       r["mesh"] = meshFigures(mesh, stats);
     } else {
-      writeVolume(o->output, editedMask(edited));
+      writeVolume(o->output, dvt::sampleMask(tree, edited.dims));
     }
     if (!o->render.empty()) {
-      viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(edited.tree->tree()), o->size[0], o->size[1], {0.6, 1, -0.5}),
+      viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(tree), o->size[0], o->size[1], {0.6, 1, -0.5}),
                            .mode = o->renderMode == "cubes" ? viewer::DvtRenderMode::Cubes : viewer::DvtRenderMode::RayCast};
-      writePng(o->render, renderEditedTree(edited, view, gpu));
+      writePng(o->render, renderEditedTree(edited, tree, view, gpu));
       r["render"] = o->render;
     }
     logInfo("edit: " + std::to_string(request.steps.size()) + " edits, " + std::to_string(edited.tree->nodeCount()) + " nodes on the " +

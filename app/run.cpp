@@ -248,8 +248,8 @@ void addRunCommand(CLI::App& app, int& exitCode) {
         writeVolume(products.add("mask_edited.nii.gz", "the segmentation after the edits: uint8, 1 inside"), levelset::dvt::sampleMask(tree, volume.dims));
         viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(tree), 800, 600, {1, 0.3, -0.3})};
         writePng(products.add("edited_tree.png", "the edited segmentation, ray cast straight from the volume tree", true),
-                 renderEditedTree(edited, view, gpu));
-        r["edit"] = edited.figures();
+                 renderEditedTree(edited, tree, view, gpu));
+        r["edit"] = edited.figures(tree);
         std::string what;
         for (const EditStep& e : edits.steps) what += std::string(what.empty() ? "" : ", ") + (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") + e.shape;
         r["edit"]["edits"] = what;

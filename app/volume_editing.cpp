@@ -50,8 +50,7 @@ void write(EditedTree& e, const dvt::Solid& solid, dvt::Op op, bool hierarchical
 
 }  // namespace
 
-nlohmann::json EditedTree::figures() const {
-  const dvt::VolumeTree t = tree->tree();
+nlohmann::json EditedTree::figures(const dvt::VolumeTree& t) const {
   return {{"nodes", t.nodeCount()}, {"leaves", t.leafCount()}, {"depth_max", t.maxDepth()}, {"depth", depth},
           {"seconds_write", secondsWrite}, {"seconds_collapse", secondsCollapse}, {"bytes", tree->bytes()},
           {"backend", backend}, {"input_voxels", inputVoxels}};
@@ -148,12 +147,11 @@ void applySteps(EditedTree& e, const EditRequest& request, const std::vector<std
   e.secondsCollapse = secondsSince(begin);
 }
 
-Image renderEditedTree(const EditedTree& e, const viewer::DvtView& view, Gpu& gpu) {
+Image renderEditedTree(const EditedTree& e, const dvt::VolumeTree& streams, const viewer::DvtView& view, Gpu& gpu) {
   gpu.needGl();
-  if (e.backend != "gpu") return viewer::renderTree(e.tree->tree(), view);
+  if (e.backend != "gpu") return viewer::renderTree(streams, view);
   return viewer::renderTree(dvt::gpuTreeBuffers(e.tree->passes()), e.tree->nodeCount(), e.tree->frame(), view);
 }
 
-Volume editedMask(const EditedTree& e) { return dvt::sampleMask(e.tree->tree(), e.dims); }
 
 }  // namespace isoatlas::app

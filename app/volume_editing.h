@@ -44,8 +44,9 @@ struct EditedTree {
   std::string backend;
   double secondsWrite = 0, secondsCollapse = 0;
   std::uint64_t inputVoxels = 0;
-  // nodes, leaves, depth_max, seconds_write, seconds_collapse, bytes, backend, depth, input_voxels
-  nlohmann::json figures() const;
+  // nodes, leaves, depth_max, seconds_write, seconds_collapse, bytes, backend, depth, input_voxels;
+  // `streams`: the tree as tree->tree() gives it (a copy, or a read-back from the GPU: take it once)
+  nlohmann::json figures(const levelset::dvt::VolumeTree& streams) const;
 };
 
 // What an edit starts from, read and checked before any GPU work: one of a volume (mask or phi), a
@@ -67,9 +68,7 @@ EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest&
 // The input's tree with the request's steps applied, then collapsed.
 EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& gpu);
 void applySteps(EditedTree& edited, const EditRequest& request, const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids);
-// A picture of the edited tree: from the GPU tree's own buffers, else its streams uploaded.
-Image renderEditedTree(const EditedTree& edited, const viewer::DvtView& view, Gpu& gpu);
-// The edited tree as a mask (uint8, 1 inside) over the input's voxels.
-Volume editedMask(const EditedTree& edited);
+// A picture of the edited tree: from the GPU tree's own buffers, else `streams` uploaded.
+Image renderEditedTree(const EditedTree& edited, const levelset::dvt::VolumeTree& streams, const viewer::DvtView& view, Gpu& gpu);
 
 }  // namespace isoatlas::app
