@@ -106,14 +106,28 @@ Framebuffer::Framebuffer(int width, int height)
                 ErrorKind::Failure);
 }
 
-Image Framebuffer::readImage() const {
-  const std::vector<unsigned char> rgba = readRgba();
-  Image image(w_, h_, 3);
-  for (int y = 0; y < h_; ++y)
-    for (int x = 0; x < w_; ++x)
+namespace {
+// GL's RGBA rows, bottom to top, as an RGB image with rows top to bottom.
+Image imageOfRows(const std::vector<unsigned char>& rgba, int w, int h) {
+  Image image(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
       for (int c = 0; c < 3; ++c)
-        image.at(x, y)[c] = rgba[(std::size_t(h_ - 1 - y) * std::size_t(w_) + std::size_t(x)) * 4 + std::size_t(c)];
+        image.at(x, y)[c] = rgba[(std::size_t(h - 1 - y) * std::size_t(w) + std::size_t(x)) * 4 + std::size_t(c)];
   return image;
+}
+}  // namespace
+
+Image Framebuffer::readImage() const { return imageOfRows(readRgba(), w_, h_); }
+
+Image readWindowImage(int width, int height) {
+  std::vector<unsigned char> rgba(std::size_t(width) * std::size_t(height) * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  checkErrors("reading the window");
+  return imageOfRows(rgba, width, height);
 }
 
 void Framebuffer::bind() const {

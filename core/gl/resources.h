@@ -113,6 +113,9 @@ private:
   int w_ = 0, h_ = 0;
 };
 
+// The default framebuffer's back buffer (a window's, before it is swapped) as RGB, rows top to bottom.
+Image readWindowImage(int width, int height);
+
 class VertexArray : public Handle<deleteVertexArray> {
 public:
   VertexArray();

@@ -77,19 +77,6 @@ void requireDisplay() {
                 "`isoatlas render` and `isoatlas edit --render` make the same pictures headless");
 }
 
-Image readWindow(int width, int height) {
-  std::vector<unsigned char> rgba(std::size_t(width) * height * 4);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  glReadBuffer(GL_BACK);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  Image image(width, height, 3);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x)
-      for (int c = 0; c < 3; ++c) image.at(x, y)[c] = rgba[(std::size_t(height - 1 - y) * width + x) * 4 + c];
-  return image;
-}
-
 void uploadSlices(VolumeView& v) {
   const Image img = renderSlices(v.volume, v.point);
   std::vector<unsigned char> rgba(std::size_t(img.width) * img.height * 4, 255);
@@ -224,8 +211,8 @@ void runViewer(const ViewerOptions& options) {
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     const bool last = options.frames > 0 && frame + 1 >= options.frames;
-    if (shoot) writePng("isoatlas_view_" + std::to_string(shots++) + ".png", readWindow(width, height));
-    if (last && !options.screenshot.empty()) writePng(options.screenshot, readWindow(width, height));
+    if (shoot) writePng("isoatlas_view_" + std::to_string(shots++) + ".png", gl::readWindowImage(width, height));
+    if (last && !options.screenshot.empty()) writePng(options.screenshot, gl::readWindowImage(width, height));
     glfwSwapBuffers(window);
     if (last) break;
   }
