@@ -1,5 +1,6 @@
 #include "app/options.h"
 
+#include <cmath>
 #include <sstream>
 #include <vector>
 
@@ -9,24 +10,11 @@
 
 namespace isoatlas::app {
 
-std::vector<double> parseNumbers(const std::string& text, const std::string& option, const char* expected) {
-  std::vector<double> numbers;
-  std::stringstream in(text);
-  std::string part;
-  while (std::getline(in, part, ',')) {
-    char* end = nullptr;
-    const double v = std::strtod(part.c_str(), &end);
-    if (part.empty() || *end != '\0' || !std::isfinite(v))
-      throw Error(option + " " + text + ": \"" + part + "\" is not a number (expected " + expected + ")");
-    numbers.push_back(v);
-  }
-  return numbers;
-}
-
-Vec3 parsePoint(const std::string& text, const std::string& option) {
-  const std::vector<double> numbers = parseNumbers(text, option, "X,Y,Z");
-  if (numbers.size() != 3) throw Error(option + " " + text + ": expected X,Y,Z");
-  return {numbers[0], numbers[1], numbers[2]};
+std::array<int, 2> parseSize(const std::string& text) {
+  const std::vector<double> v = parseNumbers(text, "--size", "W,H");
+  require(v.size() == 2 && v[0] == std::floor(v[0]) && v[1] == std::floor(v[1]) && v[0] >= 1 && v[1] >= 1 && v[0] <= 8192 && v[1] <= 8192,
+          "--size " + text + ": expected W,H, whole pixels from 1 to 8192");
+  return {int(v[0]), int(v[1])};
 }
 
 Ball parseBall(const std::string& text, const std::string& option, double defaultRadius) {

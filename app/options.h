@@ -6,6 +6,7 @@
 
 #include "core/gl/context.h"
 
+#include "core/numbers.h"
 #include "core/vec.h"
 #include "core/volume.h"
 #include "levelset/level_set.h"
@@ -16,12 +17,10 @@ struct Ball {
   Vec3 centre;
   double radius;
 };
-// "A,B,C...": comma-separated finite numbers; throws Error naming `option` and `expected` on bad text.
-std::vector<double> parseNumbers(const std::string& text, const std::string& option, const char* expected);
 // "X,Y,Z" or "X,Y,Z,R" (R defaults to defaultRadius); throws Error naming `option` on bad text.
 Ball parseBall(const std::string& text, const std::string& option, double defaultRadius);
-// "X,Y,Z"; throws Error naming `option` on bad text.
-Vec3 parsePoint(const std::string& text, const std::string& option);
+// "W,H": whole pixels from 1 to 8192; throws Error naming --size otherwise.
+std::array<int, 2> parseSize(const std::string& text);
 // Throws Error unless the voxel index lies inside the volume.
 void requireInside(const Volume& v, const Vec3& index, const std::string& what);
 

@@ -42,13 +42,6 @@ viewer::Camera parseCamera(const std::string& text, int width, int height) {
   return c;
 }
 
-std::array<int, 2> parseSize(const std::string& text) {
-  const std::vector<double> v = parseNumbers(text, "--size", "W,H");
-  require(v.size() == 2 && v[0] == std::floor(v[0]) && v[1] == std::floor(v[1]) && v[0] >= 1 && v[1] >= 1 && v[0] <= 8192 && v[1] <= 8192,
-          "--size " + text + ": expected W,H, whole pixels from 1 to 8192");
-  return {int(v[0]), int(v[1])};
-}
-
 // "grid:NxN" -> N
 int parseGrid(const std::string& text) {
   int n = 0, m = 0;

@@ -2,11 +2,31 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdio>
+#include <mutex>
 
 namespace isoatlas {
 namespace {
 bool g_quiet = false;
+std::mutex g_observerMutex;
+Progress::Observer g_observer;
+std::atomic<bool> g_observed{false};  // skips the clock and the lock when nobody listens
+}  // namespace
+
+void Progress::setObserver(Observer observer) {
+  const std::lock_guard lock(g_observerMutex);
+  g_observer = std::move(observer);
+  g_observed = bool(g_observer);
+}
+
+void Progress::notify(bool final) {
+  if (!g_observed) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (!final && now - lastNotify_ < std::chrono::milliseconds(50)) return;
+  lastNotify_ = now;
+  const std::lock_guard lock(g_observerMutex);
+  if (g_observer) g_observer(task_, final || !total_ ? 1.0 : double(done_) / double(total_));
 }
 
 void Progress::setQuiet(bool quiet) { g_quiet = quiet; }
@@ -18,13 +38,15 @@ void logInfo(const std::string& line) {
 
 Progress::Progress(std::string task, std::uint64_t total, std::string unit)
     : task_(std::move(task)), unit_(std::move(unit)), total_(total), start_(std::chrono::steady_clock::now()),
-      lastPrint_(start_), tty_(isatty(STDERR_FILENO) == 1) {}
+      lastPrint_(start_), lastNotify_(start_), tty_(isatty(STDERR_FILENO) == 1) {}
 
 Progress::~Progress() { finish(); }
 
 void Progress::update(std::uint64_t done) {
   done_ = done;
-  if (g_quiet || finished_) return;
+  if (finished_) return;
+  notify(false);
+  if (g_quiet) return;
   const auto now = std::chrono::steady_clock::now();
   const auto interval = tty_ ? std::chrono::milliseconds(100) : std::chrono::milliseconds(5000);
   if (now - lastPrint_ < interval) return;
@@ -35,6 +57,7 @@ void Progress::update(std::uint64_t done) {
 void Progress::finish() {
   if (finished_) return;
   finished_ = true;
+  notify(true);
   if (!g_quiet) print(true);
 }
 

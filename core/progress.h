@@ -3,6 +3,7 @@
 #pragma once
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 namespace isoatlas {
@@ -16,12 +17,17 @@ public:
 
   static void setQuiet(bool quiet);
   static bool quiet();
+  // Also tells `observer` (task, fraction done) at most every 50 ms and when finished, from whichever
+  // thread updates: a window's progress bar for work it runs in the background. Empty: none.
+  using Observer = std::function<void(const std::string& task, double fraction)>;
+  static void setObserver(Observer observer);
 
 private:
   void print(bool final);
   std::string task_, unit_;
   std::uint64_t total_, done_ = 0;
-  std::chrono::steady_clock::time_point start_, lastPrint_;
+  void notify(bool final);
+  std::chrono::steady_clock::time_point start_, lastPrint_, lastNotify_;
   bool tty_, finished_ = false;
 };
 

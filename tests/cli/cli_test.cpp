@@ -73,6 +73,11 @@ TEST(Cli, ViewWithoutADisplaySaysSoAndExitsTwo) {
   EXPECT_EQ(lines(message), 1u) << message;
   EXPECT_NE(message.find("needs a display"), std::string::npos) << message;
   expectBadInput("view " + (dir / "missing.dvt").string(), "missing.dvt");
+  // A script is read whole before any window: a bad line is named, with or without a display.
+  const auto script = dir / "actions.txt";
+  std::ofstream(script) << "seed 1,2,3,4\nrun many\n";
+  expectBadInput("view " + mask + " --script " + script.string(), "actions.txt:2: run");
+  expectBadInput("view " + mask + " --size 10", "--size");
 }
 
 TEST(Cli, InfoOnAVolumeWritesAReport) {

@@ -2,6 +2,8 @@
 // and saved; the pictures show what was loaded where it should be.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "core/error.h"
 #include "core/image.h"
 #include "core/volume_io.h"
@@ -12,23 +14,31 @@
 #include "levelset/dvt/volume_solid.h"
 #include "tests/multires/mesh_shapes.h"
 #include "tests/test_util.h"
+#include "tests/viewer/head_phantom.h"
 #include "tests/viewer/test_models.h"
+#include "viewer/app/orbit.h"
+#include "viewer/scene.h"
+#include "viewer/slice_render.h"
+#include "atlas/model_file.h"
+#include "core/gl/context.h"
+#include "core/gl/resources.h"
 #include "viewer/app/viewer_app.h"
 
 namespace isoatlas::viewer {
 namespace {
 
-// Pixels of the window's middle third that differ from the white background.
+// Pixels of the view area's middle third (left of the controls) that differ from the white background.
 double coveredMiddle(const Image& image) {
+  const int viewWidth = image.width - kControlsWidth;
   std::int64_t n = 0, all = 0;
   for (int y = image.height / 3; y < 2 * image.height / 3; ++y)
-    for (int x = image.width / 3; x < 2 * image.width / 3; ++x, ++all) n += image.at(x, y)[0] < 240 || image.at(x, y)[2] < 240;
+    for (int x = viewWidth / 3; x < 2 * viewWidth / 3; ++x, ++all) n += image.at(x, y)[0] < 240 || image.at(x, y)[2] < 240;
   return double(n) / double(all);
 }
 
 Image shoot(const std::string& file, const std::filesystem::path& dir) {
   const std::string png = (dir / (std::filesystem::path(file).filename().string() + ".png")).string();
-  runViewer({.files = {file}, .frames = 3, .screenshot = png, .width = 480, .height = 360});
+  runViewer({.files = {file}, .frames = 3, .screenshot = png, .width = 800, .height = 480, .backend = "cpu"});
   return readPng(png);
 }
 
@@ -43,11 +53,141 @@ TEST(ViewWindow, ShowsAModelATreeAndAVolume) {
   writeVolume(volume, test::rampVolume(ScalarType::UInt8, {30, 20, 10}));
 
   const Image m = shoot(model, dir), b = shoot(tree, dir), v = shoot(volume, dir);
-  EXPECT_EQ(m.width, 480);
+  EXPECT_EQ(m.width, 800);
   EXPECT_GT(coveredMiddle(m), 0.2) << "the torus fills the middle of the window";
   EXPECT_GT(coveredMiddle(b), 0.5) << "the ball fills the middle of the window";
-  EXPECT_GT(coveredMiddle(v), 0.05) << "the slices are shown";
+  const int n = slicePanelSize(v.width, v.height);
+  std::int64_t slicePixels = 0;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < 3 * n; ++x) slicePixels += v.at(x, y)[0] != 255 || v.at(x, y)[1] != 255;
+  EXPECT_GT(double(slicePixels) / (3.0 * n * n), 0.5) << "the slices are shown across the top";
   EXPECT_THROW(runViewer({.files = {model}, .frames = 1, .screenshot = "x.jpg"}), Error);
+}
+
+}  // namespace
+}  // namespace isoatlas::viewer
+
+namespace isoatlas::viewer {
+namespace {
+
+// The window's view area: everything left of the controls.
+bool isBackground(const std::uint8_t* p) { return p[0] > 245 && p[1] > 245 && p[2] > 245; }
+
+// A scripted session as a user would have it on a head: probe the brain, seed it, widen eps, run
+// 50 steps, brush a hole, look at the tree, build the model, change levels; each screenshot is
+// checked against what the session did.
+TEST(ViewWindow, ReplaysAScriptedSession) {
+  const auto dir = test::scratchDir();
+  const test::HeadPhantom head = test::headPhantom();
+  const std::string volume = (dir / "head.nii.gz").string();
+  writeVolume(volume, head.image);
+  const auto p = [&](const char* name) { return (dir / name).string(); };
+  const std::string script = p("session.txt");
+  std::ofstream(script) << "probe 0,0,0,4.5\nseed 0,0,0,6\nset eps 30\nrun 50\nscreenshot " << p("segment.png") << "\nsave-mask "
+                        << p("mask.nii.gz") << "\nbrush subtract sphere:12,0,0,7.5\nsave-mask " << p("brushed.nii.gz")
+                        << "\nmode tree\nscreenshot " << p("tree.png") << "\nmode segment\nbuild\nlevels 2 1\nscreenshot "
+                        << p("mesh.png") << "\nsave-model " << p("model.isoatlas") << "\nquit\n";
+  const int width = 880, height = 520;
+  const ViewerReport report = runViewer({.files = {volume}, .script = script, .width = width, .height = height, .backend = "cpu",
+                                         .buildModel = [](const Mesh& surface) { return test::buildModel(surface, 0.05, 9); }});
+  for (const auto& [mode, f] : report.modes)
+    std::printf("frame time, %s: %d frames, mean %.1f ms, max %.1f ms\n", mode.c_str(), f.frames, f.meanMs, f.maxMs);
+  EXPECT_EQ(report.iterations, 50);
+  EXPECT_EQ(report.modes.count("segment") + report.modes.count("tree") + report.modes.count("mesh"), 3u);
+
+  // The segmentation: 50 steps from the seed fill most of the brain.
+  const Volume mask = readVolume(p("mask.nii.gz"));
+  std::int64_t both = 0, inMask = 0, inTruth = 0;
+  for (std::size_t n = 0; n < mask.voxelCount(); ++n) {
+    both += mask.value(n) > 0 && head.brain.value(n) > 0;
+    inMask += mask.value(n) > 0, inTruth += head.brain.value(n) > 0;
+  }
+  EXPECT_GT(2.0 * double(both) / double(inMask + inTruth), 0.8) << "Dice with the brain";
+
+  // The contour on the slices lies where the mask changes: each contour pixel's nearest voxel has
+  // inside and outside voxels among its 26 neighbours.
+  const Image seg = readPng(p("segment.png"));
+  ASSERT_EQ(seg.width, width);
+  const int n = slicePanelSize(width, height);
+  const SliceLayout layout(head.image, volumeCentre(head.image), n);
+  std::int64_t contour = 0, onBoundary = 0;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < 3 * n; ++x) {
+      const std::uint8_t* c = seg.at(x, y);
+      if (c[0] != kContourColour[0] || c[1] != kContourColour[1] || c[2] != kContourColour[2]) continue;
+      ++contour;
+      const Vec3 ijk = head.image.worldToIndex(layout.world(x / n, x % n + 0.5, y + 0.5));
+      bool in = false, out = false;
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const auto i = std::lround(ijk.x) + dx, j = std::lround(ijk.y) + dy, k = std::lround(ijk.z) + dz;
+            if (i < 0 || j < 0 || k < 0 || i >= mask.dims[0] || j >= mask.dims[1] || k >= mask.dims[2]) continue;
+            (mask.at(i, j, k) > 0 ? in : out) = true;
+          }
+      onBoundary += in && out;
+    }
+  std::printf("contour pixels %lld, on the boundary %lld\n", (long long)contour, (long long)onBoundary);
+  EXPECT_GT(contour, 3 * n / 2) << "a contour in each slice";
+  EXPECT_GT(double(onBoundary), 0.97 * double(contour)) << "the contour lies on the mask's boundary";
+
+  // The brush carved a ball out of the mask and left the rest as it was.
+  const Volume brushed = readVolume(p("brushed.nii.gz"));
+  std::int64_t carved = 0, leftInBall = 0, changed = 0;
+  for (std::int64_t k = 0; k < mask.dims[2]; ++k)
+    for (std::int64_t j = 0; j < mask.dims[1]; ++j)
+      for (std::int64_t i = 0; i < mask.dims[0]; ++i) {
+        const std::size_t v = mask.index(i, j, k);
+        const bool inBall = norm(head.image.indexToWorld({double(i), double(j), double(k)}) - Vec3{12, 0, 0}) < 7.5;
+        if (inBall) {
+          carved += mask.value(v) > 0;
+          leftInBall += brushed.value(v) != 0;
+        } else {
+          changed += brushed.value(v) != mask.value(v);
+        }
+      }
+  EXPECT_GT(carved, 200);
+  EXPECT_EQ(leftInBall, 0);
+  EXPECT_EQ(changed, 0);
+
+  // The tree view shows the brushed segmentation; the mesh view shows the model where it projects.
+  const Image tree = readPng(p("tree.png"));
+  std::int64_t treeCovered = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width - kControlsWidth; ++x) treeCovered += !isBackground(tree.at(x, y));
+  EXPECT_GT(double(treeCovered) / double((width - kControlsWidth) * height), 0.05);
+
+  const atlas::Model model = atlas::readModel(p("model.isoatlas"));
+  const Image mesh = readPng(p("mesh.png"));
+  auto context = gl::Context::headless();
+  const int viewWidth = width - kControlsWidth;
+  Scene scene({&model});
+  AtlasRenderer renderer;
+  gl::Framebuffer target(viewWidth, height);
+  drawFrame(scene, renderer, {.mode = CpuRefinement::Mode::Level, .level = 2}, {.mode = GpuRefinement::Mode::Level, .halvings = 1},
+            Orbit{}.camera(scene.bounds(), viewWidth, height), {}, target);
+  const Image expected = target.readImage();
+  std::int64_t inBoth = 0, inEither = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < viewWidth; ++x) {
+      const bool a = !isBackground(mesh.at(x, y)), b = !isBackground(expected.at(x, y));
+      inBoth += a && b, inEither += a || b;
+    }
+  ASSERT_GT(inEither, 1000);
+  EXPECT_GT(double(inBoth) / double(inEither), 0.97) << "the window draws the model where the headless renderer does";
+}
+
+TEST(ViewWindow, AScriptErrorNamesItsLine) {
+  const auto dir = test::scratchDir();
+  const std::string volume = (dir / "head.nii.gz").string(), script = (dir / "bad.txt").string();
+  writeVolume(volume, test::headPhantom().image);
+  std::ofstream(script) << "seed 0,0,0,6\nprobe 900,0,0\nquit\n";
+  try {
+    runViewer({.files = {volume}, .script = script, .width = 640, .height = 400, .backend = "cpu"});
+    ADD_FAILURE() << "a probe outside the volume was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.txt:2:"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

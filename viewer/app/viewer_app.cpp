@@ -8,11 +8,13 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
 #include <optional>
 
+#include "atlas/atlas_previews.h"
 #include "atlas/model_file.h"
 #include "core/error.h"
 #include "core/gl/context.h"
@@ -20,53 +22,89 @@
 #include "core/gz_file.h"
 #include "core/image.h"
 #include "core/volume_io.h"
+#include "extract/extract_surface.h"
 #include "levelset/dvt/dvt_file.h"
+#include "viewer/app/brush_edit.h"
+#include "viewer/app/image_panel.h"
+#include "viewer/app/orbit.h"
+#include "viewer/app/segmentation_session.h"
+#include "viewer/app/view_script.h"
 #include "viewer/dvt_render.h"
+#include "viewer/mesh_render.h"
 #include "viewer/scene.h"
 #include "viewer/slice_render.h"
 
 namespace isoatlas::viewer {
 namespace {
 
-// The camera orbiting a box: angles about its centre, distance in its diagonals.
-struct Orbit {
-  double yaw = -1.57, pitch = 0.25, distance = 1.6;
-  Camera camera(const Box& box, int width, int height) const {
-    const Vec3 centre = (box.min + box.max) * 0.5;
-    const double r = distance * std::max(box.diagonal(), 1e-6);
-    Camera c;
-    c.target = centre;
-    c.eye = centre + Vec3{std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch)} * r;
-    c.width = width, c.height = height;
-    return c;
-  }
-  void drag(double dx, double dy) {
-    yaw -= dx * 0.01;
-    pitch = std::clamp(pitch + dy * 0.01, -1.5, 1.5);
-  }
+namespace dvt = levelset::dvt;
+
+constexpr int kPanelWidth = kControlsWidth;
+
+enum class Mode { Segment, Mesh, Tree };
+const char* modeName(Mode m) { return m == Mode::Segment ? "segment" : m == Mode::Mesh ? "mesh" : "tree"; }
+enum class Tool { Navigate, Probe, SeedIn, SeedOut, Brush };
+enum class BrushShape { Sphere, Box, Capsule };
+
+// A file as read before any window opens, so that a bad one is one line.
+struct Loaded {
+  std::string file;
+  std::optional<Volume> volume;
+  std::optional<atlas::Model> model;
+  std::optional<dvt::VolumeTree> tree;
+};
+Loaded load(const std::string& file) {
+  Loaded l{.file = file};
+  if (endsWith(file, ".isoatlas"))
+    l.model = atlas::readModel(file);
+  else if (endsWith(file, ".dvt"))
+    l.tree = dvt::readDvt(file);
+  else
+    l.volume = readVolume(file);
+  return l;
+}
+
+struct SegmentView {
+  std::unique_ptr<SegmentationSession> session;
+  std::string file;
+  IntensityWindow window;
+  ValueRange range;
+  Vec3 point;
+  bool contour = true, speed = false, crosshair = true;
+  Tool tool = Tool::Navigate;
+  float probeRadius = 3, seedRadius = 6, brushSize = 8;
+  BrushShape brushShape = BrushShape::Sphere;
+  bool brushUnion = false;
+  // The slices as last drawn, and what they showed.
+  ImagePanel slices;
+  bool slicesDirty = true;
+  std::uint64_t slicesVersion = ~0ull;
+  int panelSize = 0;
+  // The level set's surface, extracted from its pages now and then.
+  ImagePanel surface;
+  std::uint64_t surfaceVersion = ~0ull;
+  bool surfaceDirty = true;
+  std::chrono::steady_clock::time_point surfaceAt;
+  Orbit orbit;
 };
 
-// What the window shows: one of these, from the file's kind.
 struct ModelView {
+  std::string name;
   atlas::Model model;
   std::unique_ptr<Scene> scene;
-  std::unique_ptr<AtlasRenderer> renderer;
   int cpuLevel = 2, gpuHalvings = 1;
-  bool wire = false, chartColours = false;
+  bool viewDependent = false, wire = false, chartColours = false, grid = false;
+  ImagePanel atlasPreview;
+  Orbit orbit;
 };
+
 struct TreeView {
-  levelset::dvt::VolumeTree tree;
+  std::string name;
+  dvt::VolumeTree tree;
   std::unique_ptr<gl::Buffer> pointers, cells;
-  std::unique_ptr<DvtRenderer> renderer;
   Box box;
   bool cubes = false;
-};
-struct VolumeView {
-  Volume volume;
-  Vec3 point;
-  std::unique_ptr<gl::Texture> slices;
-  int width = 0, height = 0;
-  bool dirty = true;
+  Orbit orbit;
 };
 
 void requireDisplay() {
@@ -77,152 +115,566 @@ void requireDisplay() {
                 "`isoatlas render` and `isoatlas edit --render` make the same pictures headless");
 }
 
-void uploadSlices(VolumeView& v) {
-  const Image img = renderSlices(v.volume, v.point);
-  std::vector<unsigned char> rgba(std::size_t(img.width) * img.height * 4, 255);
-  for (std::size_t i = 0; i < std::size_t(img.width) * img.height; ++i)
-    for (int c = 0; c < 3; ++c) rgba[4 * i + c] = img.pixels[3 * i + c];
-  v.slices = std::make_unique<gl::Texture>(gl::Texture::texture2D(GL_RGBA8, img.width, img.height));
-  glTextureSubImage2D(v.slices->id(), 0, 0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  v.width = img.width, v.height = img.height;
-  v.dirty = false;
+levelset::Backend chooseSolver(const std::string& choice, const gl::Context& context) {
+  require(choice == "gpu" || choice == "cpu" || choice == "auto", "--backend " + choice + ": expected gpu, cpu or auto");
+  if (choice == "auto") return context.info().software() ? levelset::Backend::Cpu : levelset::Backend::Gpu;
+  return choice == "gpu" ? levelset::Backend::Gpu : levelset::Backend::Cpu;
 }
+
+std::string formatPoint(const Vec3& p) {
+  char text[96];
+  std::snprintf(text, sizeof text, "%.1f,%.1f,%.1f", p.x, p.y, p.z);
+  return text;
+}
+
+// The window's state and every action on it; the mouse, the panels and the script all go through these.
+class Viewer {
+public:
+  Viewer(gl::Context& context, const ViewerOptions& options)
+      : context_(context), options_(options), backend_(chooseSolver(options.backend, context)), dvtRenderer_(context) {}
+
+  // ---- actions (throw Error on bad input; the panels show it, the script stops with it) ----
+  void show(Loaded loaded) {
+    if (loaded.volume) {
+      segment_.emplace();
+      segment_->file = loaded.file;
+      segment_->window = percentileWindow(*loaded.volume, 1, 99.5);
+      segment_->range = valueRange(*loaded.volume);
+      segment_->point = volumeCentre(*loaded.volume);
+      segment_->session = std::make_unique<SegmentationSession>(std::move(*loaded.volume), backend_);
+      mode_ = Mode::Segment;
+    } else if (loaded.model) {
+      showModel(std::move(*loaded.model), loaded.file);
+    } else if (loaded.tree) {
+      showTree(std::move(*loaded.tree), loaded.file);
+    }
+  }
+  void setMode(const std::string& name) {
+    const Mode m = name == "segment" ? Mode::Segment : name == "mesh" ? Mode::Mesh : Mode::Tree;
+    require(m != Mode::Segment || segment_, "mode segment: open a volume first");
+    require(m != Mode::Mesh || model_, "mode mesh: open a model (.isoatlas) or build one from the segmentation first");
+    require(m != Mode::Tree || tree_, "mode tree: open a tree (.dvt) or brush the segmentation first");
+    mode_ = m;
+  }
+  void slice(const Vec3& p) {
+    seg().point = p;
+    seg().slicesDirty = true;
+  }
+  void probe(const Vec3& p, double radius) {
+    const auto r = seg().session->probe(p, radius);
+    status_ = "probe at " + formatPoint(p) + ": T " + std::to_string(r.mean) + ", eps " + std::to_string(r.std);
+  }
+  void seed(const Vec3& p, double radius, bool add) {
+    seg().session->seed(p, radius, add);
+    status_ = std::string(add ? "seed" : "unseed") + " at " + formatPoint(p);
+  }
+  void set(const std::string& parameter, double value) {
+    levelset::SpeedParams p = seg().session->params();
+    (parameter == "t" ? p.target : parameter == "eps" ? p.width : p.alpha) = float(value);
+    seg().session->setParams(p);
+  }
+  void run(int steps) { seg().session->requestSteps(steps); }
+  void undo() { seg().session->undo(); }
+  void brush(const std::string& shape, bool add) {
+    const auto solid = dvt::parseBrush(shape);
+    BrushResult r = brushSegmentation(seg().session->levelSet(), *solid, add ? dvt::Op::Union : dvt::Op::Subtract,
+                                      backend_ == levelset::Backend::Gpu ? &context_ : nullptr);
+    seg().session->replaceMask(r.mask);
+    showTree(r.tree->tree(), "brushed segmentation");
+    mode_ = Mode::Segment;
+    status_ = std::string(add ? "union " : "subtract ") + shape + ": " + std::to_string(tree_->tree.nodeCount()) + " nodes";
+  }
+  void build() {
+    require(bool(options_.buildModel), "build: this window was opened without the model builder");
+    require(!job_, "build: a model is being built already");
+    SegmentationSession& s = *seg().session;
+    require(s.activePages() > 0, "build: the segmentation is empty (seed it first)");
+    Mesh surface = extract::extractLevelSet(s.levelSet(), {.largestComponent = true, .gpu = backend_ == levelset::Backend::Gpu});
+    require(surface.faceCount() > 0, "build: the segmentation has no surface");
+    job_ = std::make_unique<ModelJob>(std::move(surface), options_.buildModel);
+    status_ = "building the model";
+  }
+  void levels(int cpu, int gpu) {
+    mod().cpuLevel = cpu, mod().gpuHalvings = gpu;
+    mod().viewDependent = false;
+  }
+  void wireframe(bool on) { mod().wire = on; }
+  void treeRender(bool cubes) {
+    require(bool(tree_), "render: no tree is open");
+    tree_->cubes = cubes;
+  }
+  void saveMask(const std::string& path) {
+    seg().session->saveMask(path);
+    status_ = "saved " + path;
+  }
+  void saveModel(const std::string& path) {
+    atlas::writeModel(path, mod().model);
+    status_ = "saved " + path;
+  }
+
+  // ---- the frame ----
+  // Takes the finished build, steps the solver within the frame's budget.
+  void update() {
+    if (job_ && job_->done()) {
+      std::unique_ptr<ModelJob> job = std::move(job_);
+      try {
+        showModel(job->take(), "built from " + seg().file);
+        status_ = "model built in " + std::to_string(int(job->seconds())) + " s";
+      } catch (const std::exception& e) {
+        buildError_ = e.what();
+        status_ = std::string("build failed: ") + e.what();
+      }
+    }
+    if (segment_) segment_->session->advance(25);
+  }
+  bool busy() const { return (segment_ && segment_->session->running()) || job_; }
+  // An error the last build left for the script, once.
+  std::string takeBuildError() { return std::exchange(buildError_, {}); }
+  Mode mode() const { return mode_; }
+
+  void drawPanel(int width, int height, bool& screenshot, bool& quit);
+  void drawView(int width, int height);
+  void handleMouse(GLFWwindow* window, int width, int height);
+  int iterations() const { return segment_ ? segment_->session->iterations() : 0; }
+  std::string backendName() const { return segment_ ? segment_->session->levelSet().backendName() : ""; }
+
+private:
+  SegmentView& seg() {
+    require(bool(segment_), "no volume is open (open one to segment it)");
+    return *segment_;
+  }
+  ModelView& mod() {
+    require(bool(model_), "no model is open (open a .isoatlas or build one)");
+    return *model_;
+  }
+  void showModel(atlas::Model model, const std::string& name) {
+    model_.reset();
+    model_.emplace();
+    model_->name = name;
+    model_->model = std::move(model);
+    model_->scene = std::make_unique<Scene>(std::vector<const atlas::Model*>{&model_->model});
+    model_->atlasPreview.set(atlas::positionPreview(model_->model.atlas));
+    mode_ = Mode::Mesh;
+  }
+  void showTree(dvt::VolumeTree tree, const std::string& name) {
+    tree_.emplace();
+    tree_->name = name;
+    tree_->tree = std::move(tree);
+    tree_->box = insideBounds(tree_->tree);
+    tree_->pointers = std::make_unique<gl::Buffer>(gl::Buffer::of(tree_->tree.pointers));
+    tree_->cells = std::make_unique<gl::Buffer>(gl::Buffer::of(tree_->tree.cells));
+    mode_ = Mode::Tree;
+  }
+  // UI calls: an error becomes the status line.
+  template <class F>
+  void attempt(F&& f) {
+    try {
+      f();
+    } catch (const std::exception& e) {
+      status_ = e.what();
+    }
+  }
+  std::string brushText(const Vec3& at) const;
+  void segmentPanel();
+  void modelPanel();
+  void drawSegment(int width, int height);
+  Image surfacePicture(int width, int height);
+
+  gl::Context& context_;
+  const ViewerOptions& options_;
+  levelset::Backend backend_;
+  DvtRenderer dvtRenderer_;
+  AtlasRenderer atlasRenderer_;
+  std::optional<SegmentView> segment_;
+  std::optional<ModelView> model_;
+  std::optional<TreeView> tree_;
+  std::unique_ptr<ModelJob> job_;
+  std::unique_ptr<gl::Framebuffer> target_;
+  Mode mode_ = Mode::Segment;
+  std::string status_, buildError_;
+  char pathField_[256] = "";
+  bool leftWasDown_ = false;
+  double lastX_ = 0, lastY_ = 0;
+};
+
+std::string Viewer::brushText(const Vec3& c) const {
+  const double s = segment_->brushSize;
+  char text[200];
+  switch (segment_->brushShape) {
+    case BrushShape::Sphere: std::snprintf(text, sizeof text, "sphere:%g,%g,%g,%g", c.x, c.y, c.z, s); break;
+    case BrushShape::Box:
+      std::snprintf(text, sizeof text, "box:%g,%g,%g,%g,%g,%g", c.x - s, c.y - s, c.z - s, c.x + s, c.y + s, c.z + s);
+      break;
+    case BrushShape::Capsule:  // upright, as long as it is wide
+      std::snprintf(text, sizeof text, "capsule:%g,%g,%g,%g,%g,%g,%g", c.x, c.y, c.z - s, c.x, c.y, c.z + s, s / 2);
+      break;
+  }
+  return text;
+}
+
+void Viewer::segmentPanel() {
+  SegmentView& s = *segment_;
+  SegmentationSession& session = *s.session;
+  ImGui::TextUnformatted(s.file.c_str());
+  const bool running = session.running();
+  if (ImGui::Button(running ? "pause" : "run")) running ? session.pause() : session.start();
+  ImGui::SameLine();
+  if (ImGui::Button("step")) session.requestSteps(1);
+  ImGui::SameLine();
+  if (ImGui::Button("undo") && session.canUndo()) session.undo();
+  ImGui::Text("%d steps, %.1f steps/s, %lld active pages (%s)", session.iterations(), running ? session.stepsPerSecond() : 0.0,
+              (long long)session.activePages(), session.levelSet().backendName().c_str());
+  levelset::SpeedParams p = session.params();
+  const float lo = float(s.range.min), hi = float(s.range.max);
+  bool changed = ImGui::SliderFloat("T", &p.target, lo, hi);
+  changed |= ImGui::SliderFloat("eps", &p.width, std::max(1e-3f, (hi - lo) * 1e-3f), std::max(1e-3f, (hi - lo) / 2));
+  changed |= ImGui::SliderFloat("alpha", &p.alpha, 0, 1);
+  if (changed) attempt([&] { session.setParams(p); });
+  ImGui::Separator();
+  ImGui::TextUnformatted("click on a slice to:");
+  int tool = int(s.tool);
+  ImGui::RadioButton("move the slices", &tool, int(Tool::Navigate));
+  ImGui::SameLine();
+  ImGui::RadioButton("probe", &tool, int(Tool::Probe));
+  ImGui::RadioButton("seed in", &tool, int(Tool::SeedIn));
+  ImGui::SameLine();
+  ImGui::RadioButton("seed out", &tool, int(Tool::SeedOut));
+  ImGui::SameLine();
+  ImGui::RadioButton("brush", &tool, int(Tool::Brush));
+  s.tool = Tool(tool);
+  ImGui::SliderFloat("probe radius (mm)", &s.probeRadius, 1, 20);
+  ImGui::SliderFloat("seed radius (mm)", &s.seedRadius, 1, 40);
+  int shape = int(s.brushShape);
+  ImGui::RadioButton("sphere", &shape, 0);
+  ImGui::SameLine();
+  ImGui::RadioButton("box", &shape, 1);
+  ImGui::SameLine();
+  ImGui::RadioButton("capsule", &shape, 2);
+  s.brushShape = BrushShape(shape);
+  ImGui::SliderFloat("brush size (mm)", &s.brushSize, 1, 60);
+  ImGui::Checkbox("brush adds (else carves)", &s.brushUnion);
+  ImGui::Separator();
+  s.slicesDirty |= ImGui::Checkbox("contour", &s.contour);
+  ImGui::SameLine();
+  s.slicesDirty |= ImGui::Checkbox("speed", &s.speed);
+  ImGui::SameLine();
+  s.slicesDirty |= ImGui::Checkbox("crosshair", &s.crosshair);
+  ImGui::InputText("file", pathField_, sizeof pathField_);
+  if (ImGui::Button("save mask")) attempt([&] { saveMask(*pathField_ ? pathField_ : "mask.nii.gz"); });
+  ImGui::SameLine();
+  if (job_) {
+    const auto [task, fraction] = job_->progress();
+    ImGui::ProgressBar(float(fraction), ImVec2(-1, 0), task.c_str());
+  } else if (ImGui::Button("extract and build the model")) {
+    attempt([&] { build(); });
+  }
+}
+
+void Viewer::modelPanel() {
+  ModelView& m = *model_;
+  ImGui::TextUnformatted(m.name.c_str());
+  ImGui::Checkbox("view-dependent (screen error)", &m.viewDependent);
+  if (!m.viewDependent) {
+    ImGui::SliderInt("CPU level", &m.cpuLevel, 0, 8);
+    ImGui::SliderInt("GPU halvings", &m.gpuHalvings, 0, 4);
+  }
+  ImGui::Checkbox("wireframe", &m.wire);
+  ImGui::SameLine();
+  ImGui::Checkbox("chart colours", &m.chartColours);
+  if (ImGui::Checkbox("grid of 5 x 5", &m.grid)) {
+    m.scene = std::make_unique<Scene>(std::vector<const atlas::Model*>{&m.model});
+    if (m.grid) m.scene->grid(5);
+  }
+  if (ImGui::Button("save model")) attempt([&] { saveModel(*pathField_ ? pathField_ : "model.isoatlas"); });
+  if (ImGui::CollapsingHeader("atlas") && !m.atlasPreview.empty()) {
+    const float w = float(kPanelWidth - 20), h = w * float(m.atlasPreview.height()) / float(std::max(1, m.atlasPreview.width()));
+    ImGui::Image(ImTextureID(std::intptr_t(m.atlasPreview.texture())), ImVec2(w, h));
+  }
+}
+
+void Viewer::drawPanel(int width, int height, bool& screenshot, bool& quit) {
+  ImGui::SetNextWindowPos(ImVec2(float(width - kPanelWidth), 0));
+  ImGui::SetNextWindowSize(ImVec2(float(kPanelWidth), float(height)));
+  ImGui::Begin("isoatlas", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_MenuBar);
+  if (ImGui::BeginMenuBar()) {
+    if (ImGui::BeginMenu("File")) {
+      if (ImGui::MenuItem("Open the file named below") && *pathField_) attempt([&] { show(load(pathField_)); });
+      if (ImGui::MenuItem("Screenshot", "P")) screenshot = true;
+      if (ImGui::MenuItem("Quit")) quit = true;
+      ImGui::EndMenu();
+    }
+    ImGui::EndMenuBar();
+  }
+  int mode = int(mode_);
+  if (segment_) ImGui::RadioButton("segment", &mode, int(Mode::Segment)), ImGui::SameLine();
+  if (model_) ImGui::RadioButton("mesh", &mode, int(Mode::Mesh)), ImGui::SameLine();
+  if (tree_) ImGui::RadioButton("tree", &mode, int(Mode::Tree)), ImGui::SameLine();
+  ImGui::NewLine();
+  mode_ = Mode(mode);
+  ImGui::Separator();
+  if (mode_ == Mode::Segment && segment_) segmentPanel();
+  if (mode_ == Mode::Mesh && model_) modelPanel();
+  if (mode_ == Mode::Tree && tree_) {
+    ImGui::TextUnformatted(tree_->name.c_str());
+    ImGui::Text("%zu nodes, %zu leaves, depth %u", tree_->tree.nodeCount(), tree_->tree.leafCount(), tree_->tree.maxDepth());
+    ImGui::Checkbox("cubes (else ray cast)", &tree_->cubes);
+  }
+  if (!segment_ && !model_ && !tree_) ImGui::TextUnformatted("File > Open: a volume, a model or a tree");
+  ImGui::Separator();
+  ImGui::Text("%.1f ms a frame", 1000.0 / std::max(1.0f, ImGui::GetIO().Framerate));
+  if (ImGui::Button("screenshot (P)")) screenshot = true;
+  ImGui::TextWrapped("%s", status_.c_str());
+  ImGui::End();
+}
+
+Image Viewer::surfacePicture(int width, int height) {
+  SegmentationSession& session = *segment_->session;
+  MeshRenderOptions o{.width = width, .height = height, .viewDirection = segment_->orbit.direction() * -1.0};
+  if (session.activePages() == 0) {  // nothing segmented yet: the background
+    Image blank(width, height, 3);
+    std::fill(blank.pixels.begin(), blank.pixels.end(), std::uint8_t(255));
+    return blank;
+  }
+  const Mesh surface = extract::extractLevelSet(session.levelSet(), {.gpu = backend_ == levelset::Backend::Gpu});
+  return renderMesh(surface, o);
+}
+
+void Viewer::drawSegment(int width, int height) {
+  SegmentView& s = *segment_;
+  const int viewWidth = width - kPanelWidth;
+  const int n = slicePanelSize(width, height);
+  const std::uint64_t version = s.session->version();
+  if (s.slicesDirty || version != s.slicesVersion || n != s.panelSize) {
+    SliceOptions o{.panelSize = n, .window = s.window, .crosshair = s.crosshair};
+    if (s.contour) o.phi = s.session->phi();
+    const levelset::SpeedParams params = s.session->params();
+    if (s.speed) o.speed = &params;
+    s.slices.set(renderSlices(s.session->source(), s.point, o));
+    s.slicesDirty = false, s.slicesVersion = version, s.panelSize = n;
+  }
+  s.slices.blit(0, 0, height);
+  // The surface below the slices: re-extracted when the segmentation changed, at most once a second
+  // while the solver runs.
+  const int w3 = std::max(16, viewWidth), h3 = std::max(16, height - n);
+  const auto now = std::chrono::steady_clock::now();
+  const bool stale = version != s.surfaceVersion || s.surfaceDirty || s.surface.width() != w3 || s.surface.height() != h3;
+  if (stale && (!s.session->running() || now - s.surfaceAt > std::chrono::seconds(1))) {
+    s.surface.set(surfacePicture(w3, h3));
+    s.surfaceVersion = version, s.surfaceDirty = false, s.surfaceAt = now;
+  }
+  s.surface.blit(0, n, height);
+}
+
+void Viewer::drawView(int width, int height) {
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(0, 0, width, height);
+  glClearColor(1, 1, 1, 1);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  const int viewWidth = std::max(16, width - kPanelWidth);
+  if (mode_ == Mode::Segment && segment_) return drawSegment(width, height);
+  if (!target_ || target_->width() != viewWidth || target_->height() != height)
+    target_ = std::make_unique<gl::Framebuffer>(viewWidth, height);
+  if (mode_ == Mode::Mesh && model_) {
+    ModelView& m = *model_;
+    const Camera camera = m.orbit.camera(m.scene->bounds(), viewWidth, height);
+    const CpuRefinement cpu = m.viewDependent ? CpuRefinement{.mode = CpuRefinement::Mode::Pixels}
+                                              : CpuRefinement{.mode = CpuRefinement::Mode::Level, .level = m.cpuLevel};
+    const GpuRefinement gpu = m.viewDependent ? GpuRefinement{.mode = GpuRefinement::Mode::Pixels}
+                                              : GpuRefinement{.mode = GpuRefinement::Mode::Level, .halvings = m.gpuHalvings};
+    drawFrame(*m.scene, atlasRenderer_, cpu, gpu, camera, {.wireframe = m.wire, .colourByChart = m.chartColours}, *target_);
+  } else if (mode_ == Mode::Tree && tree_) {
+    TreeView& t = *tree_;
+    target_->bind();
+    dvtRenderer_.draw({t.pointers->id(), t.cells->id()}, t.tree.nodeCount(), t.tree.frame,
+                      {.camera = t.orbit.camera(t.box, viewWidth, height), .mode = t.cubes ? DvtRenderMode::Cubes : DvtRenderMode::RayCast});
+  } else {
+    return;
+  }
+  glBlitNamedFramebuffer(target_->id(), 0, 0, 0, viewWidth, height, 0, 0, viewWidth, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
+  double x = 0, y = 0;
+  glfwGetCursorPos(window, &x, &y);
+  int windowWidth = 1, windowHeight = 1;
+  glfwGetWindowSize(window, &windowWidth, &windowHeight);
+  x *= double(width) / std::max(1, windowWidth), y *= double(height) / std::max(1, windowHeight);  // to framebuffer pixels
+  const ImGuiIO& io = ImGui::GetIO();
+  const bool down = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+  const bool pressed = down && !leftWasDown_;
+  const double dx = x - lastX_, dy = y - lastY_;
+  leftWasDown_ = down, lastX_ = x, lastY_ = y;
+  if (io.WantCaptureMouse || x >= width - kPanelWidth) return;
+  Orbit* orbit = mode_ == Mode::Mesh && model_ ? &model_->orbit : mode_ == Mode::Tree && tree_ ? &tree_->orbit : nullptr;
+  if (mode_ == Mode::Segment && segment_) {
+    SegmentView& s = *segment_;
+    const int n = s.panelSize;
+    if (y >= n || x >= 3 * n) {  // the surface view
+      orbit = &s.orbit;
+      if ((down && (dx != 0 || dy != 0)) || io.MouseWheel != 0) s.surfaceDirty = true;
+    } else {
+      const int panel = int(x) / n;
+      const SliceLayout layout(s.session->source(), s.point, n);
+      const Vec3 at = layout.world(panel, x - panel * n, y);
+      if (io.MouseWheel != 0) {  // scroll through the slices: one voxel along the panel's normal
+        const int axis = panel == 0 ? 2 : panel == 1 ? 1 : 0;
+        const double step = std::min({s.session->source().spacing.x, s.session->source().spacing.y, s.session->source().spacing.z});
+        s.point[axis] += io.MouseWheel > 0 ? step : -step;
+        s.slicesDirty = true;
+      }
+      if (pressed || (down && s.tool == Tool::Navigate)) {
+        attempt([&] {
+          switch (s.tool) {
+            case Tool::Navigate: slice(at); break;
+            case Tool::Probe: probe(at, s.probeRadius); break;
+            case Tool::SeedIn: seed(at, s.seedRadius, true); break;
+            case Tool::SeedOut: seed(at, s.seedRadius, false); break;
+            case Tool::Brush: brush(brushText(at), s.brushUnion); break;
+          }
+        });
+      }
+      return;
+    }
+  }
+  if (!orbit) return;
+  if (down) orbit->drag(dx, dy);
+  if (io.MouseWheel != 0) orbit->zoom(io.MouseWheel);
+}
+
+// Replays a script's actions one per frame, waiting where an action takes time.
+class ScriptPlayer {
+public:
+  explicit ScriptPlayer(std::vector<ViewAction> actions) : actions_(std::move(actions)) {}
+  bool finished() const { return next_ >= actions_.size(); }
+  // The next action, unless the viewer is still busy with the last; screenshots and quit are left
+  // to the end of the frame.
+  void step(Viewer& viewer, std::string& screenshot, bool& quit) {
+    if (const std::string error = viewer.takeBuildError(); !error.empty())
+      throw Error((next_ > 0 ? actions_[next_ - 1].where() + ": " : std::string()) + "build: " + error);
+    if (framesLeft_ > 0) {
+      --framesLeft_;
+      return;
+    }
+    if (finished() || viewer.busy()) return;
+    const ViewAction& a = actions_[next_++];
+    try {
+      perform(a, viewer, screenshot, quit);
+    } catch (const std::exception& e) {
+      throw Error(a.where() + ": " + e.what());
+    }
+  }
+
+private:
+  void perform(const ViewAction& a, Viewer& v, std::string& screenshot, bool& quit) {
+    const auto& n = a.numbers;
+    const std::string& verb = a.verb;
+    if (verb == "open") v.show(load(a.word));
+    else if (verb == "mode") v.setMode(a.word);
+    else if (verb == "slice") v.slice({n[0], n[1], n[2]});
+    else if (verb == "probe") v.probe({n[0], n[1], n[2]}, n[3]);
+    else if (verb == "seed" || verb == "unseed") v.seed({n[0], n[1], n[2]}, n[3], verb == "seed");
+    else if (verb == "set") v.set(a.word, n[0]);
+    else if (verb == "run") v.run(int(n[0]));
+    else if (verb == "undo") v.undo();
+    else if (verb == "brush") v.brush(a.word, a.on);
+    else if (verb == "build") v.build();
+    else if (verb == "levels") v.levels(int(n[0]), int(n[1]));
+    else if (verb == "wireframe") v.wireframe(a.on);
+    else if (verb == "render") v.treeRender(a.word == "cubes");
+    else if (verb == "save-mask") v.saveMask(a.word);
+    else if (verb == "save-model") v.saveModel(a.word);
+    else if (verb == "screenshot") screenshot = a.word;
+    else if (verb == "frames") framesLeft_ = int(n[0]);
+    else if (verb == "quit") quit = true;
+  }
+  std::vector<ViewAction> actions_;
+  std::size_t next_ = 0;
+  int framesLeft_ = 0;
+};
+
+// Dear ImGui over the window, torn down however the loop ends.
+struct ImGuiScope {
+  explicit ImGuiScope(GLFWwindow* window) {
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini beside the user's files
+    ImGui_ImplGlfw_InitForOpenGL(window, true);
+    ImGui_ImplOpenGL3_Init("#version 450");
+  }
+  ~ImGuiScope() {
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+  }
+};
 
 }  // namespace
 
-void runViewer(const ViewerOptions& options) {
-  require(options.files.size() == 1, "isoatlas view takes one file (a model, a volume tree or a volume)");
+int slicePanelSize(int width, int height) { return std::max(16, std::min((width - kControlsWidth) / 3, height / 2)); }
+
+ViewerReport runViewer(const ViewerOptions& options) {
   require(options.frames >= 0, "--frames must be >= 0");
   require(options.screenshot.empty() || endsWith(options.screenshot, ".png"), options.screenshot + ": --screenshot writes a PNG");
-  const std::string& file = options.files.front();
-  // Read before any window opens, so a bad file is one line.
-  std::optional<ModelView> model;
-  std::optional<TreeView> tree;
-  std::optional<VolumeView> volume;
-  if (endsWith(file, ".isoatlas")) {
-    model.emplace();
-    model->model = atlas::readModel(file);
-  } else if (endsWith(file, ".dvt")) {
-    tree.emplace();
-    tree->tree = levelset::dvt::readDvt(file);
-    tree->box = insideBounds(tree->tree);
-  } else {
-    volume.emplace();
-    volume->volume = readVolume(file);
-    volume->point = volumeCentre(volume->volume);
-  }
+  // Read before any window opens, so a bad file or script is one line.
+  std::vector<Loaded> files;
+  for (const std::string& f : options.files) files.push_back(load(f));
+  std::optional<ScriptPlayer> script;
+  if (!options.script.empty()) script.emplace(readViewScript(options.script));
   requireDisplay();
 
-  auto context = gl::Context::window(options.width, options.height, "isoatlas view - " + file);
+  auto context = gl::Context::window(options.width, options.height, "isoatlas view");
   GLFWwindow* window = context->glfwWindow();
-  glfwSwapInterval(options.frames > 0 ? 0 : 1);
-  IMGUI_CHECKVERSION();
-  ImGui::CreateContext();
-  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini beside the user's files
-  ImGui_ImplGlfw_InitForOpenGL(window, true);
-  ImGui_ImplOpenGL3_Init("#version 450");
-
-  if (model) {
-    model->scene = std::make_unique<Scene>(std::vector<const atlas::Model*>{&model->model});
-    model->renderer = std::make_unique<AtlasRenderer>();
-  }
-  if (tree) {
-    tree->pointers = std::make_unique<gl::Buffer>(gl::Buffer::of(tree->tree.pointers));
-    tree->cells = std::make_unique<gl::Buffer>(gl::Buffer::of(tree->tree.cells));
-    tree->renderer = std::make_unique<DvtRenderer>(*context);
-  }
-  Orbit orbit;
-  double lastX = 0, lastY = 0;
-  std::unique_ptr<gl::Framebuffer> target;
-  int shots = 0;
-  bool pWasDown = false;
-  for (int frame = 0; !glfwWindowShouldClose(window); ++frame) {
-    glfwPollEvents();
-    int width = 0, height = 0;
-    glfwGetFramebufferSize(window, &width, &height);
-    width = std::max(width, 1), height = std::max(height, 1);
-    ImGui_ImplOpenGL3_NewFrame();
-    ImGui_ImplGlfw_NewFrame();
-    ImGui::NewFrame();
-    // Orbit and zoom with the mouse where no panel takes it.
-    double x = 0, y = 0;
-    glfwGetCursorPos(window, &x, &y);
-    const ImGuiIO& io = ImGui::GetIO();
-    if (!io.WantCaptureMouse) {
-      if (glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) orbit.drag(x - lastX, y - lastY);
-      if (io.MouseWheel != 0) orbit.distance = std::clamp(orbit.distance * std::pow(0.9, io.MouseWheel), 0.05, 20.0);
-    }
-    lastX = x, lastY = y;
-
-    ImGui::Begin("isoatlas");
-    ImGui::TextUnformatted(file.c_str());
-    if (model) {
-      ImGui::SliderInt("CPU level", &model->cpuLevel, 0, 8);
-      ImGui::SliderInt("GPU halvings", &model->gpuHalvings, 0, 4);
-      ImGui::Checkbox("wireframe", &model->wire);
-      ImGui::Checkbox("chart colours", &model->chartColours);
-    }
-    if (tree) {
-      ImGui::Text("%zu nodes, %zu leaves, depth %u", tree->tree.nodeCount(), tree->tree.leafCount(), tree->tree.maxDepth());
-      ImGui::Checkbox("cubes (else ray cast)", &tree->cubes);
-    }
-    if (volume) {
-      float p[3] = {float(volume->point.x), float(volume->point.y), float(volume->point.z)};
-      const Vec3 lo = volume->volume.indexToWorld({0, 0, 0});
-      const Vec3 hi = volume->volume.indexToWorld({double(volume->volume.dims[0] - 1), double(volume->volume.dims[1] - 1),
-                                                    double(volume->volume.dims[2] - 1)});
-      const char* names[3] = {"x (mm)", "y (mm)", "z (mm)"};
-      for (int a = 0; a < 3; ++a)
-        if (ImGui::SliderFloat(names[a], &p[a], float(std::min(lo[a], hi[a])), float(std::max(lo[a], hi[a])))) volume->dirty = true;
-      volume->point = {p[0], p[1], p[2]};
-    }
-    ImGui::Text("%.1f ms a frame", 1000.0 / std::max(1.0f, io.Framerate));
-    const bool pDown = glfwGetKey(window, GLFW_KEY_P) == GLFW_PRESS;
-    const bool shoot = ImGui::Button("screenshot (P)") || (!io.WantCaptureKeyboard && pDown && !pWasDown);
-    pWasDown = pDown;
-    ImGui::End();
-
-    if (!target || target->width() != width || target->height() != height) target = std::make_unique<gl::Framebuffer>(width, height);
-    if (model) {
-      const Camera cam = orbit.camera(model->scene->bounds(), width, height);
-      drawFrame(*model->scene, *model->renderer, {.mode = CpuRefinement::Mode::Level, .level = model->cpuLevel},
-                {.mode = GpuRefinement::Mode::Level, .halvings = model->gpuHalvings}, cam,
-                {.wireframe = model->wire, .colourByChart = model->chartColours}, *target);
-    } else if (tree) {
-      target->bind();
-      tree->renderer->draw({tree->pointers->id(), tree->cells->id()}, tree->tree.nodeCount(), tree->tree.frame,
-                           {.camera = orbit.camera(tree->box, width, height),
-                            .mode = tree->cubes ? DvtRenderMode::Cubes : DvtRenderMode::RayCast});
-    } else {
-      target->bind();
+  glfwSwapInterval(options.frames > 0 || script ? 0 : 1);
+  ImGuiScope imgui(window);
+  ViewerReport report;
+  {
+    Viewer viewer(*context, options);
+    for (Loaded& l : files) viewer.show(std::move(l));
+    int shots = 0;
+    bool pWasDown = false;
+    auto last = std::chrono::steady_clock::now();
+    for (int frame = 0; !glfwWindowShouldClose(window); ++frame) {
+      glfwPollEvents();
+      int width = 0, height = 0;
+      glfwGetFramebufferSize(window, &width, &height);
+      width = std::max(width, kPanelWidth + 16), height = std::max(height, 16);
+      std::string screenshot;
+      bool quit = false;
+      if (script) script->step(viewer, screenshot, quit);
+      viewer.update();
+      ImGui_ImplOpenGL3_NewFrame();
+      ImGui_ImplGlfw_NewFrame();
+      ImGui::NewFrame();
+      viewer.handleMouse(window, width, height);
+      bool shoot = false;
+      viewer.drawPanel(width, height, shoot, quit);
+      const bool pDown = glfwGetKey(window, GLFW_KEY_P) == GLFW_PRESS;
+      shoot |= !ImGui::GetIO().WantCaptureKeyboard && pDown && !pWasDown;
+      pWasDown = pDown;
+      viewer.drawView(width, height);
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
       glViewport(0, 0, width, height);
-      glClearColor(1, 1, 1, 1);
-      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-      if (volume->dirty) uploadSlices(*volume);
-      ImGui::SetNextWindowPos(ImVec2(float(width) * 0.3f, 10), ImGuiCond_FirstUseEver);
-      ImGui::Begin("slices");
-      const float scale = std::min(1.0f, (float(width) * 0.65f) / float(volume->width));
-      ImGui::Image(ImTextureID(std::intptr_t(volume->slices->id())), ImVec2(float(volume->width) * scale, float(volume->height) * scale));
-      ImGui::End();
+      ImGui::Render();
+      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      const bool lastFrame = options.frames > 0 && frame + 1 >= options.frames;
+      if (shoot) writePng("isoatlas_view_" + std::to_string(shots++) + ".png", gl::readWindowImage(width, height));
+      if (!screenshot.empty()) writePng(screenshot, gl::readWindowImage(width, height));
+      if (lastFrame && !options.screenshot.empty()) writePng(options.screenshot, gl::readWindowImage(width, height));
+      glfwSwapBuffers(window);
+      const auto now = std::chrono::steady_clock::now();
+      const double ms = std::chrono::duration<double, std::milli>(now - last).count();
+      last = now;
+      ModeFrames& f = report.modes[modeName(viewer.mode())];
+      f.meanMs = (f.meanMs * f.frames + ms) / (f.frames + 1);
+      f.maxMs = std::max(f.maxMs, ms);
+      ++f.frames;
+      if (lastFrame || quit) break;
     }
-    glBlitNamedFramebuffer(target->id(), 0, 0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glViewport(0, 0, width, height);
-    ImGui::Render();
-    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-    const bool last = options.frames > 0 && frame + 1 >= options.frames;
-    if (shoot) writePng("isoatlas_view_" + std::to_string(shots++) + ".png", gl::readWindowImage(width, height));
-    if (last && !options.screenshot.empty()) writePng(options.screenshot, gl::readWindowImage(width, height));
-    glfwSwapBuffers(window);
-    if (last) break;
+    report.iterations = viewer.iterations();
+    report.backend = viewer.backendName();
   }
-  target.reset();
-  model.reset();
-  tree.reset();
-  volume.reset();
-  ImGui_ImplOpenGL3_Shutdown();
-  ImGui_ImplGlfw_Shutdown();
-  ImGui::DestroyContext();
+  return report;
 }
 
 }  // namespace isoatlas::viewer

@@ -1,0 +1,136 @@
+// The window's segmentation session and its script reader, without a window: probing sets T and eps
+// as probeSphere says, seeds and undo, requested steps taken exactly, a brush through the volume
+// tree carves the mask; scripts read every action and name the line of a bad one.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "core/error.h"
+#include "levelset/dvt/solid.h"
+#include "levelset/probe.h"
+#include "tests/test_util.h"
+#include "tests/viewer/head_phantom.h"
+#include "viewer/app/brush_edit.h"
+#include "viewer/app/segmentation_session.h"
+#include "viewer/app/view_script.h"
+
+namespace isoatlas::viewer {
+namespace {
+
+std::int64_t inside(const Volume& mask) {
+  std::int64_t n = 0;
+  for (std::size_t v = 0; v < mask.voxelCount(); ++v) n += mask.value(v) > 0;
+  return n;
+}
+
+TEST(ViewSession, ProbeSeedStepsAndUndo) {
+  const test::HeadPhantom head = test::headPhantom();
+  SegmentationSession s(head.image, levelset::Backend::Cpu);
+  const auto r = s.probe({0, 0, 0}, 4.5);
+  const auto expected = levelset::probeSphere(head.image, head.image.worldToIndex({0, 0, 0}), 3);
+  EXPECT_FLOAT_EQ(s.params().target, float(expected.mean));
+  EXPECT_FLOAT_EQ(s.params().width, float(expected.std));
+  EXPECT_NEAR(r.mean, 100, 3);
+  EXPECT_THROW(s.probe({500, 0, 0}, 3), Error) << "outside the volume";
+
+  EXPECT_FALSE(s.canUndo());
+  s.seed({0, 0, 0}, 6, true);
+  const std::int64_t seeded = inside(s.levelSet().mask());
+  EXPECT_NEAR(double(seeded), 4.0 / 3 * 3.14159 * 64, 40) << "a ball of 4 voxels' radius";
+  s.setParams({.target = 100, .width = 30, .alpha = 0.5});
+  s.requestSteps(7);
+  int taken = 0;
+  while (s.running()) taken += s.advance(0.001);
+  EXPECT_EQ(taken, 7);
+  EXPECT_EQ(s.iterations(), 7);
+  EXPECT_GT(inside(s.levelSet().mask()), seeded) << "T and eps of the brain grow the seed";
+  const Volume grown = s.levelSet().mask();
+  s.seed({0, 0, 0}, 3, false);
+  EXPECT_LT(inside(s.levelSet().mask()), inside(grown));
+  s.undo();
+  EXPECT_EQ(s.levelSet().mask().data, grown.data);
+  EXPECT_FALSE(s.canUndo()) << "one level of undo";
+}
+
+TEST(ViewSession, UndoRestoresTheMaskBeforeTheLastEdit) {
+  const test::HeadPhantom head = test::headPhantom();
+  SegmentationSession s(head.image, levelset::Backend::Cpu);
+  s.seed({0, 0, 0}, 9, true);
+  const Volume before = s.levelSet().mask();
+  s.seed({3, 0, 0}, 4.5, false);
+  EXPECT_LT(inside(s.levelSet().mask()), inside(before));
+  s.undo();
+  EXPECT_EQ(s.levelSet().mask().data, before.data);
+}
+
+TEST(ViewSession, ABrushCarvesThroughTheVolumeTree) {
+  const test::HeadPhantom head = test::headPhantom();
+  SegmentationSession s(head.image, levelset::Backend::Cpu);
+  s.seed({0, 0, 0}, 15, true);
+  const Volume before = s.levelSet().mask();
+  const auto brush = levelset::dvt::parseBrush("sphere:9,0,0,6");
+  const BrushResult r = brushSegmentation(s.levelSet(), *brush, levelset::dvt::Op::Subtract, nullptr);
+  std::int64_t carved = 0, leftInBrush = 0, changedElsewhere = 0;
+  for (std::int64_t k = 0; k < before.dims[2]; ++k)
+    for (std::int64_t j = 0; j < before.dims[1]; ++j)
+      for (std::int64_t i = 0; i < before.dims[0]; ++i) {
+        const Vec3 w = head.image.indexToWorld({double(i), double(j), double(k)});
+        const bool inBrush = norm(w - Vec3{9, 0, 0}) < 6;
+        const std::size_t n = before.index(i, j, k);
+        if (inBrush) {
+          carved += before.value(n) > 0;
+          leftInBrush += r.mask.value(n) != 0;
+        } else {
+          changedElsewhere += r.mask.value(n) != before.value(n);
+        }
+      }
+  EXPECT_GT(carved, 100);
+  EXPECT_EQ(leftInBrush, 0);
+  EXPECT_EQ(changedElsewhere, 0) << "the tree holds the segmentation voxel for voxel";
+  s.replaceMask(r.mask);
+  EXPECT_EQ(s.levelSet().mask().data, r.mask.data);
+  s.undo();
+  EXPECT_EQ(s.levelSet().mask().data, before.data);
+}
+
+std::string writeScript(const std::filesystem::path& dir, const std::string& text) {
+  const auto path = (dir / "actions.txt").string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(ViewScript, ReadsEveryActionAndNamesTheLineOfABadOne) {
+  const auto dir = test::scratchDir();
+  const auto actions = readViewScript(writeScript(dir,
+                                                  "# a session\n"
+                                                  "open head.nii.gz\n"
+                                                  "probe 0,0,0   # radius 3 by default\n"
+                                                  "seed 0,0,0,6\nunseed 1,2,3,4\nset eps 30\nrun 50\nundo\n"
+                                                  "brush subtract sphere:9,0,0,6\nbuild\nlevels 2 1\nwireframe on\n"
+                                                  "render cubes\nmode mesh\nslice 1,2,3\nsave-mask m.nii.gz\n"
+                                                  "save-model m.isoatlas\nscreenshot s.png\nframes 3\nquit\n"));
+  ASSERT_EQ(actions.size(), 19u);
+  EXPECT_EQ(actions[0].verb, "open");
+  EXPECT_EQ(actions[0].line, 2);
+  EXPECT_EQ(actions[1].numbers, (std::vector<double>{0, 0, 0, 3}));
+  EXPECT_EQ(actions[3].verb, "unseed");
+  EXPECT_EQ(actions[4].word, "eps");
+  EXPECT_EQ(actions[7].word, "sphere:9,0,0,6");
+  EXPECT_FALSE(actions[7].on);
+  EXPECT_EQ(actions[9].numbers, (std::vector<double>{2, 1}));
+  for (const std::string bad : {"probe 0,0", "seed 0,0,0", "seed 0,0,0,-1", "set T 3", "run -2", "run 2.5", "brush union sphere:1,2",
+                                "brush add sphere:0,0,0,1", "screenshot s.jpg", "levels 2", "mode volume", "teleport 1,2,3",
+                                "open", "quit now"}) {
+    SCOPED_TRACE(bad);
+    try {
+      readViewScript(writeScript(dir, "frames 1\n\n" + bad + "\n"));
+      ADD_FAILURE() << "accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("actions.txt:3:"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(readViewScript((dir / "missing.txt").string()), Error);
+}
+
+}  // namespace
+}  // namespace isoatlas::viewer

@@ -1,0 +1,95 @@
+#include "viewer/app/segmentation_session.h"
+
+#include <cmath>
+
+#include "core/error.h"
+#include "core/volume_io.h"
+
+namespace isoatlas::viewer {
+
+SegmentationSession::SegmentationSession(Volume source, levelset::Backend backend) : source_(std::move(source)) {
+  // Until probed: T in the middle of the source's window, eps a tenth of it.
+  const IntensityWindow w = percentileWindow(source_, 1, 99.5);
+  const levelset::SpeedParams start{.target = float((w.low + w.high) / 2), .width = float(std::max(1e-3, (w.high - w.low) / 10)),
+                                    .alpha = 0.5f};
+  levelSet_ = std::make_unique<levelset::LevelSet>(source_, start, levelset::LevelSetOptions{.backend = backend});
+}
+
+Vec3 SegmentationSession::toIndex(const Vec3& world) const {
+  const Vec3 ijk = source_.worldToIndex(world);
+  for (int a = 0; a < 3; ++a)
+    require(ijk[a] >= -0.5 && ijk[a] <= double(source_.dims[a]) - 0.5,
+            "the point " + std::to_string(world.x) + "," + std::to_string(world.y) + "," + std::to_string(world.z) +
+                " (mm) lies outside the volume");
+  return ijk;
+}
+
+double SegmentationSession::toVoxels(double radius) const {
+  require(std::isfinite(radius) && radius > 0, "a radius must be > 0 mm");
+  return radius / std::cbrt(source_.spacing.x * source_.spacing.y * source_.spacing.z);
+}
+
+void SegmentationSession::setParams(const levelset::SpeedParams& params) {
+  levelset::validateParams(params);
+  levelSet_->setParams(params);
+  ++version_;
+}
+
+levelset::ProbeResult SegmentationSession::probe(const Vec3& world, double radius) {
+  const levelset::ProbeResult r = levelset::probeSphere(source_, toIndex(world), std::max(1.0, toVoxels(radius)));
+  levelset::SpeedParams p = params();
+  p.target = float(r.suggestedTarget());
+  p.width = float(std::max(r.suggestedWidth(), 1e-3));
+  setParams(p);
+  return r;
+}
+
+void SegmentationSession::remember() { undoMask_ = levelSet_->mask(); }
+
+void SegmentationSession::seed(const Vec3& world, double radius, bool add) {
+  const Vec3 centre = toIndex(world);
+  const double r = toVoxels(radius);
+  remember();
+  levelSet_->addSphere(centre, r, add);
+  ++version_;
+}
+
+void SegmentationSession::replaceMask(const Volume& mask) {
+  require(mask.dims == source_.dims, "a mask for the segmentation needs the source's voxel grid");
+  remember();
+  levelSet_->setMask(mask);
+  ++version_;
+}
+
+void SegmentationSession::undo() {
+  if (!undoMask_) return;
+  levelSet_->setMask(*undoMask_);
+  undoMask_.reset();
+  ++version_;
+}
+
+int SegmentationSession::advance(double budgetMs) {
+  if (!running()) return 0;
+  const auto begin = std::chrono::steady_clock::now();
+  int steps = 0;
+  double ms = 0;
+  do {
+    levelSet_->step();
+    ++steps;
+    if (pendingSteps_ > 0) --pendingSteps_;
+    ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
+  } while (running() && ms < budgetMs);
+  stepsPerSecond_ = ms > 0 ? 1000.0 * steps / ms : 0;
+  ++version_;
+  return steps;
+}
+
+VoxelField SegmentationSession::phi() const {
+  const float* pool = levelSet_->phiPoolOnHost();
+  const levelset::PageManager* pages = &levelSet_->pages();
+  return [pool, pages](std::int64_t i, std::int64_t j, std::int64_t k) { return pool[pages->poolTexel(i, j, k)]; };
+}
+
+void SegmentationSession::saveMask(const std::string& path) const { writeVolume(path, levelSet_->mask()); }
+
+}  // namespace isoatlas::viewer

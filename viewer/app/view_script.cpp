@@ -1,0 +1,113 @@
+#include "viewer/app/view_script.h"
+
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/numbers.h"
+#include "levelset/dvt/solid.h"
+
+namespace isoatlas::viewer {
+namespace {
+
+const char* kUsage =
+    "open FILE, mode segment|mesh|tree, slice X,Y,Z, probe X,Y,Z[,R], seed X,Y,Z,R, unseed X,Y,Z,R, set t|eps|alpha V, run N, "
+    "undo, brush union|subtract SHAPE, build, levels CPU GPU, wireframe on|off, render raycast|cubes, save-mask FILE, "
+    "save-model FILE, screenshot FILE.png, frames N, quit";
+
+// One line's action, its words checked.
+ViewAction parseAction(const std::vector<std::string>& words, const std::string& where) {
+  ViewAction a;
+  a.verb = words[0];
+  const auto args = words.size() - 1;
+  auto need = [&](std::size_t n, const char* form) {
+    if (args != n) throw Error(where + ": " + a.verb + " takes " + form);
+  };
+  auto oneOf = [&](const std::string& w, std::initializer_list<const char*> choices) {
+    for (const char* c : choices)
+      if (w == c) return;
+    throw Error(where + ": " + a.verb + " " + w + ": not one of the choices (" + kUsage + ")");
+  };
+  auto count = [&](const std::string& w, const char* what) {
+    const auto n = parseNumbers(w, where + ": " + a.verb, what);
+    if (n.size() != 1 || n[0] < 0 || n[0] != double(long(n[0]))) throw Error(where + ": " + a.verb + " " + w + ": expected " + what);
+    return n[0];
+  };
+  const std::string& v = a.verb;
+  if (v == "open" || v == "save-mask" || v == "save-model" || v == "screenshot") {
+    need(1, "a file");
+    a.word = words[1];
+    if (v == "screenshot" && !a.word.ends_with(".png")) throw Error(where + ": screenshot " + a.word + ": writes a .png");
+    if (v == "save-model" && !a.word.ends_with(".isoatlas")) throw Error(where + ": save-model " + a.word + ": writes a .isoatlas");
+  } else if (v == "mode") {
+    need(1, "segment, mesh or tree");
+    oneOf(a.word = words[1], {"segment", "mesh", "tree"});
+  } else if (v == "slice") {
+    need(1, "X,Y,Z");
+    const Vec3 p = parsePoint(words[1], where + ": slice");
+    a.numbers = {p.x, p.y, p.z};
+  } else if (v == "probe" || v == "seed" || v == "unseed") {
+    need(1, v == "probe" ? "X,Y,Z[,R]" : "X,Y,Z,R");
+    a.numbers = parseNumbers(words[1], where + ": " + v, v == "probe" ? "X,Y,Z[,R]" : "X,Y,Z,R");
+    if (v == "probe" && a.numbers.size() == 3) a.numbers.push_back(3);
+    if (a.numbers.size() != 4 || a.numbers[3] <= 0)
+      throw Error(where + ": " + v + " " + words[1] + ": expected X,Y,Z,R with R > 0 (mm)");
+  } else if (v == "set") {
+    need(2, "t, eps or alpha and a value");
+    oneOf(a.word = words[1], {"t", "eps", "alpha"});
+    a.numbers = parseNumbers(words[2], where + ": set " + a.word, "a number");
+    if (a.numbers.size() != 1) throw Error(where + ": set " + a.word + " takes one number");
+  } else if (v == "run" || v == "frames") {
+    need(1, "a count");
+    a.numbers = {count(words[1], "a count >= 0")};
+  } else if (v == "levels") {
+    need(2, "a CPU level and GPU halvings");
+    a.numbers = {count(words[1], "a CPU level >= 0"), count(words[2], "GPU halvings >= 0")};
+  } else if (v == "brush") {
+    need(2, "union or subtract and a shape");
+    oneOf(words[1], {"union", "subtract"});
+    a.on = words[1] == "union";
+    a.word = words[2];
+    try {
+      levelset::dvt::parseBrush(a.word);
+    } catch (const Error& e) {
+      throw Error(where + ": brush " + e.what());
+    }
+  } else if (v == "wireframe") {
+    need(1, "on or off");
+    oneOf(words[1], {"on", "off"});
+    a.on = words[1] == "on";
+  } else if (v == "render") {
+    need(1, "raycast or cubes");
+    oneOf(a.word = words[1], {"raycast", "cubes"});
+  } else if (v == "undo" || v == "build" || v == "quit") {
+    need(0, "nothing");
+  } else {
+    throw Error(where + ": " + v + " is not an action (" + kUsage + ")");
+  }
+  return a;
+}
+
+}  // namespace
+
+std::string ViewAction::where() const { return script + ":" + std::to_string(line); }
+
+std::vector<ViewAction> readViewScript(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error(path + ": cannot read the script");
+  std::vector<ViewAction> actions;
+  std::string text;
+  for (int line = 1; std::getline(in, text); ++line) {
+    if (const auto hash = text.find('#'); hash != std::string::npos) text.resize(hash);
+    std::istringstream words(text);
+    std::vector<std::string> w;
+    for (std::string word; words >> word;) w.push_back(word);
+    if (w.empty()) continue;
+    ViewAction a = parseAction(w, path + ":" + std::to_string(line));
+    a.line = line, a.script = path;
+    actions.push_back(std::move(a));
+  }
+  return actions;
+}
+
+}  // namespace isoatlas::viewer

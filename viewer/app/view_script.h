@@ -1,0 +1,42 @@
+// A scripted viewer session (`isoatlas view FILE --script ACTIONS.txt`): one action per line, words
+// separated by spaces, `#` to the end of a line a comment, points in world mm (RAS) as X,Y,Z. The
+// actions (docs/view-script.md documents them with an example):
+//   open FILE                 a volume (segmentation mode), a model (.isoatlas) or a tree (.dvt)
+//   mode segment|mesh|tree    which view the window shows
+//   slice X,Y,Z               the point the three slices pass through
+//   probe X,Y,Z[,R]           T and eps from the mean and deviation in a ball (R mm, default 3)
+//   seed X,Y,Z,R              a ball added to the segmentation (model on)
+//   unseed X,Y,Z,R            a ball carved out (model off)
+//   set t|eps|alpha VALUE     a speed parameter
+//   run N                     N solver steps (a few per frame; the script waits for them)
+//   undo                      back to before the last seed, unseed or brush
+//   brush union|subtract SHAPE   a volume-tree edit of the segmentation (SHAPE as `isoatlas edit` takes it)
+//   build                     extract the surface and build the model (in the background; the script waits)
+//   levels CPU GPU            the mesh view's CPU level and GPU halvings
+//   wireframe on|off          the mesh view's wireframe
+//   render raycast|cubes      the tree view's renderer
+//   save-mask FILE            the segmentation as a mask volume
+//   save-model FILE           the built model (.isoatlas)
+//   screenshot FILE.png       the window as it is
+//   frames N                  draw N frames
+//   quit                      close the window
+// readViewScript checks every line before the window opens: a bad one is an Error naming FILE:LINE.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace isoatlas::viewer {
+
+struct ViewAction {
+  std::string verb;             // as written: open, mode, ...
+  int line = 0;                 // in the script, for messages
+  std::string word;             // open/save/screenshot's file, mode, set's parameter, brush's shape, render's mode
+  std::vector<double> numbers;  // a point (and radius), a value, counts, levels
+  bool on = true;               // brush union (else subtract), wireframe on
+  std::string where() const;    // "FILE:LINE" of the script, for errors met while running
+  std::string script;
+};
+
+std::vector<ViewAction> readViewScript(const std::string& path);
+
+}  // namespace isoatlas::viewer
