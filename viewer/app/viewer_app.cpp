@@ -322,8 +322,9 @@ void Viewer::segmentPanel() {
   if (ImGui::Button("step")) session.requestSteps(1);
   ImGui::SameLine();
   if (ImGui::Button("undo") && session.canUndo()) session.undo();
-  ImGui::Text("%d steps, %.1f steps/s, %lld active pages (%s)", session.iterations(), running ? session.stepsPerSecond() : 0.0,
-              (long long)session.activePages(), session.levelSet().backendName().c_str());
+  ImGui::Text("%d steps, %.1f steps/s (%s)", session.iterations(), running ? session.stepsPerSecond() : 0.0,
+              session.levelSet().backendName().c_str());
+  ImGui::Text("%lld active pages", (long long)session.activePages());
   levelset::SpeedParams p = session.params();
   const float lo = float(s.range.min), hi = float(s.range.max);
   bool changed = ImGui::SliderFloat("T", &p.target, lo, hi);
