@@ -1,5 +1,6 @@
 #include "extract/gpu_marching_cubes.h"
 
+#include <optional>
 #include <algorithm>
 
 #include "core/error.h"
@@ -8,6 +9,7 @@
 #include "core/gl/resources.h"
 #include "core/gl/gpu_scan.h"
 #include "kExtractShaders.h"
+#include "levelset/paged_phi_gpu.h"
 
 namespace isoatlas::extract {
 namespace {
@@ -87,23 +89,19 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
 
   gl::Defines defines{{"BLOCK_SIZE", std::to_string(blockSize)}};
   if (paged) defines.insert(defines.end(), {{"FIELD_PAGES", "1"}, {"PAGE_SIZE", std::to_string(grid.paged.pages->pageSize())}});
-  const gl::Program& classify = ctx.compute(gl::kExtractShaders, "extract/shaders/mc_classify.comp", defines);
-  const gl::Program& countEdges = ctx.compute(gl::kExtractShaders, "extract/shaders/mc_count_edges.comp");
-  const gl::Program& makeVertices = ctx.compute(gl::kExtractShaders, "extract/shaders/mc_vertices.comp", defines);
-  const gl::Program& makeTriangles = ctx.compute(gl::kExtractShaders, "extract/shaders/mc_triangles.comp", defines);
+  // Ours and the level set's (paged_phi.glsl), in one table.
+  static const std::vector<gl::EmbeddedShader> shaders = gl::joinShaderTables({gl::kExtractShaders, levelset::levelsetShaderFiles()});
+  const gl::Program& classify = ctx.compute(shaders.data(), "extract/shaders/mc_classify.comp", defines);
+  const gl::Program& countEdges = ctx.compute(shaders.data(), "extract/shaders/mc_count_edges.comp");
+  const gl::Program& makeVertices = ctx.compute(shaders.data(), "extract/shaders/mc_vertices.comp", defines);
+  const gl::Program& makeTriangles = ctx.compute(shaders.data(), "extract/shaders/mc_triangles.comp", defines);
   gl::GpuScan scan(ctx);
 
   // The field: the dense values, or the page table through which the shaders read the pool.
   gl::Buffer field;
-  if (paged) {
-    const levelset::PageManager& pm = *grid.paged.pages;
-    std::vector<std::int32_t> pageSlots(std::size_t(pm.virtualPageCount()));
-    for (std::size_t page = 0; page < pageSlots.size(); ++page) pageSlots[page] = pm.slotOf(std::int64_t(page));
-    field = gl::Buffer::of(pageSlots);
-    glBindImageTexture(0, grid.paged.texture, 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-  } else {
-    field = gl::Buffer(grid.voxels() * sizeof(float), grid.values);
-  }
+  std::optional<levelset::PagedPhiGpu> pagedPhi;
+  if (paged) pagedPhi.emplace(*grid.paged.pages, grid.paged.texture);
+  else field = gl::Buffer(grid.voxels() * sizeof(float), grid.values);
   const PackedCaseTable& table = packedCaseTable();
   gl::Buffer blockBuffer = gl::Buffer::of(storage.blocks), slotBuffer = gl::Buffer::of(storage.slots);
   gl::Buffer caseIndex = gl::Buffer::of(table.index), polygons = gl::Buffer::of(table.polygons);
@@ -116,6 +114,7 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
                                &edgeBits, &visited, &edgeOffset};
   auto bindAll = [&] {
     for (GLuint binding = 0; binding < std::size(bound); ++binding) bound[binding]->bindBase(GL_SHADER_STORAGE_BUFFER, binding);
+    if (pagedPhi) pagedPhi->bindData();  // the page table at binding 0, in the dense field's place
     slotBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 11);
   };
   bindAll();
@@ -125,11 +124,7 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
     glUniform1f(p.uniform("iso"), iso);
     glUniform1i(p.uniform("visitedBlocks"), storage.visited);
     glUniform3i(p.uniform("blockGrid"), int(storage.grid[0]), int(storage.grid[1]), int(storage.grid[2]));
-    if (paged) {
-      const levelset::PageManager& pm = *grid.paged.pages;
-      glUniform1i(p.uniform("poolPagesX"), pm.poolPagesX());
-      glUniform2i(p.uniform("pagesXY"), int(pm.pages()[0]), int(pm.pages()[1]));
-    }
+    if (pagedPhi) pagedPhi->setUniforms(p);
   };
   const auto [bx, by] = gl::dispatchGrid(std::uint64_t(storage.visited));
   common(classify);

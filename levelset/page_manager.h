@@ -37,6 +37,7 @@ public:
   }
 
   std::int32_t slotOf(std::int64_t page) const { return pageTable_[std::size_t(page)]; }
+  const std::vector<std::int32_t>& pageTable() const { return pageTable_; }  // slot per virtual page
   bool isActive(std::int64_t page) const { return slotOf(page) > kInsideSlot; }
   std::int64_t pageOfSlot(std::int32_t slot) const { return inverseTable_[std::size_t(slot)]; }
 

@@ -13,13 +13,7 @@ namespace {
 
 // The viewer's shader files and the tree's, in one table (dvt_tree.glsl includes tree_layout.glsl).
 const gl::EmbeddedShader* dvtRenderShaders() {
-  static const std::vector<gl::EmbeddedShader> table = [] {
-    std::vector<gl::EmbeddedShader> t;
-    for (const gl::EmbeddedShader* s = gl::kViewerShaders; s->path; ++s) t.push_back(*s);
-    for (const gl::EmbeddedShader* s = dvt::treeShaderFiles(); s->path; ++s) t.push_back(*s);
-    t.push_back({nullptr, nullptr});
-    return t;
-  }();
+  static const std::vector<gl::EmbeddedShader> table = gl::joinShaderTables({gl::kViewerShaders, dvt::treeShaderFiles()});
   return table.data();
 }
 

@@ -49,4 +49,12 @@ std::string shaderSource(const EmbeddedShader* files, const std::string& path) {
   return expand(files, path, open);
 }
 
+std::vector<EmbeddedShader> joinShaderTables(std::initializer_list<const EmbeddedShader*> tables) {
+  std::vector<EmbeddedShader> joined;
+  for (const EmbeddedShader* table : tables)
+    for (const EmbeddedShader* s = table; s->path; ++s) joined.push_back(*s);
+  joined.push_back({nullptr, nullptr});
+  return joined;
+}
+
 }  // namespace isoatlas::gl

@@ -2,9 +2,8 @@
 // their storage, and the case table (built on the CPU, extract/marching_cubes.cpp). Mirrors the CPU's
 // sample().
 //
-// The field is a dense buffer of the grid, or (FIELD_PAGES) phi where a level set's pages hold it:
-// the solver's pool image, found through the page table (one slot per virtual page of PAGE_SIZE^2 x 1
-// voxels; inactive pages map to the static inside/outside slots, which hold +-clamp).
+// The field is a dense buffer of the grid, or (FIELD_PAGES) phi where a level set's pages hold it
+// (levelset/shaders/paged_phi.glsl).
 //
 // Storage follows the visited blocks, not the grid: blocks[] lists the visited blocks first
 // (visitedBlocks of them), then the blocks that only hold corners of visited cells; blockSlot[] maps
@@ -12,10 +11,7 @@
 // block (c + 1) / BLOCK_SIZE at local (c + 1) % BLOCK_SIZE, and is stored at
 // slot * BLOCK_SIZE^3 + local index.
 #ifdef FIELD_PAGES
-layout(r32f, binding = 0) readonly uniform image2D pool;
-layout(std430, binding = 0) readonly buffer PageTable { int pageSlots[]; };
-uniform int poolPagesX;
-uniform ivec2 pagesXY;  // virtual pages along x and y
+#include "levelset/shaders/paged_phi.glsl"
 #else
 layout(std430, binding = 0) readonly buffer Field { float field[]; };
 #endif
@@ -36,9 +32,7 @@ const int kBlockCells = BLOCK_SIZE * BLOCK_SIZE * BLOCK_SIZE;
 
 float fieldAt(ivec3 c) {
 #ifdef FIELD_PAGES
-  int slot = pageSlots[(c.z * pagesXY.y + c.y / PAGE_SIZE) * pagesXY.x + c.x / PAGE_SIZE];
-  ivec2 origin = ivec2(slot % poolPagesX, slot / poolPagesX) * PAGE_SIZE;
-  return imageLoad(pool, origin + c.xy % PAGE_SIZE).r;
+  return pagedPhi(c);
 #else
   return field[(c.z * dims.y + c.y) * dims.x + c.x];
 #endif
