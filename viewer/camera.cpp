@@ -91,4 +91,45 @@ std::array<double, 2> depthRange(const Camera& camera, const Box& box) {
   return {std::max(depth - radius, far * 1e-4), far};
 }
 
+Mat4 gridToWorld(const Mat3& direction, const Vec3& spacing, const Vec3& origin) {
+  Mat4 m{};
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) m[std::size_t(4 * c + r)] = float(direction.m[r][c] * spacing[c]);
+  for (int r = 0; r < 3; ++r) m[std::size_t(12 + r)] = float(origin[r]);
+  m[15] = 1;
+  return m;
+}
+
+// Gauss-Jordan in double.
+Mat4 inverse(const Mat4& m) {
+  double a[4][8];
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 8; ++c) a[r][c] = c < 4 ? m[std::size_t(4 * c + r)] : (c - 4 == r ? 1 : 0);
+  for (int c = 0; c < 4; ++c) {
+    int pivot = c;
+    for (int r = c + 1; r < 4; ++r)
+      if (std::abs(a[r][c]) > std::abs(a[pivot][c])) pivot = r;
+    std::swap(a[c], a[pivot]);
+    const double p = a[c][c];
+    for (double& x : a[c]) x /= p;
+    for (int r = 0; r < 4; ++r)
+      if (r != c) {
+        const double k = a[r][c];
+        for (int j = 0; j < 8; ++j) a[r][j] -= k * a[c][j];
+      }
+  }
+  Mat4 out{};
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) out[std::size_t(4 * c + r)] = float(a[r][c + 4]);
+  return out;
+}
+
+std::array<float, 9> normalMatrix(const Mat4& m) {
+  const Mat4 inv = inverse(m);
+  std::array<float, 9> n{};
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) n[std::size_t(3 * c + r)] = inv[std::size_t(4 * r + c)];
+  return n;
+}
+
 }  // namespace isoatlas::viewer

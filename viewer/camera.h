@@ -28,4 +28,11 @@ struct Camera {
 // Near and far planes that hold `box` (a sphere around it) in front of the camera.
 std::array<double, 2> depthRange(const Camera& camera, const Box& box);
 
+// Transforms as the shaders take them: 4x4, column-major.
+using Mat4 = std::array<float, 16>;
+Mat4 inverse(const Mat4& m);
+std::array<float, 9> normalMatrix(const Mat4& m);  // the inverse transpose of the upper 3x3, column-major
+// A voxel grid's index-to-world transform: world = origin + direction * (spacing .* index).
+Mat4 gridToWorld(const Mat3& direction, const Vec3& spacing, const Vec3& origin);
+
 }  // namespace isoatlas::viewer

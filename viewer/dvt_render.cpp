@@ -21,50 +21,6 @@ gl::ProgramSource source(const char* vert, const char* frag) {
   return {dvtRenderShaders(), {vert, frag}, dvt::ruleDefines(), {}};
 }
 
-using Mat4 = std::array<float, 16>;  // column-major
-
-Mat4 indexToWorld(const dvt::TreeFrame& f) {
-  Mat4 m{};
-  for (int c = 0; c < 3; ++c)
-    for (int r = 0; r < 3; ++r) m[std::size_t(4 * c + r)] = float(f.direction.m[r][c] * f.spacing[c]);
-  for (int r = 0; r < 3; ++r) m[std::size_t(12 + r)] = float(f.origin[r]);
-  m[15] = 1;
-  return m;
-}
-
-// The inverse of a column-major 4x4 (Gauss-Jordan in double).
-Mat4 inverse(const Mat4& m) {
-  double a[4][8];
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 8; ++c) a[r][c] = c < 4 ? m[std::size_t(4 * c + r)] : (c - 4 == r ? 1 : 0);
-  for (int c = 0; c < 4; ++c) {
-    int pivot = c;
-    for (int r = c + 1; r < 4; ++r)
-      if (std::abs(a[r][c]) > std::abs(a[pivot][c])) pivot = r;
-    std::swap(a[c], a[pivot]);
-    const double p = a[c][c];
-    for (double& x : a[c]) x /= p;
-    for (int r = 0; r < 4; ++r)
-      if (r != c) {
-        const double k = a[r][c];
-        for (int j = 0; j < 8; ++j) a[r][j] -= k * a[c][j];
-      }
-  }
-  Mat4 out{};
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) out[std::size_t(4 * c + r)] = float(a[r][c + 4]);
-  return out;
-}
-
-// The inverse transpose of the upper 3x3 of a column-major 4x4, column-major.
-std::array<float, 9> normalMatrix(const Mat4& m) {
-  const Mat4 inv = inverse(m);
-  std::array<float, 9> n{};
-  for (int c = 0; c < 3; ++c)
-    for (int r = 0; r < 3; ++r) n[std::size_t(3 * c + r)] = inv[std::size_t(4 * r + c)];
-  return n;
-}
-
 // The world box around the tree's whole frame.
 Box frameBox(const dvt::TreeFrame& f) {
   std::vector<Vec3> corners;
@@ -86,7 +42,7 @@ void DvtRenderer::draw(const dvt::GpuTreeBuffers& buffers, std::uint64_t nodeCou
   const Camera& cam = view.camera;
   cam.check();
   const auto [near, far] = depthRange(cam, frameBox(frame));
-  const Mat4 vp = cam.viewProjection(near, far), toWorld = indexToWorld(frame);
+  const Mat4 vp = cam.viewProjection(near, far), toWorld = gridToWorld(frame.direction, frame.spacing, frame.origin);
   const auto normals = normalMatrix(toWorld);
   glViewport(0, 0, cam.width, cam.height);
   glClearColor(float(view.background.x), float(view.background.y), float(view.background.z), 1);
