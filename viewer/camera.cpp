@@ -50,6 +50,12 @@ std::array<float, 16> Camera::viewProjection(double near, double far) const {
   return m;
 }
 
+Vec3 Camera::rayThrough(double x, double y) const {
+  const Frame f = frameOf(*this);
+  const double t = std::tan(fovDegrees * kPi / 360), aspect = double(width) / height;
+  return unit(f.forward + f.right * ((2 * x / width - 1) * t * aspect) + f.up * ((1 - 2 * y / height) * t));
+}
+
 double Camera::pixelsPerUnit(const Vec3& point) const {
   const double depth = dot(point - eye, frameOf(*this).forward);
   const double focalPixels = height / 2.0 / std::tan(fovDegrees * kPi / 360);

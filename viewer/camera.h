@@ -22,6 +22,9 @@ struct Camera {
   std::array<float, 16> viewProjection(double near, double far) const;
   double pixelsPerUnit(const Vec3& point) const;  // at the point's depth; huge behind the eye
   Camera turned(double radians) const;
+  // The unit direction from the eye through picture position (x, y) (pixels, top-left origin; a
+  // pixel's centre at +0.5): for picking with the mouse.
+  Vec3 rayThrough(double x, double y) const;
   static Camera framing(const Box& box, int width, int height, Vec3 viewDirection = {0, 1, 0});
 };
 

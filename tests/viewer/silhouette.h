@@ -1,7 +1,6 @@
 // A sphere's true silhouette on a camera's picture, for the renderers' tests.
 #pragma once
 #include <cmath>
-#include <numbers>
 #include <utility>
 
 #include "core/image.h"
@@ -15,17 +14,10 @@ inline bool drawn(const Image& image, int x, int y) { return image.at(x, y)[0] <
 // Pixels where the picture and the true silhouette of a sphere (a ray through the pixel's centre
 // meets it) disagree, and the silhouette's pixel count.
 inline std::pair<std::int64_t, std::int64_t> silhouetteMismatch(const Image& image, const viewer::Camera& c, const Vec3& centre, double radius) {
-  const Vec3 forward = (c.target - c.eye) * (1 / norm(c.target - c.eye));
-  Vec3 right = cross(forward, c.up);
-  right = right * (1 / norm(right));
-  const Vec3 up = cross(right, forward);
-  const double t = std::tan(c.fovDegrees * std::numbers::pi / 360), aspect = double(c.width) / c.height;
   std::int64_t wrong = 0, inside = 0;
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) {
-      const double u = (2 * (x + 0.5) / c.width - 1) * t * aspect, v = (1 - 2 * (y + 0.5) / c.height) * t;
-      Vec3 d = forward + right * u + up * v;
-      d = d * (1 / norm(d));
+      const Vec3 d = c.rayThrough(x + 0.5, y + 0.5);
       const Vec3 m = c.eye - centre;
       const double b = dot(m, d), q = dot(m, m) - radius * radius;
       const bool hit = b * b - q >= 0 && -b + std::sqrt(std::max(b * b - q, 0.0)) > 0;

@@ -84,7 +84,7 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   const auto p = [&](const char* name) { return (dir / name).string(); };
   const std::string script = p("session.txt");
   std::ofstream(script) << "probe 0,0,0,4.5\nseed 0,0,0,6\nset eps 30\nrun 50\nscreenshot " << p("segment.png") << "\nsave-mask "
-                        << p("mask.nii.gz") << "\nbrush subtract sphere:12,0,0,7.5\nsave-mask " << p("brushed.nii.gz")
+                        << p("mask.nii.gz") << "\nview3d volume\nclip -y\nscreenshot " << p("volume.png") << "\nbrush subtract sphere:12,0,0,7.5\nsave-mask " << p("brushed.nii.gz")
                         << "\nmode tree\nscreenshot " << p("tree.png") << "\nmode segment\nbuild\nlevels 2 1\nscreenshot "
                         << p("mesh.png") << "\nsave-model " << p("model.isoatlas") << "\nquit\n";
   const int width = 880, height = 520;
@@ -130,6 +130,17 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   std::printf("contour pixels %lld, on the boundary %lld\n", (long long)contour, (long long)onBoundary);
   EXPECT_GT(contour, 3 * n / 2) << "a contour in each slice";
   EXPECT_GT(double(onBoundary), 0.97 * double(contour)) << "the contour lies on the mask's boundary";
+
+  // The volume rendering with the front cut away at the slice point: the cut face shows the contour
+  // where the plane cuts the segmentation (the brain, about 17 mm wide there).
+  const Image volumeView = readPng(p("volume.png"));
+  std::int64_t faceContour = 0;
+  for (int y = n; y < height; ++y)
+    for (int x = 0; x < width - kControlsWidth; ++x) {
+      const std::uint8_t* c = volumeView.at(x, y);
+      faceContour += c[0] == 255 && c[1] == 224 && c[2] == 0;
+    }
+  EXPECT_GT(faceContour, 100) << "the contour on the cut face";
 
   // The brush carved a ball out of the mask and left the rest as it was.
   const Volume brushed = readVolume(p("brushed.nii.gz"));

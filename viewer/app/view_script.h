@@ -11,6 +11,8 @@
 //   run N                     N solver steps (a few per frame; the script waits for them)
 //   undo                      back to before the last seed, unseed or brush
 //   brush union|subtract SHAPE   a volume-tree edit of the segmentation (SHAPE as `isoatlas edit` takes it)
+//   view3d volume|surface     the 3D view: volume rendering from the pages, or the extracted surface
+//   clip +x|-x|+y|-y|+z|-z|off   a clipping plane through the slice point; the side named is cut away
 //   build                     extract the surface and build the model (in the background; the script waits)
 //   levels CPU GPU            the mesh view's CPU level and GPU halvings
 //   wireframe on|off          the mesh view's wireframe

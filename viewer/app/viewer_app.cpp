@@ -33,6 +33,7 @@
 #include "viewer/mesh_render.h"
 #include "viewer/scene.h"
 #include "viewer/slice_render.h"
+#include "viewer/volume_render.h"
 
 namespace isoatlas::viewer {
 namespace {
@@ -80,12 +81,28 @@ struct SegmentView {
   bool slicesDirty = true;
   std::uint64_t slicesVersion = ~0ull;
   int panelSize = 0;
-  // The level set's surface, extracted from its pages now and then.
+  // The 3D view below the slices: the volume rendering of the scan and the level set from its pages
+  // (with a clipping plane through the slice point), or the surface extracted from the pages; drawn
+  // again when the segmentation, the camera or the options change (at most once a second while the
+  // solver runs).
+  bool volumeRendering = true, insideOnly = false, showScan = true;
+  float opacity = 0.08f;
+  int clipAxis = -1;  // -1 none; 0, 1, 2: x, y, z
+  bool clipAbove = false;  // cut away what lies above the slice point along the axis (else below)
+  std::unique_ptr<VolumeRenderer> volume;
+  std::unique_ptr<gl::Framebuffer> volumeTarget;
   ImagePanel surface;
-  std::uint64_t surfaceVersion = ~0ull;
-  bool surfaceDirty = true;
-  std::chrono::steady_clock::time_point surfaceAt;
+  std::uint64_t view3dVersion = ~0ull;
+  bool view3dDirty = true;
+  std::chrono::steady_clock::time_point view3dAt;
   Orbit orbit;
+  Camera camera3d;  // the volume rendering's, for picking
+  std::optional<ClipPlane> clip() const {
+    if (clipAxis < 0) return std::nullopt;
+    Vec3 n{0, 0, 0};
+    n[clipAxis] = clipAbove ? 1 : -1;
+    return ClipPlane{point, n};
+  }
 };
 
 struct ModelView {
@@ -121,6 +138,15 @@ levelset::Backend chooseSolver(const std::string& choice, const gl::Context& con
   return choice == "gpu" ? levelset::Backend::Gpu : levelset::Backend::Cpu;
 }
 
+// The world box of a volume's voxels.
+Box volumeBox(const Volume& v) {
+  std::vector<Vec3> corners;
+  for (int k = 0; k < 8; ++k)
+    corners.push_back(v.indexToWorld({k & 1 ? double(v.dims[0]) - 0.5 : -0.5, k & 2 ? double(v.dims[1]) - 0.5 : -0.5,
+                                      k & 4 ? double(v.dims[2]) - 0.5 : -0.5}));
+  return boundingBox(corners);
+}
+
 std::string formatPoint(const Vec3& p) {
   char text[96];
   std::snprintf(text, sizeof text, "%.1f,%.1f,%.1f", p.x, p.y, p.z);
@@ -142,6 +168,9 @@ public:
       segment_->range = valueRange(*loaded.volume);
       segment_->point = volumeCentre(*loaded.volume);
       segment_->session = std::make_unique<SegmentationSession>(std::move(*loaded.volume), backend_);
+      segment_->volume = std::make_unique<VolumeRenderer>(context_);
+      segment_->volume->setSource(segment_->session->source());
+      segment_->volumeRendering = !context_.info().software();  // llvmpipe takes seconds a picture
       mode_ = Mode::Segment;
     } else if (loaded.model) {
       showModel(std::move(*loaded.model), loaded.file);
@@ -158,7 +187,7 @@ public:
   }
   void slice(const Vec3& p) {
     seg().point = p;
-    seg().slicesDirty = true;
+    seg().slicesDirty = seg().view3dDirty = true;
   }
   void probe(const Vec3& p, double radius) {
     const auto r = seg().session->probe(p, radius);
@@ -193,6 +222,17 @@ public:
     require(surface.faceCount() > 0, "build: the segmentation has no surface");
     job_ = std::make_unique<ModelJob>(std::move(surface), options_.buildModel);
     status_ = "building the model";
+  }
+  void view3d(bool volume) {
+    seg().volumeRendering = volume;
+    seg().view3dDirty = true;
+  }
+  // "off", or the axis and the side cut away: "+x" cuts what lies at larger x than the slice point.
+  void clip(const std::string& how) {
+    SegmentView& s = seg();
+    s.clipAxis = how == "off" ? -1 : how[1] - 'x';
+    s.clipAbove = how[0] == '+';
+    s.view3dDirty = true;
   }
   void levels(int cpu, int gpu) {
     mod().cpuLevel = cpu, mod().gpuHalvings = gpu;
@@ -279,6 +319,8 @@ private:
   void modelPanel();
   void drawSegment(int width, int height);
   Image surfacePicture(int width, int height);
+  std::optional<Vec3> pick3d(double x, double y) const;
+  void applyTool(const Vec3& at);
 
   gl::Context& context_;
   const ViewerOptions& options_;
@@ -355,6 +397,21 @@ void Viewer::segmentPanel() {
   ImGui::SliderFloat("brush size (mm)", &s.brushSize, 1, 60);
   ImGui::Checkbox("brush adds (else carves)", &s.brushUnion);
   ImGui::Separator();
+  bool view3d = false;
+  view3d |= ImGui::Checkbox("volume rendering (else the surface)", &s.volumeRendering);
+  if (s.volumeRendering) {
+    view3d |= ImGui::Checkbox("scan", &s.showScan);
+    ImGui::SameLine();
+    view3d |= ImGui::Checkbox("only inside", &s.insideOnly);
+    view3d |= ImGui::SliderFloat("opacity", &s.opacity, 0.005f, 0.5f, "%.3f", ImGuiSliderFlags_Logarithmic);
+    ImGui::TextUnformatted("clip through the slice point:");
+    view3d |= ImGui::RadioButton("none", &s.clipAxis, -1);
+    for (int a = 0; a < 3; ++a) ImGui::SameLine(), view3d |= ImGui::RadioButton(a == 0 ? "x" : a == 1 ? "y" : "z", &s.clipAxis, a);
+    ImGui::SameLine();
+    view3d |= ImGui::Checkbox("cut above", &s.clipAbove);
+    ImGui::TextUnformatted("ctrl-click in 3D: the tool on the cut face or the surface");
+  }
+  s.view3dDirty |= view3d;
   s.slicesDirty |= ImGui::Checkbox("contour", &s.contour);
   ImGui::SameLine();
   s.slicesDirty |= ImGui::Checkbox("speed", &s.speed);
@@ -454,16 +511,67 @@ void Viewer::drawSegment(int width, int height) {
     s.slicesDirty = false, s.slicesVersion = version, s.panelSize = n;
   }
   s.slices.blit(0, 0, height);
-  // The surface below the slices: re-extracted when the segmentation changed, at most once a second
-  // while the solver runs.
+  // The 3D view below the slices.
   const int w3 = std::max(16, viewWidth), h3 = std::max(16, height - n);
   const auto now = std::chrono::steady_clock::now();
-  const bool stale = version != s.surfaceVersion || s.surfaceDirty || s.surface.width() != w3 || s.surface.height() != h3;
-  if (stale && (!s.session->running() || now - s.surfaceAt > std::chrono::seconds(1))) {
-    s.surface.set(surfacePicture(w3, h3));
-    s.surfaceVersion = version, s.surfaceDirty = false, s.surfaceAt = now;
+  const bool stale = version != s.view3dVersion || s.view3dDirty || s.camera3d.width != w3 || s.camera3d.height != h3;
+  if (stale && (!s.session->running() || now - s.view3dAt > std::chrono::seconds(1))) {
+    s.camera3d = s.orbit.camera(volumeBox(s.session->source()), w3, h3);
+    if (s.volumeRendering) {
+      if (!s.volumeTarget || s.volumeTarget->width() != w3 || s.volumeTarget->height() != h3)
+        s.volumeTarget = std::make_unique<gl::Framebuffer>(w3, h3);
+      s.volumeTarget->bind();
+      s.volume->draw(levelset::PagedPhiGpu(s.session->levelSet()),
+                     {.camera = s.camera3d, .window = s.window, .opacity = s.opacity, .scan = s.showScan, .insideOnly = s.insideOnly,
+                      .clip = s.clip()});
+      glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    } else {
+      s.surface.set(surfacePicture(w3, h3));
+    }
+    s.view3dVersion = version, s.view3dDirty = false, s.view3dAt = now;
   }
-  s.surface.blit(0, n, height);
+  if (s.volumeRendering && s.volumeTarget)
+    glBlitNamedFramebuffer(s.volumeTarget->id(), 0, 0, 0, w3, h3, 0, 0, w3, h3, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  else
+    s.surface.blit(0, n, height);
+}
+
+// The world point under picture position (x, y) of the 3D view: the clipping plane's cut face, or
+// the first voxel inside the level set along the ray (phi read from the pages on the host).
+std::optional<Vec3> Viewer::pick3d(double x, double y) const {
+  const SegmentView& s = *segment_;
+  const Camera& c = s.camera3d;
+  const Vec3 d = c.rayThrough(x, y);
+  const Volume& v = s.session->source();
+  auto insideVolume = [&](const Vec3& ijk) {
+    for (int a = 0; a < 3; ++a)
+      if (ijk[a] < -0.5 || ijk[a] > double(v.dims[a]) - 0.5) return false;
+    return true;
+  };
+  const std::optional<ClipPlane> clip = s.clip();
+  double tStart = 0;
+  if (clip) {
+    const double rate = dot(clip->normal, d), side = dot(clip->normal, c.eye - clip->point);
+    if (rate != 0) {
+      const double t = -side / rate;
+      const Vec3 p = c.eye + d * t;
+      if (t > 0 && rate < 0 && insideVolume(v.worldToIndex(p))) return p;  // entering the kept side: the face
+      if (rate < 0) tStart = std::max(tStart, t);
+    }
+  }
+  const VoxelField phi = s.session->phi();
+  const double step = 0.5 * std::min({v.spacing.x, v.spacing.y, v.spacing.z});
+  const double far = norm(c.eye - volumeCentre(v)) + volumeBox(v).diagonal();
+  for (double t = tStart; t < far; t += step) {
+    const Vec3 p = c.eye + d * t;
+    if (clip && dot(clip->normal, p - clip->point) > 0) continue;
+    const Vec3 ijk = v.worldToIndex(p);
+    if (!insideVolume(ijk)) continue;
+    const auto i = std::clamp<std::int64_t>(std::lround(ijk.x), 0, v.dims[0] - 1), j = std::clamp<std::int64_t>(std::lround(ijk.y), 0, v.dims[1] - 1),
+               k = std::clamp<std::int64_t>(std::lround(ijk.z), 0, v.dims[2] - 1);
+    if (phi(i, j, k) > 0) return p;
+  }
+  return std::nullopt;
 }
 
 void Viewer::drawView(int width, int height) {
@@ -495,6 +603,17 @@ void Viewer::drawView(int width, int height) {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
+void Viewer::applyTool(const Vec3& at) {
+  SegmentView& s = *segment_;
+  switch (s.tool) {
+    case Tool::Navigate: slice(at); break;
+    case Tool::Probe: probe(at, s.probeRadius); break;
+    case Tool::SeedIn: seed(at, s.seedRadius, true); break;
+    case Tool::SeedOut: seed(at, s.seedRadius, false); break;
+    case Tool::Brush: brush(brushText(at), s.brushUnion); break;
+  }
+}
+
 void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
   double x = 0, y = 0;
   glfwGetCursorPos(window, &x, &y);
@@ -511,9 +630,14 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
   if (mode_ == Mode::Segment && segment_) {
     SegmentView& s = *segment_;
     const int n = s.panelSize;
-    if (y >= n || x >= 3 * n) {  // the surface view
+    if (y >= n || x >= 3 * n) {  // the 3D view
+      if (pressed && io.KeyCtrl && s.volumeRendering) {
+        if (const auto at = pick3d(x, y - n)) attempt([&] { applyTool(*at); });
+        else status_ = "nothing there to pick";
+        return;
+      }
       orbit = &s.orbit;
-      if ((down && (dx != 0 || dy != 0)) || io.MouseWheel != 0) s.surfaceDirty = true;
+      if ((down && (dx != 0 || dy != 0)) || io.MouseWheel != 0) s.view3dDirty = true;
     } else {
       const int panel = int(x) / n;
       const SliceLayout layout(s.session->source(), s.point, n);
@@ -522,19 +646,9 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
         const int axis = panel == 0 ? 2 : panel == 1 ? 1 : 0;
         const double step = std::min({s.session->source().spacing.x, s.session->source().spacing.y, s.session->source().spacing.z});
         s.point[axis] += io.MouseWheel > 0 ? step : -step;
-        s.slicesDirty = true;
+        s.slicesDirty = s.view3dDirty = true;
       }
-      if (pressed || (down && s.tool == Tool::Navigate)) {
-        attempt([&] {
-          switch (s.tool) {
-            case Tool::Navigate: slice(at); break;
-            case Tool::Probe: probe(at, s.probeRadius); break;
-            case Tool::SeedIn: seed(at, s.seedRadius, true); break;
-            case Tool::SeedOut: seed(at, s.seedRadius, false); break;
-            case Tool::Brush: brush(brushText(at), s.brushUnion); break;
-          }
-        });
-      }
+      if (pressed || (down && s.tool == Tool::Navigate)) attempt([&] { applyTool(at); });
       return;
     }
   }
@@ -581,6 +695,8 @@ private:
     else if (verb == "brush") v.brush(a.word, a.on);
     else if (verb == "build") v.build();
     else if (verb == "levels") v.levels(int(n[0]), int(n[1]));
+    else if (verb == "view3d") v.view3d(a.word == "volume");
+    else if (verb == "clip") v.clip(a.word);
     else if (verb == "wireframe") v.wireframe(a.on);
     else if (verb == "render") v.treeRender(a.word == "cubes");
     else if (verb == "save-mask") v.saveMask(a.word);
