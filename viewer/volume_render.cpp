@@ -13,15 +13,15 @@ const gl::Program& rayCaster(gl::Context& context, int pageSize) {
                          {{"PAGE_SIZE", std::to_string(pageSize)}, {"PHI_CLAMP", gl::glslFloat(levelset::kClamp)}});
 }
 
-Box gridBox(const Volume& v) {
+}  // namespace
+
+Box gridBounds(const Volume& v) {
   std::vector<Vec3> corners;
   for (int k = 0; k < 8; ++k)
     corners.push_back(v.indexToWorld({k & 1 ? double(v.dims[0]) - 0.5 : -0.5, k & 2 ? double(v.dims[1]) - 0.5 : -0.5,
                                       k & 4 ? double(v.dims[2]) - 0.5 : -0.5}));
   return boundingBox(corners);
 }
-
-}  // namespace
 
 VolumeRenderer::VolumeRenderer(gl::Context& context) : context_(context) {}
 
@@ -41,7 +41,7 @@ void VolumeRenderer::draw(const levelset::PagedPhiGpu& phi, const VolumeRenderVi
   if (source_.id() == 0) throw Error("VolumeRenderer: no scan was given (setSource)", ErrorKind::Failure);
   const Camera& cam = view.camera;
   cam.check();
-  const auto [near, far] = depthRange(cam, gridBox(geometry_));
+  const auto [near, far] = depthRange(cam, gridBounds(geometry_));
   const Mat4 vp = cam.viewProjection(near, far), toWorld = gridToWorld(geometry_.direction, geometry_.spacing, geometry_.origin);
   const Mat4 toIndex = inverse(toWorld);
   const gl::Program& p = rayCaster(context_, phi.pageSize());

@@ -51,6 +51,9 @@ private:
   std::unique_ptr<gl::Framebuffer> rays_;
 };
 
+// The world box around a volume's voxels (their outer faces, not their centres).
+Box gridBounds(const Volume& volume);
+
 // A picture of a level set and its scan, drawn offscreen in the current context and read back.
 Image renderVolume(const Volume& source, const levelset::LevelSet& levelSet, const VolumeRenderView& view);
 

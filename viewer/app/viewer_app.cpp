@@ -138,15 +138,6 @@ levelset::Backend chooseSolver(const std::string& choice, const gl::Context& con
   return choice == "gpu" ? levelset::Backend::Gpu : levelset::Backend::Cpu;
 }
 
-// The world box of a volume's voxels.
-Box volumeBox(const Volume& v) {
-  std::vector<Vec3> corners;
-  for (int k = 0; k < 8; ++k)
-    corners.push_back(v.indexToWorld({k & 1 ? double(v.dims[0]) - 0.5 : -0.5, k & 2 ? double(v.dims[1]) - 0.5 : -0.5,
-                                      k & 4 ? double(v.dims[2]) - 0.5 : -0.5}));
-  return boundingBox(corners);
-}
-
 std::string formatPoint(const Vec3& p) {
   char text[96];
   std::snprintf(text, sizeof text, "%.1f,%.1f,%.1f", p.x, p.y, p.z);
@@ -516,7 +507,7 @@ void Viewer::drawSegment(int width, int height) {
   const auto now = std::chrono::steady_clock::now();
   const bool stale = version != s.view3dVersion || s.view3dDirty || s.camera3d.width != w3 || s.camera3d.height != h3;
   if (stale && (!s.session->running() || now - s.view3dAt > std::chrono::seconds(1))) {
-    s.camera3d = s.orbit.camera(volumeBox(s.session->source()), w3, h3);
+    s.camera3d = s.orbit.camera(gridBounds(s.session->source()), w3, h3);
     if (s.volumeRendering) {
       if (!s.volumeTarget || s.volumeTarget->width() != w3 || s.volumeTarget->height() != h3)
         s.volumeTarget = std::make_unique<gl::Framebuffer>(w3, h3);
@@ -561,7 +552,7 @@ std::optional<Vec3> Viewer::pick3d(double x, double y) const {
   }
   const VoxelField phi = s.session->phi();
   const double step = 0.5 * std::min({v.spacing.x, v.spacing.y, v.spacing.z});
-  const double far = norm(c.eye - volumeCentre(v)) + volumeBox(v).diagonal();
+  const double far = norm(c.eye - volumeCentre(v)) + gridBounds(v).diagonal();
   for (double t = tStart; t < far; t += step) {
     const Vec3 p = c.eye + d * t;
     if (clip && dot(clip->normal, p - clip->point) > 0) continue;
