@@ -107,9 +107,9 @@ TEST(ViewScript, ReadsEveryActionAndNamesTheLineOfABadOne) {
                                                   "probe 0,0,0   # radius 3 by default\n"
                                                   "seed 0,0,0,6\nunseed 1,2,3,4\nset eps 30\nrun 50\nundo\n"
                                                   "brush subtract sphere:9,0,0,6\nbuild\nlevels 2 1\nwireframe on\n"
-                                                  "render cubes\nmode mesh\nslice 1,2,3\nview3d volume\nclip -y\nsave-mask m.nii.gz\n"
+                                                  "render cubes\nmode mesh\nslice 1,2,3\nview3d volume\nclip -y\nstamp 1,2,3,4,0.5 word\nsave-mask m.nii.gz\n"
                                                   "save-model m.isoatlas\nscreenshot s.png\nframes 3\nquit\n"));
-  ASSERT_EQ(actions.size(), 21u);
+  ASSERT_EQ(actions.size(), 22u);
   EXPECT_EQ(actions[0].verb, "open");
   EXPECT_EQ(actions[0].line, 2);
   EXPECT_EQ(actions[1].numbers, (std::vector<double>{0, 0, 0, 3}));
@@ -120,7 +120,7 @@ TEST(ViewScript, ReadsEveryActionAndNamesTheLineOfABadOne) {
   EXPECT_EQ(actions[9].numbers, (std::vector<double>{2, 1}));
   for (const std::string bad : {"probe 0,0", "seed 0,0,0", "seed 0,0,0,-1", "set T 3", "run -2", "run 2.5", "brush union sphere:1,2",
                                 "brush add sphere:0,0,0,1", "screenshot s.jpg", "levels 2", "mode volume", "teleport 1,2,3",
-                                "open", "quit now", "clip y", "view3d slices"}) {
+                                "open", "quit now", "clip y", "view3d slices", "stamp 1,2,3,4 word", "stamp 1,2,3,4,0 word"}) {
     SCOPED_TRACE(bad);
     try {
       readViewScript(writeScript(dir, "frames 1\n\n" + bad + "\n"));

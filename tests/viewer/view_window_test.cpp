@@ -85,7 +85,7 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   const std::string script = p("session.txt");
   std::ofstream(script) << "probe 0,0,0,4.5\nseed 0,0,0,6\nset eps 30\nrun 50\nscreenshot " << p("segment.png") << "\nsave-mask "
                         << p("mask.nii.gz") << "\nview3d volume\nclip -y\nscreenshot " << p("volume.png") << "\nbrush subtract sphere:12,0,0,7.5\nsave-mask " << p("brushed.nii.gz")
-                        << "\nmode tree\nscreenshot " << p("tree.png") << "\nmode segment\nbuild\nlevels 2 1\nscreenshot "
+                        << "\nmode tree\nscreenshot " << p("tree.png") << "\nmode segment\nbuild\nlevels 2 1\nstamp 0,-27,0,12,1 iso\nscreenshot "
                         << p("mesh.png") << "\nsave-model " << p("model.isoatlas") << "\nquit\n";
   const int width = 880, height = 520;
   const ViewerReport report = runViewer({.files = {volume}, .script = script, .width = width, .height = height, .backend = "cpu",
@@ -169,6 +169,7 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   EXPECT_GT(double(treeCovered) / double((width - kControlsWidth) * height), 0.05);
 
   const atlas::Model model = atlas::readModel(p("model.isoatlas"));
+  EXPECT_GT(model.atlas.details.size(), 0u) << "the stamp gave the front of the brain detail charts";
   const Image mesh = readPng(p("mesh.png"));
   auto context = gl::Context::headless();
   const int viewWidth = width - kControlsWidth;

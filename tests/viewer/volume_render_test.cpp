@@ -9,6 +9,7 @@
 #include "levelset/level_set.h"
 #include "tests/gl_context.h"
 #include "tests/viewer/silhouette.h"
+#include "viewer/ray_pick.h"
 #include "viewer/volume_render.h"
 
 namespace isoatlas::viewer {
@@ -86,6 +87,27 @@ TEST(VolumeRender, TheClippingPlaneShowsTheContourWhereItCutsTheBall) {
   const std::uint8_t* right = image.at(145, 100);
   EXPECT_EQ(left[0], left[2]);
   EXPECT_LT(left[0], right[0]);
+}
+
+}  // namespace
+}  // namespace isoatlas::viewer
+
+namespace isoatlas::viewer {
+namespace {
+
+// The mouse's pick: a ray's first hit on a cube's triangles, or nothing.
+TEST(RayPick, FirstHitOnTrianglesOrNone) {
+  Mesh cube;
+  cube.positions = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}};
+  for (const auto& q : std::vector<std::array<std::uint32_t, 4>>{{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 3, 7, 4}, {1, 2, 6, 5}})
+    cube.addFace({q[0], q[1], q[2]}), cube.addFace({q[0], q[2], q[3]});
+  const auto hit = rayPick(cube, {0.3, -5, 0.2}, {0, 2, 0});
+  ASSERT_TRUE(hit);
+  EXPECT_NEAR(hit->x, 0.3, 1e-12);
+  EXPECT_NEAR(hit->y, -1, 1e-12) << "the near face, not the far one";
+  EXPECT_NEAR(hit->z, 0.2, 1e-12);
+  EXPECT_FALSE(rayPick(cube, {0.3, -5, 0.2}, {0, -1, 0})) << "pointing away";
+  EXPECT_FALSE(rayPick(cube, {3, -5, 0}, {0, 1, 0})) << "passing beside";
 }
 
 }  // namespace

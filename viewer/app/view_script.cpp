@@ -12,7 +12,7 @@ namespace {
 
 const char* kUsage =
     "open FILE, mode segment|mesh|tree, slice X,Y,Z, probe X,Y,Z[,R], seed X,Y,Z,R, unseed X,Y,Z,R, set t|eps|alpha V, run N, "
-    "undo, brush union|subtract SHAPE, view3d volume|surface, clip +x|-x|+y|-y|+z|-z|off, build, levels CPU GPU, wireframe on|off, render raycast|cubes, save-mask FILE, "
+    "undo, brush union|subtract SHAPE, view3d volume|surface, clip +x|-x|+y|-y|+z|-z|off, build, levels CPU GPU, stamp X,Y,Z,R,DEPTH WORD, wireframe on|off, render raycast|cubes, save-mask FILE, "
     "save-model FILE, screenshot FILE.png, frames N, quit";
 
 // One line's action, its words checked.
@@ -80,6 +80,12 @@ ViewAction parseAction(const std::vector<std::string>& words, const std::string&
   } else if (v == "render") {
     need(1, "raycast or cubes");
     oneOf(a.word = words[1], {"raycast", "cubes"});
+  } else if (v == "stamp") {
+    need(2, "X,Y,Z,R,DEPTH and a word");
+    a.numbers = parseNumbers(words[1], where + ": stamp", "X,Y,Z,R,DEPTH");
+    if (a.numbers.size() != 5 || a.numbers[3] <= 0 || a.numbers[4] == 0)
+      throw Error(where + ": stamp " + words[1] + ": expected X,Y,Z,R,DEPTH with R > 0 and DEPTH not 0 (mm)");
+    a.word = words[2];
   } else if (v == "view3d") {
     need(1, "volume or surface");
     oneOf(a.word = words[1], {"volume", "surface"});

@@ -16,6 +16,7 @@
 //   build                     extract the surface and build the model (in the background; the script waits)
 //   levels CPU GPU            the mesh view's CPU level and GPU halvings
 //   wireframe on|off          the mesh view's wireframe
+//   stamp X,Y,Z,R,DEPTH WORD  the word pressed DEPTH mm into the model nearest X,Y,Z, in a disc of R mm
 //   render raycast|cubes      the tree view's renderer
 //   save-mask FILE            the segmentation as a mask volume
 //   save-model FILE           the built model (.isoatlas)

@@ -16,11 +16,13 @@
 
 #include "atlas/atlas_previews.h"
 #include "atlas/model_file.h"
+#include "atlas/stamp_detail.h"
 #include "core/error.h"
 #include "core/gl/context.h"
 #include "core/gl/resources.h"
 #include "core/gz_file.h"
 #include "core/image.h"
+#include "core/text.h"
 #include "core/volume_io.h"
 #include "extract/extract_surface.h"
 #include "levelset/dvt/dvt_file.h"
@@ -31,6 +33,7 @@
 #include "viewer/app/view_script.h"
 #include "viewer/dvt_render.h"
 #include "viewer/mesh_render.h"
+#include "viewer/ray_pick.h"
 #include "viewer/scene.h"
 #include "viewer/slice_render.h"
 #include "viewer/volume_render.h"
@@ -113,6 +116,18 @@ struct ModelView {
   bool viewDependent = false, wire = false, chartColours = false, grid = false;
   ImagePanel atlasPreview;
   Orbit orbit;
+  // The last frame's camera and GPU refinement, for picking what it drew.
+  Camera camera;
+  GpuRefinement gpu;
+  // The stamp tool: a word pressed into the surface where the mouse picks it.
+  char stampWord[64] = "isoatlas";
+  float stampRadius = 10, stampDepth = 0.8f;
+  // The scene again (after the grid switch, or a stamp changed the atlas the scene uploaded).
+  void rebuild() {
+    scene = std::make_unique<Scene>(std::vector<const atlas::Model*>{&model});
+    if (grid) scene->grid(5);
+    atlasPreview.set(atlas::positionPreview(model.atlas));
+  }
 };
 
 struct TreeView {
@@ -230,6 +245,15 @@ public:
     mod().viewDependent = false;
   }
   void wireframe(bool on) { mod().wire = on; }
+  // A word pressed `depth` mm into the model's surface nearest `at`, fitting a disc of `radius` mm.
+  void stamp(const Vec3& at, const std::string& word, double radius, double depth) {
+    ModelView& m = mod();
+    const atlas::StampStats st =
+        atlas::stampDetail(m.model.base, m.model.atlas, {.image = renderText(word, 128), .at = at, .radius = radius, .depth = depth});
+    require(st.texelsChanged + st.detailTexelsChanged > 0, "stamp: the word reaches no part of the surface there");
+    m.rebuild();
+    status_ = "stamped \"" + word + "\" on " + std::to_string(st.detailTiles) + " tiles";
+  }
   void treeRender(bool cubes) {
     require(bool(tree_), "render: no tree is open");
     tree_->cubes = cubes;
@@ -283,8 +307,7 @@ private:
     model_.emplace();
     model_->name = name;
     model_->model = std::move(model);
-    model_->scene = std::make_unique<Scene>(std::vector<const atlas::Model*>{&model_->model});
-    model_->atlasPreview.set(atlas::positionPreview(model_->model.atlas));
+    model_->rebuild();
     mode_ = Mode::Mesh;
   }
   void showTree(dvt::VolumeTree tree, const std::string& name) {
@@ -430,10 +453,11 @@ void Viewer::modelPanel() {
   ImGui::Checkbox("wireframe", &m.wire);
   ImGui::SameLine();
   ImGui::Checkbox("chart colours", &m.chartColours);
-  if (ImGui::Checkbox("grid of 5 x 5", &m.grid)) {
-    m.scene = std::make_unique<Scene>(std::vector<const atlas::Model*>{&m.model});
-    if (m.grid) m.scene->grid(5);
-  }
+  if (ImGui::Checkbox("grid of 5 x 5", &m.grid)) m.rebuild();
+  ImGui::TextUnformatted("ctrl-click the model to stamp:");
+  ImGui::InputText("word", m.stampWord, sizeof m.stampWord);
+  ImGui::SliderFloat("stamp radius (mm)", &m.stampRadius, 1, 60);
+  ImGui::SliderFloat("depth (mm)", &m.stampDepth, -5, 5);
   if (ImGui::Button("save model")) attempt([&] { saveModel(*pathField_ ? pathField_ : "model.isoatlas"); });
   if (ImGui::CollapsingHeader("atlas") && !m.atlasPreview.empty()) {
     const float w = float(kPanelWidth - 20), h = w * float(m.atlasPreview.height()) / float(std::max(1, m.atlasPreview.width()));
@@ -582,6 +606,7 @@ void Viewer::drawView(int width, int height) {
     const GpuRefinement gpu = m.viewDependent ? GpuRefinement{.mode = GpuRefinement::Mode::Pixels}
                                               : GpuRefinement{.mode = GpuRefinement::Mode::Level, .halvings = m.gpuHalvings};
     drawFrame(*m.scene, atlasRenderer_, cpu, gpu, camera, {.wireframe = m.wire, .colourByChart = m.chartColours}, *target_);
+    m.camera = camera, m.gpu = gpu;
   } else if (mode_ == Mode::Tree && tree_) {
     TreeView& t = *tree_;
     target_->bind();
@@ -643,6 +668,15 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
       return;
     }
   }
+  if (mode_ == Mode::Mesh && model_ && pressed && io.KeyCtrl) {
+    ModelView& m = *model_;
+    const Mesh drawn = atlasRenderer_.capture(m.scene->items(), m.camera, m.scene->bounds(), m.gpu);
+    if (const auto at = rayPick(drawn, m.camera.eye, m.camera.rayThrough(x, y)))
+      attempt([&] { stamp(*at, m.stampWord, m.stampRadius, m.stampDepth); });
+    else
+      status_ = "nothing there to stamp";
+    return;
+  }
   if (!orbit) return;
   if (down) orbit->drag(dx, dy);
   if (io.MouseWheel != 0) orbit->zoom(io.MouseWheel);
@@ -687,6 +721,7 @@ private:
     else if (verb == "build") v.build();
     else if (verb == "levels") v.levels(int(n[0]), int(n[1]));
     else if (verb == "view3d") v.view3d(a.word == "volume");
+    else if (verb == "stamp") v.stamp({n[0], n[1], n[2]}, a.word, n[3], n[4]);
     else if (verb == "clip") v.clip(a.word);
     else if (verb == "wireframe") v.wireframe(a.on);
     else if (verb == "render") v.treeRender(a.word == "cubes");
