@@ -84,7 +84,7 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   const auto p = [&](const char* name) { return (dir / name).string(); };
   const std::string script = p("session.txt");
   std::ofstream(script) << "probe 0,0,0,4.5\nseed 0,0,0,6\nset eps 30\nrun 50\nscreenshot " << p("segment.png") << "\nsave-mask "
-                        << p("mask.nii.gz") << "\nview3d volume\nclip -y\nscreenshot " << p("volume.png") << "\nbrush subtract sphere:12,0,0,7.5\nsave-mask " << p("brushed.nii.gz")
+                        << p("mask.nii.gz") << "\nview3d volume\nclip +y\nscreenshot " << p("volume.png") << "\nbrush subtract sphere:12,0,0,7.5\nsave-mask " << p("brushed.nii.gz")
                         << "\nmode tree\nscreenshot " << p("tree.png") << "\nmode segment\nbuild\nlevels 2 1\nstamp 0,-27,0,12,1 iso\nscreenshot "
                         << p("mesh.png") << "\nsave-model " << p("model.isoatlas") << "\nquit\n";
   const int width = 880, height = 520;

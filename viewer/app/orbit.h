@@ -9,7 +9,7 @@
 namespace isoatlas::viewer {
 
 struct Orbit {
-  double yaw = -1.57, pitch = 0.25, distance = 1.6;  // from the front (-y), a little above
+  double yaw = 1.5708, pitch = 0.25, distance = 1.6;  // from the front (anterior, +y), a little above
   // From the box's centre towards the eye.
   Vec3 direction() const { return {std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch)}; }
   Camera camera(const Box& box, int width, int height) const {

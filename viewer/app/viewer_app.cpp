@@ -459,7 +459,7 @@ void Viewer::modelPanel() {
   ImGui::SliderFloat("stamp radius (mm)", &m.stampRadius, 1, 60);
   ImGui::SliderFloat("depth (mm)", &m.stampDepth, -5, 5);
   if (ImGui::Button("save model")) attempt([&] { saveModel(*pathField_ ? pathField_ : "model.isoatlas"); });
-  if (ImGui::CollapsingHeader("atlas") && !m.atlasPreview.empty()) {
+  if (ImGui::CollapsingHeader("atlas", ImGuiTreeNodeFlags_DefaultOpen) && !m.atlasPreview.empty()) {
     const float w = float(kPanelWidth - 20), h = w * float(m.atlasPreview.height()) / float(std::max(1, m.atlasPreview.width()));
     ImGui::Image(ImTextureID(std::intptr_t(m.atlasPreview.texture())), ImVec2(w, h));
   }
