@@ -7,9 +7,14 @@
 #include <optional>
 
 #include "app/command.h"
+#include "app/segmentation_views.h"
+#include "levelset/dvt/dvt_file.h"
+#include "viewer/app/orbit.h"
+#include "viewer/dvt_render.h"
 #include "app/options.h"
 #include "atlas/reconstruct.h"
 #include "core/error.h"
+#include "core/gz_file.h"
 #include "core/mesh_io.h"
 #include "core/progress.h"
 #include "viewer/scene.h"
@@ -184,9 +189,21 @@ int render(const RenderOptions& o, nlohmann::json& r) {
 }  // namespace
 
 void addRenderCommand(CLI::App& app, int& exitCode) {
-  auto* sub = app.add_subcommand("render", "draw a model headless: CPU level, then GPU tessellation of its atlas, to PNG");
+  auto* sub = app.add_subcommand("render", "draw a model headless (CPU level, then GPU tessellation of its atlas), or a volume and "
+                                           "its segmentation as the view window shows them, to PNG");
   auto o = std::make_shared<RenderOptions>();
-  sub->add_option("model", o->models, "the .isoatlas model (several with --scene: placed in turn)")->required();
+  auto seg = std::make_shared<SegmentationViewRequest>();
+  sub->add_option("model", o->models, "the .isoatlas model (several with --scene: placed in turn), a volume, or a volume tree (.dvt)")
+      ->required();
+  sub->add_option("--segmentation", seg->segmentation, "a volume: its segmentation (mask or phi, the volume's grid), drawn as the window does");
+  sub->add_option("--view", seg->view, "a volume: slices (default: the three planes, the contour) or volume (ray cast from the "
+                                       "level set's pages); a tree (.dvt): raycast (default) or cubes");
+  auto at = std::make_shared<std::string>();
+  sub->add_option("--at", *at, "a volume: X,Y,Z, the slice point (world mm); default the volume's centre");
+  sub->add_option("--clip", seg->clip, "a volume's --view volume: cut away the side +x, -x, +y, -y, +z or -z of the slice point")
+      ->capture_default_str();
+  sub->add_flag("--inside-only", seg->insideOnly, "a volume's --view volume: the scan only inside the segmentation");
+  sub->add_option("--opacity", seg->opacity, "a volume's --view volume: opacity per voxel at the window's top")->capture_default_str();
   auto* level = sub->add_option("--cpu-level", o->cpuLevel, "CPU level L everywhere (in a grid: for the nearest; lower with distance)");
   sub->add_option("--cpu-error", o->cpuError, "CPU: split where the surface moves more than E pixels (default 2)")->excludes(level);
   auto* halvings = sub->add_option("--gpu-level", o->gpuLevel, "GPU: T more halvings of every CPU edge, up to the chart's texels");
@@ -203,7 +220,37 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   sub->add_flag("--limit-only", o->limitOnly, "with --smooth: OpenSubdiv's limit surface alone, no detail");
   sub->add_option("-o,--output", o->output, "the image (.png)")->required();
   sub->add_option("--capture", o->capture, "the triangles the GPU made (transform feedback), welded, world mm (.ply, .obj, .off, .stl)");
-  bindAction(*sub, [o](nlohmann::json& r) {
+  bindAction(*sub, [o, seg, at](nlohmann::json& r) {
+    if (endsWith(o->models.front(), ".dvt")) {  // a volume tree, as the window's tree view draws it
+      require(o->models.size() == 1, "render draws one tree");
+      require(o->output.ends_with(".png"), o->output + ": -o writes a .png");
+      require(seg->view.empty() || seg->view == "raycast" || seg->view == "cubes", "--view " + seg->view + ": expected raycast or cubes for a tree");
+      const levelset::dvt::VolumeTree tree = levelset::dvt::readDvt(o->models.front());
+      const auto [width, height] = parseSize(o->size);
+      Gpu gpu;
+      gpu.needGl();
+      const viewer::Camera camera = o->camera.empty() ? viewer::Orbit{}.camera(viewer::insideBounds(tree), width, height)
+                                                      : parseCamera(o->camera, width, height);
+      writePng(o->output, viewer::renderTree(tree, {.camera = camera, .mode = seg->view == "cubes" ? viewer::DvtRenderMode::Cubes
+                                                                                                 : viewer::DvtRenderMode::RayCast}));
+      r["images"] = {o->output};
+      r["nodes"] = tree.nodeCount();
+      return 0;
+    }
+    if (!endsWith(o->models.front(), ".isoatlas")) {  // a volume: the window's segmentation views
+      require(o->models.size() == 1, "render draws one volume");
+      require(o->output.ends_with(".png"), o->output + ": -o writes a .png");
+      SegmentationViewRequest request = *seg;
+      request.volume = o->models.front();
+      if (!at->empty()) request.at = parsePoint(*at, "--at");
+      const auto [width, height] = parseSize(o->size);
+      request.width = width, request.height = height;
+      if (!o->camera.empty()) request.camera = parseCamera(o->camera, width, height);
+      writePng(o->output, renderSegmentationView(request, r));
+      r["images"] = {o->output};
+      return 0;
+    }
+    require(seg->segmentation.empty() && at->empty(), "--segmentation and --at go with a volume, not a model");
     RenderOptions options = *o;
     if (options.cpuLevel < 0 && options.cpuError == 0) options.cpuError = 2;
     if (options.gpuLevel < 0 && options.gpuPixels == 0) options.gpuPixels = 8;

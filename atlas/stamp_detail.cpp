@@ -16,7 +16,7 @@ public:
   StampField(const Stamp& s, const Vec3& centre, const Vec3& normal) : stamp_(s), centre_(centre), normal_(normal) {
     const Vec3 worldUp = std::abs(normal.z) > 0.9 ? Vec3{0, 1, 0} : Vec3{0, 0, 1};
     up_ = worldUp - normal * dot(worldUp, normal);
-    up_ = up_ * (1 / norm(up_));
+    up_ = unit(up_);
     right_ = cross(up_, normal);  // right x up = normal: seen from outside, the image reads left to right
     const double w = s.image.width, h = s.image.height;
     pixel_ = 2 * s.radius / std::sqrt(w * w + h * h);
@@ -132,7 +132,7 @@ StampStats stampDetail(const multires::BaseMesh& base, Atlas& atlas, const Stamp
         if (d < best) best = d, stats.centre = atlas.position(c, i, j), stats.normal = atlas.normal(c, i, j);
       }
   require(norm(stats.normal) > 0, "stamp: the surface has no normal at the centre");
-  stats.normal = stats.normal * (1 / norm(stats.normal));
+  stats.normal = unit(stats.normal);
   const StampField field(stamp, stats.centre, stats.normal);
 
   // Detail charts first, from the charts as they were: every tile whose chart's box comes within

@@ -19,6 +19,7 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+inline Vec3 unit(const Vec3& a) { return a * (1 / norm(a)); }
 
 // Row-major 3x3; m[r][c].
 struct Mat3 {

@@ -10,8 +10,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-Vec3 unit(const Vec3& v) { return v * (1 / norm(v)); }
-
 struct Frame {
   Vec3 right, up, forward;
 };

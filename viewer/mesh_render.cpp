@@ -40,10 +40,10 @@ Image renderMesh(const Mesh& mesh, const MeshRenderOptions& o) {
   const Box box = boundingBox(mesh.positions);
   const Vec3 centre = (box.min + box.max) * 0.5;
   const double radius = std::max(box.diagonal() / 2, 1e-9);
-  Vec3 forward = o.viewDirection * (1 / norm(o.viewDirection));
+  Vec3 forward = unit(o.viewDirection);
   Vec3 right = cross(forward, o.up);
   require(norm(right) > 1e-9, "view direction and up vector are parallel");
-  right = right * (1 / norm(right));
+  right = unit(right);
   const Vec3 up = cross(right, forward);
   // Framed on the box's projection, with a 5 % margin.
   double extentR = 0, extentU = 0;

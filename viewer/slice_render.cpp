@@ -87,6 +87,12 @@ std::array<double, 2> SliceLayout::pixel(int panel, const Vec3& w) const {
           size_ / 2.0 - (w[pl.up] - mid_[pl.up]) / mmPerPixel_[panel]};
 }
 
+VoxelField pagedField(const levelset::LevelSet& levelSet) {
+  const float* pool = levelSet.phiPoolOnHost();
+  const levelset::PageManager* pages = &levelSet.pages();
+  return [pool, pages](std::int64_t i, std::int64_t j, std::int64_t k) { return pool[pages->poolTexel(i, j, k)]; };
+}
+
 Vec3 volumeCentre(const Volume& v) {
   return v.indexToWorld({double(v.dims[0] - 1) / 2, double(v.dims[1] - 1) / 2, double(v.dims[2] - 1) / 2});
 }

@@ -16,6 +16,7 @@
 
 #include "core/image.h"
 #include "core/volume.h"
+#include "levelset/level_set.h"
 #include "levelset/speed.h"
 
 namespace isoatlas::viewer {
@@ -28,6 +29,9 @@ IntensityWindow percentileWindow(const Volume& volume, double lowPercentile, dou
 
 // phi at voxel (i, j, k) of the volume's grid (> 0 inside), e.g. read from a level set's pages.
 using VoxelField = std::function<float(std::int64_t i, std::int64_t j, std::int64_t k)>;
+// A level set's phi voxel by voxel from its pool (the GPU's read back once): valid until the level
+// set is next used.
+VoxelField pagedField(const levelset::LevelSet& levelSet);
 
 struct SliceOptions {
   int panelSize = 320;

@@ -690,3 +690,68 @@ TEST(Cli, Ch2IsReadWithItsTrueDimensions) {
 
 }  // namespace
 }  // namespace isoatlas
+
+namespace isoatlas {
+namespace {
+
+// render on a volume and its segmentation draws the window's views headless: the slices with the
+// contour on the ball's outline, the volume rendering cut by a plane (the contour on its face), and
+// the segmentation's volume tree.
+TEST(Cli, RenderDrawsAVolumeAndItsSegmentationAsTheWindowDoes) {
+  const auto dir = test::scratchDir();
+  Volume v = Volume::zeros({40, 40, 40}, ScalarType::UInt8), mask = Volume::zeros({40, 40, 40}, ScalarType::UInt8);
+  for (std::int64_t k = 0; k < 40; ++k)
+    for (std::int64_t j = 0; j < 40; ++j)
+      for (std::int64_t i = 0; i < 40; ++i) {
+        const bool in = std::hypot(double(i) - 19.5, double(j) - 19.5, double(k) - 19.5) < 10;
+        v.setValue(v.index(i, j, k), in ? 200 : 40 + i);
+        mask.setValue(mask.index(i, j, k), in);
+      }
+  const std::string volume = (dir / "v.nii.gz").string(), seg = (dir / "m.nii.gz").string();
+  writeVolume(volume, v);
+  writeVolume(seg, mask);
+  auto isContour = [](const std::uint8_t* c) { return c[0] == 255 && c[1] > 200 && c[1] < 240 && c[2] == 0; };
+
+  const std::string slices = (dir / "s.png").string();
+  ASSERT_EQ(run("render " + volume + " --segmentation " + seg + " --size 300,100 -o " + slices).code, 0);
+  const Image s = readPng(slices);
+  ASSERT_EQ(s.width, 300);
+  ASSERT_EQ(s.height, 100);
+  // Each panel: 40 mm over 100 pixels, the ball's 10 mm outline 25 pixels from the panel's centre.
+  std::int64_t contour = 0, off = 0;
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 300; ++x)
+      if (isContour(s.at(x, y))) ++contour, off += std::abs(std::hypot(x % 100 + 0.5 - 50, y + 0.5 - 50) - 25) > 2.5;
+  EXPECT_GT(contour, 3 * 100);
+  EXPECT_EQ(off, 0);
+
+  const std::string cut = (dir / "v.png").string();
+  ASSERT_EQ(run("render " + volume + " --segmentation " + seg + " --view volume --clip +y --size 160,160 -o " + cut).code, 0);
+  const Image c = readPng(cut);
+  std::int64_t face = 0;
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) face += isContour(c.at(x, y));
+  EXPECT_GT(face, 30) << "the contour on the cut face (a ring of about 60 pixels)";
+
+  // A tree of the segmentation, as the window's tree view draws it: the ball in the middle.
+  const std::string tree = (dir / "t.dvt").string(), treePng = (dir / "t.png").string();
+  ASSERT_EQ(run("edit " + seg + " -o " + tree).code, 0);
+  for (const char* mode : {"raycast", "cubes"}) {
+    ASSERT_EQ(run("render " + tree + " --view " + std::string(mode) + " --size 120,120 -o " + treePng).code, 0) << mode;
+    const Image t = readPng(treePng);
+    std::int64_t drawn = 0;
+    for (int y = 40; y < 80; ++y)
+      for (int x = 40; x < 80; ++x) drawn += t.at(x, y)[0] < 250 || t.at(x, y)[2] < 250;
+    EXPECT_EQ(drawn, 40 * 40) << mode << ": the ball fills the middle";
+  }
+  expectBadInput("render " + tree + " --view slices -o x.png", "--view slices");
+
+  expectBadInput("render " + volume + " --view cubes -o x.png", "--view cubes");
+  expectBadInput("render " + volume + " --view volume --clip y -o x.png", "--clip y");
+  expectBadInput("render " + volume + " --at 500,0,0 -o x.png", "--at");
+  writeVolume((dir / "small.nii.gz").string(), Volume::zeros({8, 8, 8}, ScalarType::UInt8));
+  expectBadInput("render " + volume + " --segmentation " + (dir / "small.nii.gz").string() + " -o x.png", "voxel grid");
+}
+
+}  // namespace
+}  // namespace isoatlas

@@ -83,12 +83,12 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   writeVolume(volume, head.image);
   const auto p = [&](const char* name) { return (dir / name).string(); };
   const std::string script = p("session.txt");
-  std::ofstream(script) << "probe 0,0,0,4.5\nseed 0,0,0,6\nset eps 30\nrun 50\nscreenshot " << p("segment.png") << "\nsave-mask "
+  std::ofstream(script) << "open " << volume << "\nprobe 0,0,0,4.5\nseed 0,0,0,6\nset eps 30\nrun 50\nscreenshot " << p("segment.png") << "\nsave-mask "
                         << p("mask.nii.gz") << "\nview3d volume\nclip +y\nscreenshot " << p("volume.png") << "\nbrush subtract sphere:12,0,0,7.5\nsave-mask " << p("brushed.nii.gz")
                         << "\nmode tree\nscreenshot " << p("tree.png") << "\nmode segment\nbuild\nlevels 2 1\nstamp 0,-27,0,12,1 iso\nscreenshot "
                         << p("mesh.png") << "\nsave-model " << p("model.isoatlas") << "\nquit\n";
   const int width = 880, height = 520;
-  const ViewerReport report = runViewer({.files = {volume}, .script = script, .width = width, .height = height, .backend = "cpu",
+  const ViewerReport report = runViewer({.script = script, .width = width, .height = height, .backend = "cpu",
                                          .buildModel = [](const Mesh& surface) { return test::buildModel(surface, 0.05, 9); }});
   for (const auto& [mode, f] : report.modes)
     std::printf("frame time, %s: %d frames, mean %.1f ms, max %.1f ms\n", mode.c_str(), f.frames, f.meanMs, f.maxMs);

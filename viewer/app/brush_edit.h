@@ -2,7 +2,9 @@
 // makes one: the level set's inside (read from its pages) written into a tree at its voxels, the brush
 // applied (union or subtract), the tree collapsed. Returns the tree (the tree view shows it) and its
 // mask in the level set's grid, the segmentation to go on from.
-//   gpu: the context whose compute shaders run the tree passes (the window's), or null for the CPU twin.
+//   gpu: the context whose compute shaders run the tree passes (the window's), or null for the CPU twin
+//   levels: the brush's depth past the voxels' (-3: cells of 2 x 2 x 2 voxels; past 0 the tree holds
+//     detail the mask, at the voxels, does not keep)
 #pragma once
 #include <memory>
 
@@ -20,6 +22,6 @@ struct BrushResult {
 };
 
 BrushResult brushSegmentation(const levelset::LevelSet& levelSet, const levelset::dvt::Solid& brush, levelset::dvt::Op op,
-                              gl::Context* gpu);
+                              gl::Context* gpu, int levels = 0);
 
 }  // namespace isoatlas::viewer

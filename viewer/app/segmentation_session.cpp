@@ -84,11 +84,7 @@ int SegmentationSession::advance(double budgetMs) {
   return steps;
 }
 
-VoxelField SegmentationSession::phi() const {
-  const float* pool = levelSet_->phiPoolOnHost();
-  const levelset::PageManager* pages = &levelSet_->pages();
-  return [pool, pages](std::int64_t i, std::int64_t j, std::int64_t k) { return pool[pages->poolTexel(i, j, k)]; };
-}
+VoxelField SegmentationSession::phi() const { return pagedField(*levelSet_); }
 
 void SegmentationSession::saveMask(const std::string& path) const { writeVolume(path, levelSet_->mask()); }
 

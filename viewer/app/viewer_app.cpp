@@ -79,6 +79,7 @@ struct SegmentView {
   float probeRadius = 3, seedRadius = 6, brushSize = 8;
   BrushShape brushShape = BrushShape::Sphere;
   bool brushUnion = false;
+  int brushLevels = 0;  // the brush's tree depth past the voxels' (negative: coarser cells)
   // The slices as last drawn, and what they showed.
   ImagePanel slices;
   bool slicesDirty = true;
@@ -210,10 +211,10 @@ public:
   }
   void run(int steps) { seg().session->requestSteps(steps); }
   void undo() { seg().session->undo(); }
-  void brush(const std::string& shape, bool add) {
+  void brush(const std::string& shape, bool add, int levels = 0) {
     const auto solid = dvt::parseBrush(shape);
     BrushResult r = brushSegmentation(seg().session->levelSet(), *solid, add ? dvt::Op::Union : dvt::Op::Subtract,
-                                      backend_ == levelset::Backend::Gpu ? &context_ : nullptr);
+                                      backend_ == levelset::Backend::Gpu ? &context_ : nullptr, levels);
     seg().session->replaceMask(r.mask);
     showTree(r.tree->tree(), "brushed segmentation");
     mode_ = Mode::Segment;
@@ -410,8 +411,15 @@ void Viewer::segmentPanel() {
   s.brushShape = BrushShape(shape);
   ImGui::SliderFloat("brush size (mm)", &s.brushSize, 1, 60);
   ImGui::Checkbox("brush adds (else carves)", &s.brushUnion);
+  ImGui::SliderInt("brush depth (levels past the voxels)", &s.brushLevels, -6, 3);
   ImGui::Separator();
-  bool view3d = false;
+  // The intensity window: the slices' grey levels and the volume rendering's transfer function.
+  float low = float(s.window.low), high = float(s.window.high);
+  const bool windowed = ImGui::SliderFloat("window low", &low, float(s.range.min), float(s.range.max)) |
+                        ImGui::SliderFloat("window high", &high, float(s.range.min), float(s.range.max));
+  if (windowed) s.window = {low, std::max(high, low + 1e-3f)};
+  s.slicesDirty |= windowed;
+  bool view3d = windowed;
   view3d |= ImGui::Checkbox("volume rendering (else the surface)", &s.volumeRendering);
   if (s.volumeRendering) {
     view3d |= ImGui::Checkbox("scan", &s.showScan);
@@ -626,7 +634,7 @@ void Viewer::applyTool(const Vec3& at) {
     case Tool::Probe: probe(at, s.probeRadius); break;
     case Tool::SeedIn: seed(at, s.seedRadius, true); break;
     case Tool::SeedOut: seed(at, s.seedRadius, false); break;
-    case Tool::Brush: brush(brushText(at), s.brushUnion); break;
+    case Tool::Brush: brush(brushText(at), s.brushUnion, s.brushLevels); break;
   }
 }
 
@@ -638,11 +646,13 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
   x *= double(width) / std::max(1, windowWidth), y *= double(height) / std::max(1, windowHeight);  // to framebuffer pixels
   const ImGuiIO& io = ImGui::GetIO();
   const bool down = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+  const bool rightDown = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
   const bool pressed = down && !leftWasDown_;
   const double dx = x - lastX_, dy = y - lastY_;
   leftWasDown_ = down, lastX_ = x, lastY_ = y;
   if (io.WantCaptureMouse || x >= width - kPanelWidth) return;
   Orbit* orbit = mode_ == Mode::Mesh && model_ ? &model_->orbit : mode_ == Mode::Tree && tree_ ? &tree_->orbit : nullptr;
+  int viewHeight = height;
   if (mode_ == Mode::Segment && segment_) {
     SegmentView& s = *segment_;
     const int n = s.panelSize;
@@ -653,7 +663,8 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
         return;
       }
       orbit = &s.orbit;
-      if ((down && (dx != 0 || dy != 0)) || io.MouseWheel != 0) s.view3dDirty = true;
+      viewHeight = height - n;
+      if (((down || rightDown) && (dx != 0 || dy != 0)) || io.MouseWheel != 0) s.view3dDirty = true;
     } else {
       const int panel = int(x) / n;
       const SliceLayout layout(s.session->source(), s.point, n);
@@ -679,6 +690,7 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
   }
   if (!orbit) return;
   if (down) orbit->drag(dx, dy);
+  if (rightDown) orbit->pan(dx, dy, viewHeight);
   if (io.MouseWheel != 0) orbit->zoom(io.MouseWheel);
 }
 

@@ -1,0 +1,64 @@
+#include "app/segmentation_views.h"
+
+#include "app/options.h"
+#include "core/error.h"
+#include "core/volume_io.h"
+#include "levelset/level_set.h"
+#include "viewer/app/orbit.h"
+#include "viewer/slice_render.h"
+#include "viewer/volume_render.h"
+
+namespace isoatlas::app {
+
+Image renderSegmentationView(const SegmentationViewRequest& request, nlohmann::json& figures) {
+  SegmentationViewRequest r = request;
+  if (r.view.empty()) r.view = "slices";
+  require(r.view == "slices" || r.view == "volume", "--view " + r.view + ": expected slices or volume for a volume");
+  const bool clipped = r.clip != "off";
+  require(!clipped || (r.clip.size() == 2 && (r.clip[0] == '+' || r.clip[0] == '-') && r.clip[1] >= 'x' && r.clip[1] <= 'z'),
+          "--clip " + r.clip + ": expected +x, -x, +y, -y, +z, -z or off");
+  require(r.opacity > 0 && r.opacity <= 1, "--opacity must lie in (0, 1]");
+  const Volume volume = readVolume(r.volume);
+  // The segmentation as a level set (CPU, no steps): its pages are what the window reads.
+  levelset::LevelSet levelSet(volume, {}, {});
+  if (!r.segmentation.empty()) {
+    const Volume segmentation = readVolume(r.segmentation);
+    require(segmentation.dims == volume.dims,
+            r.segmentation + ": --segmentation needs the volume's voxel grid (" + std::to_string(volume.dims[0]) + " x " +
+                std::to_string(volume.dims[1]) + " x " + std::to_string(volume.dims[2]) + ")");
+    levelSet.setMask(isFloating(segmentation.type) ? levelset::maskOf(segmentation) : segmentation);
+  }
+  const Vec3 at = r.at.value_or(viewer::volumeCentre(volume));
+  const Vec3 index = volume.worldToIndex(at);
+  requireInside(volume, index, "--at");
+  const viewer::IntensityWindow window = viewer::percentileWindow(volume, 1, 99.5);
+  std::int64_t inside = 0;
+  const Volume mask = levelSet.mask();
+  for (std::size_t n = 0; n < mask.voxelCount(); ++n) inside += mask.data[n] != std::byte{0};
+  figures["view"] = r.view;
+  figures["inside_voxels"] = inside;
+
+  Gpu gpu;  // the process's one context, for the volume rendering
+  if (r.view == "slices") {
+    const int panel = std::max(16, std::min(r.width / 3, r.height));
+    viewer::SliceOptions o{.panelSize = panel, .window = window, .crosshair = true};
+    if (!r.segmentation.empty()) o.phi = viewer::pagedField(levelSet);
+    figures["size"] = {3 * panel, panel};
+    return viewer::renderSlices(volume, at, o);
+  }
+  gpu.needGl();
+  viewer::VolumeRenderView view{.camera = r.camera.value_or(viewer::Orbit{}.camera(viewer::gridBounds(volume), r.width, r.height)),
+                                .window = window,
+                                .opacity = r.opacity,
+                                .insideOnly = r.insideOnly,
+                                .surface = !r.segmentation.empty()};
+  if (clipped) {
+    Vec3 normal{0, 0, 0};
+    normal[r.clip[1] - 'x'] = r.clip[0] == '+' ? 1 : -1;
+    view.clip = viewer::ClipPlane{at, normal};
+  }
+  figures["size"] = {r.width, r.height};
+  return viewer::renderVolume(volume, levelSet, view);
+}
+
+}  // namespace isoatlas::app
