@@ -55,6 +55,29 @@ struct RunOptions {
   std::shared_ptr<std::vector<EditStep>> edits = std::make_shared<std::vector<EditStep>>();
 };
 
+// A view-window script (docs/view-script.md) doing what run did, seen in the window: the same seeds,
+// parameters and steps (the same solver: the same segmentation), the same edits as brushes, then the
+// model built.
+void writeViewSession(const std::string& path, const std::string& input, const Volume& volume, const levelset::SpeedParams& params,
+                      const std::vector<Ball>& seeds, int iterations, const std::vector<EditStep>& edits) {
+  std::ofstream out(path);
+  out.precision(7);  // floats as they were given; world positions to well under a micrometre
+  out << "# isoatlas run's segmentation and edits in the window: isoatlas view --script " << path << "\n"
+      << "open " << std::filesystem::absolute(input).string() << "\nset t " << params.target << "\nset eps " << params.width
+      << "\nset alpha " << params.alpha << "\n";
+  const double mmPerVoxel = std::cbrt(volume.spacing.x * volume.spacing.y * volume.spacing.z);  // as the window's radii
+  for (const Ball& b : seeds) {
+    const Vec3 w = volume.indexToWorld(b.centre);
+    out << "seed " << w.x << "," << w.y << "," << w.z << "," << b.radius * mmPerVoxel << "\n";
+  }
+  out << "run " << iterations << "\n";
+  for (const EditStep& e : edits)
+    out << (e.shape.starts_with("mesh:") ? "# (a mesh edit, not a brush) " : "") << "brush "
+        << (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") << e.shape << "\n";
+  out << "build\n";
+  require(bool(out), path + ": cannot write");
+}
+
 struct Stage {
   std::string name, status, detail;  // status: "done" or "skipped"
 };
@@ -233,6 +256,9 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                         std::to_string(s.insideVoxels) + " voxels in " + std::to_string(s.stats.iterations) +
                             " iterations (" + (s.stats.converged ? "converged" : "not converged") +
                             "): mask.nii.gz, phi.nii.gz"});
+      writeViewSession(products.add("view-session.txt", "this segmentation and its edits replayed in the window: isoatlas view --script "
+                                                        "view-session.txt (docs/view-script.md)"),
+                       *input, volume, params, seeds, s.stats.iterations, edits.steps);
       extract::ExtractStats extractStats;
       if (edits.steps.empty()) {
         stages.push_back({"edit", "skipped", "no --union or --subtract given"});

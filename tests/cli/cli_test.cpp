@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "core/image.h"
@@ -199,6 +200,19 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
       inTruth += truth.value(n) == 1;
     }
     EXPECT_GT(2.0 * double(both) / double(inMask + inTruth), 0.9) << "Dice with the phantom's truth";
+    // The window's script of the same session: its seed in world mm, the steps run took; the window
+    // reads it whole (and the volume it opens) before asking for a display.
+    const std::string session = test::readBytes(out / "view-session.txt");
+    const Vec3 seedWorld = readVolume(torus.string()).indexToWorld({31, 18, 14});
+    std::ostringstream seedLine;
+    seedLine.precision(7);
+    seedLine << "seed " << seedWorld.x << "," << seedWorld.y << "," << seedWorld.z << ",";
+    EXPECT_NE(session.find(seedLine.str()), std::string::npos) << session;
+    EXPECT_NE(session.find("run " + std::to_string(nlohmann::json::parse(test::readBytes(out / "report.json"))["segment"]["iterations"].get<int>())), std::string::npos);
+    const int viewed = std::system(("env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(ISOATLAS_EXE) + " view --script " +
+                                    (out / "view-session.txt").string() + " 2>" + (dir / "view.err").string()).c_str());
+    EXPECT_EQ(WEXITSTATUS(viewed), 2);
+    EXPECT_NE(test::readBytes(dir / "view.err").find("needs a display"), std::string::npos) << test::readBytes(dir / "view.err");
     const MeshTopology t = analyzeTopology(readMesh((out / "surface.ply").string()));
     EXPECT_TRUE(t.closed && t.manifold) << t.firstProblem;
     EXPECT_EQ(t.genus, 1);
