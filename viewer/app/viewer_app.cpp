@@ -415,8 +415,9 @@ void Viewer::segmentPanel() {
   ImGui::Separator();
   // The intensity window: the slices' grey levels and the volume rendering's transfer function.
   float low = float(s.window.low), high = float(s.window.high);
-  const bool windowed = ImGui::SliderFloat("window low", &low, float(s.range.min), float(s.range.max)) |
-                        ImGui::SliderFloat("window high", &high, float(s.range.min), float(s.range.max));
+  const bool lowMoved = ImGui::SliderFloat("window low", &low, float(s.range.min), float(s.range.max));
+  const bool highMoved = ImGui::SliderFloat("window high", &high, float(s.range.min), float(s.range.max));
+  const bool windowed = lowMoved || highMoved;
   if (windowed) s.window = {low, std::max(high, low + 1e-3f)};
   s.slicesDirty |= windowed;
   bool view3d = windowed;
