@@ -1,0 +1,19 @@
+"""isoatlas from Python: segment a scan, edit it, extract and model its surface.
+
+Volumes are numpy arrays indexed (x, y, z) with a 4 x 4 affine to world millimetres (RAS), exactly
+as nibabel gives them: ``read_volume`` returns an ``isoatlas.Volume`` whose ``.data`` shares its
+voxels and whose ``.affine`` equals nibabel's; anywhere a volume is taken, a Volume, a nibabel image
+or an array (with ``affine=``) will do. Each stage is the library call the ``isoatlas`` command
+makes, so results equal the command's.
+
+    import nibabel as nib, isoatlas
+    img = nib.load("ch2.nii.gz")
+    mask, phi, report = isoatlas.segment(img, seeds=[(64, 115, 101, 4)], target=112, width=14, alpha=0.8)
+    vertices, triangles = isoatlas.extract(phi, iso=0, affine=img.affine)
+
+Bad input raises ValueError with the command's message (a missing file FileNotFoundError); long
+calls release the GIL, report progress to ``progress(task, fraction)`` and stop on Ctrl-C.
+"""
+from ._isoatlas import Volume, extract, probe, read_volume, segment, write_volume
+
+__all__ = ["Volume", "read_volume", "write_volume", "probe", "segment", "extract"]

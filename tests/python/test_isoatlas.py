@@ -1,0 +1,135 @@
+"""The Python module against nibabel and the isoatlas command: volumes read with nibabel's affine and
+shared voxels, every array layout and scalar type, segment and extract equal to the CLI's outputs,
+bad input raising, the GIL released while a stage runs."""
+import os
+import subprocess
+import threading
+
+import nibabel as nib
+import numpy as np
+import pytest
+
+import isoatlas
+
+EXE = os.environ["ISOATLAS_EXE"]
+
+
+def phantom():
+    """A ch2-like head: a bright ellipsoid in a darker shell, 1.5 mm voxels, an oblique-free RAS affine."""
+    x, y, z = np.meshgrid(np.arange(36), np.arange(40), np.arange(30), indexing="ij")
+    brain = ((x - 18) / 11.0) ** 2 + ((y - 20) / 13.0) ** 2 + ((z - 15) / 9.0) ** 2 < 1
+    head = ((x - 18) / 15.0) ** 2 + ((y - 20) / 17.0) ** 2 + ((z - 15) / 13.0) ** 2 < 1
+    rng = np.random.default_rng(5)
+    data = np.where(brain, 100, np.where(head, 160, 20)) + rng.normal(0, 3, brain.shape)
+    affine = np.diag([1.5, 1.5, 1.5, 1.0])
+    affine[:3, 3] = [-27.0, -30.0, -22.5]
+    return data.astype(np.int16), affine
+
+
+def cli(*args):
+    result = subprocess.run([EXE, *args], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    return result
+
+
+def read_off(path):
+    with open(path) as f:
+        words = [w for line in f if not line.startswith("#") for w in line.split()]
+    assert words[0] == "OFF"
+    nv, nf = int(words[1]), int(words[2])
+    values = words[4:]
+    vertices = np.array(values[: 3 * nv], dtype=float).reshape(nv, 3)
+    faces = np.array(values[3 * nv :], dtype=np.int64).reshape(nf, 4)
+    assert (faces[:, 0] == 3).all()
+    return vertices, faces[:, 1:]
+
+
+def test_volumes_read_as_nibabel_sees_them(tmp_path):
+    data, affine = phantom()
+    path = str(tmp_path / "head.nii.gz")
+    nib.save(nib.Nifti1Image(data, affine), path)
+    v = isoatlas.read_volume(path)
+    img = nib.load(path)
+    assert tuple(v.shape) == (36, 40, 30)
+    np.testing.assert_array_equal(v.data, np.asanyarray(img.dataobj))
+    np.testing.assert_allclose(v.affine, img.affine)
+    np.testing.assert_allclose(v.spacing, [1.5, 1.5, 1.5])
+    assert not v.data.flags.owndata and v.data.flags.f_contiguous, "the voxels are shared, not copied"
+    # write_volume takes an array and its affine; nibabel reads back the same.
+    out = str(tmp_path / "copy.nii.gz")
+    isoatlas.write_volume(out, data, affine=affine)
+    np.testing.assert_array_equal(np.asanyarray(nib.load(out).dataobj), data)
+    np.testing.assert_allclose(nib.load(out).affine, affine)
+
+
+@pytest.mark.parametrize("dtype", ["u1", "i1", "u2", "i2", "u4", "i4", "f4", "f8", "bool"])
+@pytest.mark.parametrize("order", ["C", "F"])
+def test_every_layout_and_scalar_type(dtype, order):
+    base = np.arange(4 * 5 * 6).reshape(4, 5, 6) % 2 if dtype == "bool" else np.arange(4 * 5 * 6).reshape(4, 5, 6) % 100
+    array = np.array(base, dtype=dtype, order=order)
+    v = isoatlas.Volume(array, np.eye(4))
+    np.testing.assert_array_equal(v.data, array)
+    strided = np.array(base, dtype=dtype)[::-1, :, ::2]  # neither C nor Fortran order
+    np.testing.assert_array_equal(isoatlas.Volume(strided).data, strided)
+
+
+def test_bad_input_raises():
+    with pytest.raises(ValueError, match="int64"):
+        isoatlas.Volume(np.zeros((3, 3, 3), dtype=np.int64))
+    with pytest.raises(ValueError, match="3D"):
+        isoatlas.Volume(np.zeros((3, 3)))
+    with pytest.raises(ValueError, match="affine"):
+        isoatlas.Volume(np.zeros((3, 3, 3), dtype=np.uint8), affine=np.eye(3))
+    with pytest.raises(ValueError, match="NaN|infinite|finite"):
+        isoatlas.Volume(np.full((3, 3, 3), np.nan, dtype=np.float32))
+    with pytest.raises(FileNotFoundError):
+        isoatlas.read_volume("/nonexistent/head.nii.gz")
+    data, affine = phantom()
+    with pytest.raises(ValueError, match="eps|width"):
+        isoatlas.segment(data, seeds=[(18, 20, 15)], target=100, width=-1, affine=affine)
+    with pytest.raises(ValueError, match="seeds"):
+        isoatlas.segment(data, seeds=[(180, 20, 15)], target=100, width=30, affine=affine)
+    with pytest.raises(ValueError, match="at"):
+        isoatlas.probe(data, at=(18, 20, 99), affine=affine)
+
+
+def test_segment_and_extract_equal_the_command(tmp_path):
+    data, affine = phantom()
+    path = str(tmp_path / "head.nii.gz")
+    nib.save(nib.Nifti1Image(data, affine), path)
+    img = nib.load(path)
+    probed = isoatlas.probe(img, at=(18, 20, 15), radius=3)
+    assert abs(probed["mean"] - 100) < 3
+    cli("segment", path, "--seed", "18,20,15,3", "--target", "100", "--width", "30", "--alpha", "0.6", "--iterations", "60",
+        "--backend", "cpu", "-o", str(tmp_path / "mask.nii.gz"), "--phi", str(tmp_path / "phi.nii.gz"))
+    mask, phi, report = isoatlas.segment(img, seeds=[(18, 20, 15, 3)], target=100, width=30, alpha=0.6, iterations=60, backend="cpu")
+    np.testing.assert_array_equal(mask, np.asanyarray(nib.load(str(tmp_path / "mask.nii.gz")).dataobj))
+    np.testing.assert_array_equal(phi, np.asanyarray(nib.load(str(tmp_path / "phi.nii.gz")).dataobj))
+    assert report["iterations"] == 60 and report["backend"] == "cpu"
+    assert mask.sum() > 1000, "the seed grew"
+
+    cli("extract", str(tmp_path / "mask.nii.gz"), "--backend", "cpu", "-o", str(tmp_path / "surface.off"))
+    vertices, triangles = isoatlas.extract(mask, affine=affine, backend="cpu")
+    expected_vertices, expected_triangles = read_off(str(tmp_path / "surface.off"))
+    np.testing.assert_allclose(vertices, expected_vertices, atol=1e-4)
+    np.testing.assert_array_equal(triangles, expected_triangles)
+
+
+def test_long_calls_release_the_gil_and_report_progress():
+    data, affine = phantom()
+    fractions = []
+    result = {}
+
+    def run():
+        result["mask"] = isoatlas.segment(data, seeds=[(18, 20, 15, 3)], target=100, width=30, iterations=400, backend="cpu",
+                                          affine=affine, progress=lambda task, f: fractions.append(f))[0]
+
+    worker = threading.Thread(target=run)
+    spins = 0
+    worker.start()
+    while worker.is_alive():
+        spins += 1  # Python code running beside the solver: it holds no GIL while it steps
+    worker.join()
+    assert "mask" in result
+    assert spins > 1000
+    assert fractions and fractions[-1] == 1.0 and fractions == sorted(fractions)
