@@ -29,13 +29,11 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
     require(!output->empty() || !baseOnly->empty(), "build: give -o MODEL.isoatlas, --base-only BASE.obj, or both");
     require(output->empty() || output->ends_with(".isoatlas"), *output + ": the model file must end in .isoatlas");
     require(baseOnly->empty() || baseOnly->ends_with(".obj"), *baseOnly + ": --base-only writes an .obj");
-    require(o->baseRatio > 0 && o->baseRatio <= 1, "--base-ratio must be in (0, 1]");
-    require(o->maxError >= 0, "--max-error must be positive");
-    require(*chart > 0 && multires::isChartSize(std::uint32_t(*chart)),
-            "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
+    require(*chart > 0, "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
     ModelRequest request = *o;
     request.chartSize = std::uint32_t(*chart);
     request.hausdorff = !*noHausdorff;
+    checkModelRequest(request);
     const Mesh dense = prepareModelInput(readMesh(*input));
     const atlas::Model model = buildModel(dense, request, r);
     if (!baseOnly->empty()) writeMesh(*baseOnly, model.base.quadMesh(), {.binary = false, .normals = false});

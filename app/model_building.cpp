@@ -32,6 +32,13 @@ Mesh prepareModelInput(Mesh mesh) {
   return used;
 }
 
+void checkModelRequest(const ModelRequest& request) {
+  require(request.baseRatio > 0 && request.baseRatio <= 1, "--base-ratio must be in (0, 1]");
+  require(request.maxError >= 0, "--max-error must be positive");
+  require(multires::isChartSize(request.chartSize),
+          "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
+}
+
 atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann::json& r) {
   multires::SimplifyOptions simplify{.vertexRatio = request.baseRatio, .targetVertices = request.baseVertices};
   if (request.maxError > 0) simplify.maxError = request.maxError;

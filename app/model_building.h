@@ -26,6 +26,8 @@ struct ModelRequest {
   std::size_t hausdorffFacePoints = atlas::kHausdorffFacePoints;
 };
 
+// Throws Error naming the option (--base-ratio, --max-error, --chart) when the request is out of range.
+void checkModelRequest(const ModelRequest& request);
 // `dense`: a triangle mesh (prepareModelInput's). Fills `figures` with what each stage measured.
 atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann::json& figures);
 

@@ -4,6 +4,13 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "app/options.h"
+#include "core/mesh.h"
+#include "core/progress.h"
 #include "core/volume.h"
 
 namespace isoatlas::python {
@@ -12,6 +19,7 @@ namespace py = pybind11;
 
 void bindVolumes(py::module_& m);
 void bindStages(py::module_& m);
+void bindModels(py::module_& m);
 
 // A volume from what Python code holds: an isoatlas.Volume, a numpy array (any layout, a scalar type
 // the readers take) with its 4x4 affine (identity when None), or anything with `dataobj` and
@@ -21,5 +29,32 @@ Volume toVolume(const py::object& object, const py::object& affine, const char* 
 py::array voxelArray(const Volume& volume, const py::object& owner);
 // The 4x4 world transform (RAS, mm), as nibabel gives it.
 py::array affineOf(const Volume& volume);
+
+// (vertices N x 3 float64, triangles M x 3 int64) of a triangle mesh.
+py::tuple meshArrays(const Mesh& mesh);
+// A report as a Python dict.
+py::dict toDict(const nlohmann::json& json);
+// The process's backend and GL context, made on the first GPU call and kept (one per process, as
+// the command makes one): "gpu", "cpu" or "auto".
+app::Gpu& gpuFor(const std::string& backend);
+
+// While alive: core/progress's updates go to `callback(task, fraction)` with the GIL held, and a
+// pending Ctrl-C stops the work there (KeyboardInterrupt propagates out of the stage).
+class ProgressToPython {
+public:
+  explicit ProgressToPython(py::object callback) : callback_(std::move(callback)) {
+    Progress::setObserver([this](const std::string& task, double fraction) {
+      py::gil_scoped_acquire gil;
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      if (!callback_.is_none()) callback_(task, fraction);
+    });
+  }
+  ~ProgressToPython() { Progress::setObserver({}); }
+  ProgressToPython(const ProgressToPython&) = delete;
+  ProgressToPython& operator=(const ProgressToPython&) = delete;
+
+private:
+  py::object callback_;
+};
 
 }  // namespace isoatlas::python

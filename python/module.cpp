@@ -15,4 +15,5 @@ PYBIND11_MODULE(_isoatlas, m) {
   });
   isoatlas::python::bindVolumes(m);
   isoatlas::python::bindStages(m);
+  isoatlas::python::bindModels(m);
 }

@@ -17,36 +17,6 @@
 namespace isoatlas::python {
 namespace {
 
-// The process's GL context, made on the first GPU call and kept (one per process, as the CLI).
-app::Gpu& gpuFor(const std::string& backend) {
-  static std::optional<app::Gpu> gpu;
-  static std::string chosen;
-  if (!gpu || chosen != backend) {
-    require(!gpu || gpu->backend == levelset::Backend::Cpu || backend == chosen,
-            "backend=" + backend + ": this process already runs on the GPU (one GL context per process)");
-    gpu.emplace(app::chooseBackend(backend));
-    chosen = backend;
-  }
-  return *gpu;
-}
-
-// While alive: core/progress's updates go to `callback(task, fraction)` with the GIL held, and a
-// pending Ctrl-C stops the work there (the Python exception propagates out of the stage).
-class ProgressToPython {
-public:
-  explicit ProgressToPython(py::object callback) : callback_(std::move(callback)) {
-    Progress::setObserver([this](const std::string& task, double fraction) {
-      py::gil_scoped_acquire gil;
-      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-      if (!callback_.is_none()) callback_(task, fraction);
-    });
-  }
-  ~ProgressToPython() { Progress::setObserver({}); }
-
-private:
-  py::object callback_;
-};
-
 std::vector<app::Ball> seedBalls(const std::vector<std::vector<double>>& seeds, const Volume& v) {
   std::vector<app::Ball> balls;
   for (const auto& s : seeds) {
@@ -56,6 +26,17 @@ std::vector<app::Ball> seedBalls(const std::vector<std::vector<double>>& seeds, 
     app::requireInside(v, balls.back().centre, "seeds");
   }
   return balls;
+}
+
+}  // namespace
+
+app::Gpu& gpuFor(const std::string& backend) {
+  require(backend == "gpu" || backend == "cpu" || backend == "auto", "backend=" + backend + ": expected gpu, cpu or auto");
+  static app::Gpu cpu;  // no context
+  static std::optional<app::Gpu> gl;  // the first gpu or auto choice decides, later ones share it
+  if (backend == "cpu") return cpu;
+  if (!gl) gl.emplace(app::chooseBackend(backend));
+  return *gl;
 }
 
 py::dict toDict(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
@@ -75,9 +56,70 @@ py::tuple meshArrays(const Mesh& mesh) {
   return py::make_tuple(vertices, triangles);
 }
 
+namespace {
+
+// A level set steered from Python, with the scan it reads (kept here: the solver holds it by reference).
+struct PyLevelSet {
+  std::unique_ptr<Volume> source;
+  std::unique_ptr<levelset::LevelSet> levelSet;
+};
+
+py::array ownedArray(Volume v) {
+  const py::object owner = py::cast(std::move(v));
+  return voxelArray(owner.cast<const Volume&>(), owner);
+}
+
 }  // namespace
 
 void bindStages(py::module_& m) {
+  py::class_<PyLevelSet>(m, "LevelSet", "the steerable segmentation (isoatlas view steers the same): seed, step, change T/eps/alpha, read")
+      .def(py::init([](const py::object& volume, double target, double width, double alpha, const std::string& backend, const py::object& affine) {
+             const levelset::SpeedParams params{float(target), float(width), float(alpha)};
+             levelset::validateParams(params);
+             PyLevelSet p;
+             p.source = std::make_unique<Volume>(toVolume(volume, affine, "LevelSet"));
+             p.levelSet = std::make_unique<levelset::LevelSet>(*p.source, params, levelset::LevelSetOptions{.backend = gpuFor(backend).backend});
+             return p;
+           }), py::arg("volume"), py::arg("target"), py::arg("width"), py::arg("alpha") = 0.5, py::arg("backend") = "auto",
+           py::arg("affine") = py::none())
+      .def("add_sphere", [](PyLevelSet& p, const std::vector<double>& centre, double radius, bool add) {
+             require(centre.size() == 3, "add_sphere: centre is (x, y, z) in voxel indices");
+             app::requireInside(*p.source, {centre[0], centre[1], centre[2]}, "add_sphere: centre");
+             p.levelSet->addSphere({centre[0], centre[1], centre[2]}, radius, add);
+           }, py::arg("centre"), py::arg("radius") = 3.0, py::arg("add") = true, "a ball (voxel indices, radius in voxels) in or out")
+      .def("set_params", [](PyLevelSet& p, std::optional<double> target, std::optional<double> width, std::optional<double> alpha) {
+             levelset::SpeedParams q = p.levelSet->params();
+             if (target) q.target = float(*target);
+             if (width) q.width = float(*width);
+             if (alpha) q.alpha = float(*alpha);
+             levelset::validateParams(q);
+             p.levelSet->setParams(q);
+           }, py::arg("target") = py::none(), py::arg("width") = py::none(), py::arg("alpha") = py::none())
+      .def("step", [](PyLevelSet& p, int n) {
+             require(n >= 0, "step: n must be >= 0");
+             py::gil_scoped_release release;
+             for (int i = 0; i < n; ++i) p.levelSet->step();
+           }, py::arg("n") = 1)
+      .def("run", [](PyLevelSet& p, int iterations, bool converge, const py::object& progress) {
+             require(iterations > 0, "iterations must be > 0");
+             levelset::RunStats stats;
+             {
+               ProgressToPython report(progress);
+               py::gil_scoped_release release;
+               Progress bar("segment", std::uint64_t(iterations), "iterations");
+               stats = p.levelSet->run({.maxIterations = iterations, .untilConverged = converge,
+                                        .progress = [&](int i, std::int64_t) { bar.update(std::uint64_t(i)); }});
+             }
+             py::dict d;
+             d["iterations"] = stats.iterations, d["converged"] = stats.converged, d["seconds"] = stats.seconds;
+             return d;
+           }, py::arg("iterations") = 1000, py::arg("converge") = true, py::arg("progress") = py::none())
+      .def("mask", [](const PyLevelSet& p) { return ownedArray(p.levelSet->mask()); }, "uint8 (x, y, z), 1 inside")
+      .def("phi", [](const PyLevelSet& p) { return ownedArray(p.levelSet->phi()); }, "float32 (x, y, z), > 0 inside, in voxels")
+      .def_property_readonly("iterations", [](const PyLevelSet& p) { return p.levelSet->iterations(); })
+      .def_property_readonly("active_pages", [](const PyLevelSet& p) { return p.levelSet->pages().activePages().size(); })
+      .def_property_readonly("backend", [](const PyLevelSet& p) { return p.levelSet->backendName(); });
+
   m.def("probe", [](const py::object& volume, const std::vector<double>& at, double radius, const py::object& affine) {
         const Volume v = toVolume(volume, affine, "probe");
         require(at.size() == 3, "probe: at is (x, y, z) in voxel indices");
@@ -107,9 +149,7 @@ void bindStages(py::module_& m) {
                                      .maxIterations = iterations, .untilConverged = converge, .readPhi = true});
         }
         // Arrays sharing the Volumes' voxels (the Volumes kept alive as their owners).
-        const py::object mask = py::cast(std::move(s.mask)), phi = py::cast(std::move(s.phi));
-        return py::make_tuple(voxelArray(mask.cast<const Volume&>(), mask), voxelArray(phi.cast<const Volume&>(), phi),
-                              toDict(s.figures()));
+        return py::make_tuple(ownedArray(std::move(s.mask)), ownedArray(std::move(s.phi)), toDict(s.figures()));
       }, py::arg("volume"), py::arg("seeds"), py::arg("target"), py::arg("width"), py::arg("alpha") = 0.5, py::arg("backend") = "auto",
       py::arg("iterations") = 1000, py::arg("converge") = false, py::arg("progress") = py::none(), py::arg("affine") = py::none(),
       "the paged level-set segmentation (isoatlas segment): (mask uint8, phi float32, report), arrays (x, y, z) in the volume's grid; seeds in voxel indices");

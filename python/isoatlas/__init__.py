@@ -14,6 +14,7 @@ makes, so results equal the command's.
 Bad input raises ValueError with the command's message (a missing file FileNotFoundError); long
 calls release the GIL, report progress to ``progress(task, fraction)`` and stop on Ctrl-C.
 """
-from ._isoatlas import Volume, extract, probe, read_volume, segment, write_volume
+from ._isoatlas import LevelSet, Model, Volume, build, extract, load_model, probe, read_volume, render, segment, write_png, write_volume
 
-__all__ = ["Volume", "read_volume", "write_volume", "probe", "segment", "extract"]
+__all__ = ["Volume", "read_volume", "write_volume", "probe", "segment", "LevelSet", "extract", "build", "Model", "load_model",
+           "render", "write_png"]

@@ -133,3 +133,63 @@ def test_long_calls_release_the_gil_and_report_progress():
     assert "mask" in result
     assert spins > 1000
     assert fractions and fractions[-1] == 1.0 and fractions == sorted(fractions)
+
+
+def test_a_steered_level_set_is_the_segmentation(tmp_path):
+    data, affine = phantom()
+    mask, phi, _ = isoatlas.segment(data, seeds=[(18, 20, 15, 3)], target=100, width=30, alpha=0.6, iterations=40, backend="cpu",
+                                    affine=affine)
+    ls = isoatlas.LevelSet(data, target=100, width=5, alpha=0.6, backend="cpu", affine=affine)
+    ls.add_sphere((18, 20, 15), 3)
+    ls.set_params(width=30)  # steered before it runs
+    ls.step(25)
+    ls.step(15)
+    assert ls.iterations == 40 and ls.active_pages > 0
+    np.testing.assert_array_equal(ls.mask(), mask)
+    np.testing.assert_array_equal(ls.phi(), phi)
+    ls.add_sphere((18, 20, 15), 2, add=False)
+    assert ls.mask().sum() < mask.sum()
+    with pytest.raises(ValueError, match="alpha"):
+        ls.set_params(alpha=2)
+
+
+def test_build_equals_the_command_and_renders(tmp_path):
+    data, affine = phantom()
+    path = str(tmp_path / "head.nii.gz")
+    nib.save(nib.Nifti1Image(data, affine), path)
+    cli("segment", path, "--seed", "18,20,15,3", "--target", "100", "--width", "30", "--iterations", "60", "--backend", "cpu",
+        "-o", str(tmp_path / "mask.nii.gz"))
+    cli("extract", str(tmp_path / "mask.nii.gz"), "--backend", "cpu", "-o", str(tmp_path / "surface.off"))
+    cli("build", str(tmp_path / "surface.off"), "--chart", "9", "--base-ratio", "0.05", "-o", str(tmp_path / "cli.isoatlas"))
+    vertices, triangles = read_off(str(tmp_path / "surface.off"))
+    # The command's mesh readers keep positions as float32 (OpenMesh's): the same numbers here.
+    vertices = vertices.astype(np.float32).astype(np.float64)
+    model = isoatlas.build(vertices, triangles, base_ratio=0.05, chart_size=9)
+    model.save(str(tmp_path / "py.isoatlas"))
+    with open(tmp_path / "cli.isoatlas", "rb") as a, open(tmp_path / "py.isoatlas", "rb") as b:
+        assert a.read() == b.read(), "the model file is the command's, byte for byte"
+    assert len(model.report) > 0, "what build measured"
+    loaded = isoatlas.load_model(str(tmp_path / "cli.isoatlas"))
+    base_vertices, base_triangles = loaded.mesh_at_level(0)
+    assert len(base_triangles) == 2 * loaded.tiles
+    fine_vertices, fine_triangles = loaded.mesh_at_level(loaded.max_level)
+    assert len(fine_triangles) == 2 * loaded.tiles * (loaded.chart_size - 1) ** 2
+    assert loaded.atlas_positions.shape[2] == 3
+    picture = isoatlas.render(loaded, width=96, height=64)
+    assert picture.shape == (64, 96, 3) and picture.dtype == np.uint8
+    assert (picture < 240).any(axis=2).mean() > 0.1, "the model covers part of the picture"
+    with pytest.raises(ValueError, match="chart"):
+        isoatlas.build(vertices, triangles, chart_size=10)
+    with pytest.raises(ValueError, match="triangles"):
+        isoatlas.build(vertices, np.array([[0, 1, len(vertices)]]))
+
+
+def test_write_png_writes_a_png_and_refuses_other_shapes(tmp_path):
+    image = np.zeros((5, 7, 3), dtype=np.uint8)
+    image[1, 2] = (255, 128, 3)
+    path = str(tmp_path / "p.png")
+    isoatlas.write_png(path, image)
+    with open(path, "rb") as f:
+        assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+    with pytest.raises(ValueError, match="H x W"):
+        isoatlas.write_png(path, np.zeros((5, 7)))

@@ -1,0 +1,120 @@
+// build, Model, load_model, render: the multiresolution model from numpy meshes (the library calls
+// `isoatlas build` and `isoatlas render` make), its levels as arrays, pictures as H x W x 3 arrays.
+#include <pybind11/stl.h>
+
+#include <filesystem>
+
+#include "app/model_building.h"
+#include "atlas/model_file.h"
+#include "atlas/reconstruct.h"
+#include "core/error.h"
+#include "core/image.h"
+#include "core/gl/context.h"
+#include "core/gl/resources.h"
+#include "python/bindings.h"
+#include "viewer/scene.h"
+
+namespace isoatlas::python {
+namespace {
+
+Mesh toMesh(const py::object& vertices, const py::object& triangles) {
+  const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
+  const auto t = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(triangles);
+  require(v && v.ndim() == 2 && v.shape(1) == 3, "vertices: an N x 3 array of positions");
+  require(t && t.ndim() == 2 && t.shape(1) == 3, "triangles: an M x 3 array of vertex indices");
+  Mesh mesh;
+  const auto vv = v.unchecked<2>();
+  for (py::ssize_t i = 0; i < v.shape(0); ++i) {
+    mesh.positions.push_back({vv(i, 0), vv(i, 1), vv(i, 2)});
+    require(std::isfinite(vv(i, 0)) && std::isfinite(vv(i, 1)) && std::isfinite(vv(i, 2)), "vertices: row " + std::to_string(i) + " is not finite");
+  }
+  const auto tt = t.unchecked<2>();
+  for (py::ssize_t f = 0; f < t.shape(0); ++f) {
+    for (int k = 0; k < 3; ++k)
+      require(tt(f, k) >= 0 && tt(f, k) < v.shape(0), "triangles: row " + std::to_string(f) + " names a vertex that is not there");
+    mesh.addFace({std::uint32_t(tt(f, 0)), std::uint32_t(tt(f, 1)), std::uint32_t(tt(f, 2))});
+  }
+  return mesh;
+}
+
+struct PyModel {
+  atlas::Model model;
+  py::dict figures;
+};
+
+}  // namespace
+
+void bindModels(py::module_& m) {
+  py::class_<PyModel>(m, "Model", "a multiresolution model: the triquad base mesh and its atlas of geometry-image charts")
+      .def("save", [](const PyModel& p, const std::string& path) {
+             require(path.ends_with(".isoatlas"), path + ": the model file must end in .isoatlas");
+             atlas::writeModel(path, p.model);
+           }, py::arg("path"))
+      .def("mesh_at_level", [](const PyModel& p, int level) { return meshArrays(atlas::reconstructLevel(p.model.base, p.model.atlas, level)); },
+           py::arg("level"), "(vertices, triangles) of the surface with every tile refined to `level` (0: the base mesh's triangles)")
+      .def_property_readonly("max_level", [](const PyModel& p) { return atlas::maxLevel(p.model.atlas); })
+      .def_property_readonly("chart_size", [](const PyModel& p) { return p.model.chartSize; })
+      .def_property_readonly("tiles", [](const PyModel& p) { return p.model.atlas.layout.charts; })
+      .def_property_readonly("atlas_positions", [](const PyModel& p) {
+             const auto& l = p.model.atlas.layout;
+             py::array_t<float> a({py::ssize_t(l.height()), py::ssize_t(l.width()), py::ssize_t(3)});
+             std::memcpy(a.mutable_data(), p.model.atlas.positions.data(), p.model.atlas.positions.size() * sizeof(float) * 3);
+             return a;
+           }, "the atlas's texels (rows, columns, xyz in world mm), zero outside the charts")
+      .def_readonly("report", &PyModel::figures, "what `isoatlas build` reports (empty for a loaded model)");
+
+  m.def("build", [](const py::object& vertices, const py::object& triangles, double baseRatio, std::uint32_t chartSize, bool hausdorff,
+                    const py::object& progress) {
+        app::ModelRequest request{.baseRatio = baseRatio, .chartSize = chartSize, .hausdorff = hausdorff};
+        app::checkModelRequest(request);
+        const Mesh dense = app::prepareModelInput(toMesh(vertices, triangles));
+        PyModel p;
+        nlohmann::json figures;
+        {
+          ProgressToPython report(progress);
+          py::gil_scoped_release release;
+          p.model = app::buildModel(dense, request, figures);
+        }
+        p.figures = toDict(figures);
+        return p;
+      }, py::arg("vertices"), py::arg("triangles"), py::arg("base_ratio") = 0.01, py::arg("chart_size") = 33, py::arg("hausdorff") = true,
+      py::arg("progress") = py::none(), "the multiresolution model of a closed triangle mesh (isoatlas build)");
+
+  m.def("load_model", [](const std::string& path) {
+        if (!std::filesystem::exists(path)) {
+          PyErr_SetString(PyExc_FileNotFoundError, (path + ": no such file").c_str());
+          throw py::error_already_set();
+        }
+        return PyModel{atlas::readModel(path), {}};
+      }, py::arg("path"));
+
+  m.def("write_png", [](const std::string& path, const py::object& image) {
+        require(path.ends_with(".png"), path + ": write_png writes a .png");
+        const auto a = py::array_t<std::uint8_t, py::array::c_style | py::array::forcecast>::ensure(image);
+        require(a && a.ndim() == 3 && (a.shape(2) == 3 || a.shape(2) == 4) && a.shape(0) > 0 && a.shape(1) > 0,
+                "write_png: an H x W x 3 (or 4) uint8 array");
+        Image out(int(a.shape(1)), int(a.shape(0)), int(a.shape(2)));
+        std::memcpy(out.pixels.data(), a.data(), out.pixels.size());
+        writePng(path, out);
+      }, py::arg("path"), py::arg("image"), "an H x W x 3 picture (render's) as PNG");
+
+  m.def("render", [](const PyModel& p, int width, int height, int cpuLevel, int gpuLevel, bool wireframe) {
+        require(width >= 1 && height >= 1 && width <= 8192 && height <= 8192, "size: whole pixels from 1 to 8192");
+        require(cpuLevel >= 0 && cpuLevel <= atlas::maxLevel(p.model.chartSize), "cpu_level: 0 .. the chart's finest level");
+        require(gpuLevel >= 0, "gpu_level must be >= 0");
+        gpuFor("auto").needGl();
+        viewer::Scene scene({&p.model});
+        const viewer::AtlasRenderer renderer;
+        const gl::Framebuffer target(width, height);
+        viewer::drawFrame(scene, renderer, {.mode = viewer::CpuRefinement::Mode::Level, .level = cpuLevel},
+                          {.mode = viewer::GpuRefinement::Mode::Level, .halvings = gpuLevel}, scene.defaultCamera(width, height),
+                          {.wireframe = wireframe}, target);
+        const Image image = target.readImage();
+        py::array_t<std::uint8_t> a({py::ssize_t(height), py::ssize_t(width), py::ssize_t(3)});
+        std::memcpy(a.mutable_data(), image.pixels.data(), image.pixels.size());
+        return a;
+      }, py::arg("model"), py::arg("width") = 800, py::arg("height") = 600, py::arg("cpu_level") = 2, py::arg("gpu_level") = 1,
+      py::arg("wireframe") = false, "the model through the cascade, as `isoatlas render` draws it: an H x W x 3 uint8 array");
+}
+
+}  // namespace isoatlas::python
