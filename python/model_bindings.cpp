@@ -6,6 +6,7 @@
 
 #include "app/model_building.h"
 #include "atlas/model_file.h"
+#include "atlas/evaluate_levels.h"
 #include "atlas/reconstruct.h"
 #include "core/error.h"
 #include "core/image.h"
@@ -87,6 +88,23 @@ void bindModels(py::module_& m) {
         }
         return PyModel{atlas::readModel(path), {}};
       }, py::arg("path"));
+
+  m.def("eval", [](const PyModel& p, const py::object& vertices, const py::object& triangles, const std::string& levels, std::size_t samples,
+                   const py::object& progress) {
+        const Mesh dense = app::prepareModelInput(toMesh(vertices, triangles));
+        const int top = atlas::maxLevel(p.model.atlas);
+        const std::vector<int> wanted = app::parseLevels(levels.empty() ? "0-" + std::to_string(top) : levels, top);
+        std::vector<atlas::LevelFigures> figures;
+        {
+          ProgressToPython report(progress);
+          py::gil_scoped_release release;
+          figures = atlas::evaluateLevels(p.model.base, p.model.atlas, dense, wanted, samples);
+        }
+        return toDict(nlohmann::json{{"levels", app::levelFiguresJson(figures)}})["levels"];
+      }, py::arg("model"), py::arg("vertices"), py::arg("triangles"), py::arg("levels") = "", py::arg("samples") = atlas::kHausdorffFacePoints,
+      py::arg("progress") = py::none(),
+      "per level (isoatlas eval): level, vertices, triangles, hausdorff, psnr_db, closed, manifold against the dense mesh; "
+      "levels as eval takes them (\"0-10\", \"4\", \"0,2,10\"; default all)");
 
   m.def("write_png", [](const std::string& path, const py::object& image) {
         require(path.ends_with(".png"), path + ": write_png writes a .png");

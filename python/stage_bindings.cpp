@@ -8,6 +8,8 @@
 
 #include "app/options.h"
 #include "app/segmentation.h"
+#include "app/volume_editing.h"
+#include "levelset/dvt/volume_solid.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "extract/extract_surface.h"
@@ -153,6 +155,31 @@ void bindStages(py::module_& m) {
       }, py::arg("volume"), py::arg("seeds"), py::arg("target"), py::arg("width"), py::arg("alpha") = 0.5, py::arg("backend") = "auto",
       py::arg("iterations") = 1000, py::arg("converge") = false, py::arg("progress") = py::none(), py::arg("affine") = py::none(),
       "the paged level-set segmentation (isoatlas segment): (mask uint8, phi float32, report), arrays (x, y, z) in the volume's grid; seeds in voxel indices");
+
+  m.def("edit", [](const py::object& volume, const std::vector<std::pair<std::string, std::string>>& steps, std::optional<std::uint32_t> depth,
+                   const std::string& backend, const py::object& affine) {
+        app::EditRequest request{.depth = depth};
+        for (const auto& [op, shape] : steps) {
+          require(op == "union" || op == "subtract", "edit: each step is (\"union\" or \"subtract\", SHAPE), not " + op);
+          request.steps.push_back({op == "union" ? levelset::dvt::Op::Union : levelset::dvt::Op::Subtract, shape});
+        }
+        app::EditInput input;
+        input.volume = toVolume(volume, affine, "edit");
+        input.solids = app::stepSolids(request.steps);
+        app::Gpu& gpu = gpuFor(backend);
+        Volume mask;
+        nlohmann::json figures;
+        {
+          py::gil_scoped_release release;
+          const app::EditedTree edited = app::applyEdits(input, request, gpu);
+          const levelset::dvt::VolumeTree tree = edited.tree->tree();
+          figures = edited.figures(tree);
+          mask = levelset::dvt::sampleMask(tree, edited.dims);
+        }
+        return py::make_tuple(ownedArray(std::move(mask)), toDict(figures));
+      }, py::arg("volume"), py::arg("steps"), py::arg("depth") = py::none(), py::arg("backend") = "auto", py::arg("affine") = py::none(),
+      "boolean edits in a dynamic volume tree (isoatlas edit): steps [(\"union\" | \"subtract\", SHAPE)], SHAPE as the command "
+      "takes it in world mm (sphere:X,Y,Z,R, box:..., capsule:..., torus:..., mesh:FILE); (mask in the volume's grid, report)");
 
   m.def("extract", [](const py::object& volume, std::optional<double> iso, bool largest, const std::string& backend, const py::object& affine) {
         const Volume v = toVolume(volume, affine, "extract");

@@ -193,3 +193,35 @@ def test_write_png_writes_a_png_and_refuses_other_shapes(tmp_path):
         assert f.read(8) == b"\x89PNG\r\n\x1a\n"
     with pytest.raises(ValueError, match="H x W"):
         isoatlas.write_png(path, np.zeros((5, 7)))
+
+
+def test_edit_and_eval_equal_the_command(tmp_path):
+    data, affine = phantom()
+    path = str(tmp_path / "head.nii.gz")
+    nib.save(nib.Nifti1Image(data, affine), path)
+    cli("segment", path, "--seed", "18,20,15,3", "--target", "100", "--width", "30", "--iterations", "60", "--backend", "cpu",
+        "-o", str(tmp_path / "mask.nii.gz"))
+    cli("edit", str(tmp_path / "mask.nii.gz"), "--subtract", "sphere:6,0,0,6", "--union", "box:-3,-3,-3,3,3,20", "--backend", "cpu",
+        "-o", str(tmp_path / "edited.nii.gz"))
+    mask = nib.load(str(tmp_path / "mask.nii.gz"))
+    edited, report = isoatlas.edit(mask, [("subtract", "sphere:6,0,0,6"), ("union", "box:-3,-3,-3,3,3,20")], backend="cpu")
+    np.testing.assert_array_equal(edited, np.asanyarray(nib.load(str(tmp_path / "edited.nii.gz")).dataobj))
+    assert report["nodes"] > 0 and edited.sum() != np.asanyarray(mask.dataobj).sum()
+    with pytest.raises(ValueError, match="sphere"):
+        isoatlas.edit(mask, [("subtract", "sphere:1,2")])
+    with pytest.raises(ValueError, match="union"):
+        isoatlas.edit(mask, [("add", "sphere:1,2,3,4")])
+
+    cli("extract", str(tmp_path / "mask.nii.gz"), "--backend", "cpu", "-o", str(tmp_path / "surface.off"))
+    cli("build", str(tmp_path / "surface.off"), "--chart", "9", "--base-ratio", "0.05", "-o", str(tmp_path / "m.isoatlas"))
+    cli("eval", str(tmp_path / "m.isoatlas"), "--dense", str(tmp_path / "surface.off"), "--levels", "0,4",
+        "--report", str(tmp_path / "eval.json"))
+    vertices, triangles = read_off(str(tmp_path / "surface.off"))
+    levels = isoatlas.eval(isoatlas.load_model(str(tmp_path / "m.isoatlas")), vertices.astype(np.float32).astype(np.float64), triangles,
+                           levels="0,4")
+    import json
+    expected = json.load(open(tmp_path / "eval.json"))["levels"]
+    assert [l["level"] for l in levels] == [0, 4]
+    for mine, theirs in zip(levels, expected):
+        assert mine["triangles"] == theirs["triangles"]
+        assert mine["hausdorff"] == pytest.approx(theirs["hausdorff"], rel=1e-9)
