@@ -3,6 +3,7 @@
 #include <pybind11/stl.h>
 
 #include <filesystem>
+#include <optional>
 
 #include "app/model_building.h"
 #include "atlas/model_file.h"
@@ -116,23 +117,33 @@ void bindModels(py::module_& m) {
         writePng(path, out);
       }, py::arg("path"), py::arg("image"), "an H x W x 3 picture (render's) as PNG");
 
-  m.def("render", [](const PyModel& p, int width, int height, int cpuLevel, int gpuLevel, bool wireframe) {
+  m.def("render", [](const PyModel& p, int width, int height, int cpuLevel, int gpuLevel, bool wireframe,
+                     const std::optional<std::vector<double>>& camera) {
         require(width >= 1 && height >= 1 && width <= 8192 && height <= 8192, "size: whole pixels from 1 to 8192");
         require(cpuLevel >= 0 && cpuLevel <= atlas::maxLevel(p.model.chartSize), "cpu_level: 0 .. the chart's finest level");
         require(gpuLevel >= 0, "gpu_level must be >= 0");
         gpuFor("auto").needGl();
         viewer::Scene scene({&p.model});
+        viewer::Camera view = scene.defaultCamera(width, height);
+        if (camera) {
+          require(camera->size() == 7, "camera: (eye x, y, z, target x, y, z, vertical field of view in degrees)");
+          const auto& c = *camera;
+          view.eye = {c[0], c[1], c[2]}, view.target = {c[3], c[4], c[5]}, view.fovDegrees = c[6];
+          view.check();
+        }
         const viewer::AtlasRenderer renderer;
         const gl::Framebuffer target(width, height);
         viewer::drawFrame(scene, renderer, {.mode = viewer::CpuRefinement::Mode::Level, .level = cpuLevel},
-                          {.mode = viewer::GpuRefinement::Mode::Level, .halvings = gpuLevel}, scene.defaultCamera(width, height),
+                          {.mode = viewer::GpuRefinement::Mode::Level, .halvings = gpuLevel}, view,
                           {.wireframe = wireframe}, target);
         const Image image = target.readImage();
         py::array_t<std::uint8_t> a({py::ssize_t(height), py::ssize_t(width), py::ssize_t(3)});
         std::memcpy(a.mutable_data(), image.pixels.data(), image.pixels.size());
         return a;
       }, py::arg("model"), py::arg("width") = 800, py::arg("height") = 600, py::arg("cpu_level") = 2, py::arg("gpu_level") = 1,
-      py::arg("wireframe") = false, "the model through the cascade, as `isoatlas render` draws it: an H x W x 3 uint8 array");
+      py::arg("wireframe") = false, py::arg("camera") = py::none(),
+      "the model through the cascade, as `isoatlas render` draws it: an H x W x 3 uint8 array; camera as render's --camera "
+      "(eye, target in world mm, vertical field of view in degrees), default the whole model from the front");
 }
 
 }  // namespace isoatlas::python

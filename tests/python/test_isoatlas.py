@@ -1,8 +1,11 @@
 """The Python module against nibabel and the isoatlas command: volumes read with nibabel's affine and
 shared voxels, every array layout and scalar type, segment and extract equal to the CLI's outputs,
 bad input raising, the GIL released while a stage runs."""
+import json
 import os
+import signal
 import subprocess
+import sys
 import threading
 
 import nibabel as nib
@@ -42,6 +45,17 @@ def read_off(path):
     faces = np.array(values[3 * nv :], dtype=np.int64).reshape(nf, 4)
     assert (faces[:, 0] == 3).all()
     return vertices, faces[:, 1:]
+
+
+def command_surface(tmp_path):
+    """The phantom segmented and extracted by the command: (mask path, surface path as OFF)."""
+    data, affine = phantom()
+    path = str(tmp_path / "head.nii.gz")
+    nib.save(nib.Nifti1Image(data, affine), path)
+    mask, surface = str(tmp_path / "mask.nii.gz"), str(tmp_path / "surface.off")
+    cli("segment", path, "--seed", "18,20,15,3", "--target", "100", "--width", "30", "--iterations", "60", "--backend", "cpu", "-o", mask)
+    cli("extract", mask, "--backend", "cpu", "-o", surface)
+    return mask, surface
 
 
 def test_volumes_read_as_nibabel_sees_them(tmp_path):
@@ -154,14 +168,9 @@ def test_a_steered_level_set_is_the_segmentation(tmp_path):
 
 
 def test_build_equals_the_command_and_renders(tmp_path):
-    data, affine = phantom()
-    path = str(tmp_path / "head.nii.gz")
-    nib.save(nib.Nifti1Image(data, affine), path)
-    cli("segment", path, "--seed", "18,20,15,3", "--target", "100", "--width", "30", "--iterations", "60", "--backend", "cpu",
-        "-o", str(tmp_path / "mask.nii.gz"))
-    cli("extract", str(tmp_path / "mask.nii.gz"), "--backend", "cpu", "-o", str(tmp_path / "surface.off"))
-    cli("build", str(tmp_path / "surface.off"), "--chart", "9", "--base-ratio", "0.05", "-o", str(tmp_path / "cli.isoatlas"))
-    vertices, triangles = read_off(str(tmp_path / "surface.off"))
+    _, surface = command_surface(tmp_path)
+    cli("build", surface, "--chart", "9", "--base-ratio", "0.05", "-o", str(tmp_path / "cli.isoatlas"))
+    vertices, triangles = read_off(surface)
     # The command's mesh readers keep positions as float32 (OpenMesh's): the same numbers here.
     vertices = vertices.astype(np.float32).astype(np.float64)
     model = isoatlas.build(vertices, triangles, base_ratio=0.05, chart_size=9)
@@ -178,6 +187,10 @@ def test_build_equals_the_command_and_renders(tmp_path):
     picture = isoatlas.render(loaded, width=96, height=64)
     assert picture.shape == (64, 96, 3) and picture.dtype == np.uint8
     assert (picture < 240).any(axis=2).mean() > 0.1, "the model covers part of the picture"
+    away = isoatlas.render(loaded, width=96, height=64, camera=(500, 0, 0, 900, 0, 0, 30))  # looking away from it
+    assert (away >= 250).all()
+    with pytest.raises(ValueError, match="camera"):
+        isoatlas.render(loaded, camera=(0, 0, 0))
     with pytest.raises(ValueError, match="chart"):
         isoatlas.build(vertices, triangles, chart_size=10)
     with pytest.raises(ValueError, match="triangles"):
@@ -196,14 +209,10 @@ def test_write_png_writes_a_png_and_refuses_other_shapes(tmp_path):
 
 
 def test_edit_and_eval_equal_the_command(tmp_path):
-    data, affine = phantom()
-    path = str(tmp_path / "head.nii.gz")
-    nib.save(nib.Nifti1Image(data, affine), path)
-    cli("segment", path, "--seed", "18,20,15,3", "--target", "100", "--width", "30", "--iterations", "60", "--backend", "cpu",
-        "-o", str(tmp_path / "mask.nii.gz"))
-    cli("edit", str(tmp_path / "mask.nii.gz"), "--subtract", "sphere:6,0,0,6", "--union", "box:-3,-3,-3,3,3,20", "--backend", "cpu",
+    mask_path, surface = command_surface(tmp_path)
+    cli("edit", mask_path, "--subtract", "sphere:6,0,0,6", "--union", "box:-3,-3,-3,3,3,20", "--backend", "cpu",
         "-o", str(tmp_path / "edited.nii.gz"))
-    mask = nib.load(str(tmp_path / "mask.nii.gz"))
+    mask = nib.load(mask_path)
     edited, report = isoatlas.edit(mask, [("subtract", "sphere:6,0,0,6"), ("union", "box:-3,-3,-3,3,3,20")], backend="cpu")
     np.testing.assert_array_equal(edited, np.asanyarray(nib.load(str(tmp_path / "edited.nii.gz")).dataobj))
     assert report["nodes"] > 0 and edited.sum() != np.asanyarray(mask.dataobj).sum()
@@ -212,16 +221,35 @@ def test_edit_and_eval_equal_the_command(tmp_path):
     with pytest.raises(ValueError, match="union"):
         isoatlas.edit(mask, [("add", "sphere:1,2,3,4")])
 
-    cli("extract", str(tmp_path / "mask.nii.gz"), "--backend", "cpu", "-o", str(tmp_path / "surface.off"))
-    cli("build", str(tmp_path / "surface.off"), "--chart", "9", "--base-ratio", "0.05", "-o", str(tmp_path / "m.isoatlas"))
-    cli("eval", str(tmp_path / "m.isoatlas"), "--dense", str(tmp_path / "surface.off"), "--levels", "0,4",
-        "--report", str(tmp_path / "eval.json"))
-    vertices, triangles = read_off(str(tmp_path / "surface.off"))
+    cli("build", surface, "--chart", "9", "--base-ratio", "0.05", "-o", str(tmp_path / "m.isoatlas"))
+    cli("eval", str(tmp_path / "m.isoatlas"), "--dense", surface, "--levels", "0,4", "--report", str(tmp_path / "eval.json"))
+    vertices, triangles = read_off(surface)
     levels = isoatlas.eval(isoatlas.load_model(str(tmp_path / "m.isoatlas")), vertices.astype(np.float32).astype(np.float64), triangles,
                            levels="0,4")
-    import json
-    expected = json.load(open(tmp_path / "eval.json"))["levels"]
+    with open(tmp_path / "eval.json") as f:
+        expected = json.load(f)["levels"]
     assert [l["level"] for l in levels] == [0, 4]
     for mine, theirs in zip(levels, expected):
         assert mine["triangles"] == theirs["triangles"]
         assert mine["hausdorff"] == pytest.approx(theirs["hausdorff"], rel=1e-9)
+
+
+def test_ctrl_c_stops_a_long_call():
+    """A segment of many iterations in a child Python, interrupted as a user would: KeyboardInterrupt
+    soon after, not when the solver has finished."""
+    code = (
+        "import sys, numpy as np, isoatlas\n"
+        "data = np.zeros((64, 64, 64), dtype=np.float32); data[8:56, 8:56, 8:56] = 100\n"
+        "print('ready', flush=True)\n"
+        "try:\n"
+        "    isoatlas.segment(data, seeds=[(32, 32, 32, 3)], target=100, width=50, iterations=200000, backend='cpu')\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', flush=True); sys.exit(0)\n"
+        "print('finished', flush=True)\n")
+    child = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True, env=os.environ)
+    assert child.stdout.readline().strip() == "ready"
+    import time
+    time.sleep(1.0)
+    child.send_signal(signal.SIGINT)
+    out, _ = child.communicate(timeout=60)
+    assert out.strip() == "interrupted"
