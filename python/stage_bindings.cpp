@@ -32,12 +32,17 @@ std::vector<app::Ball> seedBalls(const std::vector<std::vector<double>>& seeds, 
 
 }  // namespace
 
-app::Gpu& gpuFor(const std::string& backend) {
+app::Gpu& gpuFor(const std::string& backend, bool warnOnFallback) {
   require(backend == "gpu" || backend == "cpu" || backend == "auto", "backend=" + backend + ": expected gpu, cpu or auto");
   static app::Gpu cpu;  // no context
   static std::optional<app::Gpu> gl;  // the first gpu or auto choice decides, later ones share it
   if (backend == "cpu") return cpu;
-  if (!gl) gl.emplace(app::chooseBackend(backend));
+  if (!gl) {
+    gl.emplace(app::chooseBackend(backend));
+    // As the command says it on stderr: auto on a machine whose only GL is a software rasteriser.
+    if (warnOnFallback && gl->backend == levelset::Backend::Cpu && PyErr_WarnEx(PyExc_RuntimeWarning, "no GPU: using the CPU backend", 1) != 0)
+      throw py::error_already_set();
+  }
   return *gl;
 }
 

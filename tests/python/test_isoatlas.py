@@ -181,6 +181,8 @@ def test_build_equals_the_command_and_renders(tmp_path):
     loaded = isoatlas.load_model(str(tmp_path / "cli.isoatlas"))
     base_vertices, base_triangles = loaded.mesh_at_level(0)
     assert len(base_triangles) == 2 * loaded.tiles
+    quad_vertices, quads = loaded.base_mesh
+    assert quads.shape == (loaded.tiles, 4) and len(quad_vertices) == len(base_vertices)
     fine_vertices, fine_triangles = loaded.mesh_at_level(loaded.max_level)
     assert len(fine_triangles) == 2 * loaded.tiles * (loaded.chart_size - 1) ** 2
     assert loaded.atlas_positions.shape[2] == 3
@@ -253,3 +255,19 @@ def test_ctrl_c_stops_a_long_call():
     child.send_signal(signal.SIGINT)
     out, _ = child.communicate(timeout=60)
     assert out.strip() == "interrupted"
+
+
+def test_auto_without_a_gpu_falls_back_with_a_warning():
+    """backend="auto" on a machine whose only GL is a software rasteriser runs on the CPU and warns,
+    as the command says it; on a real GPU it runs there without a warning."""
+    code = (
+        "import warnings, numpy as np, isoatlas\n"
+        "data = np.zeros((16, 16, 16), dtype=np.float32); data[4:12, 4:12, 4:12] = 100\n"
+        "with warnings.catch_warnings(record=True) as caught:\n"
+        "    warnings.simplefilter('always')\n"
+        "    _, _, report = isoatlas.segment(data, seeds=[(8, 8, 8, 2)], target=100, width=40, iterations=5, backend='auto')\n"
+        "print(report['backend'], len([w for w in caught if 'no GPU' in str(w.message)]))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=os.environ)
+    assert out.returncode == 0, out.stderr
+    backend, warned = out.stdout.split()
+    assert (backend, warned) in (("cpu", "1"), ("gpu", "0"))
