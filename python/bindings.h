@@ -30,8 +30,8 @@ py::array voxelArray(const Volume& volume, const py::object& owner);
 // The 4x4 world transform (RAS, mm), as nibabel gives it.
 py::array affineOf(const Volume& volume);
 
-// (vertices N x 3 float64, triangles M x 3 int64) of a triangle mesh.
-py::tuple meshArrays(const Mesh& mesh);
+// (vertices N x 3 float64, faces M x corners int64) of a mesh whose faces all have `corners` corners.
+py::tuple meshArrays(const Mesh& mesh, std::size_t corners = 3);
 // A report as a Python dict.
 py::dict toDict(const nlohmann::json& json);
 // The process's backend and GL context, made on the first GPU call and kept (one per process, as

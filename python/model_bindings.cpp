@@ -54,18 +54,8 @@ void bindModels(py::module_& m) {
            }, py::arg("path"))
       .def("mesh_at_level", [](const PyModel& p, int level) { return meshArrays(atlas::reconstructLevel(p.model.base, p.model.atlas, level)); },
            py::arg("level"), "(vertices, triangles) of the surface with every tile refined to `level` (0: the base mesh's triangles)")
-      .def_property_readonly("base_mesh", [](const PyModel& p) {
-             const Mesh quads = p.model.base.quadMesh();
-             py::array_t<double> vertices({py::ssize_t(quads.vertexCount()), py::ssize_t(3)});
-             auto v = vertices.mutable_unchecked<2>();
-             for (std::size_t i = 0; i < quads.vertexCount(); ++i)
-               for (int a = 0; a < 3; ++a) v(py::ssize_t(i), a) = quads.positions[i][a];
-             py::array_t<std::int64_t> faces({py::ssize_t(quads.faceCount()), py::ssize_t(4)});
-             auto f = faces.mutable_unchecked<2>();
-             for (std::size_t q = 0; q < quads.faceCount(); ++q)
-               for (int k = 0; k < 4; ++k) f(py::ssize_t(q), k) = quads.face(q)[std::size_t(k)];
-             return py::make_tuple(vertices, faces);
-           }, "(vertices, quads): the triquad base mesh, one quad a tile, as `isoatlas build --base-only` writes it")
+      .def_property_readonly("base_mesh", [](const PyModel& p) { return meshArrays(p.model.base.quadMesh(), 4); },
+           "(vertices, quads): the triquad base mesh, one quad a tile, as `isoatlas build --base-only` writes it")
       .def_property_readonly("max_level", [](const PyModel& p) { return atlas::maxLevel(p.model.atlas); })
       .def_property_readonly("chart_size", [](const PyModel& p) { return p.model.chartSize; })
       .def_property_readonly("tiles", [](const PyModel& p) { return p.model.atlas.layout.charts; })
