@@ -7,9 +7,10 @@
 
 namespace isoatlas::viewer {
 
-SegmentationSession::SegmentationSession(Volume source, levelset::Backend backend) : source_(std::move(source)) {
+SegmentationSession::SegmentationSession(Volume source, levelset::Backend backend)
+    : source_(std::move(source)), window_(percentileWindow(source_, 1, 99.5)) {
   // Until probed: T in the middle of the source's window, eps a tenth of it.
-  const IntensityWindow w = percentileWindow(source_, 1, 99.5);
+  const IntensityWindow& w = window_;
   const levelset::SpeedParams start{.target = float((w.low + w.high) / 2), .width = float(std::max(1e-3, (w.high - w.low) / 10)),
                                     .alpha = 0.5f};
   levelSet_ = std::make_unique<levelset::LevelSet>(source_, start, levelset::LevelSetOptions{.backend = backend});

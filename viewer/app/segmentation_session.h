@@ -23,6 +23,9 @@ public:
   SegmentationSession(Volume source, levelset::Backend backend);
 
   const Volume& source() const { return source_; }
+  // The source's intensities between its 1st and 99.5th percentiles: the slices' and the transfer
+  // function's window to start from.
+  const IntensityWindow& window() const { return window_; }
   levelset::LevelSet& levelSet() { return *levelSet_; }
   const levelset::LevelSet& levelSet() const { return *levelSet_; }
 
@@ -61,6 +64,7 @@ private:
   double toVoxels(double radius) const;
 
   Volume source_;
+  IntensityWindow window_;
   std::unique_ptr<levelset::LevelSet> levelSet_;
   std::optional<Volume> undoMask_;
   bool running_ = false;

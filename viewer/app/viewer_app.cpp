@@ -171,10 +171,10 @@ public:
     if (loaded.volume) {
       segment_.emplace();
       segment_->file = loaded.file;
-      segment_->window = percentileWindow(*loaded.volume, 1, 99.5);
       segment_->range = valueRange(*loaded.volume);
       segment_->point = volumeCentre(*loaded.volume);
       segment_->session = std::make_unique<SegmentationSession>(std::move(*loaded.volume), backend_);
+      segment_->window = segment_->session->window();
       segment_->volume = std::make_unique<VolumeRenderer>(context_);
       segment_->volume->setSource(segment_->session->source());
       segment_->volumeRendering = !context_.info().software();  // llvmpipe takes seconds a picture
