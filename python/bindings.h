@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 
 #include "app/options.h"
@@ -25,6 +26,19 @@ void bindModels(py::module_& m);
 // the readers take) with its 4x4 affine (identity when None), or anything with `dataobj` and
 // `affine` (a nibabel image). Throws Error naming `what` otherwise.
 Volume toVolume(const py::object& object, const py::object& affine, const char* what);
+// A volume argument read in place: an isoatlas.Volume is used as it is (no copy of its voxels), anything
+// else toVolume takes is converted once. Keeps the Python object alive while it lives.
+class VolumeArgument {
+public:
+  VolumeArgument(const py::object& object, const py::object& affine, const char* what);
+  const Volume& get() const { return *volume_; }
+
+private:
+  py::object object_;
+  std::optional<Volume> converted_;
+  const Volume* volume_ = nullptr;
+};
+
 // The volume's voxels as a numpy array of shape (x, y, z) sharing its memory; `owner` keeps it alive.
 py::array voxelArray(const Volume& volume, const py::object& owner);
 // The 4x4 world transform (RAS, mm), as nibabel gives it.

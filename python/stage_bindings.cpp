@@ -128,7 +128,8 @@ void bindStages(py::module_& m) {
       .def_property_readonly("backend", [](const PyLevelSet& p) { return p.levelSet->backendName(); });
 
   m.def("probe", [](const py::object& volume, const std::vector<double>& at, double radius, const py::object& affine) {
-        const Volume v = toVolume(volume, affine, "probe");
+        const VolumeArgument argument(volume, affine, "probe");
+        const Volume& v = argument.get();
         require(at.size() == 3, "probe: at is (x, y, z) in voxel indices");
         app::requireInside(v, {at[0], at[1], at[2]}, "probe: at");
         const levelset::ProbeResult p = levelset::probeSphere(v, {at[0], at[1], at[2]}, radius);
@@ -141,7 +142,8 @@ void bindStages(py::module_& m) {
 
   m.def("segment", [](const py::object& volume, const std::vector<std::vector<double>>& seeds, double target, double width, double alpha,
                       const std::string& backend, int iterations, bool converge, const py::object& progress, const py::object& affine) {
-        const Volume v = toVolume(volume, affine, "segment");
+        const VolumeArgument argument(volume, affine, "segment");
+        const Volume& v = argument.get();
         const levelset::SpeedParams params{float(target), float(width), float(alpha)};
         levelset::validateParams(params);
         require(iterations > 0, "iterations must be > 0");
@@ -187,7 +189,8 @@ void bindStages(py::module_& m) {
       "takes it in world mm (sphere:X,Y,Z,R, box:..., capsule:..., torus:..., mesh:FILE); (mask in the volume's grid, report)");
 
   m.def("extract", [](const py::object& volume, std::optional<double> iso, bool largest, const std::string& backend, const py::object& affine) {
-        const Volume v = toVolume(volume, affine, "extract");
+        const VolumeArgument argument(volume, affine, "extract");
+        const Volume& v = argument.get();
         const bool gpu = gpuFor(backend).backend == levelset::Backend::Gpu;
         extract::ExtractOptions options{.largestComponent = largest, .gpu = gpu};
         if (iso) options.iso = float(*iso);

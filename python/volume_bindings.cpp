@@ -94,6 +94,15 @@ Volume toVolume(const py::object& object, const py::object& affine, const char* 
   return v;
 }
 
+VolumeArgument::VolumeArgument(const py::object& object, const py::object& affine, const char* what) : object_(object) {
+  if (py::isinstance<Volume>(object)) {  // its own affine, as toVolume takes it
+    volume_ = &object.cast<const Volume&>();
+  } else {
+    converted_ = toVolume(object, affine, what);
+    volume_ = &*converted_;
+  }
+}
+
 void bindVolumes(py::module_& m) {
   py::class_<Volume>(m, "Volume", "a 3D scan or mask: .data (x, y, z) shares the voxels; .affine as nibabel reports it")
       .def(py::init([](const py::object& data, const py::object& affine) { return toVolume(data, affine, "Volume"); }),
@@ -114,7 +123,7 @@ void bindVolumes(py::module_& m) {
         return readVolume(path);
       }, py::arg("path"), "NIfTI (.nii, .nii.gz), NRRD (.nrrd, .nhdr) or INR (.inr, .inr.gz)");
   m.def("write_volume", [](const std::string& path, const py::object& volume, const py::object& affine) {
-        writeVolume(path, toVolume(volume, affine, "write_volume"));
+        writeVolume(path, VolumeArgument(volume, affine, "write_volume").get());
       }, py::arg("path"), py::arg("volume"), py::arg("affine") = py::none(), "a Volume, or an array with its affine");
 }
 

@@ -120,6 +120,9 @@ def test_segment_and_extract_equal_the_command(tmp_path):
     np.testing.assert_array_equal(mask, np.asanyarray(nib.load(str(tmp_path / "mask.nii.gz")).dataobj))
     np.testing.assert_array_equal(phi, np.asanyarray(nib.load(str(tmp_path / "phi.nii.gz")).dataobj))
     assert report["iterations"] == 60 and report["backend"] == "cpu"
+    from_volume, _, _ = isoatlas.segment(isoatlas.read_volume(path), seeds=[(18, 20, 15, 3)], target=100, width=30, alpha=0.6,
+                                         iterations=60, backend="cpu")  # an isoatlas.Volume, read in place
+    np.testing.assert_array_equal(from_volume, mask)
     assert mask.sum() > 1000, "the seed grew"
 
     cli("extract", str(tmp_path / "mask.nii.gz"), "--backend", "cpu", "-o", str(tmp_path / "surface.off"))
