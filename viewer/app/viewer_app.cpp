@@ -164,7 +164,7 @@ std::string formatPoint(const Vec3& p) {
 class Viewer {
 public:
   Viewer(gl::Context& context, const ViewerOptions& options)
-      : context_(context), options_(options), backend_(chooseSolver(options.backend, context)), dvtRenderer_(context) {}
+      : context_(context), options_(options), backend_(chooseSolver(options.backend, context)) {}
 
   // ---- actions (throw Error on bad input; the panels show it, the script stops with it) ----
   void show(Loaded loaded) {
@@ -340,8 +340,11 @@ private:
   gl::Context& context_;
   const ViewerOptions& options_;
   levelset::Backend backend_;
-  DvtRenderer dvtRenderer_;
-  AtlasRenderer atlasRenderer_;
+  // Compiled when a tree or a model is first drawn, not when the window opens.
+  std::optional<DvtRenderer> dvtRenderer_;
+  std::optional<AtlasRenderer> atlasRenderer_;
+  DvtRenderer& dvtRenderer() { return dvtRenderer_ ? *dvtRenderer_ : dvtRenderer_.emplace(context_); }
+  AtlasRenderer& atlasRenderer() { return atlasRenderer_ ? *atlasRenderer_ : atlasRenderer_.emplace(); }
   std::optional<SegmentView> segment_;
   std::optional<ModelView> model_;
   std::optional<TreeView> tree_;
@@ -614,12 +617,12 @@ void Viewer::drawView(int width, int height) {
                                               : CpuRefinement{.mode = CpuRefinement::Mode::Level, .level = m.cpuLevel};
     const GpuRefinement gpu = m.viewDependent ? GpuRefinement{.mode = GpuRefinement::Mode::Pixels}
                                               : GpuRefinement{.mode = GpuRefinement::Mode::Level, .halvings = m.gpuHalvings};
-    drawFrame(*m.scene, atlasRenderer_, cpu, gpu, camera, {.wireframe = m.wire, .colourByChart = m.chartColours}, *target_);
+    drawFrame(*m.scene, atlasRenderer(), cpu, gpu, camera, {.wireframe = m.wire, .colourByChart = m.chartColours}, *target_);
     m.camera = camera, m.gpu = gpu;
   } else if (mode_ == Mode::Tree && tree_) {
     TreeView& t = *tree_;
     target_->bind();
-    dvtRenderer_.draw({t.pointers->id(), t.cells->id()}, t.tree.nodeCount(), t.tree.frame,
+    dvtRenderer().draw({t.pointers->id(), t.cells->id()}, t.tree.nodeCount(), t.tree.frame,
                       {.camera = t.orbit.camera(t.box, viewWidth, height), .mode = t.cubes ? DvtRenderMode::Cubes : DvtRenderMode::RayCast});
   } else {
     return;
@@ -682,7 +685,7 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
   }
   if (mode_ == Mode::Mesh && model_ && pressed && io.KeyCtrl) {
     ModelView& m = *model_;
-    const Mesh drawn = atlasRenderer_.capture(m.scene->items(), m.camera, m.scene->bounds(), m.gpu);
+    const Mesh drawn = atlasRenderer().capture(m.scene->items(), m.camera, m.scene->bounds(), m.gpu);
     if (const auto at = rayPick(drawn, m.camera.eye, m.camera.rayThrough(x, y)))
       attempt([&] { stamp(*at, m.stampWord, m.stampRadius, m.stampDepth); });
     else
