@@ -19,22 +19,21 @@ Image renderSegmentationView(const SegmentationViewRequest& request, nlohmann::j
           "--clip " + r.clip + ": expected +x, -x, +y, -y, +z, -z or off");
   require(r.opacity > 0 && r.opacity <= 1, "--opacity must lie in (0, 1]");
   const Volume volume = readVolume(r.volume);
+  const Vec3 at = r.at.value_or(viewer::volumeCentre(volume));
+  requireInside(volume, volume.worldToIndex(at), "--at");
   // The segmentation as a level set (CPU, no steps): its pages are what the window reads.
   levelset::LevelSet levelSet(volume, {}, {});
+  std::int64_t inside = 0;
   if (!r.segmentation.empty()) {
     const Volume segmentation = readVolume(r.segmentation);
     require(segmentation.dims == volume.dims,
             r.segmentation + ": --segmentation needs the volume's voxel grid (" + std::to_string(volume.dims[0]) + " x " +
                 std::to_string(volume.dims[1]) + " x " + std::to_string(volume.dims[2]) + ")");
-    levelSet.setMask(isFloating(segmentation.type) ? levelset::maskOf(segmentation) : segmentation);
+    const Volume mask = isFloating(segmentation.type) ? levelset::maskOf(segmentation) : segmentation;
+    levelSet.setMask(mask);
+    for (std::size_t n = 0; n < mask.voxelCount(); ++n) inside += mask.value(n) > 0;
   }
-  const Vec3 at = r.at.value_or(viewer::volumeCentre(volume));
-  const Vec3 index = volume.worldToIndex(at);
-  requireInside(volume, index, "--at");
   const viewer::IntensityWindow window = viewer::percentileWindow(volume, 1, 99.5);
-  std::int64_t inside = 0;
-  const Volume mask = levelSet.mask();
-  for (std::size_t n = 0; n < mask.voxelCount(); ++n) inside += mask.data[n] != std::byte{0};
   figures["view"] = r.view;
   figures["inside_voxels"] = inside;
 
