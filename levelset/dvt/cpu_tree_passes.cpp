@@ -54,6 +54,7 @@ public:
   }
 
   std::uint64_t mark(Op op) override {
+    op_ = op;
     clearMarks();
     expansions_.resize(pointers_.size());  // only the expanded leaves' are used, cleared as marked
     const std::uint64_t marks = sum(input_.size(), [&](std::size_t i) { return markFor(i, op); });
@@ -187,7 +188,7 @@ private:
     if (leaf == kNoHit) return;
     const Cell c = inputCell(i);
     const bool first = i == 0 || hits_[i - 1] != leaf, last = i + 1 == input_.size() || hits_[i + 1] != leaf;
-    const std::uint32_t leafDepth = cells_[2 * leaf + 1] >> 16, cut = std::min(c.depth, leafDepth + kExpandLevels);
+    const std::uint32_t leafDepth = cells_[2 * leaf + 1] >> 16, cut = std::min(c.depth, expansionCut(op_, pointers_[leaf].value, leafDepth, kExpandLevels, scales_.data()));
     const std::uint32_t known = first ? leafDepth : std::min(commonDepth(inputCell(i - 1), c) + 1, cut);
     Expansion& e = expansions_[leaf];
     std::atomic_ref<std::uint32_t>(e.size).fetch_add(2 * (cut - known), std::memory_order_relaxed);
@@ -235,8 +236,8 @@ private:
 
   // The subtree an expanded leaf at new index o grows (dvt_restructure.comp: generate): depth first,
   // each node split where voxels lie strictly inside it, new nodes in pre-order after o; values from
-  // the leaf's, one child scale per level (as splitting a level at a time would give); nodes
-  // kExpandLevels below the leaf stay leaves. A node's record is written whole when its children are
+  // the leaf's, one child scale per level (as splitting a level at a time would give); nodes at the
+  // cut (expansionCut) stay leaves. A node's record is written whole when its children are
   // known, as the GLSL twin must.
   void generate(std::uint32_t o, const Pointer& leaf, const Cell& root, const Expansion& e) {
     std::array<float, kMaxDepth + 2> chain{};
@@ -249,7 +250,7 @@ private:
       int next;  // the child to make next; 2: done
     };
     std::array<Frame, kExpandLevels + 1> stack;
-    const std::uint32_t cut = root.depth + kExpandLevels;
+    const std::uint32_t cut = expansionCut(op_, leaf.value, root.depth, kExpandLevels, scales_.data());
     int top = 0;
     stack[0] = {leaf, root, o, e.begin, splitOf(root, e.begin, e.end), e.end, 0};
     std::uint32_t at = o + 1;
@@ -281,7 +282,8 @@ private:
   std::vector<Pointer> pointers_, spare_;
   std::vector<std::uint32_t> cells_, spareCells_, marks_, remap_;
   std::vector<std::int32_t> removals_;  // ranges of reduced subtrees (plan)
-  bool reduced_ = false;               // a reduce mark was set since the marks were cleared
+  bool reduced_ = false;
+  Op op_ = Op::Union;                  // the write's (the expansions' cut)               // a reduce mark was set since the marks were cleared
   std::vector<InputVoxel> input_;
   std::vector<std::uint32_t> hits_;       // per input voxel: the leaf it expands, or kNoHit
   std::vector<Expansion> expansions_;     // per node: its expansion's size and voxels (plan)

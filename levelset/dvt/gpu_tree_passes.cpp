@@ -79,6 +79,7 @@ public:
     if (inputCount_ == 0) return 0;
     bindStreams();
     markInput_.use();
+    op_ = op;
     glUniform1ui(markInput_.uniform("op"), std::uint32_t(op));
     glUniform1ui(markInput_.uniform("nodes"), std::uint32_t(count_));
     const std::uint64_t marks = run(markInput_, inputCount_);
@@ -101,6 +102,7 @@ public:
     expansions_.fillZero();
     if (inputCount_ > 0) {
       runs_.use();
+      setExpansionUniforms(runs_);
       run(runs_, inputCount_);
     }
     const std::uint32_t zero = 0;  // remap[count]: the scan leaves the total there
@@ -124,7 +126,7 @@ public:
     spareCells_.bindBase(GL_SHADER_STORAGE_BUFFER, 7);
     restructure_.use();
     glUniform1ui(restructure_.uniform("allowExpand"), allowExpand);
-    glUniform1fv(restructure_.uniform("childScales"), GLsizei(scales_.size()), scales_.data());
+    setExpansionUniforms(restructure_);
     glUniform1ui(restructure_.uniform("count"), std::uint32_t(count_));
     dispatch(restructure_, count_);
     std::swap(pointers_, spare_);
@@ -149,6 +151,11 @@ private:
     if (input_.bytes() > 0) input_.bindBase(GL_SHADER_STORAGE_BUFFER, 8), hits_.bindBase(GL_SHADER_STORAGE_BUFFER, 9);
     expansions_.bindBase(GL_SHADER_STORAGE_BUFFER, 10);
     counter_.bindBase(GL_SHADER_STORAGE_BUFFER, 5);
+  }
+  // The write's op and the child scales, for expansionCut (tree_rules.glsl).
+  void setExpansionUniforms(const gl::Program& program) const {
+    glUniform1ui(program.uniform("op"), std::uint32_t(op_));
+    glUniform1fv(program.uniform("childScales"), GLsizei(scales_.size()), scales_.data());
   }
   void clearMarks() {
     marks_.fillZero();
@@ -177,6 +184,7 @@ private:
   gl::GpuScan scan_;
   TreeFrame frame_;
   std::vector<float> scales_;
+  Op op_ = Op::Union;  // the last mark's
   std::uint64_t count_ = 0, capacity_ = 0, spareCapacity_ = 0, inputCount_ = 0, reduces_ = 0;
   gl::Buffer pointers_, cells_, spare_, spareCells_, marks_, remap_, removals_, expansions_, input_, hits_, counter_;
 };

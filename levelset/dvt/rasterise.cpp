@@ -1,7 +1,6 @@
 #include "levelset/dvt/rasterise.h"
 
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <array>
 
@@ -42,29 +41,32 @@ std::vector<InputVoxel> rasterise(const Solid& solid, const TreeFrame& frame, st
           "depth " + std::to_string(targetDepth) + " is past the tree's limit of " + std::to_string(kMaxDepth));
   Rasteriser r{solid, frame, targetDepth, hierarchical, {}};
   for (std::uint32_t d = 0; d <= std::uint32_t(kMaxDepth); ++d) r.radius[d] = frame.radius(d);
-  // The top of the tree level by level on this thread (wholly inside or outside cells end there, as
-  // they would below), then the crossed cells of depth `top` in parallel, their results in order.
+  // The top of the tree depth first on this thread (wholly inside or outside cells end there, as they
+  // would below), keeping a place for each crossed cell of depth `top`; those are then rasterised in
+  // parallel and their voxels put in their places, so the whole comes out in pre-order.
   const std::uint32_t top = std::min<std::uint32_t>(targetDepth, 9);
+  struct Item {
+    InputVoxel voxel;
+    bool crossed = false;  // a place for the voxels of `cell`
+    Cell cell;
+  };
+  std::vector<Item> items;
+  const auto visitTop = [&](const auto& self, const Cell& c) -> void {
+    const CellClass k = solid.classify(frame, c, r.radius[c.depth]);
+    if (k == CellClass::Outside) return;
+    if (c.depth == top) return items.push_back({{}, true, c});
+    if (k == CellClass::Inside && hierarchical) return items.push_back({inputVoxel(c, kInside), false, c});
+    self(self, childCell(c, 0));
+    self(self, childCell(c, 1));
+  };
+  visitTop(visitTop, Cell{});
+  std::vector<std::vector<InputVoxel>> parts(items.size());
+  tbb::parallel_for(std::size_t(0), items.size(), [&](std::size_t i) {
+    if (items[i].crossed) r.visit(items[i].cell, parts[i]);
+    else parts[i] = {items[i].voxel};
+  });
   std::vector<InputVoxel> out;
-  std::vector<Cell> cells{Cell{}};
-  for (std::uint32_t d = 0; d < top; ++d) {
-    std::vector<Cell> next;
-    next.reserve(cells.size() * 2);
-    for (const Cell& c : cells) {
-      const CellClass k = solid.classify(frame, c, r.radius[c.depth]);
-      if (k == CellClass::Outside) continue;
-      if (k == CellClass::Inside && hierarchical) {
-        out.push_back(inputVoxel(c, kInside));
-        continue;
-      }
-      next.push_back(childCell(c, 0)), next.push_back(childCell(c, 1));
-    }
-    cells = std::move(next);
-  }
-  std::vector<std::vector<InputVoxel>> parts(cells.size());
-  tbb::parallel_for(std::size_t(0), cells.size(), [&](std::size_t i) { r.visit(cells[i], parts[i]); });
   for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
-  sortInPreOrder(out);  // the cells wholly inside from the top levels came first
   return out;
 }
 

@@ -11,9 +11,10 @@
 //                1, or 1 + the new subtree under an expanded leaf), prefix-summed into the remap stream
 //   restructure  per node: scatter to its new index with its pointers remapped; an expanded leaf
 //                writes its new subtree after itself: the smallest that holds its voxels' cells, cut
-//                kExpandLevels below the leaf (voxels deeper expand on in the next iteration)
+//                kExpandLevels below the leaf or where its values saturate (expansionCut; voxels
+//                deeper expand on in the next iteration)
 // An expansion thus goes down up to kExpandLevels levels at once, where the paper adds one level per
-// iteration; the tree after the write is the same.
+// iteration; the tree after the write is the same (expansionCut stops where a level at a time would).
 #pragma once
 #include <cstdint>
 #include <string>

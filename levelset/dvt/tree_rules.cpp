@@ -26,8 +26,13 @@ void sortInPreOrder(std::vector<InputVoxel>& input) {
 }
 
 bool inPreOrder(const std::vector<InputVoxel>& input) {
-  for (std::size_t i = 1; i < input.size(); ++i)
-    if (keyOf(input[i - 1]) >= keyOf(input[i])) return false;
+  // Consecutive disjoint cells are in pre-order when the first lies in the lower half where their
+  // paths part (keys not computed: this runs on every write).
+  for (std::size_t i = 1; i < input.size(); ++i) {
+    const Cell a = unpackCell(input[i - 1].xy, input[i - 1].zd), b = unpackCell(input[i].xy, input[i].zd);
+    const std::uint32_t d = commonDepth(a, b);
+    if (d == a.depth || d == b.depth || childTowards(a, d) != 0) return false;
+  }
   return true;
 }
 

@@ -41,6 +41,19 @@ inline float combined(Op op, float leaf, float incoming) {
 inline bool saturated(Op op, float leaf) { return op == Op::Union ? leaf == kInside : leaf == kOutside; }
 // A child's value when its parent leaf is split: the parent's distance measured in the child's radius.
 inline float childValue(float parent, float scale) { return std::clamp(parent * scale, kOutside, kInside); }
+// The depth an expanded leaf's new subtree is cut at: `levels` below the leaf (at most kMaxDepth), or
+// sooner, at the first depth whose value (childValue down from the leaf's, `scales` from childScales)
+// no input can change: such a node is not split, as splitting a level at a time would not split it.
+// So the tree after a write does not depend on how many levels one restructure adds.
+inline std::uint32_t expansionCut(Op op, float leafValue, std::uint32_t leafDepth, std::uint32_t levels, const float* scales) {
+  const std::uint32_t last = std::min<std::uint32_t>(leafDepth + levels, std::uint32_t(kMaxDepth));
+  float v = leafValue;
+  for (std::uint32_t d = leafDepth; d < last; ++d) {
+    v = childValue(v, scales[d]);
+    if (saturated(op, v)) return d + 1;
+  }
+  return last;
+}
 // Two sibling leaves one leaf can stand for (the redundancy optimisation): equal and uniform.
 inline bool collapsible(const Pointer& left, const Pointer& right) {
   return left.leaf() && right.leaf() && left.value == right.value && (left.value == kInside || left.value == kOutside);

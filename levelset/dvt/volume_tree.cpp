@@ -5,25 +5,6 @@
 
 namespace isoatlas::levelset::dvt {
 
-std::array<std::uint32_t, 2> packCell(const Cell& c) { return {c.x | (c.y << 16), c.z | (c.depth << 16)}; }
-
-Cell unpackCell(std::uint32_t xy, std::uint32_t zd) { return {xy & 0xffffu, xy >> 16, zd & 0xffffu, zd >> 16}; }
-
-Cell childCell(const Cell& c, int which) {
-  Cell child = c;
-  child.depth = c.depth + 1;
-  std::uint32_t& coordinate = splitAxis(c.depth) == 0 ? child.x : (splitAxis(c.depth) == 1 ? child.y : child.z);
-  coordinate = 2 * coordinate + std::uint32_t(which);
-  return child;
-}
-
-int childTowards(const Cell& c, std::uint32_t d) {
-  const int axis = splitAxis(d);
-  const std::uint32_t coordinate = axis == 0 ? c.x : (axis == 1 ? c.y : c.z);
-  // The split at depth d decides bit (splits below d) of the coordinate, counted from its low end.
-  return int((coordinate >> (splitsOf(axis, c.depth) - 1 - splitsOf(axis, d))) & 1u);
-}
-
 Vec3 TreeFrame::cellVoxels(std::uint32_t depth) const {
   Vec3 s;
   for (int a = 0; a < 3; ++a) s[a] = std::ldexp(1.0, voxelSplits - int(splitsOf(a, depth)));

@@ -42,17 +42,28 @@ struct Cell {
   bool operator==(const Cell&) const = default;
 };
 // The node stream's packing of a cell (two uint32: x | y << 16, z | depth << 16).
-std::array<std::uint32_t, 2> packCell(const Cell& c);
-Cell unpackCell(std::uint32_t xy, std::uint32_t zd);
+inline std::array<std::uint32_t, 2> packCell(const Cell& c) { return {c.x | (c.y << 16), c.z | (c.depth << 16)}; }
+inline Cell unpackCell(std::uint32_t xy, std::uint32_t zd) { return {xy & 0xffffu, xy >> 16, zd & 0xffffu, zd >> 16}; }
 
 // How many times axis a (0 x, 1 y, 2 z) has been split above depth d.
 inline std::uint32_t splitsOf(int axis, std::uint32_t depth) { return (depth + 2 - std::uint32_t(axis)) / 3; }
 // The axis the node at depth d splits.
 inline int splitAxis(std::uint32_t depth) { return int(depth % 3); }
 // Child 0 (lower half) or 1 of `c` along its split axis.
-Cell childCell(const Cell& c, int which);
+inline Cell childCell(const Cell& c, int which) {
+  Cell child = c;
+  child.depth = c.depth + 1;
+  std::uint32_t& coordinate = splitAxis(c.depth) == 0 ? child.x : (splitAxis(c.depth) == 1 ? child.y : child.z);
+  coordinate = 2 * coordinate + std::uint32_t(which);
+  return child;
+}
 // The child (0 or 1) of the depth-d ancestor of `c` that contains `c` (d < c.depth).
-int childTowards(const Cell& c, std::uint32_t d);
+inline int childTowards(const Cell& c, std::uint32_t d) {
+  const int axis = splitAxis(d);
+  const std::uint32_t coordinate = axis == 0 ? c.x : (axis == 1 ? c.y : c.z);
+  // The split at depth d decides bit (splits below d) of the coordinate, counted from its low end.
+  return int((coordinate >> (splitsOf(axis, c.depth) - 1 - splitsOf(axis, d))) & 1u);
+}
 
 // The box: the voxels 0 .. 2^K - 1 of a grid along each axis, its world placement as a Volume's.
 struct TreeFrame {

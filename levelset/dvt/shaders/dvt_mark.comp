@@ -3,7 +3,6 @@
 // per node the collapse test (markCollapse). Counts the marks set in `counter`.
 layout(local_size_x = 64) in;
 #include "tree_rules.glsl"
-uniform uint op;
 uniform uint nodes;  // the tree's node count
 
 void main() {

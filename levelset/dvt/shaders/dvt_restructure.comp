@@ -6,7 +6,6 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 6) writeonly buffer NewPointers { Pointer newPointers[]; };
 layout(std430, binding = 7) writeonly buffer NewCells { uvec2 newCells[]; };
 uniform bool allowExpand;
-uniform float childScales[MAX_DEPTH + 1];
 
 // The first voxel of [a, b) (all inside `cell`, in pre-order) in the cell's upper half.
 uint splitOf(uvec2 cell, uint a, uint b) {
@@ -20,7 +19,7 @@ uint splitOf(uvec2 cell, uint a, uint b) {
 
 // The subtree an expanded leaf at new index o grows (CpuTreePasses::generate): depth first, each
 // node split where voxels lie strictly inside it, new nodes in pre-order after o, values from the
-// leaf's with one child scale per level; nodes EXPAND_LEVELS below the leaf stay leaves. A node's
+// leaf's with one child scale per level; nodes at the cut (expansionCut) stay leaves. A node's
 // record is written once, whole, when its children are known; the stack is an array per field.
 void generate(uint o, Pointer leaf, uvec2 root, Expansion e) {
   float chain[MAX_DEPTH + 2];
@@ -31,7 +30,7 @@ void generate(uint o, Pointer leaf, uvec2 root, Expansion e) {
   int parentOf[depth], leftOf[depth], rightOf[depth], nextOf[depth];
   uvec2 cellOf[depth];
   uint nodeOf[depth], beginOf[depth], splitAt[depth], endOf[depth];
-  uint cut = rootDepth + EXPAND_LEVELS;
+  uint cut = expansionCut(leaf.value, rootDepth);
   int top = 0;
   parentOf[0] = leaf.parent, leftOf[0] = NONE, rightOf[0] = NONE, nextOf[0] = 0;
   cellOf[0] = root, nodeOf[0] = o, beginOf[0] = e.begin, splitAt[0] = splitOf(root, e.begin, e.end), endOf[0] = e.end;

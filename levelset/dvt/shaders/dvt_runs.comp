@@ -11,7 +11,7 @@ void main() {
   if (leaf == NO_HIT) return;
   uvec2 c = inputCell(i);
   bool first = i == 0u || hits[i - 1u] != leaf, last = i + 1u == count || hits[i + 1u] != leaf;
-  uint leafDepth = depthOf(cells[leaf]), cut = min(depthOf(c), leafDepth + EXPAND_LEVELS);
+  uint leafDepth = depthOf(cells[leaf]), cut = min(depthOf(c), expansionCut(pointers[leaf].value, leafDepth));
   uint known = first ? leafDepth : min(commonDepth(inputCell(i - 1u), c) + 1u, cut);
   atomicAdd(expansions[leaf].size, 2u * (cut - known));
   if (first) expansions[leaf].begin = i;

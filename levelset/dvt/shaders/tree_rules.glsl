@@ -19,6 +19,8 @@ const uint NO_HIT = 0xffffffffu;
 uvec2 inputCell(uint i) { return uvec2(inputs[i].xy, inputs[i].zd); }
 
 uniform uint count;  // the threads wanted: input voxels or nodes
+uniform uint op;     // the write's (OP_UNION or the subtraction)
+uniform float childScales[MAX_DEPTH + 1];
 
 uint threadIndex() {
   uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
@@ -37,6 +39,17 @@ uint subtreeEnd(uint n, uint nodes) {
     m = q;
   }
   return nodes;
+}
+
+// The depth an expanded leaf's new subtree is cut at (tree_rules.h: expansionCut, EXPAND_LEVELS levels).
+uint expansionCut(float leafValue, uint leafDepth) {
+  uint last = min(leafDepth + EXPAND_LEVELS, uint(MAX_DEPTH));
+  float v = leafValue;
+  for (uint d = leafDepth; d < last; ++d) {
+    v = childValue(v, childScales[d]);
+    if (saturated(op, v)) return d + 1u;
+  }
+  return last;
 }
 
 bool collapsible(Pointer left, Pointer right) {
