@@ -3,23 +3,274 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
-#include <tbb/parallel_scan.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
+#include <mutex>
 #include <numeric>
 
 namespace isoatlas::levelset::dvt {
 namespace {
 
-constexpr std::size_t kGrain = 4096;
 constexpr std::uint32_t kNoHit = 0xffffffffu;
+constexpr std::int32_t kInTop = -1;  // a voxel's route when the tree above the bricks took it
+
+// The depth the CPU cuts the tree at: bricks of 16^3 voxels (a few thousand nodes where the surface is).
+std::uint32_t brickDepthOf(const TreeFrame& frame) { return 3 * std::uint32_t(std::max(1, frame.voxelSplits - 4)); }
 
 // An expanded leaf's new nodes, and its voxels [begin, end) in the input.
 struct Expansion {
   std::uint32_t size = 0, begin = 0, end = 0;
 };
 
+// The new nodes an expansion makes for voxel `c` of a leaf at leafDepth cut at `cut`: two per depth on
+// its path below the leaf, down to the cut, that the previous voxel of the same leaf does not share.
+std::uint32_t newNodesFor(const Cell* previous, const Cell& c, std::uint32_t leafDepth, std::uint32_t cut) {
+  cut = std::min(cut, c.depth);
+  const std::uint32_t known = previous ? std::min(commonDepth(*previous, c) + 1, cut) : leafDepth;
+  return 2 * (cut - known);
+}
+
+// The first voxel of [a, b) (all inside `cell`, in pre-order) in the cell's upper half.
+std::uint32_t splitOf(const std::vector<InputVoxel>& input, const Cell& cell, std::uint32_t a, std::uint32_t b) {
+  while (a < b) {
+    const std::uint32_t m = a + (b - a) / 2;
+    if (childTowards(unpackCell(input[m].xy, input[m].zd), cell.depth) == 0) a = m + 1;
+    else b = m;
+  }
+  return a;
+}
+
+// What one brick's passes share: the input, the write's op, the child scales.
+struct WriteContext {
+  const std::vector<InputVoxel>& input;
+  const std::vector<float>& scales;
+  Op op;
+  Cell inputCell(std::size_t i) const { return unpackCell(input[i].xy, input[i].zd); }
+};
+
+// A brick: the subtree under one cell of the brick depth as its own pre-order streams (root at index
+// 0, its parent kNone), written by the paper's passes (mark, plan by a prefix sum, restructure through
+// the remap stream) exactly as the GPU writes its one stream. The pass state lives only while the
+// brick has marks.
+struct Brick {
+  std::vector<Pointer> pointers;
+  std::vector<std::uint32_t> cells;
+  std::vector<std::uint32_t> marks, remap;
+  std::vector<std::int32_t> removals;  // ranges of reduced subtrees (plan)
+  std::vector<Expansion> expansions;
+  std::uint32_t begin = 0, end = 0;    // its voxels in the input
+  std::uint32_t planned = 0;           // nodes after the plan
+  bool reduced = false;
+  bool dirty = true;  // changed since a collapse last found nothing in it
+
+  std::size_t size() const { return pointers.size(); }
+  Cell cell(std::size_t n) const { return unpackCell(cells[2 * n], cells[2 * n + 1]); }
+
+  void startMarks() {
+    marks.assign(size(), kMarkNone);
+    removals.assign(size() + 1, 0);
+    expansions.resize(size());
+    reduced = false;
+  }
+  void endPass() {
+    marks = {}, remap = {}, removals = {}, expansions = {};
+    begin = end = 0;
+  }
+  bool marked() const { return !marks.empty(); }
+
+  // The index just past n's subtree.
+  std::size_t subtreeEnd(std::size_t n) const {
+    for (std::size_t m = n; m != 0;) {
+      const auto q = std::size_t(pointers[m].parent);
+      if (pointers[q].left == std::int32_t(m)) return std::size_t(pointers[q].right);
+      m = q;
+    }
+    return size();
+  }
+
+  // The mark pass for the brick's voxels; reduced subtrees' ranges summed before each node (> 0 below
+  // a reduced node: the plan removes those whole).
+  std::uint64_t markRun(const WriteContext& w, std::uint32_t rootDepth, std::vector<std::uint32_t>& hits) {
+    std::uint64_t count = 0;
+    for (std::uint32_t i = begin; i < end; ++i) count += markFor(w, i, rootDepth, hits);
+    if (reduced) std::exclusive_scan(removals.begin(), removals.end(), removals.begin(), std::int32_t(0));
+    return count;
+  }
+
+  // The mark pass for one input voxel below the brick's root (dvt_mark.comp, from the root down).
+  std::uint64_t markFor(const WriteContext& w, std::size_t i, std::uint32_t rootDepth, std::vector<std::uint32_t>& hits) {
+    const InputVoxel& in = w.input[i];
+    const Cell c = unpackCell(in.xy, in.zd);
+    hits[i] = kNoHit;
+    const float incoming = inputValue(w.op, in.value);
+    std::size_t n = 0;
+    for (std::uint32_t d = rootDepth;; ++d) {
+      Pointer& p = pointers[n];
+      if (p.leaf()) {
+        if (d == c.depth) {
+          const float v = combined(w.op, p.value, incoming);
+          if (v != p.value) p.value = v, dirty = true;
+          return 0;
+        }
+        if (saturated(w.op, p.value)) return 0;
+        marks[n] = kMarkExpand;
+        hits[i] = std::uint32_t(n);
+        return 1;
+      }
+      if (d == c.depth) {
+        p.value = incoming;  // the value of the leaf it becomes
+        marks[n] = kMarkReduce;
+        ++removals[n], --removals[subtreeEnd(n) - 1];
+        reduced = true;
+        return 1;
+      }
+      n = std::size_t(childTowards(c, d) == 0 ? p.left : p.right);
+    }
+  }
+
+  std::uint64_t markCollapse() {
+    std::uint64_t count = 0;
+    for (std::size_t n = 0; n < size(); ++n) {
+      const Pointer& p = pointers[n];
+      if (p.leaf() || !collapsible(pointers[std::size_t(p.left)], pointers[std::size_t(p.right)])) continue;
+      if (count++ == 0) startMarks();
+      marks[n] = kMarkCollapse;
+    }
+    return count;
+  }
+
+  // The plan: expansion sizes from the voxels that hit leaves, then each node's count prefix-summed
+  // into the remap stream (dvt_runs.comp, dvt_plan.comp). Returns the changes.
+  std::uint64_t plan(const WriteContext& w, const std::vector<std::uint32_t>& hits, bool allowExpand) {
+    for (std::uint32_t i = begin; i < end; ++i)
+      if (hits[i] != kNoHit) expansions[hits[i]] = {};  // the plan may run twice (the node budget)
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const std::uint32_t leaf = hits[i];
+      if (leaf == kNoHit) continue;
+      const bool first = i == begin || hits[i - 1] != leaf;
+      Expansion& e = expansions[leaf];
+      const Cell c = w.inputCell(i), previous = first ? c : w.inputCell(i - 1);
+      const std::uint32_t leafDepth = cells[2 * leaf + 1] >> 16;
+      const std::uint32_t cut = expansionCut(w.op, pointers[leaf].value, leafDepth, kMaxDepth, w.scales.data());
+      e.size += newNodesFor(first ? nullptr : &previous, c, leafDepth, cut);
+      if (first) e.begin = i;
+      e.end = i + 1;
+    }
+    remap.resize(size() + 1);
+    std::uint32_t nodes = 0;
+    std::uint64_t changes = 0;
+    for (std::size_t n = 0; n < size(); ++n) {
+      remap[n] = nodes;
+      const Pointer& p = pointers[n];
+      const Mark m = Mark(marks[n]);
+      if (removals[n] > 0 || (p.parent >= 0 && marks[std::size_t(p.parent)] == kMarkCollapse)) {
+        ++changes;  // inside a reduced subtree, or a collapsed node's child
+        continue;
+      }
+      nodes += 1 + (m == kMarkExpand && allowExpand ? expansions[n].size : 0);
+      changes += (m == kMarkExpand && allowExpand) || m == kMarkReduce || m == kMarkCollapse;
+    }
+    remap[size()] = planned = nodes;
+    return changes;
+  }
+
+  // The restructure pass: every kept node to its new index, pointers remapped, expanded leaves
+  // followed by their new subtrees (dvt_restructure.comp).
+  void restructure(const WriteContext& w, bool allowExpand) {
+    std::vector<Pointer> newPointers(planned);
+    std::vector<std::uint32_t> newCells(2 * std::size_t(planned));
+    for (std::size_t n = 0; n < size(); ++n) {
+      if (remap[n + 1] == remap[n]) continue;  // removed
+      const std::uint32_t o = remap[n];
+      const Pointer& p = pointers[n];
+      const Mark m = Mark(marks[n]);
+      Pointer out;
+      out.value = p.value;
+      if (p.parent >= 0) out.parent = std::int32_t(remap[std::size_t(p.parent)]);
+      if (m == kMarkCollapse) out.value = pointers[std::size_t(p.left)].value;
+      newCells[2 * o] = cells[2 * n], newCells[2 * o + 1] = cells[2 * n + 1];
+      if (m == kMarkExpand && allowExpand) {
+        generate(w, o, out, cell(n), expansions[n], newPointers, newCells);
+        continue;
+      }
+      if (!p.leaf() && m != kMarkReduce && m != kMarkCollapse)
+        out.left = std::int32_t(remap[std::size_t(p.left)]), out.right = std::int32_t(remap[std::size_t(p.right)]);
+      newPointers[o] = out;
+    }
+    pointers = std::move(newPointers), cells = std::move(newCells);
+    dirty = true;
+    endPass();
+  }
+
+  // The subtree an expanded leaf at new index o grows: depth first, each node split where voxels lie
+  // strictly inside it, down to the cut (expansionCut: here no level limit), new nodes in pre-order
+  // after o, values from the leaf's with one child scale per level.
+  static void generate(const WriteContext& w, std::uint32_t o, const Pointer& leaf, const Cell& root, const Expansion& e,
+                       std::vector<Pointer>& newPointers, std::vector<std::uint32_t>& newCells) {
+    std::array<float, kMaxDepth + 2> chain{};
+    chain[root.depth] = leaf.value;
+    for (std::uint32_t d = root.depth; d <= std::uint32_t(kMaxDepth); ++d) chain[d + 1] = childValue(chain[d], w.scales[d]);
+    const std::uint32_t cut = expansionCut(w.op, leaf.value, root.depth, kMaxDepth, w.scales.data());
+    std::uint32_t at = o + 1;
+    const auto grow = [&](const auto& self, std::uint32_t node, Pointer pointer, const Cell& cell, std::uint32_t a, std::uint32_t b) -> void {
+      const std::uint32_t split = splitOf(w.input, cell, a, b);
+      for (int k = 0; k < 2; ++k) {
+        const Cell child = childCell(cell, k);
+        const std::uint32_t ca = k == 0 ? a : split, cb = k == 0 ? split : b;
+        const std::uint32_t q = at++;
+        (k == 0 ? pointer.left : pointer.right) = std::int32_t(q);
+        const auto packed = packCell(child);
+        newCells[2 * q] = packed[0], newCells[2 * q + 1] = packed[1];
+        const Pointer p{std::int32_t(node), kNone, kNone, chain[child.depth]};
+        if (ca < cb && child.depth < cut && !(cb - ca == 1 && w.inputCell(ca) == child)) self(self, q, p, child, ca, cb);
+        else newPointers[q] = p;
+      }
+      newPointers[node] = pointer;
+    };
+    grow(grow, o, leaf, root, e.begin, e.end);
+  }
+};
+
+// The tree above the bricks: a small index of nodes allocated in pairs of siblings (children: the
+// first of the pair; at the depth above the bricks, the first of a pair of bricks).
+struct TopNode {
+  std::uint32_t xy = 0, zd = 0;
+  float value = kOutside;
+  std::int32_t children = kNone;
+  std::uint32_t mark = kMarkNone;
+  Expansion expansion;
+  Cell cell() const { return unpackCell(xy, zd); }
+  bool leaf() const { return children < 0; }
+};
+
+// Slots allocated in pairs, freed pairs reused.
+template <class T>
+struct PairPool {
+  std::vector<T> items;
+  std::vector<std::int32_t> freePairs;
+  std::int32_t allocate() {
+    if (!freePairs.empty()) {
+      const std::int32_t p = freePairs.back();
+      freePairs.pop_back();
+      return p;
+    }
+    items.resize(items.size() + 2);
+    return std::int32_t(items.size() - 2);
+  }
+  void release(std::int32_t pair) {
+    items[std::size_t(pair)] = T{}, items[std::size_t(pair) + 1] = T{};
+    freePairs.push_back(pair);
+  }
+};
+
+// The CPU passes. The paper's one pre-order stream makes every restructure move the whole tree (the
+// price of absolute pointers), which a GPU's bandwidth pays easily and a CPU's does not; so the CPU
+// cuts the stream at the brick depth: the tree above it is a small index of sibling pairs, each
+// subtree below it a brick with streams of its own, and a write marks, plans and restructures only
+// the bricks its voxels reach, in parallel. download() splices them back into the one stream, which
+// equals the GPU's node for node.
 class CpuTreePasses final : public TreePasses {
 public:
   std::string name() const override { return "cpu"; }
@@ -27,266 +278,380 @@ public:
   void load(const VolumeTree& tree) override {
     frame_ = tree.frame;
     scales_ = childScales(frame_);
-    pointers_ = tree.pointers;
-    cells_ = tree.cells;
-    marks_.assign(pointers_.size(), kMarkNone);
-    removals_.assign(pointers_.size() + 1, 0);
+    brickDepth_ = brickDepthOf(frame_);
+    top_ = {}, bricks_ = {};
+    topNodes_ = 0, brickNodes_ = 0;
+    marked_.clear();
+    top_.items.resize(1);  // the root
+    loadTop(tree, 0, tree.nodeCount(), 0);
   }
 
   VolumeTree download() const override {
     VolumeTree t;
     t.frame = frame_;
-    t.pointers = pointers_;
-    t.cells = cells_;
+    t.pointers.reserve(nodeCount());
+    t.cells.reserve(2 * nodeCount());
+    emitTop(t, 0, kNone);
     return t;
   }
 
-  std::uint64_t nodeCount() const override { return pointers_.size(); }
+  std::uint64_t nodeCount() const override { return topNodes_ + brickNodes_; }
 
   std::uint64_t bytes() const override {
-    return pointers_.capacity() * sizeof(Pointer) + cells_.capacity() * 4 + marks_.capacity() * 4 +
-           remap_.capacity() * 4 + removals_.capacity() * 4 + input_.capacity() * sizeof(InputVoxel);
+    std::uint64_t b = top_.items.capacity() * sizeof(TopNode) + bricks_.items.capacity() * sizeof(Brick) +
+                      input_.capacity() * sizeof(InputVoxel) + (hits_.capacity() + route_.capacity()) * 4;
+    for (const Brick& k : bricks_.items)
+      b += k.pointers.capacity() * sizeof(Pointer) + k.cells.capacity() * 4 + (k.marks.capacity() + k.remap.capacity()) * 4 +
+           k.removals.capacity() * 4 + k.expansions.capacity() * sizeof(Expansion);
+    return b;
   }
 
   void setInput(const std::vector<InputVoxel>& input) override {
     input_ = input;
     hits_.resize(input_.size());
+    route_.resize(input_.size());
   }
 
   std::uint64_t mark(Op op) override {
     op_ = op;
     clearMarks();
-    expansions_.resize(pointers_.size());  // only the expanded leaves' are used, cleared as marked
-    const std::uint64_t marks = sum(input_.size(), [&](std::size_t i) { return markFor(i, op); });
-    // The reduced subtrees: +1 at their root and -1 at their last node, summed before each node: > 0
-    // for the nodes below a reduced root (removed whole by the next restructure).
-    if (reduced_) std::exclusive_scan(removals_.begin(), removals_.end(), removals_.begin(), std::int32_t(0));
+    // Each voxel down the top to its brick (or to a top leaf or node it changes), in parallel.
+    const WriteContext w = context();
+    std::uint64_t marks = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, input_.size(), 1024), std::uint64_t(0),
+        [&](const auto& r, std::uint64_t s) {
+          for (std::size_t i = r.begin(); i < r.end(); ++i) s += routeVoxel(w, i);
+          return s;
+        },
+        std::plus<>());
+    // The voxels of a brick are consecutive (pre-order): each run marks its brick.
+    for (std::uint32_t i = 0; i < input_.size();) {
+      std::uint32_t j = i + 1;
+      if (route_[i] != kInTop) {
+        while (j < input_.size() && route_[j] == route_[i]) ++j;
+        Brick& b = bricks_.items[std::size_t(route_[i])];
+        b.startMarks();
+        b.begin = i, b.end = j;
+        marked_.push_back(route_[i]);
+      }
+      i = j;
+    }
+    marks += tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, marked_.size(), 1), std::uint64_t(0),
+        [&](const auto& r, std::uint64_t s) {
+          for (std::size_t k = r.begin(); k < r.end(); ++k) {
+            s += bricks_.items[std::size_t(marked_[k])].markRun(w, brickDepth_, hits_);
+          }
+          return s;
+        },
+        std::plus<>());
     return marks;
   }
 
   std::uint64_t markCollapse() override {
     clearMarks();
-    std::fill(hits_.begin(), hits_.end(), kNoHit);  // no voxel expands anything in a collapse
-    return sum(pointers_.size(), [&](std::size_t n) -> std::uint64_t {
-      const Pointer& p = pointers_[n];
-      if (p.leaf() || !collapsible(pointers_[std::size_t(p.left)], pointers_[std::size_t(p.right)])) return 0;
-      marks_[n] = kMarkCollapse;
-      return 1;
-    });
-  }
-
-  Plan plan(bool allowExpand) override {
-    const std::size_t count = pointers_.size();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, input_.size(), kGrain), [&](const auto& r) {
-      for (std::size_t i = r.begin(); i < r.end(); ++i) planInput(i);
-    });
-    // Each node's count, prefix-summed in the same pass (TBB's scan runs the body twice over a range
-    // when it must: first to sum, then to write).
-    remap_.resize(count + 1);
-    struct Sums {
-      std::uint32_t nodes = 0;
-      std::uint64_t changes = 0;
-    };
-    const Sums total = tbb::parallel_scan(
-        tbb::blocked_range<std::size_t>(0, count, kGrain), Sums{},
-        [&](const tbb::blocked_range<std::size_t>& r, Sums s, bool final) {
-          for (std::size_t n = r.begin(); n < r.end(); ++n) {
-            const auto [emit, change] = emitOf(n, allowExpand);
-            if (final) remap_[n] = s.nodes;
-            s.nodes += emit, s.changes += change;
+    input_.clear(), hits_.clear(), route_.clear();  // no voxel expands anything in a collapse
+    for (std::size_t b = 0; b < bricks_.items.size(); ++b)
+      if (bricks_.items[b].dirty && !bricks_.items[b].pointers.empty()) dirtyBricks_.push_back(std::int32_t(b));
+    std::uint64_t marks = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, dirtyBricks_.size(), 1), std::uint64_t(0),
+        [&](const auto& r, std::uint64_t s) {
+          for (std::size_t k = r.begin(); k < r.end(); ++k) {
+            Brick& b = bricks_.items[std::size_t(dirtyBricks_[k])];
+            const std::uint64_t m = b.markCollapse();
+            if (m == 0) b.dirty = false;
+            s += m;
           }
           return s;
         },
-        [](const Sums& a, const Sums& b) { return Sums{a.nodes + b.nodes, a.changes + b.changes}; });
-    remap_[count] = total.nodes;
-    return {total.nodes, total.changes};
+        std::plus<>());
+    for (const std::int32_t b : dirtyBricks_)
+      if (bricks_.items[std::size_t(b)].marked()) marked_.push_back(b);
+    dirtyBricks_.clear();
+    markTopCollapse(0, 0, marks);
+    return marks;
   }
 
-  void restructure(const Plan& plan, bool allowExpand, std::uint64_t) override {
-    // Into the spare streams (kept between writes, so no allocation or clearing per pass).
-    spare_.resize(plan.nodes);
-    spareCells_.resize(2 * plan.nodes);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pointers_.size(), kGrain), [&](const auto& r) {
-      for (std::size_t n = r.begin(); n < r.end(); ++n) writeNode(n, allowExpand);
-    });
-    std::swap(pointers_, spare_);
-    std::swap(cells_, spareCells_);
-    marks_.resize(pointers_.size());
-    removals_.resize(pointers_.size() + 1);
-  }
-
-private:
-  template <class F>
-  static std::uint64_t sum(std::size_t count, const F& f) {
-    return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, count, kGrain), std::uint64_t(0),
+  Plan plan(bool allowExpand) override {
+    const WriteContext w = context();
+    const std::uint64_t brickChanges = tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, marked_.size(), 1), std::uint64_t(0),
         [&](const auto& r, std::uint64_t s) {
-          for (std::size_t i = r.begin(); i < r.end(); ++i) s += f(i);
+          for (std::size_t k = r.begin(); k < r.end(); ++k) s += bricks_.items[std::size_t(marked_[k])].plan(w, hits_, allowExpand);
           return s;
         },
         std::plus<>());
+    std::int64_t delta = 0;
+    for (const std::int32_t b : marked_) delta += std::int64_t(bricks_.items[std::size_t(b)].planned) - std::int64_t(bricks_.items[std::size_t(b)].size());
+    std::uint64_t changes = brickChanges;
+    planTop(allowExpand, delta, changes);
+    return {std::uint64_t(std::int64_t(nodeCount()) + delta), changes};
   }
+
+  void restructure(const Plan&, bool allowExpand, std::uint64_t) override {
+    const WriteContext w = context();
+    tbb::parallel_for(std::size_t(0), marked_.size(), [&](std::size_t k) {
+      Brick& b = bricks_.items[std::size_t(marked_[k])];
+      brickNodesDelta_.fetch_add(std::int64_t(b.planned) - std::int64_t(b.size()), std::memory_order_relaxed);
+      b.restructure(w, allowExpand);
+    });
+    brickNodes_ = std::uint64_t(std::int64_t(brickNodes_) + brickNodesDelta_.exchange(0));
+    marked_.clear();
+    // The top's marked nodes head disjoint subtrees (the voxels are disjoint; a collapsed node's
+    // children are leaves), so each is applied alone.
+    for (const std::int32_t t : topMarked_) restructureTop(w, t, allowExpand);
+    for (const std::int32_t t : topMarked_) top_.items[std::size_t(t)].mark = kMarkNone;
+    topMarked_.clear();
+  }
+
+private:
+  WriteContext context() const { return {input_, scales_, op_}; }
 
   void clearMarks() {
-    std::fill(marks_.begin(), marks_.end(), std::uint32_t(kMarkNone));
-    if (reduced_) std::fill(removals_.begin(), removals_.end(), 0);
-    reduced_ = false;
+    for (const std::int32_t b : marked_) bricks_.items[std::size_t(b)].endPass();
+    marked_.clear();
+    for (const std::int32_t t : topMarked_) top_.items[std::size_t(t)].mark = kMarkNone, top_.items[std::size_t(t)].expansion = {};
+    topMarked_.clear();
   }
-  void setMark(std::size_t n, Mark m) { std::atomic_ref<std::uint32_t>(marks_[n]).store(m, std::memory_order_relaxed); }
-  Mark markOf(std::size_t n) const { return Mark(marks_[n]); }
 
-  Cell inputCell(std::size_t i) const { return unpackCell(input_[i].xy, input_[i].zd); }
+  void markTop(std::int32_t t, Mark m) {
+    std::atomic_ref<std::uint32_t> mark(top_.items[std::size_t(t)].mark);
+    if (mark.exchange(m, std::memory_order_relaxed) == kMarkNone) {
+      const std::lock_guard lock(topMarkedMutex_);
+      topMarked_.push_back(t);
+    }
+  }
 
-  // The mark pass for one input voxel (dvt_mark.comp).
-  std::uint64_t markFor(std::size_t i, Op op) {
-    const InputVoxel& in = input_[i];
+  // Voxel i down the top: to its brick (route_), or to the top leaf or node it writes, expands or
+  // reduces (the top's part of dvt_mark.comp). Returns the marks set.
+  std::uint64_t routeVoxel(const WriteContext& w, std::size_t i) {
+    const InputVoxel& in = w.input[i];
     const Cell c = unpackCell(in.xy, in.zd);
-    hits_[i] = kNoHit;
-    const float incoming = inputValue(op, in.value);
-    std::size_t n = 0;
+    route_[i] = kInTop, hits_[i] = kNoHit;
+    const float incoming = inputValue(w.op, in.value);
+    std::int32_t t = 0;
     for (std::uint32_t d = 0;; ++d) {
-      Pointer& p = pointers_[n];
-      if (p.leaf()) {
+      TopNode& n = top_.items[std::size_t(t)];
+      if (n.leaf()) {
         if (d == c.depth) {
-          const float v = combined(op, p.value, incoming);
-          if (v != p.value) p.value = v;
+          n.value = combined(w.op, n.value, incoming);
           return 0;
         }
-        if (saturated(op, p.value)) return 0;
-        setMark(n, kMarkExpand);
-        std::atomic_ref<std::uint32_t>(expansions_[n].size).store(0, std::memory_order_relaxed);  // planInput adds
-        hits_[i] = std::uint32_t(n);
+        if (saturated(w.op, n.value)) return 0;
+        markTop(t, kMarkExpand);
+        hits_[i] = std::uint32_t(t);
         return 1;
       }
       if (d == c.depth) {
-        p.value = incoming;  // the value of the leaf it becomes (no other input voxel reaches n)
-        setMark(n, kMarkReduce);
-        std::atomic_ref<std::int32_t>(removals_[n]).fetch_add(1, std::memory_order_relaxed);
-        std::atomic_ref<std::int32_t>(removals_[subtreeEnd(n) - 1]).fetch_sub(1, std::memory_order_relaxed);
-        std::atomic_ref<bool>(reduced_).store(true, std::memory_order_relaxed);
+        n.value = incoming;
+        markTop(t, kMarkReduce);
         return 1;
       }
-      n = std::size_t(childTowards(c, d) == 0 ? p.left : p.right);
+      const std::int32_t child = n.children + childTowards(c, d);
+      if (d + 1 == brickDepth_) {
+        route_[i] = child;
+        return 0;
+      }
+      t = child;
     }
   }
 
-  // The index just past n's subtree (tree_rules.glsl: subtreeEnd).
-  std::size_t subtreeEnd(std::size_t n) const {
-    for (std::size_t m = n; m != 0;) {
-      const auto q = std::size_t(pointers_[m].parent);
-      if (pointers_[q].left == std::int32_t(m)) return std::size_t(pointers_[q].right);
-      m = q;
+  // Top nodes whose two children are leaves (top leaves, or bricks that are one leaf) one leaf can
+  // stand for: marked for collapse.
+  void markTopCollapse(std::int32_t t, std::uint32_t depth, std::uint64_t& marks) {
+    const TopNode& n = top_.items[std::size_t(t)];
+    if (n.leaf()) return;
+    if (depth + 1 == brickDepth_) {
+      const Brick &a = bricks_.items[std::size_t(n.children)], &b = bricks_.items[std::size_t(n.children) + 1];
+      if (collapsible(a.pointers[0], b.pointers[0])) markTop(t, kMarkCollapse), ++marks;
+      return;
     }
-    return pointers_.size();
+    const TopNode &a = top_.items[std::size_t(n.children)], &b = top_.items[std::size_t(n.children) + 1];
+    if (collapsible(Pointer{kNone, a.children, kNone, a.value}, Pointer{kNone, b.children, kNone, b.value}))
+      markTop(t, kMarkCollapse), ++marks;
+    markTopCollapse(n.children, depth + 1, marks);
+    markTopCollapse(n.children + 1, depth + 1, marks);
   }
 
-  // Per input voxel with a hit (dvt_runs.comp): the new nodes its leaf's subtree needs for it, two per
-  // ancestor of the voxel below the leaf (down to the cut) that the previous voxel does not share; the
-  // bounds of the leaf's run of voxels.
-  void planInput(std::size_t i) {
-    const std::uint32_t leaf = hits_[i];
-    if (leaf == kNoHit) return;
-    const Cell c = inputCell(i);
-    const bool first = i == 0 || hits_[i - 1] != leaf, last = i + 1 == input_.size() || hits_[i + 1] != leaf;
-    const std::uint32_t leafDepth = cells_[2 * leaf + 1] >> 16, cut = std::min(c.depth, expansionCut(op_, pointers_[leaf].value, leafDepth, kExpandLevels, scales_.data()));
-    const std::uint32_t known = first ? leafDepth : std::min(commonDepth(inputCell(i - 1), c) + 1, cut);
-    Expansion& e = expansions_[leaf];
-    std::atomic_ref<std::uint32_t>(e.size).fetch_add(2 * (cut - known), std::memory_order_relaxed);
-    if (first) e.begin = std::uint32_t(i);
-    if (last) e.end = std::uint32_t(i + 1);
-  }
-
-  // How many nodes n becomes, and whether that changes the tree (dvt_plan.comp).
-  std::pair<std::uint32_t, std::uint64_t> emitOf(std::size_t n, bool allowExpand) const {
-    const Pointer& p = pointers_[n];
-    if (removals_[n] > 0) return {0, 1};  // inside a reduced subtree
-    if (p.parent >= 0 && markOf(std::size_t(p.parent)) == kMarkCollapse) return {0, 1};
-    const Mark m = markOf(n);
-    if (m == kMarkExpand) return allowExpand ? std::pair<std::uint32_t, std::uint64_t>{1 + expansions_[n].size, 1} : std::pair<std::uint32_t, std::uint64_t>{1, 0};
-    return {1, m == kMarkReduce || m == kMarkCollapse ? 1 : 0};
-  }
-
-  // The restructure pass for one old node (dvt_restructure.comp).
-  void writeNode(std::size_t n, bool allowExpand) {
-    if (remap_[n + 1] == remap_[n]) return;  // removed
-    const std::uint32_t o = remap_[n];
-    const Pointer& p = pointers_[n];
-    const Mark m = markOf(n);
-    Pointer out;
-    out.value = p.value;
-    if (p.parent >= 0) out.parent = std::int32_t(remap_[std::size_t(p.parent)]);  // a kept node's parent is kept
-    const bool expand = m == kMarkExpand && allowExpand;
-    if (m == kMarkCollapse) out.value = pointers_[std::size_t(p.left)].value;
-    spareCells_[2 * o] = cells_[2 * n], spareCells_[2 * o + 1] = cells_[2 * n + 1];
-    if (expand) return generate(o, out, unpackCell(cells_[2 * n], cells_[2 * n + 1]), expansions_[n]);
-    if (!p.leaf() && m != kMarkReduce && m != kMarkCollapse)
-      out.left = std::int32_t(remap_[std::size_t(p.left)]), out.right = std::int32_t(remap_[std::size_t(p.right)]);
-    spare_[o] = out;
-  }
-
-  // The first voxel of [a, b) (all inside `cell`, in pre-order) in the cell's upper half.
-  std::uint32_t splitOf(const Cell& cell, std::uint32_t a, std::uint32_t b) const {
-    while (a < b) {
-      const std::uint32_t m = a + (b - a) / 2;
-      if (childTowards(inputCell(m), cell.depth) == 0) a = m + 1;
-      else b = m;
+  // The top's marks in the plan: node count changes and changes.
+  void planTop(bool allowExpand, std::int64_t& delta, std::uint64_t& changes) {
+    for (const std::int32_t t : topMarked_) top_.items[std::size_t(t)].expansion = {};  // the plan may run twice
+    for (std::size_t i = 0; i < hits_.size(); ++i) {  // the top leaves' expansions, from their voxels
+      if (route_[i] != kInTop || hits_[i] == kNoHit) continue;
+      TopNode& leaf = top_.items[hits_[i]];
+      const bool first = i == 0 || route_[i - 1] != kInTop || hits_[i - 1] != hits_[i];
+      const Cell c = unpackCell(input_[i].xy, input_[i].zd), previous = first ? c : unpackCell(input_[i - 1].xy, input_[i - 1].zd);
+      leaf.expansion.size += newNodesFor(first ? nullptr : &previous, c, leaf.cell().depth, topCut(leaf));
+      if (first) leaf.expansion.begin = std::uint32_t(i);
+      leaf.expansion.end = std::uint32_t(i + 1);
     }
-    return a;
+    for (const std::int32_t t : topMarked_) {
+      const TopNode& n = top_.items[std::size_t(t)];
+      if (n.mark == kMarkExpand && allowExpand) delta += n.expansion.size, ++changes;
+      if (n.mark == kMarkReduce) delta -= std::int64_t(subtreeNodes(t, n.cell().depth)) - 1, ++changes;
+      if (n.mark == kMarkCollapse) delta -= 2, changes += 3;
+    }
   }
 
-  // The subtree an expanded leaf at new index o grows (dvt_restructure.comp: generate): depth first,
-  // each node split where voxels lie strictly inside it, new nodes in pre-order after o; values from
-  // the leaf's, one child scale per level (as splitting a level at a time would give); nodes at the
-  // cut (expansionCut) stay leaves. A node's record is written whole when its children are
-  // known, as the GLSL twin must.
-  void generate(std::uint32_t o, const Pointer& leaf, const Cell& root, const Expansion& e) {
-    std::array<float, kMaxDepth + 2> chain{};
-    chain[root.depth] = leaf.value;
-    for (std::uint32_t d = root.depth; d <= std::uint32_t(kMaxDepth); ++d) chain[d + 1] = childValue(chain[d], scales_[d]);
-    struct Frame {
-      Pointer pointer;
-      Cell cell;
-      std::uint32_t node, begin, split, end;
-      int next;  // the child to make next; 2: done
+  // A top leaf's expansion stops at the bricks (their roots are made, as one-leaf bricks).
+  std::uint32_t topCut(const TopNode& leaf) const {
+    return std::min(brickDepth_, expansionCut(op_, leaf.value, leaf.cell().depth, kMaxDepth, scales_.data()));
+  }
+
+  std::uint64_t subtreeNodes(std::int32_t t, std::uint32_t depth) const {
+    const TopNode& n = top_.items[std::size_t(t)];
+    if (n.leaf()) return 1;
+    if (depth + 1 == brickDepth_) return 1 + bricks_.items[std::size_t(n.children)].size() + bricks_.items[std::size_t(n.children) + 1].size();
+    return 1 + subtreeNodes(n.children, depth + 1) + subtreeNodes(n.children + 1, depth + 1);
+  }
+
+  // Applies a top node's mark.
+  void restructureTop(const WriteContext& w, std::int32_t t, bool allowExpand) {
+    const TopNode& n = top_.items[std::size_t(t)];
+    const Mark m = Mark(n.mark);
+    const std::uint32_t depth = n.cell().depth;
+    if (m == kMarkExpand) {
+      if (allowExpand) growTop(w, t, n.expansion.begin, n.expansion.end, topCut(n));
+      return;
+    }
+    const float value = m == kMarkCollapse ? childValueOf(n, depth) : n.value;
+    releaseChildren(t, depth);
+    top_.items[std::size_t(t)].value = value;
+  }
+
+  float childValueOf(const TopNode& n, std::uint32_t depth) const {
+    return depth + 1 == brickDepth_ ? bricks_.items[std::size_t(n.children)].pointers[0].value : top_.items[std::size_t(n.children)].value;
+  }
+
+  // Frees t's subtree below it (top pairs and bricks); t becomes a leaf.
+  void releaseChildren(std::int32_t t, std::uint32_t depth) {
+    const std::int32_t children = top_.items[std::size_t(t)].children;
+    if (children < 0) return;
+    if (depth + 1 == brickDepth_) {
+      brickNodes_ -= bricks_.items[std::size_t(children)].size() + bricks_.items[std::size_t(children) + 1].size();
+      bricks_.release(children);
+    } else {
+      releaseChildren(children, depth + 1), releaseChildren(children + 1, depth + 1);
+      top_.release(children);
+      topNodes_ -= 2;
+    }
+    top_.items[std::size_t(t)].children = kNone;
+  }
+
+  // An expanded top leaf's new subtree (as Brick::generate grows one): split where voxels lie strictly
+  // inside, down to the cut; at the brick depth the children are new one-leaf bricks.
+  void growTop(const WriteContext& w, std::int32_t t, std::uint32_t a, std::uint32_t b, std::uint32_t cut) {
+    const Cell cell = top_.items[std::size_t(t)].cell();
+    const float value = top_.items[std::size_t(t)].value;
+    const std::uint32_t split = splitOf(w.input, cell, a, b);
+    const auto splits = [&](const Cell& child, std::uint32_t ca, std::uint32_t cb) {
+      return ca < cb && child.depth < cut && !(cb - ca == 1 && w.inputCell(ca) == child);
     };
-    std::array<Frame, kExpandLevels + 1> stack;
-    const std::uint32_t cut = expansionCut(op_, leaf.value, root.depth, kExpandLevels, scales_.data());
-    int top = 0;
-    stack[0] = {leaf, root, o, e.begin, splitOf(root, e.begin, e.end), e.end, 0};
-    std::uint32_t at = o + 1;
-    while (top >= 0) {
-      Frame& f = stack[std::size_t(top)];
-      if (f.next == 2) {
-        spare_[f.node] = f.pointer;
-        --top;
-        continue;
+    if (cell.depth + 1 == brickDepth_) {
+      const std::int32_t pair = bricks_.allocate();
+      for (int k = 0; k < 2; ++k) {
+        Brick& brick = bricks_.items[std::size_t(pair + k)];
+        const auto packed = packCell(childCell(cell, k));
+        brick.pointers = {Pointer{kNone, kNone, kNone, childValue(value, scales_[cell.depth])}};
+        brick.cells = {packed[0], packed[1]};
+        brick.dirty = true;
       }
-      const int k = f.next++;
-      const Cell child = childCell(f.cell, k);
-      const std::uint32_t a = k == 0 ? f.begin : f.split, b = k == 0 ? f.split : f.end;
-      const std::uint32_t q = at++;
-      (k == 0 ? f.pointer.left : f.pointer.right) = std::int32_t(q);
-      const Pointer p{std::int32_t(f.node), kNone, kNone, chain[child.depth]};
-      const auto packed = packCell(child);
-      spareCells_[2 * q] = packed[0], spareCells_[2 * q + 1] = packed[1];
-      if (a < b && child.depth < cut && !(b - a == 1 && inputCell(a) == child)) {
-        stack[std::size_t(++top)] = {p, child, q, a, splitOf(child, a, b), b, 0};
-      } else {
-        spare_[q] = p;
-      }
+      brickNodes_ += 2;
+      top_.items[std::size_t(t)].children = pair;
+      return;
     }
+    const std::int32_t pair = top_.allocate();
+    topNodes_ += 2;
+    top_.items[std::size_t(t)].children = pair;
+    for (int k = 0; k < 2; ++k) {
+      const Cell child = childCell(cell, k);
+      TopNode& c = top_.items[std::size_t(pair + k)];
+      const auto packed = packCell(child);
+      c.xy = packed[0], c.zd = packed[1], c.value = childValue(value, scales_[cell.depth]);
+      const std::uint32_t ca = k == 0 ? a : split, cb = k == 0 ? split : b;
+      if (splits(child, ca, cb)) growTop(w, pair + k, ca, cb, cut);
+    }
+  }
+
+  // The stream's subtree [n, end) at depth `depth` into top node t.
+  void loadTop(const VolumeTree& tree, std::size_t n, std::size_t end, std::int32_t t) {
+    const Pointer& p = tree.pointers[n];
+    ++topNodes_;
+    {
+      TopNode& node = top_.items[std::size_t(t)];
+      node.xy = tree.cells[2 * n], node.zd = tree.cells[2 * n + 1], node.value = p.value;
+    }
+    if (p.leaf()) return;
+    const std::uint32_t depth = tree.cell(n).depth;
+    const auto left = std::size_t(p.left), right = std::size_t(p.right);
+    if (depth + 1 == brickDepth_) {
+      const std::int32_t pair = bricks_.allocate();
+      loadBrick(tree, left, right, bricks_.items[std::size_t(pair)]);
+      loadBrick(tree, right, end, bricks_.items[std::size_t(pair) + 1]);
+      top_.items[std::size_t(t)].children = pair;
+      return;
+    }
+    const std::int32_t pair = top_.allocate();
+    top_.items[std::size_t(t)].children = pair;
+    loadTop(tree, left, right, pair);
+    loadTop(tree, right, end, pair + 1);
+  }
+
+  void loadBrick(const VolumeTree& tree, std::size_t begin, std::size_t end, Brick& brick) {
+    brick.pointers.assign(tree.pointers.begin() + std::ptrdiff_t(begin), tree.pointers.begin() + std::ptrdiff_t(end));
+    brick.cells.assign(tree.cells.begin() + std::ptrdiff_t(2 * begin), tree.cells.begin() + std::ptrdiff_t(2 * end));
+    const auto shift = [&](std::int32_t& i) {
+      if (i >= 0) i -= std::int32_t(begin);
+    };
+    for (Pointer& p : brick.pointers) shift(p.parent), shift(p.left), shift(p.right);
+    brick.pointers[0].parent = kNone;
+    brickNodes_ += brick.size();
+  }
+
+  // Top node t and its subtree appended to the stream in pre-order; returns t's index there.
+  std::int32_t emitTop(VolumeTree& out, std::int32_t t, std::int32_t parent) const {
+    const TopNode& n = top_.items[std::size_t(t)];
+    const auto o = std::int32_t(out.pointers.size());
+    out.pointers.push_back({parent, kNone, kNone, n.value});
+    out.cells.push_back(n.xy), out.cells.push_back(n.zd);
+    if (n.leaf()) return o;
+    std::int32_t left = 0, right = 0;
+    if (n.cell().depth + 1 == brickDepth_) {
+      left = emitBrick(out, bricks_.items[std::size_t(n.children)], o);
+      right = emitBrick(out, bricks_.items[std::size_t(n.children) + 1], o);
+    } else {
+      left = emitTop(out, n.children, o);
+      right = emitTop(out, n.children + 1, o);
+    }
+    out.pointers[std::size_t(o)].left = left, out.pointers[std::size_t(o)].right = right;
+    return o;
+  }
+
+  static std::int32_t emitBrick(VolumeTree& out, const Brick& b, std::int32_t parent) {
+    const auto base = std::int32_t(out.pointers.size());
+    for (Pointer p : b.pointers) {
+      p.parent = p.parent >= 0 ? p.parent + base : parent;
+      if (!p.leaf()) p.left += base, p.right += base;
+      out.pointers.push_back(p);
+    }
+    out.cells.insert(out.cells.end(), b.cells.begin(), b.cells.end());
+    return base;
   }
 
   TreeFrame frame_;
   std::vector<float> scales_;
-  std::vector<Pointer> pointers_, spare_;
-  std::vector<std::uint32_t> cells_, spareCells_, marks_, remap_;
-  std::vector<std::int32_t> removals_;  // ranges of reduced subtrees (plan)
-  bool reduced_ = false;
-  Op op_ = Op::Union;                  // the write's (the expansions' cut)               // a reduce mark was set since the marks were cleared
+  std::uint32_t brickDepth_ = 3;
+  Op op_ = Op::Union;
+  PairPool<TopNode> top_;  // items[0]: the root
+  PairPool<Brick> bricks_;
+  std::uint64_t topNodes_ = 0, brickNodes_ = 0;
+  std::atomic<std::int64_t> brickNodesDelta_{0};
+  std::vector<std::int32_t> marked_, dirtyBricks_;  // bricks with marks; bricks a collapse looks at
+  std::vector<std::int32_t> topMarked_;            // top nodes with marks
+  std::mutex topMarkedMutex_;
   std::vector<InputVoxel> input_;
-  std::vector<std::uint32_t> hits_;       // per input voxel: the leaf it expands, or kNoHit
-  std::vector<Expansion> expansions_;     // per node: its expansion's size and voxels (plan)
+  std::vector<std::uint32_t> hits_;  // per input voxel: the leaf it expands (top node or brick node), or kNoHit
+  std::vector<std::int32_t> route_;  // per input voxel: its brick, or kInTop
 };
 
 }  // namespace
