@@ -42,6 +42,23 @@ std::uint32_t splitOf(const std::vector<InputVoxel>& input, const Cell& cell, st
   return a;
 }
 
+// Where a walk down the tree may start: voxels come in pre-order, so most share a long path from the
+// root with the voxel before, whose walk is remembered here (node by depth).
+template <class Index>
+struct Walk {
+  std::array<Index, kMaxDepth + 1> nodes{};
+  std::uint32_t last = 0;  // the depth the last walk ended at
+  Cell previous;
+  bool started = false;
+  // The depth to go on from, with its node in `node`.
+  std::uint32_t resume(const Cell& c, std::uint32_t rootDepth, Index root, Index& node) const {
+    if (!started) return node = root, rootDepth;
+    const std::uint32_t d = std::min(commonDepth(previous, c), last);
+    return node = nodes[d], d;
+  }
+  void ended(const Cell& c, std::uint32_t depth) { previous = c, last = depth, started = true; }
+};
+
 // What one brick's passes share: the input, the write's op, the child scales.
 struct WriteContext {
   const std::vector<InputVoxel>& input;
@@ -50,16 +67,55 @@ struct WriteContext {
   Cell inputCell(std::size_t i) const { return unpackCell(input[i].xy, input[i].zd); }
 };
 
+// How a node an expansion makes ends: split on where voxels lie strictly inside it above the cut;
+// a voxel's own cell takes the voxel's value at once (the value the next mark would write).
+bool splitsOn(const WriteContext& w, const Cell& node, std::uint32_t a, std::uint32_t b, std::uint32_t cut) {
+  return a < b && node.depth < cut && !(b - a == 1 && w.inputCell(a) == node);
+}
+float newLeafValue(const WriteContext& w, const Cell& node, std::uint32_t a, std::uint32_t b, float value) {
+  return b - a == 1 && w.inputCell(a) == node ? combined(w.op, value, inputValue(w.op, w.input[a].value)) : value;
+}
+
 // A brick: the subtree under one cell of the brick depth as its own pre-order streams (root at index
 // 0, its parent kNone), written by the paper's passes (mark, plan by a prefix sum, restructure through
 // the remap stream) exactly as the GPU writes its one stream. The pass state lives only while the
 // brick has marks.
-struct Brick {
-  std::vector<Pointer> pointers;
-  std::vector<std::uint32_t> cells;
+// A brick's state during a write's passes, lent from a pool so their storage is reused.
+struct PassState {
   std::vector<std::uint32_t> marks, remap;
   std::vector<std::int32_t> removals;  // ranges of reduced subtrees (plan)
   std::vector<Expansion> expansions;
+};
+class PassStatePool {
+public:
+  PassState take() {
+    const std::lock_guard lock(mutex_);
+    if (spare_.empty()) return {};
+    PassState s = std::move(spare_.back());
+    spare_.pop_back();
+    return s;
+  }
+  void give(PassState&& s) {
+    const std::lock_guard lock(mutex_);
+    spare_.push_back(std::move(s));
+  }
+  std::uint64_t bytes() const {
+    std::uint64_t b = 0;
+    for (const PassState& s : spare_)
+      b += (s.marks.capacity() + s.remap.capacity() + s.removals.capacity()) * 4 + s.expansions.capacity() * sizeof(Expansion);
+    return b;
+  }
+
+private:
+  std::mutex mutex_;
+  std::vector<PassState> spare_;
+};
+
+struct Brick {
+  std::vector<Pointer> pointers;
+  std::vector<std::uint32_t> cells;
+  PassState pass;
+  bool marked = false;
   std::uint32_t begin = 0, end = 0;    // its voxels in the input
   std::uint32_t planned = 0;           // nodes after the plan
   bool reduced = false;
@@ -68,17 +124,18 @@ struct Brick {
   std::size_t size() const { return pointers.size(); }
   Cell cell(std::size_t n) const { return unpackCell(cells[2 * n], cells[2 * n + 1]); }
 
-  void startMarks() {
-    marks.assign(size(), kMarkNone);
-    removals.assign(size() + 1, 0);
-    expansions.resize(size());
-    reduced = false;
+  void startMarks(PassStatePool& pool) {
+    pass = pool.take();
+    pass.marks.assign(size(), kMarkNone);
+    pass.removals.assign(size() + 1, 0);
+    pass.expansions.assign(size(), Expansion{});
+    reduced = false, marked = true;
   }
-  void endPass() {
-    marks = {}, remap = {}, removals = {}, expansions = {};
+  void endPass(PassStatePool& pool) {
+    if (marked) pool.give(std::move(pass));
+    pass = {}, marked = false;
     begin = end = 0;
   }
-  bool marked() const { return !marks.empty(); }
 
   // The index just past n's subtree.
   std::size_t subtreeEnd(std::size_t n) const {
@@ -92,21 +149,25 @@ struct Brick {
 
   // The mark pass for the brick's voxels; reduced subtrees' ranges summed before each node (> 0 below
   // a reduced node: the plan removes those whole).
-  std::uint64_t markRun(const WriteContext& w, std::uint32_t rootDepth, std::vector<std::uint32_t>& hits) {
+  std::uint64_t markRun(const WriteContext& w, std::uint32_t rootDepth, std::vector<std::uint32_t>& hits, PassStatePool& pool) {
     std::uint64_t count = 0;
-    for (std::uint32_t i = begin; i < end; ++i) count += markFor(w, i, rootDepth, hits);
-    if (reduced) std::exclusive_scan(removals.begin(), removals.end(), removals.begin(), std::int32_t(0));
+    Walk<std::uint32_t> walk;
+    for (std::uint32_t i = begin; i < end; ++i) count += markFor(w, i, rootDepth, hits, walk, pool);
+    if (reduced) std::exclusive_scan(pass.removals.begin(), pass.removals.end(), pass.removals.begin(), std::int32_t(0));
     return count;
   }
 
   // The mark pass for one input voxel below the brick's root (dvt_mark.comp, from the root down).
-  std::uint64_t markFor(const WriteContext& w, std::size_t i, std::uint32_t rootDepth, std::vector<std::uint32_t>& hits) {
+  std::uint64_t markFor(const WriteContext& w, std::size_t i, std::uint32_t rootDepth, std::vector<std::uint32_t>& hits,
+                        Walk<std::uint32_t>& walk, PassStatePool& pool) {
     const InputVoxel& in = w.input[i];
     const Cell c = unpackCell(in.xy, in.zd);
     hits[i] = kNoHit;
     const float incoming = inputValue(w.op, in.value);
-    std::size_t n = 0;
-    for (std::uint32_t d = rootDepth;; ++d) {
+    std::uint32_t n = 0;
+    for (std::uint32_t d = walk.resume(c, rootDepth, 0, n);; ++d) {
+      walk.nodes[d] = n;
+      walk.ended(c, d);
       Pointer& p = pointers[n];
       if (p.leaf()) {
         if (d == c.depth) {
@@ -115,28 +176,30 @@ struct Brick {
           return 0;
         }
         if (saturated(w.op, p.value)) return 0;
-        marks[n] = kMarkExpand;
-        hits[i] = std::uint32_t(n);
+        if (!marked) startMarks(pool);
+        pass.marks[n] = kMarkExpand;
+        hits[i] = n;
         return 1;
       }
       if (d == c.depth) {
         p.value = incoming;  // the value of the leaf it becomes
-        marks[n] = kMarkReduce;
-        ++removals[n], --removals[subtreeEnd(n) - 1];
+        if (!marked) startMarks(pool);
+        pass.marks[n] = kMarkReduce;
+        ++pass.removals[n], --pass.removals[subtreeEnd(n) - 1];
         reduced = true;
         return 1;
       }
-      n = std::size_t(childTowards(c, d) == 0 ? p.left : p.right);
+      n = std::uint32_t(childTowards(c, d) == 0 ? p.left : p.right);
     }
   }
 
-  std::uint64_t markCollapse() {
+  std::uint64_t markCollapse(PassStatePool& pool) {
     std::uint64_t count = 0;
     for (std::size_t n = 0; n < size(); ++n) {
       const Pointer& p = pointers[n];
       if (p.leaf() || !collapsible(pointers[std::size_t(p.left)], pointers[std::size_t(p.right)])) continue;
-      if (count++ == 0) startMarks();
-      marks[n] = kMarkCollapse;
+      if (count++ == 0) startMarks(pool);
+      pass.marks[n] = kMarkCollapse;
     }
     return count;
   }
@@ -145,12 +208,12 @@ struct Brick {
   // into the remap stream (dvt_runs.comp, dvt_plan.comp). Returns the changes.
   std::uint64_t plan(const WriteContext& w, const std::vector<std::uint32_t>& hits, bool allowExpand) {
     for (std::uint32_t i = begin; i < end; ++i)
-      if (hits[i] != kNoHit) expansions[hits[i]] = {};  // the plan may run twice (the node budget)
+      if (hits[i] != kNoHit) pass.expansions[hits[i]] = {};  // the plan may run twice (the node budget)
     for (std::uint32_t i = begin; i < end; ++i) {
       const std::uint32_t leaf = hits[i];
       if (leaf == kNoHit) continue;
       const bool first = i == begin || hits[i - 1] != leaf;
-      Expansion& e = expansions[leaf];
+      Expansion& e = pass.expansions[leaf];
       const Cell c = w.inputCell(i), previous = first ? c : w.inputCell(i - 1);
       const std::uint32_t leafDepth = cells[2 * leaf + 1] >> 16;
       const std::uint32_t cut = expansionCut(w.op, pointers[leaf].value, leafDepth, kMaxDepth, w.scales.data());
@@ -158,50 +221,52 @@ struct Brick {
       if (first) e.begin = i;
       e.end = i + 1;
     }
-    remap.resize(size() + 1);
+    pass.remap.resize(size() + 1);
     std::uint32_t nodes = 0;
     std::uint64_t changes = 0;
     for (std::size_t n = 0; n < size(); ++n) {
-      remap[n] = nodes;
+      pass.remap[n] = nodes;
       const Pointer& p = pointers[n];
-      const Mark m = Mark(marks[n]);
-      if (removals[n] > 0 || (p.parent >= 0 && marks[std::size_t(p.parent)] == kMarkCollapse)) {
+      const Mark m = Mark(pass.marks[n]);
+      if (pass.removals[n] > 0 || (p.parent >= 0 && pass.marks[std::size_t(p.parent)] == kMarkCollapse)) {
         ++changes;  // inside a reduced subtree, or a collapsed node's child
         continue;
       }
-      nodes += 1 + (m == kMarkExpand && allowExpand ? expansions[n].size : 0);
+      nodes += 1 + (m == kMarkExpand && allowExpand ? pass.expansions[n].size : 0);
       changes += (m == kMarkExpand && allowExpand) || m == kMarkReduce || m == kMarkCollapse;
     }
-    remap[size()] = planned = nodes;
+    pass.remap[size()] = planned = nodes;
     return changes;
   }
 
   // The restructure pass: every kept node to its new index, pointers remapped, expanded leaves
   // followed by their new subtrees (dvt_restructure.comp).
-  void restructure(const WriteContext& w, bool allowExpand) {
-    std::vector<Pointer> newPointers(planned);
-    std::vector<std::uint32_t> newCells(2 * std::size_t(planned));
+  void restructure(const WriteContext& w, bool allowExpand, PassStatePool& pool) {
+    // Into this thread's spare streams (every entry is written), which then keep the old ones.
+    static thread_local std::vector<Pointer> newPointers;
+    static thread_local std::vector<std::uint32_t> newCells;
+    newPointers.resize(planned), newCells.resize(2 * std::size_t(planned));
     for (std::size_t n = 0; n < size(); ++n) {
-      if (remap[n + 1] == remap[n]) continue;  // removed
-      const std::uint32_t o = remap[n];
+      if (pass.remap[n + 1] == pass.remap[n]) continue;  // removed
+      const std::uint32_t o = pass.remap[n];
       const Pointer& p = pointers[n];
-      const Mark m = Mark(marks[n]);
+      const Mark m = Mark(pass.marks[n]);
       Pointer out;
       out.value = p.value;
-      if (p.parent >= 0) out.parent = std::int32_t(remap[std::size_t(p.parent)]);
+      if (p.parent >= 0) out.parent = std::int32_t(pass.remap[std::size_t(p.parent)]);
       if (m == kMarkCollapse) out.value = pointers[std::size_t(p.left)].value;
       newCells[2 * o] = cells[2 * n], newCells[2 * o + 1] = cells[2 * n + 1];
       if (m == kMarkExpand && allowExpand) {
-        generate(w, o, out, cell(n), expansions[n], newPointers, newCells);
+        generate(w, o, out, cell(n), pass.expansions[n], newPointers, newCells);
         continue;
       }
       if (!p.leaf() && m != kMarkReduce && m != kMarkCollapse)
-        out.left = std::int32_t(remap[std::size_t(p.left)]), out.right = std::int32_t(remap[std::size_t(p.right)]);
+        out.left = std::int32_t(pass.remap[std::size_t(p.left)]), out.right = std::int32_t(pass.remap[std::size_t(p.right)]);
       newPointers[o] = out;
     }
-    pointers = std::move(newPointers), cells = std::move(newCells);
+    std::swap(pointers, newPointers), std::swap(cells, newCells);
     dirty = true;
-    endPass();
+    endPass(pool);
   }
 
   // The subtree an expanded leaf at new index o grows: depth first, each node split where voxels lie
@@ -224,12 +289,28 @@ struct Brick {
         const auto packed = packCell(child);
         newCells[2 * q] = packed[0], newCells[2 * q + 1] = packed[1];
         const Pointer p{std::int32_t(node), kNone, kNone, chain[child.depth]};
-        if (ca < cb && child.depth < cut && !(cb - ca == 1 && w.inputCell(ca) == child)) self(self, q, p, child, ca, cb);
-        else newPointers[q] = p;
+        if (splitsOn(w, child, ca, cb, cut)) self(self, q, p, child, ca, cb);
+        else newPointers[q] = {p.parent, kNone, kNone, newLeafValue(w, child, ca, cb, p.value)};
       }
       newPointers[node] = pointer;
     };
     grow(grow, o, leaf, root, e.begin, e.end);
+  }
+
+  // A new one-leaf brick grown at once for its voxels [a, b) (a top leaf's expansion going on into it).
+  void growNew(const WriteContext& w, std::uint32_t a, std::uint32_t b) {
+    const Cell root = cell(0);
+    const std::uint32_t cut = expansionCut(w.op, pointers[0].value, root.depth, kMaxDepth, w.scales.data());
+    Expansion e{0, a, b};
+    for (std::uint32_t i = a; i < b; ++i) {
+      const Cell previous = w.inputCell(i == a ? i : i - 1);
+      e.size += newNodesFor(i == a ? nullptr : &previous, w.inputCell(i), root.depth, cut);
+    }
+    std::vector<Pointer> newPointers(1 + e.size);
+    std::vector<std::uint32_t> newCells(2 * (1 + std::size_t(e.size)));
+    newCells[0] = cells[0], newCells[1] = cells[1];
+    generate(w, 0, pointers[0], root, e, newPointers, newCells);
+    pointers = std::move(newPointers), cells = std::move(newCells);
   }
 };
 
@@ -301,9 +382,9 @@ public:
     std::uint64_t b = top_.items.capacity() * sizeof(TopNode) + bricks_.items.capacity() * sizeof(Brick) +
                       input_.capacity() * sizeof(InputVoxel) + (hits_.capacity() + route_.capacity()) * 4;
     for (const Brick& k : bricks_.items)
-      b += k.pointers.capacity() * sizeof(Pointer) + k.cells.capacity() * 4 + (k.marks.capacity() + k.remap.capacity()) * 4 +
-           k.removals.capacity() * 4 + k.expansions.capacity() * sizeof(Expansion);
-    return b;
+      b += k.pointers.capacity() * sizeof(Pointer) + k.cells.capacity() * 4 + (k.pass.marks.capacity() + k.pass.remap.capacity()) * 4 +
+           k.pass.removals.capacity() * 4 + k.pass.expansions.capacity() * sizeof(Expansion);
+    return b + states_.bytes();
   }
 
   void setInput(const std::vector<InputVoxel>& input) override {
@@ -320,31 +401,32 @@ public:
     std::uint64_t marks = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, input_.size(), 1024), std::uint64_t(0),
         [&](const auto& r, std::uint64_t s) {
-          for (std::size_t i = r.begin(); i < r.end(); ++i) s += routeVoxel(w, i);
+          Walk<std::int32_t> walk;
+          for (std::size_t i = r.begin(); i < r.end(); ++i) s += routeVoxel(w, i, walk);
           return s;
         },
         std::plus<>());
     // The voxels of a brick are consecutive (pre-order): each run marks its brick.
+    std::vector<std::int32_t> reached;
     for (std::uint32_t i = 0; i < input_.size();) {
       std::uint32_t j = i + 1;
       if (route_[i] != kInTop) {
         while (j < input_.size() && route_[j] == route_[i]) ++j;
         Brick& b = bricks_.items[std::size_t(route_[i])];
-        b.startMarks();
         b.begin = i, b.end = j;
-        marked_.push_back(route_[i]);
+        reached.push_back(route_[i]);
       }
       i = j;
     }
     marks += tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, marked_.size(), 1), std::uint64_t(0),
+        tbb::blocked_range<std::size_t>(0, reached.size(), 1), std::uint64_t(0),
         [&](const auto& r, std::uint64_t s) {
-          for (std::size_t k = r.begin(); k < r.end(); ++k) {
-            s += bricks_.items[std::size_t(marked_[k])].markRun(w, brickDepth_, hits_);
-          }
+          for (std::size_t k = r.begin(); k < r.end(); ++k) s += bricks_.items[std::size_t(reached[k])].markRun(w, brickDepth_, hits_, states_);
           return s;
         },
         std::plus<>());
+    for (const std::int32_t b : reached)
+      if (bricks_.items[std::size_t(b)].marked) marked_.push_back(b);
     return marks;
   }
 
@@ -358,7 +440,7 @@ public:
         [&](const auto& r, std::uint64_t s) {
           for (std::size_t k = r.begin(); k < r.end(); ++k) {
             Brick& b = bricks_.items[std::size_t(dirtyBricks_[k])];
-            const std::uint64_t m = b.markCollapse();
+            const std::uint64_t m = b.markCollapse(states_);
             if (m == 0) b.dirty = false;
             s += m;
           }
@@ -366,7 +448,7 @@ public:
         },
         std::plus<>());
     for (const std::int32_t b : dirtyBricks_)
-      if (bricks_.items[std::size_t(b)].marked()) marked_.push_back(b);
+      if (bricks_.items[std::size_t(b)].marked) marked_.push_back(b);
     dirtyBricks_.clear();
     markTopCollapse(0, 0, marks);
     return marks;
@@ -393,7 +475,7 @@ public:
     tbb::parallel_for(std::size_t(0), marked_.size(), [&](std::size_t k) {
       Brick& b = bricks_.items[std::size_t(marked_[k])];
       brickNodesDelta_.fetch_add(std::int64_t(b.planned) - std::int64_t(b.size()), std::memory_order_relaxed);
-      b.restructure(w, allowExpand);
+      b.restructure(w, allowExpand, states_);
     });
     brickNodes_ = std::uint64_t(std::int64_t(brickNodes_) + brickNodesDelta_.exchange(0));
     marked_.clear();
@@ -404,11 +486,13 @@ public:
     topMarked_.clear();
   }
 
+  bool restructureFinishesWrites() const override { return true; }
+
 private:
   WriteContext context() const { return {input_, scales_, op_}; }
 
   void clearMarks() {
-    for (const std::int32_t b : marked_) bricks_.items[std::size_t(b)].endPass();
+    for (const std::int32_t b : marked_) bricks_.items[std::size_t(b)].endPass(states_);
     marked_.clear();
     for (const std::int32_t t : topMarked_) top_.items[std::size_t(t)].mark = kMarkNone, top_.items[std::size_t(t)].expansion = {};
     topMarked_.clear();
@@ -424,13 +508,15 @@ private:
 
   // Voxel i down the top: to its brick (route_), or to the top leaf or node it writes, expands or
   // reduces (the top's part of dvt_mark.comp). Returns the marks set.
-  std::uint64_t routeVoxel(const WriteContext& w, std::size_t i) {
+  std::uint64_t routeVoxel(const WriteContext& w, std::size_t i, Walk<std::int32_t>& walk) {
     const InputVoxel& in = w.input[i];
     const Cell c = unpackCell(in.xy, in.zd);
     route_[i] = kInTop, hits_[i] = kNoHit;
     const float incoming = inputValue(w.op, in.value);
     std::int32_t t = 0;
-    for (std::uint32_t d = 0;; ++d) {
+    for (std::uint32_t d = walk.resume(c, 0, 0, t);; ++d) {
+      walk.nodes[d] = t;
+      walk.ended(c, d);
       TopNode& n = top_.items[std::size_t(t)];
       if (n.leaf()) {
         if (d == c.depth) {
@@ -493,10 +579,7 @@ private:
     }
   }
 
-  // A top leaf's expansion stops at the bricks (their roots are made, as one-leaf bricks).
-  std::uint32_t topCut(const TopNode& leaf) const {
-    return std::min(brickDepth_, expansionCut(op_, leaf.value, leaf.cell().depth, kMaxDepth, scales_.data()));
-  }
+  std::uint32_t topCut(const TopNode& leaf) const { return expansionCut(op_, leaf.value, leaf.cell().depth, kMaxDepth, scales_.data()); }
 
   std::uint64_t subtreeNodes(std::int32_t t, std::uint32_t depth) const {
     const TopNode& n = top_.items[std::size_t(t)];
@@ -539,37 +622,33 @@ private:
   }
 
   // An expanded top leaf's new subtree (as Brick::generate grows one): split where voxels lie strictly
-  // inside, down to the cut; at the brick depth the children are new one-leaf bricks.
+  // inside, down to the cut; below the top, the children are new bricks, grown on at once.
   void growTop(const WriteContext& w, std::int32_t t, std::uint32_t a, std::uint32_t b, std::uint32_t cut) {
     const Cell cell = top_.items[std::size_t(t)].cell();
-    const float value = top_.items[std::size_t(t)].value;
+    const float value = childValue(top_.items[std::size_t(t)].value, scales_[cell.depth]);  // the children's
     const std::uint32_t split = splitOf(w.input, cell, a, b);
-    const auto splits = [&](const Cell& child, std::uint32_t ca, std::uint32_t cb) {
-      return ca < cb && child.depth < cut && !(cb - ca == 1 && w.inputCell(ca) == child);
-    };
-    if (cell.depth + 1 == brickDepth_) {
-      const std::int32_t pair = bricks_.allocate();
-      for (int k = 0; k < 2; ++k) {
-        Brick& brick = bricks_.items[std::size_t(pair + k)];
-        const auto packed = packCell(childCell(cell, k));
-        brick.pointers = {Pointer{kNone, kNone, kNone, childValue(value, scales_[cell.depth])}};
-        brick.cells = {packed[0], packed[1]};
-        brick.dirty = true;
-      }
-      brickNodes_ += 2;
-      top_.items[std::size_t(t)].children = pair;
-      return;
-    }
-    const std::int32_t pair = top_.allocate();
-    topNodes_ += 2;
+    const bool bricks = cell.depth + 1 == brickDepth_;
+    const std::int32_t pair = bricks ? bricks_.allocate() : top_.allocate();
     top_.items[std::size_t(t)].children = pair;
+    if (!bricks) topNodes_ += 2;
     for (int k = 0; k < 2; ++k) {
       const Cell child = childCell(cell, k);
-      TopNode& c = top_.items[std::size_t(pair + k)];
-      const auto packed = packCell(child);
-      c.xy = packed[0], c.zd = packed[1], c.value = childValue(value, scales_[cell.depth]);
       const std::uint32_t ca = k == 0 ? a : split, cb = k == 0 ? split : b;
-      if (splits(child, ca, cb)) growTop(w, pair + k, ca, cb, cut);
+      const bool splits = splitsOn(w, child, ca, cb, cut);
+      const float v = splits ? value : newLeafValue(w, child, ca, cb, value);
+      const auto packed = packCell(child);
+      if (bricks) {
+        Brick& brick = bricks_.items[std::size_t(pair + k)];
+        brick.pointers = {Pointer{kNone, kNone, kNone, v}};
+        brick.cells = {packed[0], packed[1]};
+        brick.dirty = true;
+        if (splits) brick.growNew(w, ca, cb);
+        brickNodes_ += brick.size();
+        continue;
+      }
+      TopNode& node = top_.items[std::size_t(pair + k)];
+      node.xy = packed[0], node.zd = packed[1], node.value = v;
+      if (splits) growTop(w, pair + k, ca, cb, cut);
     }
   }
 
@@ -644,6 +723,7 @@ private:
   Op op_ = Op::Union;
   PairPool<TopNode> top_;  // items[0]: the root
   PairPool<Brick> bricks_;
+  PassStatePool states_;
   std::uint64_t topNodes_ = 0, brickNodes_ = 0;
   std::atomic<std::int64_t> brickNodesDelta_{0};
   std::vector<std::int32_t> marked_, dirtyBricks_;  // bricks with marks; bricks a collapse looks at

@@ -41,6 +41,10 @@ WriteStats DynamicVolumeTree::write(const std::vector<InputVoxel>& input, Op op)
     }
     if (plan.changes == 0) break;
     passes_->restructure(plan, allowExpand, options_.nodeLimit);
+    if (passes_->restructureFinishesWrites()) {
+      ++stats.iterations;
+      break;
+    }
   }
   stats.nodes = passes_->nodeCount();
   stats.seconds = secondsSince(start);

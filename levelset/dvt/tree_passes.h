@@ -48,6 +48,9 @@ public:
   virtual Plan plan(bool allowExpand) = 0;
   // Makes the streams of the last plan; storage grows by doubling, to at most `nodeLimit` nodes.
   virtual void restructure(const Plan& plan, bool allowExpand, std::uint64_t nodeLimit) = 0;
+  // Whether a write's restructure leaves nothing for another mark to do (the CPU's: its expansions
+  // go all the way down and give the voxels their values), so the write can end without one.
+  virtual bool restructureFinishesWrites() const { return false; }
 };
 
 }  // namespace isoatlas::levelset::dvt

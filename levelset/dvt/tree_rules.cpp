@@ -36,12 +36,6 @@ bool inPreOrder(const std::vector<InputVoxel>& input) {
   return true;
 }
 
-std::uint32_t commonDepth(const Cell& a, const Cell& b) {
-  std::uint32_t d = 0;
-  while (d < a.depth && d < b.depth && childTowards(a, d) == childTowards(b, d)) ++d;
-  return d;
-}
-
 std::vector<float> childScales(const TreeFrame& frame) {
   std::vector<float> s(kMaxDepth + 1);
   for (std::uint32_t d = 0; d <= std::uint32_t(kMaxDepth); ++d) s[d] = float(frame.radius(d) / frame.radius(d + 1));

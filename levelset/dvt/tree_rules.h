@@ -3,6 +3,7 @@
 // levelset/dvt/shaders/tree_rules.glsl, so the two backends make the same streams bit for bit.
 #pragma once
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -66,7 +67,18 @@ std::uint64_t preOrderKey(const Cell& c);
 void sortInPreOrder(std::vector<InputVoxel>& input);
 bool inPreOrder(const std::vector<InputVoxel>& input);
 // The depth of the deepest common ancestor of two cells of which neither contains the other.
-std::uint32_t commonDepth(const Cell& a, const Cell& b);
+inline std::uint32_t commonDepth(const Cell& a, const Cell& b) {
+  // Per axis, the first split where the two coordinates part (the split of axis k numbered s is at
+  // depth 3s + k); the paths part at the shallowest of those, or end at the shallower cell.
+  std::uint32_t d = std::min(a.depth, b.depth);
+  const std::uint32_t ca[3] = {a.x, a.y, a.z}, cb[3] = {b.x, b.y, b.z};
+  for (std::uint32_t k = 0; k < 3; ++k) {
+    const std::uint32_t sa = splitsOf(int(k), a.depth), sb = splitsOf(int(k), b.depth), s = std::min(sa, sb);
+    const std::uint32_t differ = (ca[k] >> (sa - s)) ^ (cb[k] >> (sb - s));
+    if (differ != 0) d = std::min(d, 3 * (s - std::uint32_t(std::bit_width(differ))) + k);
+  }
+  return d;
+}
 
 // Per depth d, R(d) / R(d + 1) (childValue's scale), as floats both backends read.
 std::vector<float> childScales(const TreeFrame& frame);

@@ -5,21 +5,6 @@
 
 namespace isoatlas::levelset::dvt {
 
-Vec3 TreeFrame::cellVoxels(std::uint32_t depth) const {
-  Vec3 s;
-  for (int a = 0; a < 3; ++a) s[a] = std::ldexp(1.0, voxelSplits - int(splitsOf(a, depth)));
-  return s;
-}
-
-Vec3 TreeFrame::centreIndex(const Cell& c) const {
-  const Vec3 s = cellVoxels(c.depth);
-  return {(c.x + 0.5) * s.x - 0.5, (c.y + 0.5) * s.y - 0.5, (c.z + 0.5) * s.z - 0.5};
-}
-
-Vec3 TreeFrame::indexToWorld(const Vec3& i) const {
-  return origin + direction * Vec3{i.x * spacing.x, i.y * spacing.y, i.z * spacing.z};
-}
-
 double TreeFrame::radius(std::uint32_t depth) const {
   const Vec3 s = cellVoxels(depth);
   double r = 0;

@@ -73,12 +73,22 @@ struct TreeFrame {
   std::int64_t voxelsPerAxis() const { return std::int64_t(1) << voxelSplits; }
   std::uint32_t voxelDepth() const { return std::uint32_t(3 * voxelSplits); }  // depth of cells = voxels
   // A point in voxel index coordinates in the world (as Volume::indexToWorld).
-  Vec3 indexToWorld(const Vec3& index) const;
+  Vec3 indexToWorld(const Vec3& i) const { return origin + direction * Vec3{i.x * spacing.x, i.y * spacing.y, i.z * spacing.z}; }
   // The cell's centre in voxel index coordinates and in the world.
-  Vec3 centreIndex(const Cell& c) const;
+  Vec3 centreIndex(const Cell& c) const {
+    const Vec3 s = cellVoxels(c.depth);
+    return {(c.x + 0.5) * s.x - 0.5, (c.y + 0.5) * s.y - 0.5, (c.z + 0.5) * s.z - 0.5};
+  }
   Vec3 centreWorld(const Cell& c) const { return indexToWorld(centreIndex(c)); }
-  // The cell's size in voxels along each axis (fractional below the voxels).
-  Vec3 cellVoxels(std::uint32_t depth) const;
+  // The cell's size in voxels along each axis (fractional below the voxels): 2^(K - splits), exactly.
+  Vec3 cellVoxels(std::uint32_t depth) const {
+    Vec3 s;
+    for (int a = 0; a < 3; ++a) {
+      const int e = voxelSplits - int(splitsOf(a, depth));
+      s[a] = e >= 0 ? double(std::uint64_t(1) << e) : 1.0 / double(std::uint64_t(1) << -e);
+    }
+    return s;
+  }
   // Circumradius of a depth-d cell in world units (the largest centre-to-corner distance).
   double radius(std::uint32_t depth) const;
   bool operator==(const TreeFrame&) const = default;
