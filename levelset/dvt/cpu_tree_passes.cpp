@@ -19,9 +19,9 @@ constexpr std::int32_t kInTop = -1;  // a voxel's route when the tree above the 
 // The depth the CPU cuts the tree at: bricks of 16^3 voxels (a few thousand nodes where the surface is).
 std::uint32_t brickDepthOf(const TreeFrame& frame) { return 3 * std::uint32_t(std::max(1, frame.voxelSplits - 4)); }
 
-// An expanded leaf's new nodes, and its voxels [begin, end) in the input.
+// An expanded leaf's new nodes, its voxels [begin, end) in the input and its cut (expansionCut).
 struct Expansion {
-  std::uint32_t size = 0, begin = 0, end = 0;
+  std::uint32_t size = 0, begin = 0, end = 0, cut = 0;
 };
 
 // The new nodes an expansion makes for voxel `c` of a leaf at leafDepth cut at `cut`: two per depth on
@@ -216,9 +216,8 @@ struct Brick {
       Expansion& e = pass.expansions[leaf];
       const Cell c = w.inputCell(i), previous = first ? c : w.inputCell(i - 1);
       const std::uint32_t leafDepth = cells[2 * leaf + 1] >> 16;
-      const std::uint32_t cut = expansionCut(w.op, pointers[leaf].value, leafDepth, kMaxDepth, w.scales.data());
-      e.size += newNodesFor(first ? nullptr : &previous, c, leafDepth, cut);
-      if (first) e.begin = i;
+      if (first) e.begin = i, e.cut = expansionCut(w.op, pointers[leaf].value, leafDepth, kMaxDepth, w.scales.data());
+      e.size += newNodesFor(first ? nullptr : &previous, c, leafDepth, e.cut);
       e.end = i + 1;
     }
     pass.remap.resize(size() + 1);
@@ -277,7 +276,7 @@ struct Brick {
     std::array<float, kMaxDepth + 2> chain{};
     chain[root.depth] = leaf.value;
     for (std::uint32_t d = root.depth; d <= std::uint32_t(kMaxDepth); ++d) chain[d + 1] = childValue(chain[d], w.scales[d]);
-    const std::uint32_t cut = expansionCut(w.op, leaf.value, root.depth, kMaxDepth, w.scales.data());
+    const std::uint32_t cut = e.cut;
     std::uint32_t at = o + 1;
     const auto grow = [&](const auto& self, std::uint32_t node, Pointer pointer, const Cell& cell, std::uint32_t a, std::uint32_t b) -> void {
       const std::uint32_t split = splitOf(w.input, cell, a, b);
@@ -301,7 +300,7 @@ struct Brick {
   void growNew(const WriteContext& w, std::uint32_t a, std::uint32_t b) {
     const Cell root = cell(0);
     const std::uint32_t cut = expansionCut(w.op, pointers[0].value, root.depth, kMaxDepth, w.scales.data());
-    Expansion e{0, a, b};
+    Expansion e{0, a, b, cut};
     for (std::uint32_t i = a; i < b; ++i) {
       const Cell previous = w.inputCell(i == a ? i : i - 1);
       e.size += newNodesFor(i == a ? nullptr : &previous, w.inputCell(i), root.depth, cut);
@@ -408,8 +407,10 @@ public:
         std::plus<>());
     // The voxels of a brick are consecutive (pre-order): each run marks its brick.
     std::vector<std::int32_t> reached;
+    topHits_.clear();
     for (std::uint32_t i = 0; i < input_.size();) {
       std::uint32_t j = i + 1;
+      if (route_[i] == kInTop && hits_[i] != kNoHit) topHits_.push_back(i);
       if (route_[i] != kInTop) {
         while (j < input_.size() && route_[j] == route_[i]) ++j;
         Brick& b = bricks_.items[std::size_t(route_[i])];
@@ -432,7 +433,7 @@ public:
 
   std::uint64_t markCollapse() override {
     clearMarks();
-    input_.clear(), hits_.clear(), route_.clear();  // no voxel expands anything in a collapse
+    input_.clear(), hits_.clear(), route_.clear(), topHits_.clear();  // no voxel expands anything in a collapse
     for (std::size_t b = 0; b < bricks_.items.size(); ++b)
       if (bricks_.items[b].dirty && !bricks_.items[b].pointers.empty()) dirtyBricks_.push_back(std::int32_t(b));
     std::uint64_t marks = tbb::parallel_reduce(
@@ -562,13 +563,12 @@ private:
   // The top's marks in the plan: node count changes and changes.
   void planTop(bool allowExpand, std::int64_t& delta, std::uint64_t& changes) {
     for (const std::int32_t t : topMarked_) top_.items[std::size_t(t)].expansion = {};  // the plan may run twice
-    for (std::size_t i = 0; i < hits_.size(); ++i) {  // the top leaves' expansions, from their voxels
-      if (route_[i] != kInTop || hits_[i] == kNoHit) continue;
+    for (const std::uint32_t i : topHits_) {  // the top leaves' expansions, from their voxels
       TopNode& leaf = top_.items[hits_[i]];
       const bool first = i == 0 || route_[i - 1] != kInTop || hits_[i - 1] != hits_[i];
       const Cell c = unpackCell(input_[i].xy, input_[i].zd), previous = first ? c : unpackCell(input_[i - 1].xy, input_[i - 1].zd);
-      leaf.expansion.size += newNodesFor(first ? nullptr : &previous, c, leaf.cell().depth, topCut(leaf));
-      if (first) leaf.expansion.begin = std::uint32_t(i);
+      if (first) leaf.expansion.begin = std::uint32_t(i), leaf.expansion.cut = topCut(leaf);
+      leaf.expansion.size += newNodesFor(first ? nullptr : &previous, c, leaf.cell().depth, leaf.expansion.cut);
       leaf.expansion.end = std::uint32_t(i + 1);
     }
     for (const std::int32_t t : topMarked_) {
@@ -594,7 +594,7 @@ private:
     const Mark m = Mark(n.mark);
     const std::uint32_t depth = n.cell().depth;
     if (m == kMarkExpand) {
-      if (allowExpand) growTop(w, t, n.expansion.begin, n.expansion.end, topCut(n));
+      if (allowExpand) growTop(w, t, n.expansion.begin, n.expansion.end, n.expansion.cut);
       return;
     }
     const float value = m == kMarkCollapse ? childValueOf(n, depth) : n.value;
@@ -732,6 +732,7 @@ private:
   std::vector<InputVoxel> input_;
   std::vector<std::uint32_t> hits_;  // per input voxel: the leaf it expands (top node or brick node), or kNoHit
   std::vector<std::int32_t> route_;  // per input voxel: its brick, or kInTop
+  std::vector<std::uint32_t> topHits_;  // the voxels that expand top leaves
 };
 
 }  // namespace

@@ -11,17 +11,25 @@ namespace {
 
 struct Rasteriser {
   const Solid& solid;
+  const DistanceSolid* distance;  // when the solid is one: classified from centres kept while splitting
   const TreeFrame& frame;
   std::uint32_t target;
   bool hierarchical;
   std::array<double, kMaxDepth + 1> radius;
+  std::array<Vec3, kMaxDepth + 1> childOffset;  // from a depth-d cell's centre to its upper child's
 
-  // The voxels of `cell`'s subtree, depth first.
-  void visit(const Cell& cell, std::vector<InputVoxel>& out) const {
-    const CellClass k = solid.classify(frame, cell, radius[cell.depth]);
+  CellClass classify(const Cell& cell, const Vec3& centre, float& value) const {
+    const double r = radius[cell.depth];
+    if (distance) return distance->classifyAt(centre, r, value);
+    return cell.depth == target ? solid.classifyWithValue(frame, cell, r, value) : solid.classify(frame, cell, r);
+  }
+
+  // The voxels of `cell`'s subtree (its centre in the world), depth first.
+  void visit(const Cell& cell, const Vec3& centre, std::vector<InputVoxel>& out) const {
+    float v = kInside;
+    const CellClass k = classify(cell, centre, v);
     if (k == CellClass::Outside) return;
     if (cell.depth == target) {
-      const float v = k == CellClass::Inside ? kInside : solid.value(frame, cell, radius[cell.depth]);
       if (v > kOutside) out.push_back(inputVoxel(cell, v));
       return;
     }
@@ -29,8 +37,8 @@ struct Rasteriser {
       out.push_back(inputVoxel(cell, kInside));
       return;
     }
-    visit(childCell(cell, 0), out);
-    visit(childCell(cell, 1), out);
+    visit(childCell(cell, 0), centre - childOffset[cell.depth], out);
+    visit(childCell(cell, 1), centre + childOffset[cell.depth], out);
   }
 };
 
@@ -39,12 +47,19 @@ struct Rasteriser {
 std::vector<InputVoxel> rasterise(const Solid& solid, const TreeFrame& frame, std::uint32_t targetDepth, bool hierarchical) {
   require(targetDepth <= std::uint32_t(kMaxDepth),
           "depth " + std::to_string(targetDepth) + " is past the tree's limit of " + std::to_string(kMaxDepth));
-  Rasteriser r{solid, frame, targetDepth, hierarchical, {}};
-  for (std::uint32_t d = 0; d <= std::uint32_t(kMaxDepth); ++d) r.radius[d] = frame.radius(d);
+  Rasteriser r{solid, dynamic_cast<const DistanceSolid*>(&solid), frame, targetDepth, hierarchical, {}, {}};
+  for (std::uint32_t d = 0; d <= std::uint32_t(kMaxDepth); ++d) {
+    r.radius[d] = frame.radius(d);
+    const int a = splitAxis(d);  // the children's centres a quarter of the cell along the split axis
+    Vec3 step{0, 0, 0};
+    step[a] = frame.spacing[a] * frame.cellVoxels(d)[a] / 4;
+    r.childOffset[d] = frame.direction * step;
+  }
   // The top of the tree depth first on this thread (wholly inside or outside cells end there, as they
   // would below), keeping a place for each crossed cell of depth `top`; those are then rasterised in
   // parallel and their voxels put in their places, so the whole comes out in pre-order.
-  const std::uint32_t top = std::min<std::uint32_t>(targetDepth, 9);
+  // Deep enough for many crossed cells to share among the threads, even for a brush of few top cells.
+  const std::uint32_t top = std::min<std::uint32_t>(targetDepth, std::max<std::uint32_t>(9, targetDepth > 15 ? targetDepth - 15 : 0));
   struct Item {
     InputVoxel voxel;
     bool crossed = false;  // a place for the voxels of `cell`
@@ -62,7 +77,7 @@ std::vector<InputVoxel> rasterise(const Solid& solid, const TreeFrame& frame, st
   visitTop(visitTop, Cell{});
   std::vector<std::vector<InputVoxel>> parts(items.size());
   tbb::parallel_for(std::size_t(0), items.size(), [&](std::size_t i) {
-    if (items[i].crossed) r.visit(items[i].cell, parts[i]);
+    if (items[i].crossed) r.visit(items[i].cell, frame.centreWorld(items[i].cell), parts[i]);
     else parts[i] = {items[i].voxel};
   });
   std::vector<InputVoxel> out;

@@ -69,13 +69,25 @@ float boundValue(double insideness, double radius) {
   return v > 0 ? std::max(float(v), kNearZero) : std::min(float(v), -kNearZero);
 }
 
+CellClass DistanceSolid::classifyAt(const Vec3& centre, double radius, float& value) const {
+  const double d = signedDistance(centre);
+  if (d < -radius) return CellClass::Inside;
+  if (d >= radius) return CellClass::Outside;
+  value = boundValue(-d, radius);
+  return CellClass::Crossed;
+}
+
 CellClass DistanceSolid::classify(const TreeFrame& frame, const Cell& cell, double radius) const {
-  const double d = signedDistance(frame.centreWorld(cell));
-  return d < -radius ? CellClass::Inside : (d >= radius ? CellClass::Outside : CellClass::Crossed);
+  float unused = 0;
+  return classifyAt(frame.centreWorld(cell), radius, unused);
 }
 
 float DistanceSolid::value(const TreeFrame& frame, const Cell& cell, double radius) const {
   return boundValue(-signedDistance(frame.centreWorld(cell)), radius);
+}
+
+CellClass DistanceSolid::classifyWithValue(const TreeFrame& frame, const Cell& cell, double radius, float& value) const {
+  return classifyAt(frame.centreWorld(cell), radius, value);
 }
 
 std::unique_ptr<DistanceSolid> parseBrush(const std::string& text) {

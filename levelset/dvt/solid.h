@@ -21,6 +21,12 @@ public:
   // The cell's leaf value (volume_tree.h): the inside-ness of its centre over R(depth), clamped to
   // [-1, 1], never 0 (boundValue).
   virtual float value(const TreeFrame& frame, const Cell& cell, double radius) const = 0;
+  // classify, and for a crossed cell its value too (one evaluation where a solid can).
+  virtual CellClass classifyWithValue(const TreeFrame& frame, const Cell& cell, double radius, float& value) const {
+    const CellClass k = classify(frame, cell, radius);
+    if (k == CellClass::Crossed) value = this->value(frame, cell, radius);
+    return k;
+  }
 };
 
 // A solid from a signed distance (negative inside, 1-Lipschitz, world units): a cell is inside when
@@ -30,6 +36,9 @@ public:
   virtual double signedDistance(const Vec3& world) const = 0;
   CellClass classify(const TreeFrame& frame, const Cell& cell, double radius) const override;
   float value(const TreeFrame& frame, const Cell& cell, double radius) const override;
+  CellClass classifyWithValue(const TreeFrame& frame, const Cell& cell, double radius, float& value) const override;
+  // The same for a cell given by its centre in the world (the rasteriser keeps centres as it splits).
+  CellClass classifyAt(const Vec3& centre, double radius, float& value) const;
 };
 
 // Inside-ness over a radius as a leaf value: clamped to [-1, 1], at least kNearZero from 0 with the

@@ -1,6 +1,10 @@
 #include "levelset/dvt/tree_rules.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
+
+#include <functional>
 
 #include "core/gl/program.h"
 
@@ -28,12 +32,17 @@ void sortInPreOrder(std::vector<InputVoxel>& input) {
 bool inPreOrder(const std::vector<InputVoxel>& input) {
   // Consecutive disjoint cells are in pre-order when the first lies in the lower half where their
   // paths part (keys not computed: this runs on every write).
-  for (std::size_t i = 1; i < input.size(); ++i) {
-    const Cell a = unpackCell(input[i - 1].xy, input[i - 1].zd), b = unpackCell(input[i].xy, input[i].zd);
-    const std::uint32_t d = commonDepth(a, b);
-    if (d == a.depth || d == b.depth || childTowards(a, d) != 0) return false;
-  }
-  return true;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(1, std::max<std::size_t>(input.size(), 1), 4096), true,
+      [&](const tbb::blocked_range<std::size_t>& r, bool ordered) {
+        for (std::size_t i = r.begin(); ordered && i < r.end(); ++i) {
+          const Cell a = unpackCell(input[i - 1].xy, input[i - 1].zd), b = unpackCell(input[i].xy, input[i].zd);
+          const std::uint32_t d = commonDepth(a, b);
+          ordered = d != a.depth && d != b.depth && childTowards(a, d) == 0;
+        }
+        return ordered;
+      },
+      std::logical_and<>());
 }
 
 std::vector<float> childScales(const TreeFrame& frame) {
