@@ -194,6 +194,7 @@ struct Brick {
   }
 
   std::uint64_t markCollapse(PassStatePool& pool) {
+    begin = end = 0;  // no voxels (those of the last write are gone)
     std::uint64_t count = 0;
     for (std::size_t n = 0; n < size(); ++n) {
       const Pointer& p = pointers[n];
@@ -426,8 +427,11 @@ public:
           return s;
         },
         std::plus<>());
-    for (const std::int32_t b : reached)
-      if (bricks_.items[std::size_t(b)].marked) marked_.push_back(b);
+    for (const std::int32_t b : reached) {
+      Brick& brick = bricks_.items[std::size_t(b)];
+      if (brick.marked) marked_.push_back(b);
+      else brick.begin = brick.end = 0;
+    }
     return marks;
   }
 
