@@ -20,7 +20,7 @@ struct Rasteriser {
 
   CellClass classify(const Cell& cell, const Vec3& centre, float& value) const {
     const double r = radius[cell.depth];
-    if (distance) return distance->classifyAt(centre, r, value);
+    if (distance) return distance->classifyAt(centre, r, cell.depth == target ? &value : nullptr);
     return cell.depth == target ? solid.classifyWithValue(frame, cell, r, value) : solid.classify(frame, cell, r);
   }
 

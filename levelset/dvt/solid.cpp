@@ -69,17 +69,16 @@ float boundValue(double insideness, double radius) {
   return v > 0 ? std::max(float(v), kNearZero) : std::min(float(v), -kNearZero);
 }
 
-CellClass DistanceSolid::classifyAt(const Vec3& centre, double radius, float& value) const {
+CellClass DistanceSolid::classifyAt(const Vec3& centre, double radius, float* value) const {
   const double d = signedDistance(centre);
   if (d < -radius) return CellClass::Inside;
   if (d >= radius) return CellClass::Outside;
-  value = boundValue(-d, radius);
+  if (value) *value = boundValue(-d, radius);
   return CellClass::Crossed;
 }
 
 CellClass DistanceSolid::classify(const TreeFrame& frame, const Cell& cell, double radius) const {
-  float unused = 0;
-  return classifyAt(frame.centreWorld(cell), radius, unused);
+  return classifyAt(frame.centreWorld(cell), radius, nullptr);
 }
 
 float DistanceSolid::value(const TreeFrame& frame, const Cell& cell, double radius) const {
@@ -87,7 +86,7 @@ float DistanceSolid::value(const TreeFrame& frame, const Cell& cell, double radi
 }
 
 CellClass DistanceSolid::classifyWithValue(const TreeFrame& frame, const Cell& cell, double radius, float& value) const {
-  return classifyAt(frame.centreWorld(cell), radius, value);
+  return classifyAt(frame.centreWorld(cell), radius, &value);
 }
 
 std::unique_ptr<DistanceSolid> parseBrush(const std::string& text) {

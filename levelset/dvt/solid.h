@@ -37,8 +37,9 @@ public:
   CellClass classify(const TreeFrame& frame, const Cell& cell, double radius) const override;
   float value(const TreeFrame& frame, const Cell& cell, double radius) const override;
   CellClass classifyWithValue(const TreeFrame& frame, const Cell& cell, double radius, float& value) const override;
-  // The same for a cell given by its centre in the world (the rasteriser keeps centres as it splits).
-  CellClass classifyAt(const Vec3& centre, double radius, float& value) const;
+  // The same for a cell given by its centre in the world (the rasteriser keeps centres as it splits);
+  // the value only where `value` is given.
+  CellClass classifyAt(const Vec3& centre, double radius, float* value) const;
 };
 
 // Inside-ness over a radius as a leaf value: clamped to [-1, 1], at least kNearZero from 0 with the

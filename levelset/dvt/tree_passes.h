@@ -1,7 +1,8 @@
 // TreePasses: the data-parallel passes a DVT write and collapse are made of (Jung et al., Alg. 3.1),
-// on the CPU (cpu_tree_passes, TBB) or the GPU (gpu_tree_passes, GL 4.5 compute). Both keep the
-// pointer and node streams (volume_tree.h) and a mark per node, and apply tree_rules.h; DynamicVolumeTree
-// drives them. One iteration of a write:
+// on the CPU (cpu_tree_passes, TBB) or the GPU (gpu_tree_passes, GL 4.5 compute). Both apply
+// tree_rules.h to pointer and node streams (volume_tree.h) with a mark per node: the GPU to the one
+// stream, the CPU to each brick of a tree it keeps cut into bricks (download() gives the one stream,
+// the GPU's node for node). DynamicVolumeTree drives them. One iteration of a write:
 //   mark         per input voxel: walk to its target depth; write leaves of that depth, mark a coarser
 //                leaf for expansion (and note it as the voxel's hit), mark a finer subtree for
 //                reduction (its pre-order range, for one scan that removes it whole)
@@ -11,10 +12,11 @@
 //                1, or 1 + the new subtree under an expanded leaf), prefix-summed into the remap stream
 //   restructure  per node: scatter to its new index with its pointers remapped; an expanded leaf
 //                writes its new subtree after itself: the smallest that holds its voxels' cells, cut
-//                kExpandLevels below the leaf or where its values saturate (expansionCut; voxels
-//                deeper expand on in the next iteration)
-// An expansion thus goes down up to kExpandLevels levels at once, where the paper adds one level per
-// iteration; the tree after the write is the same (expansionCut stops where a level at a time would).
+//                where its values saturate (expansionCut) and, on the GPU, kExpandLevels below the
+//                leaf (voxels deeper expand on in the next iteration)
+// The paper adds one level per iteration; the tree after the write is the same (expansionCut stops
+// where a level at a time would), so the CPU grows each expansion to the bottom and ends a write in
+// one restructure (restructureFinishesWrites).
 #pragma once
 #include <cstdint>
 #include <string>

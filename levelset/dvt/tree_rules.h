@@ -15,8 +15,9 @@ namespace isoatlas::levelset::dvt {
 
 enum class Op : std::uint32_t { Union = 0, Subtract = 1 };
 
-// The most levels one restructure adds below an expanded leaf (EXPAND_LEVELS): its new subtree is at
-// most 2^9 - 2 nodes, made by one thread (llvmpipe ends a shader's loops after 65535 turns).
+// The most levels one GPU restructure adds below an expanded leaf (EXPAND_LEVELS): its new subtree is
+// at most 2^9 - 2 nodes, made by one thread (llvmpipe ends a shader's loops after 65535 turns). The
+// CPU passes have no such limit (kMaxDepth).
 inline constexpr std::uint32_t kExpandLevels = 8;
 
 // What the mark pass asks of a node (tree_rules.glsl: MARK_*).
