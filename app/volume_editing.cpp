@@ -42,9 +42,9 @@ EditedTree start(const dvt::VolumeTree& tree, std::array<std::int64_t, 3> dims, 
 
 void write(EditedTree& e, const dvt::Solid& solid, dvt::Op op, bool hierarchical) {
   const auto begin = std::chrono::steady_clock::now();
-  const auto input = dvt::rasterise(solid, e.tree->frame(), e.depth, hierarchical);
+  dvt::PreOrderInput input = dvt::rasterise(solid, e.tree->frame(), e.depth, hierarchical);
   e.inputVoxels += input.size();
-  e.tree->write(input, op);
+  e.tree->write(std::move(input), op);
   e.secondsWrite += secondsSince(begin);
 }
 

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <mutex>
 #include <numeric>
+#include <tuple>
 
 namespace isoatlas::levelset::dvt {
 namespace {
@@ -257,7 +258,7 @@ struct Brick {
       if (m == kMarkCollapse) out.value = pointers[std::size_t(p.left)].value;
       newCells[2 * o] = cells[2 * n], newCells[2 * o + 1] = cells[2 * n + 1];
       if (m == kMarkExpand && allowExpand) {
-        generate(w, o, out, cell(n), pass.expansions[n], newPointers, newCells);
+        generate(w, o, out, cell(n), pass.expansions[n], newPointers.data(), newCells.data());
         continue;
       }
       if (!p.leaf() && m != kMarkReduce && m != kMarkCollapse)
@@ -269,32 +270,58 @@ struct Brick {
     endPass(pool);
   }
 
-  // The subtree an expanded leaf at new index o grows: depth first, each node split where voxels lie
-  // strictly inside it, down to the cut (expansionCut: here no level limit), new nodes in pre-order
-  // after o, values from the leaf's with one child scale per level.
+  // The subtree an expanded leaf at new index o grows, written in pre-order after o in one pass over
+  // its voxels (a trie of their paths): a node above the cut (expansionCut: here no level limit) that
+  // strictly holds a voxel splits; the other new nodes are leaves, a voxel's own cell with its value
+  // (newLeafValue), the rest with the leaf's value carried down one child scale a level. Voxels come
+  // in pre-order, so each leaves the previous one's path where its right sibling is still to be made.
   static void generate(const WriteContext& w, std::uint32_t o, const Pointer& leaf, const Cell& root, const Expansion& e,
-                       std::vector<Pointer>& newPointers, std::vector<std::uint32_t>& newCells) {
+                       Pointer* newPointers, std::uint32_t* newCells) {
     std::array<float, kMaxDepth + 2> chain{};
     chain[root.depth] = leaf.value;
     for (std::uint32_t d = root.depth; d <= std::uint32_t(kMaxDepth); ++d) chain[d + 1] = childValue(chain[d], w.scales[d]);
-    const std::uint32_t cut = e.cut;
-    std::uint32_t at = o + 1;
-    const auto grow = [&](const auto& self, std::uint32_t node, Pointer pointer, const Cell& cell, std::uint32_t a, std::uint32_t b) -> void {
-      const std::uint32_t split = splitOf(w.input, cell, a, b);
-      for (int k = 0; k < 2; ++k) {
-        const Cell child = childCell(cell, k);
-        const std::uint32_t ca = k == 0 ? a : split, cb = k == 0 ? split : b;
-        const std::uint32_t q = at++;
-        (k == 0 ? pointer.left : pointer.right) = std::int32_t(q);
-        const auto packed = packCell(child);
-        newCells[2 * q] = packed[0], newCells[2 * q + 1] = packed[1];
-        const Pointer p{std::int32_t(node), kNone, kNone, chain[child.depth]};
-        if (splitsOn(w, child, ca, cb, cut)) self(self, q, p, child, ca, cb);
-        else newPointers[q] = {p.parent, kNone, kNone, newLeafValue(w, child, ca, cb, p.value)};
-      }
-      newPointers[node] = pointer;
+    std::array<std::uint32_t, kMaxDepth + 1> node{};  // the current path: its node and cell at each depth
+    std::array<Cell, kMaxDepth + 1> cell{};
+    std::uint64_t rightToMake = 0;  // bit d: the path's node at depth d has its left child only
+    std::uint32_t at = o + 1, last = root.depth;
+    node[root.depth] = o, cell[root.depth] = root;
+    newPointers[o] = leaf;
+    // The child k of the path's node at depth d, made at the next index.
+    const auto make = [&](std::uint32_t d, int k, float value) {
+      const std::uint32_t q = at++;
+      (k == 0 ? newPointers[node[d]].left : newPointers[node[d]].right) = std::int32_t(q);
+      const Cell child = childCell(cell[d], k);
+      const auto packed = packCell(child);
+      newCells[2 * q] = packed[0], newCells[2 * q + 1] = packed[1];
+      newPointers[q] = {std::int32_t(node[d]), kNone, kNone, value};
+      return std::pair{q, child};
     };
-    grow(grow, o, leaf, root, e.begin, e.end);
+    const auto makeRightLeaves = [&](std::uint32_t above) {  // the siblings still to make, deepest first
+      for (std::uint32_t d = last; d-- > above;)
+        if (rightToMake >> d & 1u) make(d, 1, chain[d + 1]), rightToMake &= ~(std::uint64_t(1) << d);
+    };
+    for (std::uint32_t i = e.begin; i < e.end; ++i) {
+      const Cell c = w.inputCell(i);
+      const std::uint32_t end = std::min(e.cut, c.depth);  // the depth its path ends at
+      std::uint32_t d = root.depth;
+      if (i != e.begin) {
+        const std::uint32_t common = commonDepth(w.inputCell(i - 1), c);
+        if (common >= e.cut) continue;  // in the previous voxel's leaf at the cut
+        makeRightLeaves(common + 1);
+        rightToMake &= ~(std::uint64_t(1) << common);
+        std::tie(node[common + 1], cell[common + 1]) = make(common, 1, chain[common + 1]);
+        d = common + 1;
+      }
+      for (; d < end; ++d) {
+        const int k = childTowards(c, d);
+        if (k == 1) make(d, 0, chain[d + 1]);
+        else rightToMake |= std::uint64_t(1) << d;
+        std::tie(node[d + 1], cell[d + 1]) = make(d, k, chain[d + 1]);
+      }
+      if (end == c.depth) newPointers[node[end]].value = combined(w.op, chain[end], inputValue(w.op, w.input[i].value));
+      last = end;
+    }
+    makeRightLeaves(root.depth);
   }
 
   // A new one-leaf brick grown at once for its voxels [a, b) (a top leaf's expansion going on into it).
@@ -309,7 +336,7 @@ struct Brick {
     std::vector<Pointer> newPointers(1 + e.size);
     std::vector<std::uint32_t> newCells(2 * (1 + std::size_t(e.size)));
     newCells[0] = cells[0], newCells[1] = cells[1];
-    generate(w, 0, pointers[0], root, e, newPointers, newCells);
+    generate(w, 0, pointers[0], root, e, newPointers.data(), newCells.data());
     pointers = std::move(newPointers), cells = std::move(newCells);
   }
 };
@@ -387,8 +414,8 @@ public:
     return b + states_.bytes();
   }
 
-  void setInput(const std::vector<InputVoxel>& input) override {
-    input_ = input;
+  void setInput(std::vector<InputVoxel> input) override {
+    input_ = std::move(input);
     hits_.resize(input_.size());
     route_.resize(input_.size());
   }
@@ -489,6 +516,19 @@ public:
     for (const std::int32_t t : topMarked_) restructureTop(w, t, allowExpand);
     for (const std::int32_t t : topMarked_) top_.items[std::size_t(t)].mark = kMarkNone;
     topMarked_.clear();
+    // The bricks the top's expansions reached, grown in parallel.
+    brickNodes_ += tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, newBricks_.size(), 1), std::uint64_t(0),
+        [&](const auto& r, std::uint64_t s) {
+          for (std::size_t k = r.begin(); k < r.end(); ++k) {
+            Brick& b = bricks_.items[std::size_t(newBricks_[k].brick)];
+            b.growNew(w, newBricks_[k].begin, newBricks_[k].end);
+            s += b.size() - 1;
+          }
+          return s;
+        },
+        std::plus<>());
+    newBricks_.clear();
   }
 
   bool restructureFinishesWrites() const override { return true; }
@@ -626,7 +666,8 @@ private:
   }
 
   // An expanded top leaf's new subtree (as Brick::generate grows one): split where voxels lie strictly
-  // inside, down to the cut; below the top, the children are new bricks, grown on at once.
+  // inside, down to the cut; below the top, the children are new bricks, grown on after the top's marks
+  // are applied (newBricks_).
   void growTop(const WriteContext& w, std::int32_t t, std::uint32_t a, std::uint32_t b, std::uint32_t cut) {
     const Cell cell = top_.items[std::size_t(t)].cell();
     const float value = childValue(top_.items[std::size_t(t)].value, scales_[cell.depth]);  // the children's
@@ -646,8 +687,8 @@ private:
         brick.pointers = {Pointer{kNone, kNone, kNone, v}};
         brick.cells = {packed[0], packed[1]};
         brick.dirty = true;
-        if (splits) brick.growNew(w, ca, cb);
-        brickNodes_ += brick.size();
+        if (splits) newBricks_.push_back({pair + k, ca, cb});
+        ++brickNodes_;
         continue;
       }
       TopNode& node = top_.items[std::size_t(pair + k)];
@@ -737,6 +778,11 @@ private:
   std::vector<std::uint32_t> hits_;  // per input voxel: the leaf it expands (top node or brick node), or kNoHit
   std::vector<std::int32_t> route_;  // per input voxel: its brick, or kInTop
   std::vector<std::uint32_t> topHits_;  // the voxels that expand top leaves
+  struct NewBrick {
+    std::int32_t brick;
+    std::uint32_t begin, end;  // its voxels
+  };
+  std::vector<NewBrick> newBricks_;  // one-leaf bricks the top's expansions made, to grow for their voxels
 };
 
 }  // namespace

@@ -18,17 +18,11 @@ DynamicVolumeTree::DynamicVolumeTree(const VolumeTree& tree, std::unique_ptr<Tre
   passes_->load(tree);
 }
 
-WriteStats DynamicVolumeTree::write(const std::vector<InputVoxel>& input, Op op) {
+WriteStats DynamicVolumeTree::write(PreOrderInput input, Op op) {
   const auto start = std::chrono::steady_clock::now();
   WriteStats stats;
   stats.inputVoxels = input.size();
-  if (inPreOrder(input)) {
-    passes_->setInput(input);
-  } else {
-    std::vector<InputVoxel> sorted = input;
-    sortInPreOrder(sorted);
-    passes_->setInput(sorted);
-  }
+  passes_->setInput(std::move(input).take());
   bool allowExpand = true;
   for (;; ++stats.iterations) {
     // No marks: the voxels were written into leaves of their depth and nothing is left to change.

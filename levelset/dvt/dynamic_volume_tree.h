@@ -32,7 +32,7 @@ struct WriteStats {
 class DynamicVolumeTree {
 public:
   DynamicVolumeTree(const VolumeTree& tree, std::unique_ptr<TreePasses> passes, const TreeOptions& options = {});
-  WriteStats write(const std::vector<InputVoxel>& input, Op op);
+  WriteStats write(PreOrderInput input, Op op);
   // Joins equal uniform siblings, level by level, until none are left; returns the nodes removed.
   std::uint64_t collapse();
   VolumeTree tree() const { return passes_->download(); }

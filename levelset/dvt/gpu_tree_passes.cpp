@@ -65,7 +65,7 @@ public:
            removals_.bytes() + expansions_.bytes() + input_.bytes() + hits_.bytes();
   }
 
-  void setInput(const std::vector<InputVoxel>& input) override {
+  void setInput(std::vector<InputVoxel> input) override {
     inputCount_ = input.size();
     if (input_.bytes() < std::max<std::size_t>(inputCount_, 1) * sizeof(InputVoxel)) {
       input_ = gl::Buffer(std::max<std::size_t>(inputCount_, 1) * sizeof(InputVoxel) * 5 / 4);

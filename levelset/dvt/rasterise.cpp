@@ -44,7 +44,7 @@ struct Rasteriser {
 
 }  // namespace
 
-std::vector<InputVoxel> rasterise(const Solid& solid, const TreeFrame& frame, std::uint32_t targetDepth, bool hierarchical) {
+PreOrderInput rasterise(const Solid& solid, const TreeFrame& frame, std::uint32_t targetDepth, bool hierarchical) {
   require(targetDepth <= std::uint32_t(kMaxDepth),
           "depth " + std::to_string(targetDepth) + " is past the tree's limit of " + std::to_string(kMaxDepth));
   Rasteriser r{solid, dynamic_cast<const DistanceSolid*>(&solid), frame, targetDepth, hierarchical, {}, {}};
@@ -82,7 +82,7 @@ std::vector<InputVoxel> rasterise(const Solid& solid, const TreeFrame& frame, st
   });
   std::vector<InputVoxel> out;
   for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
-  return out;
+  return PreOrderInput::madeInPreOrder(std::move(out));
 }
 
 }  // namespace isoatlas::levelset::dvt

@@ -3,7 +3,8 @@
 // outside are dropped, crossed cells are split until the target depth, where they keep their band
 // value. Not hierarchical (the paper's variant without it): every cell with some inside is split down
 // to the target depth, so every voxel is at that depth. Either way the voxels are disjoint cells and
-// the same set of target-depth centres is inside. Runs on the CPU with TBB for both backends.
+// the same set of target-depth centres is inside. Runs on the CPU with TBB for both backends and
+// makes the voxels in pre-order (depth first, lower half first), as a write takes them.
 #pragma once
 #include <vector>
 
@@ -13,6 +14,6 @@
 namespace isoatlas::levelset::dvt {
 
 // Throws Error when targetDepth is past kMaxDepth.
-std::vector<InputVoxel> rasterise(const Solid& solid, const TreeFrame& frame, std::uint32_t targetDepth, bool hierarchical = true);
+PreOrderInput rasterise(const Solid& solid, const TreeFrame& frame, std::uint32_t targetDepth, bool hierarchical = true);
 
 }  // namespace isoatlas::levelset::dvt

@@ -41,7 +41,7 @@ public:
   virtual std::uint64_t nodeCount() const = 0;
   // Memory held: the streams and marks at their capacity, the input and the remap stream.
   virtual std::uint64_t bytes() const = 0;
-  virtual void setInput(const std::vector<InputVoxel>& input) = 0;
+  virtual void setInput(std::vector<InputVoxel> input) = 0;  // in pre-order
   // Clears the marks, then marks for the input; returns how many marks were set (with repeats).
   virtual std::uint64_t mark(Op op) = 0;
   // Clears the marks, then marks inner nodes whose two children are collapsible; returns how many.

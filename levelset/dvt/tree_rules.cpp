@@ -25,10 +25,6 @@ namespace {
 std::uint64_t keyOf(const InputVoxel& v) { return preOrderKey(unpackCell(v.xy, v.zd)); }
 }  // namespace
 
-void sortInPreOrder(std::vector<InputVoxel>& input) {
-  tbb::parallel_sort(input.begin(), input.end(), [](const InputVoxel& a, const InputVoxel& b) { return keyOf(a) < keyOf(b); });
-}
-
 bool inPreOrder(const std::vector<InputVoxel>& input) {
   // Consecutive disjoint cells are in pre-order when the first lies in the lower half where their
   // paths part (keys not computed: this runs on every write).
@@ -43,6 +39,11 @@ bool inPreOrder(const std::vector<InputVoxel>& input) {
         return ordered;
       },
       std::logical_and<>());
+}
+
+PreOrderInput::PreOrderInput(std::vector<InputVoxel> voxels) : voxels_(std::move(voxels)) {
+  if (!inPreOrder(voxels_))
+    tbb::parallel_sort(voxels_.begin(), voxels_.end(), [](const InputVoxel& a, const InputVoxel& b) { return keyOf(a) < keyOf(b); });
 }
 
 std::vector<float> childScales(const TreeFrame& frame) {

@@ -62,11 +62,25 @@ inline bool collapsible(const Pointer& left, const Pointer& right) {
 }
 
 // The position of a cell in pre-order (its path of child choices from the root, left-aligned in 48
-// bits): inputs of a write come sorted by it (rasterise sorts them; DynamicVolumeTree::write sorts
-// any that are not), so the voxels inside one leaf are next to each other.
+// bits): a write's voxels come sorted by it, so the voxels inside one leaf are next to each other.
 std::uint64_t preOrderKey(const Cell& c);
-void sortInPreOrder(std::vector<InputVoxel>& input);
 bool inPreOrder(const std::vector<InputVoxel>& input);
+
+// A write's input: disjoint voxels in pre-order. From any voxels (sorted by preOrderKey unless they
+// already are in order), or from rasterise, which makes them in pre-order.
+class PreOrderInput {
+public:
+  explicit PreOrderInput(std::vector<InputVoxel> voxels);
+  static PreOrderInput madeInPreOrder(std::vector<InputVoxel> voxels) { return PreOrderInput(std::move(voxels), 0); }
+  const std::vector<InputVoxel>& voxels() const { return voxels_; }
+  std::size_t size() const { return voxels_.size(); }
+  std::vector<InputVoxel> take() && { return std::move(voxels_); }
+
+private:
+  PreOrderInput(std::vector<InputVoxel> voxels, int) : voxels_(std::move(voxels)) {}
+  std::vector<InputVoxel> voxels_;
+};
+
 // The depth of the deepest common ancestor of two cells of which neither contains the other.
 inline std::uint32_t commonDepth(const Cell& a, const Cell& b) {
   // Per axis, the first split where the two coordinates part (the split of axis k numbered s is at

@@ -2,6 +2,7 @@
 // pass, the node budget, the GPU passes against the CPU's node for node, segmentations in and out.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <functional>
 
 #include "core/error.h"
@@ -84,7 +85,7 @@ TEST(Dvt, PointersAgreeAfterEveryPass) {
         {"torus:0.5,0.5,0.5,0.3,0.1", {Op::Union, 17}}, {"sphere:0.6,0.5,0.5,0.2", {Op::Union, 9}},
         {"box:0.3,0.3,0.3,0.6,0.6,0.6", {Op::Subtract, 16}}};
     for (const auto& [shape, how] : writes) {
-      passes->setInput(rasterise(*parseBrush(shape), unitFrame(), how.second));
+      passes->setInput(rasterise(*parseBrush(shape), unitFrame(), how.second).take());
       for (;; ++iterations) {
         passes->mark(how.first);
         const Plan plan = passes->plan(true);
@@ -133,6 +134,24 @@ TEST(Dvt, GpuPassesMakeTheCpuStreamsNodeForNode) {
     // And a tree loaded into fresh CPU passes comes back as it went in.
     DynamicVolumeTree reloaded(cpu.tree(), makeCpuTreePasses());
     ASSERT_TRUE(reloaded.tree() == cpu.tree());
+  }
+}
+
+// Voxels from anywhere are put in pre-order; the rasteriser makes them so (a write trusts it).
+TEST(Dvt, InputsComeInPreOrder) {
+  const PreOrderInput made = rasterise(*parseBrush("torus:0.5,0.5,0.5,0.3,0.1"), unitFrame(), 16);
+  ASSERT_GT(made.size(), 1000u);
+  EXPECT_TRUE(inPreOrder(made.voxels()));
+  std::vector<InputVoxel> shuffled = made.voxels();
+  std::reverse(shuffled.begin(), shuffled.end());
+  std::swap(shuffled[7], shuffled[shuffled.size() / 2]);
+  EXPECT_FALSE(inPreOrder(shuffled));
+  const PreOrderInput sorted(shuffled);
+  ASSERT_EQ(sorted.size(), made.size());
+  for (std::size_t i = 0; i < made.size(); ++i) {
+    EXPECT_EQ(sorted.voxels()[i].xy, made.voxels()[i].xy) << i;
+    EXPECT_EQ(sorted.voxels()[i].zd, made.voxels()[i].zd) << i;
+    EXPECT_EQ(sorted.voxels()[i].value, made.voxels()[i].value) << i;
   }
 }
 
