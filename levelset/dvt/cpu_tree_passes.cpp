@@ -423,13 +423,25 @@ public:
   std::uint64_t mark(Op op) override {
     op_ = op;
     clearMarks();
-    // Each voxel down the top to its brick (or to a top leaf or node it changes), in parallel.
+    // Each voxel down the top to its brick (or to a top leaf or node it changes), in parallel. Voxels
+    // in one brick's cell are consecutive and take the same way as the first of them.
     const WriteContext w = context();
     std::uint64_t marks = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, input_.size(), 1024), std::uint64_t(0),
         [&](const auto& r, std::uint64_t s) {
           Walk<std::int32_t> walk;
-          for (std::size_t i = r.begin(); i < r.end(); ++i) s += routeVoxel(w, i, walk);
+          Cell brickCell{0, 0, 0, kMaxDepth + 1};  // the previous voxel's cell at the brick depth
+          for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            const Cell c = w.inputCell(i);
+            const Cell previous = brickCell;
+            brickCell = c.depth >= brickDepth_ ? ancestorAt(c, brickDepth_) : Cell{0, 0, 0, kMaxDepth + 1};
+            if (brickCell.depth == brickDepth_ && brickCell == previous) {
+              route_[i] = route_[i - 1], hits_[i] = hits_[i - 1];
+              s += hits_[i] != kNoHit;
+            } else {
+              s += routeVoxel(w, i, walk);
+            }
+          }
           return s;
         },
         std::plus<>());

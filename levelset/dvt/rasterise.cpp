@@ -80,8 +80,10 @@ PreOrderInput rasterise(const Solid& solid, const TreeFrame& frame, std::uint32_
     if (items[i].crossed) r.visit(items[i].cell, frame.centreWorld(items[i].cell), parts[i]);
     else parts[i] = {items[i].voxel};
   });
-  std::vector<InputVoxel> out;
-  for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+  std::vector<std::size_t> at(parts.size() + 1, 0);
+  for (std::size_t i = 0; i < parts.size(); ++i) at[i + 1] = at[i] + parts[i].size();
+  std::vector<InputVoxel> out(at.back());
+  tbb::parallel_for(std::size_t(0), parts.size(), [&](std::size_t i) { std::copy(parts[i].begin(), parts[i].end(), out.begin() + std::ptrdiff_t(at[i])); });
   return PreOrderInput::madeInPreOrder(std::move(out));
 }
 

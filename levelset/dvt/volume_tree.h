@@ -57,6 +57,11 @@ inline Cell childCell(const Cell& c, int which) {
   coordinate = 2 * coordinate + std::uint32_t(which);
   return child;
 }
+// The depth-d ancestor of `c` (d <= c.depth).
+inline Cell ancestorAt(const Cell& c, std::uint32_t d) {
+  return {c.x >> (splitsOf(0, c.depth) - splitsOf(0, d)), c.y >> (splitsOf(1, c.depth) - splitsOf(1, d)),
+          c.z >> (splitsOf(2, c.depth) - splitsOf(2, d)), d};
+}
 // The child (0 or 1) of the depth-d ancestor of `c` that contains `c` (d < c.depth).
 inline int childTowards(const Cell& c, std::uint32_t d) {
   const int axis = splitAxis(d);
