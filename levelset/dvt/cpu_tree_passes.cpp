@@ -83,9 +83,14 @@ float newLeafValue(const WriteContext& w, const Cell& node, std::uint32_t a, std
 // brick has marks.
 // A brick's state during a write's passes, lent from a pool so their storage is reused.
 struct PassState {
-  std::vector<std::uint32_t> marks, remap;
-  std::vector<std::int32_t> removals;  // ranges of reduced subtrees (plan)
+  std::vector<std::uint8_t> marks;  // Mark
+  std::vector<std::uint32_t> remap;
+  std::vector<std::int32_t> removals;  // ranges of reduced subtrees (plan), when some are
+  std::vector<std::uint32_t> expanded;  // the expanded leaves in pre-order, and their expansions
   std::vector<Expansion> expansions;
+  std::uint64_t bytes() const {
+    return marks.capacity() + (remap.capacity() + removals.capacity() + expanded.capacity()) * 4 + expansions.capacity() * sizeof(Expansion);
+  }
 };
 class PassStatePool {
 public:
@@ -102,8 +107,7 @@ public:
   }
   std::uint64_t bytes() const {
     std::uint64_t b = 0;
-    for (const PassState& s : spare_)
-      b += (s.marks.capacity() + s.remap.capacity() + s.removals.capacity()) * 4 + s.expansions.capacity() * sizeof(Expansion);
+    for (const PassState& s : spare_) b += s.bytes();
     return b;
   }
 
@@ -128,8 +132,6 @@ struct Brick {
   void startMarks(PassStatePool& pool) {
     pass = pool.take();
     pass.marks.assign(size(), kMarkNone);
-    pass.removals.assign(size() + 1, 0);
-    pass.expansions.assign(size(), Expansion{});
     reduced = false, marked = true;
   }
   void endPass(PassStatePool& pool) {
@@ -186,6 +188,7 @@ struct Brick {
         p.value = incoming;  // the value of the leaf it becomes
         if (!marked) startMarks(pool);
         pass.marks[n] = kMarkReduce;
+        if (!reduced) pass.removals.assign(size() + 1, 0);
         ++pass.removals[n], --pass.removals[subtreeEnd(n) - 1];
         reduced = true;
         return 1;
@@ -209,31 +212,35 @@ struct Brick {
   // The plan: expansion sizes from the voxels that hit leaves, then each node's count prefix-summed
   // into the remap stream (dvt_runs.comp, dvt_plan.comp). Returns the changes.
   std::uint64_t plan(const WriteContext& w, const std::vector<std::uint32_t>& hits, bool allowExpand) {
-    for (std::uint32_t i = begin; i < end; ++i)
-      if (hits[i] != kNoHit) pass.expansions[hits[i]] = {};  // the plan may run twice (the node budget)
+    pass.expanded.clear(), pass.expansions.clear();  // the plan may run twice (the node budget)
     for (std::uint32_t i = begin; i < end; ++i) {
       const std::uint32_t leaf = hits[i];
       if (leaf == kNoHit) continue;
       const bool first = i == begin || hits[i - 1] != leaf;
-      Expansion& e = pass.expansions[leaf];
-      const Cell c = w.inputCell(i), previous = first ? c : w.inputCell(i - 1);
       const std::uint32_t leafDepth = cells[2 * leaf + 1] >> 16;
-      if (first) e.begin = i, e.cut = expansionCut(w.op, pointers[leaf].value, leafDepth, kMaxDepth, w.scales.data());
+      if (first) {
+        pass.expanded.push_back(leaf);
+        pass.expansions.push_back({0, i, i, expansionCut(w.op, pointers[leaf].value, leafDepth, kMaxDepth, w.scales.data())});
+      }
+      Expansion& e = pass.expansions.back();
+      const Cell c = w.inputCell(i), previous = first ? c : w.inputCell(i - 1);
       e.size += newNodesFor(first ? nullptr : &previous, c, leafDepth, e.cut);
       e.end = i + 1;
     }
     pass.remap.resize(size() + 1);
     std::uint32_t nodes = 0;
     std::uint64_t changes = 0;
+    std::size_t expansion = 0;  // the next expanded leaf's (they come in pre-order)
     for (std::size_t n = 0; n < size(); ++n) {
       pass.remap[n] = nodes;
       const Pointer& p = pointers[n];
       const Mark m = Mark(pass.marks[n]);
-      if (pass.removals[n] > 0 || (p.parent >= 0 && pass.marks[std::size_t(p.parent)] == kMarkCollapse)) {
+      const std::uint32_t grows = m == kMarkExpand ? pass.expansions[expansion++].size : 0;
+      if ((reduced && pass.removals[n] > 0) || (p.parent >= 0 && pass.marks[std::size_t(p.parent)] == kMarkCollapse)) {
         ++changes;  // inside a reduced subtree, or a collapsed node's child
         continue;
       }
-      nodes += 1 + (m == kMarkExpand && allowExpand ? pass.expansions[n].size : 0);
+      nodes += 1 + (allowExpand ? grows : 0);
       changes += (m == kMarkExpand && allowExpand) || m == kMarkReduce || m == kMarkCollapse;
     }
     pass.remap[size()] = planned = nodes;
@@ -243,29 +250,29 @@ struct Brick {
   // The restructure pass: every kept node to its new index, pointers remapped, expanded leaves
   // followed by their new subtrees (dvt_restructure.comp).
   void restructure(const WriteContext& w, bool allowExpand, PassStatePool& pool) {
-    // Into this thread's spare streams (every entry is written), which then keep the old ones.
-    static thread_local std::vector<Pointer> newPointers;
-    static thread_local std::vector<std::uint32_t> newCells;
-    newPointers.resize(planned), newCells.resize(2 * std::size_t(planned));
+    std::vector<Pointer> newPointers(planned);
+    std::vector<std::uint32_t> newCells(2 * std::size_t(planned));
+    std::size_t expansion = 0;
     for (std::size_t n = 0; n < size(); ++n) {
+      const Mark m = Mark(pass.marks[n]);
+      const Expansion* e = m == kMarkExpand ? &pass.expansions[expansion++] : nullptr;
       if (pass.remap[n + 1] == pass.remap[n]) continue;  // removed
       const std::uint32_t o = pass.remap[n];
       const Pointer& p = pointers[n];
-      const Mark m = Mark(pass.marks[n]);
       Pointer out;
       out.value = p.value;
       if (p.parent >= 0) out.parent = std::int32_t(pass.remap[std::size_t(p.parent)]);
       if (m == kMarkCollapse) out.value = pointers[std::size_t(p.left)].value;
       newCells[2 * o] = cells[2 * n], newCells[2 * o + 1] = cells[2 * n + 1];
-      if (m == kMarkExpand && allowExpand) {
-        generate(w, o, out, cell(n), pass.expansions[n], newPointers.data(), newCells.data());
+      if (e && allowExpand) {
+        generate(w, o, out, cell(n), *e, newPointers.data(), newCells.data());
         continue;
       }
       if (!p.leaf() && m != kMarkReduce && m != kMarkCollapse)
         out.left = std::int32_t(pass.remap[std::size_t(p.left)]), out.right = std::int32_t(pass.remap[std::size_t(p.right)]);
       newPointers[o] = out;
     }
-    std::swap(pointers, newPointers), std::swap(cells, newCells);
+    pointers = std::move(newPointers), cells = std::move(newCells);
     dirty = true;
     endPass(pool);
   }
@@ -409,8 +416,7 @@ public:
     std::uint64_t b = top_.items.capacity() * sizeof(TopNode) + bricks_.items.capacity() * sizeof(Brick) +
                       input_.capacity() * sizeof(InputVoxel) + (hits_.capacity() + route_.capacity()) * 4;
     for (const Brick& k : bricks_.items)
-      b += k.pointers.capacity() * sizeof(Pointer) + k.cells.capacity() * 4 + (k.pass.marks.capacity() + k.pass.remap.capacity()) * 4 +
-           k.pass.removals.capacity() * 4 + k.pass.expansions.capacity() * sizeof(Expansion);
+      b += k.pointers.capacity() * sizeof(Pointer) + k.cells.capacity() * 4 + k.pass.bytes();
     return b + states_.bytes();
   }
 
