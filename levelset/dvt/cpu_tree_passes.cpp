@@ -68,6 +68,9 @@ struct WriteContext {
   Cell inputCell(std::size_t i) const { return unpackCell(input[i].xy, input[i].zd); }
 };
 
+// A leaf value a subtree can collapse to (kInside or kOutside), else 0.
+float uniformValue(float value) { return value == kInside || value == kOutside ? value : 0; }
+
 // How a node an expansion makes ends: split on where voxels lie strictly inside it above the cut;
 // a voxel's own cell takes the voxel's value at once (the value the next mark would write).
 bool splitsOn(const WriteContext& w, const Cell& node, std::uint32_t a, std::uint32_t b, std::uint32_t cut) {
@@ -197,15 +200,33 @@ struct Brick {
     }
   }
 
+  // Marks the roots of the largest subtrees whose leaves all hold one uniform value, each to become a
+  // leaf of that value with its subtree removed (as a reduction): the whole of what collapsing a level
+  // a pass ends with.
   std::uint64_t markCollapse(PassStatePool& pool) {
     begin = end = 0;  // no voxels (those of the last write are gone)
-    std::uint64_t count = 0;
-    for (std::size_t n = 0; n < size(); ++n) {
+    static thread_local std::vector<float> uniform;  // per node: its subtree's one value, or 0
+    uniform.resize(size());
+    for (std::size_t n = size(); n-- > 0;) {
       const Pointer& p = pointers[n];
-      if (p.leaf() || !collapsible(pointers[std::size_t(p.left)], pointers[std::size_t(p.right)])) continue;
+      const float left = p.leaf() ? 0 : uniform[std::size_t(p.left)];
+      uniform[n] = p.leaf() ? uniformValue(p.value) : (left == uniform[std::size_t(p.right)] ? left : 0);
+    }
+    std::uint64_t count = 0;
+    for (std::size_t n = 0; n < size();) {
+      if (pointers[n].leaf() || uniform[n] == 0) {
+        ++n;
+        continue;
+      }
       if (count++ == 0) startMarks(pool);
       pass.marks[n] = kMarkCollapse;
+      pointers[n].value = uniform[n];  // the value of the leaf it becomes
+      const std::size_t next = subtreeEnd(n);
+      if (!reduced) pass.removals.assign(size() + 1, 0), reduced = true;
+      ++pass.removals[n], --pass.removals[next - 1];
+      n = next;
     }
+    if (reduced) std::exclusive_scan(pass.removals.begin(), pass.removals.end(), pass.removals.begin(), std::int32_t(0));
     return count;
   }
 
@@ -233,11 +254,10 @@ struct Brick {
     std::size_t expansion = 0;  // the next expanded leaf's (they come in pre-order)
     for (std::size_t n = 0; n < size(); ++n) {
       pass.remap[n] = nodes;
-      const Pointer& p = pointers[n];
       const Mark m = Mark(pass.marks[n]);
       const std::uint32_t grows = m == kMarkExpand ? pass.expansions[expansion++].size : 0;
-      if ((reduced && pass.removals[n] > 0) || (p.parent >= 0 && pass.marks[std::size_t(p.parent)] == kMarkCollapse)) {
-        ++changes;  // inside a reduced subtree, or a collapsed node's child
+      if (reduced && pass.removals[n] > 0) {
+        ++changes;  // inside a reduced or collapsed subtree
         continue;
       }
       nodes += 1 + (allowExpand ? grows : 0);
@@ -262,7 +282,6 @@ struct Brick {
       Pointer out;
       out.value = p.value;
       if (p.parent >= 0) out.parent = std::int32_t(pass.remap[std::size_t(p.parent)]);
-      if (m == kMarkCollapse) out.value = pointers[std::size_t(p.left)].value;
       newCells[2 * o] = cells[2 * n], newCells[2 * o + 1] = cells[2 * n + 1];
       if (e && allowExpand) {
         generate(w, o, out, cell(n), *e, newPointers.data(), newCells.data());
@@ -500,7 +519,7 @@ public:
     for (const std::int32_t b : dirtyBricks_)
       if (bricks_.items[std::size_t(b)].marked) marked_.push_back(b);
     dirtyBricks_.clear();
-    markTopCollapse(0, 0, marks);
+    markTopCollapsed(0, markTopCollapse(0, 0, marks), marks);
     return marks;
   }
 
@@ -605,21 +624,31 @@ private:
     }
   }
 
-  // Top nodes whose two children are leaves (top leaves, or bricks that are one leaf) one leaf can
-  // stand for: marked for collapse.
-  void markTopCollapse(std::int32_t t, std::uint32_t depth, std::uint64_t& marks) {
+  // Marks the top's roots of the largest subtrees whose leaves (top leaves, or bricks that are one
+  // leaf) all hold one uniform value, as Brick::markCollapse marks them; returns t's subtree's value
+  // when it is one, else 0 (t itself is marked by the caller, who knows whether it is the largest).
+  float markTopCollapse(std::int32_t t, std::uint32_t depth, std::uint64_t& marks) {
     const TopNode& n = top_.items[std::size_t(t)];
-    if (n.leaf()) return;
-    if (depth + 1 == brickDepth_) {
-      const Brick &a = bricks_.items[std::size_t(n.children)], &b = bricks_.items[std::size_t(n.children) + 1];
-      if (collapsible(a.pointers[0], b.pointers[0])) markTop(t, kMarkCollapse), ++marks;
-      return;
+    if (n.leaf()) return uniformValue(n.value);
+    float value[2];
+    for (int k = 0; k < 2; ++k) {
+      if (depth + 1 == brickDepth_) {
+        const Brick& b = bricks_.items[std::size_t(n.children + k)];
+        value[k] = b.size() == 1 ? uniformValue(b.pointers[0].value) : 0;
+      } else {
+        value[k] = markTopCollapse(n.children + k, depth + 1, marks);
+      }
     }
-    const TopNode &a = top_.items[std::size_t(n.children)], &b = top_.items[std::size_t(n.children) + 1];
-    if (collapsible(Pointer{kNone, a.children, kNone, a.value}, Pointer{kNone, b.children, kNone, b.value}))
-      markTop(t, kMarkCollapse), ++marks;
-    markTopCollapse(n.children, depth + 1, marks);
-    markTopCollapse(n.children + 1, depth + 1, marks);
+    if (value[0] == value[1]) return value[0];
+    // Not one value: its children with one are the largest such subtrees.
+    for (int k = 0; k < 2 && depth + 1 < brickDepth_; ++k) markTopCollapsed(n.children + k, value[k], marks);
+    return 0;
+  }
+  void markTopCollapsed(std::int32_t t, float value, std::uint64_t& marks) {
+    TopNode& n = top_.items[std::size_t(t)];
+    if (value == 0 || n.leaf()) return;
+    n.value = value;  // the value of the leaf it becomes
+    markTop(t, kMarkCollapse), ++marks;
   }
 
   // The top's marks in the plan: node count changes and changes.
@@ -636,8 +665,7 @@ private:
     for (const std::int32_t t : topMarked_) {
       const TopNode& n = top_.items[std::size_t(t)];
       if (n.mark == kMarkExpand && allowExpand) delta += n.expansion.size, ++changes;
-      if (n.mark == kMarkReduce) delta -= std::int64_t(subtreeNodes(t, n.cell().depth)) - 1, ++changes;
-      if (n.mark == kMarkCollapse) delta -= 2, changes += 3;
+      if (n.mark == kMarkReduce || n.mark == kMarkCollapse) delta -= std::int64_t(subtreeNodes(t, n.cell().depth)) - 1, ++changes;
     }
   }
 
@@ -659,13 +687,7 @@ private:
       if (allowExpand) growTop(w, t, n.expansion.begin, n.expansion.end, n.expansion.cut);
       return;
     }
-    const float value = m == kMarkCollapse ? childValueOf(n, depth) : n.value;
-    releaseChildren(t, depth);
-    top_.items[std::size_t(t)].value = value;
-  }
-
-  float childValueOf(const TopNode& n, std::uint32_t depth) const {
-    return depth + 1 == brickDepth_ ? bricks_.items[std::size_t(n.children)].pointers[0].value : top_.items[std::size_t(n.children)].value;
+    releaseChildren(t, depth);  // its value is the leaf's it becomes (set when marked)
   }
 
   // Frees t's subtree below it (top pairs and bricks); t becomes a leaf.

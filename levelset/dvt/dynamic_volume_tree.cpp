@@ -57,7 +57,7 @@ WriteStats DynamicVolumeTree::write(PreOrderInput input, Op op) {
 
 std::uint64_t DynamicVolumeTree::collapse() {
   const std::uint64_t before = passes_->nodeCount();
-  while (passes_->markCollapse() > 0) passes_->restructure(passes_->plan(false), false, options_.nodeLimit);  // one level a pass
+  while (passes_->markCollapse() > 0) passes_->restructure(passes_->plan(false), false, options_.nodeLimit);
   return before - passes_->nodeCount();
 }
 

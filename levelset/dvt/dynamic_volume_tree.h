@@ -33,7 +33,7 @@ class DynamicVolumeTree {
 public:
   DynamicVolumeTree(const VolumeTree& tree, std::unique_ptr<TreePasses> passes, const TreeOptions& options = {});
   WriteStats write(PreOrderInput input, Op op);
-  // Joins equal uniform siblings, level by level, until none are left; returns the nodes removed.
+  // Joins equal uniform siblings until none are left; returns the nodes removed.
   std::uint64_t collapse();
   VolumeTree tree() const { return passes_->download(); }
   std::uint64_t nodeCount() const { return passes_->nodeCount(); }

@@ -44,7 +44,9 @@ public:
   virtual void setInput(std::vector<InputVoxel> input) = 0;  // in pre-order
   // Clears the marks, then marks for the input; returns how many marks were set (with repeats).
   virtual std::uint64_t mark(Op op) = 0;
-  // Clears the marks, then marks inner nodes whose two children are collapsible; returns how many.
+  // Clears the marks, then marks nodes to collapse; returns how many. The GPU marks inner nodes whose
+  // two children are collapsible (a level a pass), the CPU the roots of the largest subtrees of one
+  // uniform value; marking and restructuring until none are left ends with the same tree.
   virtual std::uint64_t markCollapse() = 0;
   // The remap stream for the marks; expansions count only when allowed (the node budget).
   virtual Plan plan(bool allowExpand) = 0;
