@@ -9,7 +9,6 @@
 #include <atomic>
 #include <mutex>
 #include <numeric>
-#include <tuple>
 
 namespace isoatlas::levelset::dvt {
 namespace {
@@ -306,21 +305,19 @@ struct Brick {
     std::array<float, kMaxDepth + 2> chain{};
     chain[root.depth] = leaf.value;
     for (std::uint32_t d = root.depth; d <= std::uint32_t(kMaxDepth); ++d) chain[d + 1] = childValue(chain[d], w.scales[d]);
-    std::array<std::uint32_t, kMaxDepth + 1> node{};  // the current path: its node and cell at each depth
-    std::array<Cell, kMaxDepth + 1> cell{};
+    std::array<std::uint32_t, kMaxDepth + 1> node{};  // the current path's node at each depth
     std::uint64_t rightToMake = 0;  // bit d: the path's node at depth d has its left child only
     std::uint32_t at = o + 1, last = root.depth;
-    node[root.depth] = o, cell[root.depth] = root;
+    node[root.depth] = o;
     newPointers[o] = leaf;
-    // The child k of the path's node at depth d, made at the next index.
+    // The child k of the path's node at depth d, made at the next index (its cell from the parent's).
     const auto make = [&](std::uint32_t d, int k, float value) {
-      const std::uint32_t q = at++;
-      (k == 0 ? newPointers[node[d]].left : newPointers[node[d]].right) = std::int32_t(q);
-      const Cell child = childCell(cell[d], k);
-      const auto packed = packCell(child);
+      const std::uint32_t q = at++, parent = node[d];
+      (k == 0 ? newPointers[parent].left : newPointers[parent].right) = std::int32_t(q);
+      const auto packed = packCell(childCell(unpackCell(newCells[2 * parent], newCells[2 * parent + 1]), k));
       newCells[2 * q] = packed[0], newCells[2 * q + 1] = packed[1];
-      newPointers[q] = {std::int32_t(node[d]), kNone, kNone, value};
-      return std::pair{q, child};
+      newPointers[q] = {std::int32_t(parent), kNone, kNone, value};
+      return q;
     };
     const auto makeRightLeaves = [&](std::uint32_t above) {  // the siblings still to make, deepest first
       for (std::uint32_t d = last; d-- > above;)
@@ -335,14 +332,14 @@ struct Brick {
         if (common >= e.cut) continue;  // in the previous voxel's leaf at the cut
         makeRightLeaves(common + 1);
         rightToMake &= ~(std::uint64_t(1) << common);
-        std::tie(node[common + 1], cell[common + 1]) = make(common, 1, chain[common + 1]);
+        node[common + 1] = make(common, 1, chain[common + 1]);
         d = common + 1;
       }
       for (; d < end; ++d) {
         const int k = childTowards(c, d);
         if (k == 1) make(d, 0, chain[d + 1]);
         else rightToMake |= std::uint64_t(1) << d;
-        std::tie(node[d + 1], cell[d + 1]) = make(d, k, chain[d + 1]);
+        node[d + 1] = make(d, k, chain[d + 1]);
       }
       if (end == c.depth) newPointers[node[end]].value = combined(w.op, chain[end], inputValue(w.op, w.input[i].value));
       last = end;
