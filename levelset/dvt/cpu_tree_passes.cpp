@@ -226,6 +226,7 @@ struct Brick {
       n = next;
     }
     if (reduced) std::exclusive_scan(pass.removals.begin(), pass.removals.end(), pass.removals.begin(), std::int32_t(0));
+    dirty = false;  // these marks are all it has to collapse
     return count;
   }
 
@@ -291,7 +292,7 @@ struct Brick {
       newPointers[o] = out;
     }
     pointers = std::move(newPointers), cells = std::move(newCells);
-    dirty = true;
+    if (begin < end) dirty = true;  // a write's (a collapse's leaves nothing to collapse)
     endPass(pool);
   }
 
@@ -506,9 +507,7 @@ public:
         [&](const auto& r, std::uint64_t s) {
           for (std::size_t k = r.begin(); k < r.end(); ++k) {
             Brick& b = bricks_.items[std::size_t(dirtyBricks_[k])];
-            const std::uint64_t m = b.markCollapse(states_);
-            if (m == 0) b.dirty = false;
-            s += m;
+            s += b.markCollapse(states_);
           }
           return s;
         },
