@@ -19,9 +19,10 @@ constexpr std::int32_t kInTop = -1;  // a voxel's route when the tree above the 
 // The depth the CPU cuts the tree at: bricks of 16^3 voxels (a few thousand nodes where the surface is).
 std::uint32_t brickDepthOf(const TreeFrame& frame) { return 3 * std::uint32_t(std::max(1, frame.voxelSplits - 4)); }
 
-// An expanded leaf's new nodes, its voxels [begin, end) in the input and its cut (expansionCut).
+// An expanded leaf's new nodes, its voxels [begin, end) in the input, its cut (expansionCut) and
+// its depth.
 struct Expansion {
-  std::uint32_t size = 0, begin = 0, end = 0, cut = 0;
+  std::uint32_t size = 0, begin = 0, end = 0, cut = 0, depth = 0;
 };
 
 // The new nodes an expansion makes for voxel `c` of a leaf at leafDepth cut at `cut`: two per depth on
@@ -79,10 +80,6 @@ float newLeafValue(const WriteContext& w, const Cell& node, std::uint32_t a, std
   return b - a == 1 && w.inputCell(a) == node ? combined(w.op, value, inputValue(w.op, w.input[a].value)) : value;
 }
 
-// A brick: the subtree under one cell of the brick depth as its own pre-order streams (root at index
-// 0, its parent kNone), written by the paper's passes (mark, plan by a prefix sum, restructure through
-// the remap stream) exactly as the GPU writes its one stream. The pass state lives only while the
-// brick has marks.
 // A brick's state during a write's passes, lent from a pool so their storage is reused.
 struct PassState {
   std::vector<std::uint8_t> marks;  // Mark
@@ -118,9 +115,13 @@ private:
   std::vector<PassState> spare_;
 };
 
+// A brick: the subtree under one cell of the brick depth as its own pre-order pointer stream (root at
+// index 0, its parent kNone; the cells follow from the root's, so no node stream is kept), written by
+// the paper's passes (mark, plan by a prefix sum, restructure through the remap stream) as the GPU
+// writes its one stream. The pass state lives only while the brick has marks.
 struct Brick {
   std::vector<Pointer> pointers;
-  std::vector<std::uint32_t> cells;
+  Cell root;  // its root's cell (the others follow from the pointers: no node stream is kept)
   PassState pass;
   bool marked = false;
   std::uint32_t begin = 0, end = 0;    // its voxels in the input
@@ -129,7 +130,12 @@ struct Brick {
   bool dirty = true;  // changed since a collapse last found nothing in it
 
   std::size_t size() const { return pointers.size(); }
-  Cell cell(std::size_t n) const { return unpackCell(cells[2 * n], cells[2 * n + 1]); }
+  // A node's depth, counted up to the root.
+  std::uint32_t depthOf(std::size_t n) const {
+    std::uint32_t d = root.depth;
+    for (; n != 0; n = std::size_t(pointers[n].parent)) ++d;
+    return d;
+  }
 
   void startMarks(PassStatePool& pool) {
     pass = pool.take();
@@ -238,14 +244,14 @@ struct Brick {
       const std::uint32_t leaf = hits[i];
       if (leaf == kNoHit) continue;
       const bool first = i == begin || hits[i - 1] != leaf;
-      const std::uint32_t leafDepth = cells[2 * leaf + 1] >> 16;
       if (first) {
+        const std::uint32_t depth = depthOf(leaf);
         pass.expanded.push_back(leaf);
-        pass.expansions.push_back({0, i, i, expansionCut(w.op, pointers[leaf].value, leafDepth, kMaxDepth, w.scales.data())});
+        pass.expansions.push_back({0, i, i, expansionCut(w.op, pointers[leaf].value, depth, kMaxDepth, w.scales.data()), depth});
       }
       Expansion& e = pass.expansions.back();
       const Cell c = w.inputCell(i), previous = first ? c : w.inputCell(i - 1);
-      e.size += newNodesFor(first ? nullptr : &previous, c, leafDepth, e.cut);
+      e.size += newNodesFor(first ? nullptr : &previous, c, e.depth, e.cut);
       e.end = i + 1;
     }
     pass.remap.resize(size() + 1);
@@ -271,7 +277,6 @@ struct Brick {
   // followed by their new subtrees (dvt_restructure.comp).
   void restructure(const WriteContext& w, bool allowExpand, PassStatePool& pool) {
     std::vector<Pointer> newPointers(planned);
-    std::vector<std::uint32_t> newCells(2 * std::size_t(planned));
     std::size_t expansion = 0;
     for (std::size_t n = 0; n < size(); ++n) {
       const Mark m = Mark(pass.marks[n]);
@@ -282,16 +287,15 @@ struct Brick {
       Pointer out;
       out.value = p.value;
       if (p.parent >= 0) out.parent = std::int32_t(pass.remap[std::size_t(p.parent)]);
-      newCells[2 * o] = cells[2 * n], newCells[2 * o + 1] = cells[2 * n + 1];
       if (e && allowExpand) {
-        generate(w, o, out, cell(n), *e, newPointers.data(), newCells.data());
+        generate(w, o, out, *e, newPointers.data());
         continue;
       }
       if (!p.leaf() && m != kMarkReduce && m != kMarkCollapse)
         out.left = std::int32_t(pass.remap[std::size_t(p.left)]), out.right = std::int32_t(pass.remap[std::size_t(p.right)]);
       newPointers[o] = out;
     }
-    pointers = std::move(newPointers), cells = std::move(newCells);
+    pointers = std::move(newPointers);
     if (begin < end) dirty = true;  // a write's (a collapse's leaves nothing to collapse)
     endPass(pool);
   }
@@ -301,22 +305,19 @@ struct Brick {
   // strictly holds a voxel splits; the other new nodes are leaves, a voxel's own cell with its value
   // (newLeafValue), the rest with the leaf's value carried down one child scale a level. Voxels come
   // in pre-order, so each leaves the previous one's path where its right sibling is still to be made.
-  static void generate(const WriteContext& w, std::uint32_t o, const Pointer& leaf, const Cell& root, const Expansion& e,
-                       Pointer* newPointers, std::uint32_t* newCells) {
+  static void generate(const WriteContext& w, std::uint32_t o, const Pointer& leaf, const Expansion& e, Pointer* newPointers) {
     std::array<float, kMaxDepth + 2> chain{};
-    chain[root.depth] = leaf.value;
-    for (std::uint32_t d = root.depth; d <= std::uint32_t(kMaxDepth); ++d) chain[d + 1] = childValue(chain[d], w.scales[d]);
+    chain[e.depth] = leaf.value;
+    for (std::uint32_t d = e.depth; d <= std::uint32_t(kMaxDepth); ++d) chain[d + 1] = childValue(chain[d], w.scales[d]);
     std::array<std::uint32_t, kMaxDepth + 1> node{};  // the current path's node at each depth
     std::uint64_t rightToMake = 0;  // bit d: the path's node at depth d has its left child only
-    std::uint32_t at = o + 1, last = root.depth;
-    node[root.depth] = o;
+    std::uint32_t at = o + 1, last = e.depth;
+    node[e.depth] = o;
     newPointers[o] = leaf;
-    // The child k of the path's node at depth d, made at the next index (its cell from the parent's).
+    // The child k of the path's node at depth d, made at the next index.
     const auto make = [&](std::uint32_t d, int k, float value) {
       const std::uint32_t q = at++, parent = node[d];
       (k == 0 ? newPointers[parent].left : newPointers[parent].right) = std::int32_t(q);
-      const auto packed = packCell(childCell(unpackCell(newCells[2 * parent], newCells[2 * parent + 1]), k));
-      newCells[2 * q] = packed[0], newCells[2 * q + 1] = packed[1];
       newPointers[q] = {std::int32_t(parent), kNone, kNone, value};
       return q;
     };
@@ -327,7 +328,7 @@ struct Brick {
     for (std::uint32_t i = e.begin; i < e.end; ++i) {
       const Cell c = w.inputCell(i);
       const std::uint32_t end = std::min(e.cut, c.depth);  // the depth its path ends at
-      std::uint32_t d = root.depth;
+      std::uint32_t d = e.depth;
       if (i != e.begin) {
         const std::uint32_t common = commonDepth(w.inputCell(i - 1), c);
         if (common >= e.cut) continue;  // in the previous voxel's leaf at the cut
@@ -345,23 +346,20 @@ struct Brick {
       if (end == c.depth) newPointers[node[end]].value = combined(w.op, chain[end], inputValue(w.op, w.input[i].value));
       last = end;
     }
-    makeRightLeaves(root.depth);
+    makeRightLeaves(e.depth);
   }
 
   // A new one-leaf brick grown at once for its voxels [a, b) (a top leaf's expansion going on into it).
   void growNew(const WriteContext& w, std::uint32_t a, std::uint32_t b) {
-    const Cell root = cell(0);
     const std::uint32_t cut = expansionCut(w.op, pointers[0].value, root.depth, kMaxDepth, w.scales.data());
-    Expansion e{0, a, b, cut};
+    Expansion e{0, a, b, cut, root.depth};
     for (std::uint32_t i = a; i < b; ++i) {
       const Cell previous = w.inputCell(i == a ? i : i - 1);
       e.size += newNodesFor(i == a ? nullptr : &previous, w.inputCell(i), root.depth, cut);
     }
     std::vector<Pointer> newPointers(1 + e.size);
-    std::vector<std::uint32_t> newCells(2 * (1 + std::size_t(e.size)));
-    newCells[0] = cells[0], newCells[1] = cells[1];
-    generate(w, 0, pointers[0], root, e, newPointers.data(), newCells.data());
-    pointers = std::move(newPointers), cells = std::move(newCells);
+    generate(w, 0, pointers[0], e, newPointers.data());
+    pointers = std::move(newPointers);
   }
 };
 
@@ -433,7 +431,7 @@ public:
     std::uint64_t b = top_.items.capacity() * sizeof(TopNode) + bricks_.items.capacity() * sizeof(Brick) +
                       input_.capacity() * sizeof(InputVoxel) + (hits_.capacity() + route_.capacity()) * 4;
     for (const Brick& k : bricks_.items)
-      b += k.pointers.capacity() * sizeof(Pointer) + k.cells.capacity() * 4 + k.pass.bytes();
+      b += k.pointers.capacity() * sizeof(Pointer) + k.pass.bytes();
     return b + states_.bytes();
   }
 
@@ -721,7 +719,7 @@ private:
       if (bricks) {
         Brick& brick = bricks_.items[std::size_t(pair + k)];
         brick.pointers = {Pointer{kNone, kNone, kNone, v}};
-        brick.cells = {packed[0], packed[1]};
+        brick.root = child;
         brick.dirty = true;
         if (splits) newBricks_.push_back({pair + k, ca, cb});
         ++brickNodes_;
@@ -759,7 +757,7 @@ private:
 
   void loadBrick(const VolumeTree& tree, std::size_t begin, std::size_t end, Brick& brick) {
     brick.pointers.assign(tree.pointers.begin() + std::ptrdiff_t(begin), tree.pointers.begin() + std::ptrdiff_t(end));
-    brick.cells.assign(tree.cells.begin() + std::ptrdiff_t(2 * begin), tree.cells.begin() + std::ptrdiff_t(2 * end));
+    brick.root = tree.cell(begin);
     const auto shift = [&](std::int32_t& i) {
       if (i >= 0) i -= std::int32_t(begin);
     };
@@ -794,7 +792,21 @@ private:
       if (!p.leaf()) p.left += base, p.right += base;
       out.pointers.push_back(p);
     }
-    out.cells.insert(out.cells.end(), b.cells.begin(), b.cells.end());
+    // Cells down from the root's, children after their parents in pre-order.
+    out.cells.resize(out.cells.size() + 2 * b.size());
+    std::uint32_t* cells = out.cells.data() + 2 * std::size_t(base);
+    const auto root = packCell(b.root);
+    cells[0] = root[0], cells[1] = root[1];
+    for (std::size_t n = 0; n < b.size(); ++n) {
+      const Pointer& p = b.pointers[n];
+      if (p.leaf()) continue;
+      const Cell c = unpackCell(cells[2 * n], cells[2 * n + 1]);
+      for (int k = 0; k < 2; ++k) {
+        const auto child = packCell(childCell(c, k));
+        const std::size_t m = std::size_t(k == 0 ? p.left : p.right);
+        cells[2 * m] = child[0], cells[2 * m + 1] = child[1];
+      }
+    }
     return base;
   }
 
