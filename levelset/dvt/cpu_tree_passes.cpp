@@ -115,13 +115,22 @@ private:
   std::vector<PassState> spare_;
 };
 
-// A brick: the subtree under one cell of the brick depth as its own pre-order pointer stream (root at
-// index 0, its parent kNone; the cells follow from the root's, so no node stream is kept), written by
-// the paper's passes (mark, plan by a prefix sum, restructure through the remap stream) as the GPU
-// writes its one stream. The pass state lives only while the brick has marks.
+// A node of a brick: in pre-order an inner node's left child is the next node, so only the right
+// child is kept (kNone: a leaf); parents and cells follow from the path down (8 bytes a node where the
+// one stream's Pointer and cell take 24).
+struct BrickNode {
+  std::int32_t right = kNone;
+  float value = kOutside;
+  bool leaf() const { return right < 0; }
+};
+
+// A brick: the subtree under one cell of the brick depth as its own pre-order stream of BrickNodes
+// (root at index 0), written by the paper's passes (mark, plan by a prefix sum, restructure through
+// the remap stream) as the GPU writes its one stream. The pass state lives only while the brick has
+// marks.
 struct Brick {
-  std::vector<Pointer> pointers;
-  Cell root;  // its root's cell (the others follow from the pointers: no node stream is kept)
+  std::vector<BrickNode> nodes;
+  Cell root;  // its root's cell
   PassState pass;
   bool marked = false;
   std::uint32_t begin = 0, end = 0;    // its voxels in the input
@@ -129,11 +138,11 @@ struct Brick {
   bool reduced = false;
   bool dirty = true;  // changed since a collapse last found nothing in it
 
-  std::size_t size() const { return pointers.size(); }
-  // A node's depth, counted up to the root.
-  std::uint32_t depthOf(std::size_t n) const {
+  std::size_t size() const { return nodes.size(); }
+  // The depth of node n, an ancestor of cell c (or c's own), found on the way down to c.
+  std::uint32_t depthOf(std::size_t n, const Cell& c) const {
     std::uint32_t d = root.depth;
-    for (; n != 0; n = std::size_t(pointers[n].parent)) ++d;
+    for (std::size_t m = 0; m != n; ++d) m = childTowards(c, d) == 0 ? m + 1 : std::size_t(nodes[m].right);
     return d;
   }
 
@@ -148,14 +157,10 @@ struct Brick {
     begin = end = 0;
   }
 
-  // The index just past n's subtree.
+  // The index just past n's subtree: past the last leaf down its right children.
   std::size_t subtreeEnd(std::size_t n) const {
-    for (std::size_t m = n; m != 0;) {
-      const auto q = std::size_t(pointers[m].parent);
-      if (pointers[q].left == std::int32_t(m)) return std::size_t(pointers[q].right);
-      m = q;
-    }
-    return size();
+    while (!nodes[n].leaf()) n = std::size_t(nodes[n].right);
+    return n + 1;
   }
 
   // The mark pass for the brick's voxels; reduced subtrees' ranges summed before each node (> 0 below
@@ -179,7 +184,7 @@ struct Brick {
     for (std::uint32_t d = walk.resume(c, rootDepth, 0, n);; ++d) {
       walk.nodes[d] = n;
       walk.ended(c, d);
-      Pointer& p = pointers[n];
+      BrickNode& p = nodes[n];
       if (p.leaf()) {
         if (d == c.depth) {
           const float v = combined(w.op, p.value, incoming);
@@ -201,7 +206,7 @@ struct Brick {
         reduced = true;
         return 1;
       }
-      n = std::uint32_t(childTowards(c, d) == 0 ? p.left : p.right);
+      n = childTowards(c, d) == 0 ? n + 1 : std::uint32_t(p.right);
     }
   }
 
@@ -213,19 +218,18 @@ struct Brick {
     static thread_local std::vector<float> uniform;  // per node: its subtree's one value, or 0
     uniform.resize(size());
     for (std::size_t n = size(); n-- > 0;) {
-      const Pointer& p = pointers[n];
-      const float left = p.leaf() ? 0 : uniform[std::size_t(p.left)];
-      uniform[n] = p.leaf() ? uniformValue(p.value) : (left == uniform[std::size_t(p.right)] ? left : 0);
+      const BrickNode& p = nodes[n];
+      uniform[n] = p.leaf() ? uniformValue(p.value) : (uniform[n + 1] == uniform[std::size_t(p.right)] ? uniform[n + 1] : 0);
     }
     std::uint64_t count = 0;
     for (std::size_t n = 0; n < size();) {
-      if (pointers[n].leaf() || uniform[n] == 0) {
+      if (nodes[n].leaf() || uniform[n] == 0) {
         ++n;
         continue;
       }
       if (count++ == 0) startMarks(pool);
       pass.marks[n] = kMarkCollapse;
-      pointers[n].value = uniform[n];  // the value of the leaf it becomes
+      nodes[n].value = uniform[n];  // the value of the leaf it becomes
       const std::size_t next = subtreeEnd(n);
       if (!reduced) pass.removals.assign(size() + 1, 0), reduced = true;
       ++pass.removals[n], --pass.removals[next - 1];
@@ -245,9 +249,9 @@ struct Brick {
       if (leaf == kNoHit) continue;
       const bool first = i == begin || hits[i - 1] != leaf;
       if (first) {
-        const std::uint32_t depth = depthOf(leaf);
+        const std::uint32_t depth = depthOf(leaf, w.inputCell(i));
         pass.expanded.push_back(leaf);
-        pass.expansions.push_back({0, i, i, expansionCut(w.op, pointers[leaf].value, depth, kMaxDepth, w.scales.data()), depth});
+        pass.expansions.push_back({0, i, i, expansionCut(w.op, nodes[leaf].value, depth, kMaxDepth, w.scales.data()), depth});
       }
       Expansion& e = pass.expansions.back();
       const Cell c = w.inputCell(i), previous = first ? c : w.inputCell(i - 1);
@@ -276,26 +280,22 @@ struct Brick {
   // The restructure pass: every kept node to its new index, pointers remapped, expanded leaves
   // followed by their new subtrees (dvt_restructure.comp).
   void restructure(const WriteContext& w, bool allowExpand, PassStatePool& pool) {
-    std::vector<Pointer> newPointers(planned);
+    std::vector<BrickNode> newNodes(planned);
     std::size_t expansion = 0;
     for (std::size_t n = 0; n < size(); ++n) {
       const Mark m = Mark(pass.marks[n]);
       const Expansion* e = m == kMarkExpand ? &pass.expansions[expansion++] : nullptr;
       if (pass.remap[n + 1] == pass.remap[n]) continue;  // removed
       const std::uint32_t o = pass.remap[n];
-      const Pointer& p = pointers[n];
-      Pointer out;
-      out.value = p.value;
-      if (p.parent >= 0) out.parent = std::int32_t(pass.remap[std::size_t(p.parent)]);
+      const BrickNode& p = nodes[n];
       if (e && allowExpand) {
-        generate(w, o, out, *e, newPointers.data());
+        generate(w, o, p.value, *e, newNodes.data());
         continue;
       }
-      if (!p.leaf() && m != kMarkReduce && m != kMarkCollapse)
-        out.left = std::int32_t(pass.remap[std::size_t(p.left)]), out.right = std::int32_t(pass.remap[std::size_t(p.right)]);
-      newPointers[o] = out;
+      const bool staysInner = !p.leaf() && m != kMarkReduce && m != kMarkCollapse;
+      newNodes[o] = {staysInner ? std::int32_t(pass.remap[std::size_t(p.right)]) : kNone, p.value};
     }
-    pointers = std::move(newPointers);
+    nodes = std::move(newNodes);
     if (begin < end) dirty = true;  // a write's (a collapse's leaves nothing to collapse)
     endPass(pool);
   }
@@ -305,20 +305,21 @@ struct Brick {
   // strictly holds a voxel splits; the other new nodes are leaves, a voxel's own cell with its value
   // (newLeafValue), the rest with the leaf's value carried down one child scale a level. Voxels come
   // in pre-order, so each leaves the previous one's path where its right sibling is still to be made.
-  static void generate(const WriteContext& w, std::uint32_t o, const Pointer& leaf, const Expansion& e, Pointer* newPointers) {
+  static void generate(const WriteContext& w, std::uint32_t o, float leafValue, const Expansion& e, BrickNode* newNodes) {
     std::array<float, kMaxDepth + 2> chain{};
-    chain[e.depth] = leaf.value;
+    chain[e.depth] = leafValue;
     for (std::uint32_t d = e.depth; d <= std::uint32_t(kMaxDepth); ++d) chain[d + 1] = childValue(chain[d], w.scales[d]);
     std::array<std::uint32_t, kMaxDepth + 1> node{};  // the current path's node at each depth
     std::uint64_t rightToMake = 0;  // bit d: the path's node at depth d has its left child only
     std::uint32_t at = o + 1, last = e.depth;
     node[e.depth] = o;
-    newPointers[o] = leaf;
-    // The child k of the path's node at depth d, made at the next index.
+    newNodes[o] = {kNone, leafValue};
+    // The child k of the path's node at depth d, made at the next index (a left child comes right
+    // after its parent: pre-order).
     const auto make = [&](std::uint32_t d, int k, float value) {
-      const std::uint32_t q = at++, parent = node[d];
-      (k == 0 ? newPointers[parent].left : newPointers[parent].right) = std::int32_t(q);
-      newPointers[q] = {std::int32_t(parent), kNone, kNone, value};
+      const std::uint32_t q = at++;
+      if (k == 1) newNodes[node[d]].right = std::int32_t(q);
+      newNodes[q] = {kNone, value};
       return q;
     };
     const auto makeRightLeaves = [&](std::uint32_t above) {  // the siblings still to make, deepest first
@@ -343,7 +344,7 @@ struct Brick {
         else rightToMake |= std::uint64_t(1) << d;
         node[d + 1] = make(d, k, chain[d + 1]);
       }
-      if (end == c.depth) newPointers[node[end]].value = combined(w.op, chain[end], inputValue(w.op, w.input[i].value));
+      if (end == c.depth) newNodes[node[end]].value = combined(w.op, chain[end], inputValue(w.op, w.input[i].value));
       last = end;
     }
     makeRightLeaves(e.depth);
@@ -351,15 +352,15 @@ struct Brick {
 
   // A new one-leaf brick grown at once for its voxels [a, b) (a top leaf's expansion going on into it).
   void growNew(const WriteContext& w, std::uint32_t a, std::uint32_t b) {
-    const std::uint32_t cut = expansionCut(w.op, pointers[0].value, root.depth, kMaxDepth, w.scales.data());
+    const std::uint32_t cut = expansionCut(w.op, nodes[0].value, root.depth, kMaxDepth, w.scales.data());
     Expansion e{0, a, b, cut, root.depth};
     for (std::uint32_t i = a; i < b; ++i) {
       const Cell previous = w.inputCell(i == a ? i : i - 1);
       e.size += newNodesFor(i == a ? nullptr : &previous, w.inputCell(i), root.depth, cut);
     }
-    std::vector<Pointer> newPointers(1 + e.size);
-    generate(w, 0, pointers[0], e, newPointers.data());
-    pointers = std::move(newPointers);
+    std::vector<BrickNode> newNodes(1 + e.size);
+    generate(w, 0, nodes[0].value, e, newNodes.data());
+    nodes = std::move(newNodes);
   }
 };
 
@@ -431,7 +432,7 @@ public:
     std::uint64_t b = top_.items.capacity() * sizeof(TopNode) + bricks_.items.capacity() * sizeof(Brick) +
                       input_.capacity() * sizeof(InputVoxel) + (hits_.capacity() + route_.capacity()) * 4;
     for (const Brick& k : bricks_.items)
-      b += k.pointers.capacity() * sizeof(Pointer) + k.pass.bytes();
+      b += k.nodes.capacity() * sizeof(BrickNode) + k.pass.bytes();
     return b + states_.bytes();
   }
 
@@ -499,7 +500,7 @@ public:
     clearMarks();
     input_.clear(), hits_.clear(), route_.clear(), topHits_.clear();  // no voxel expands anything in a collapse
     for (std::size_t b = 0; b < bricks_.items.size(); ++b)
-      if (bricks_.items[b].dirty && !bricks_.items[b].pointers.empty()) dirtyBricks_.push_back(std::int32_t(b));
+      if (bricks_.items[b].dirty && !bricks_.items[b].nodes.empty()) dirtyBricks_.push_back(std::int32_t(b));
     std::uint64_t marks = tbb::parallel_reduce(
         tbb::blocked_range<std::size_t>(0, dirtyBricks_.size(), 1), std::uint64_t(0),
         [&](const auto& r, std::uint64_t s) {
@@ -628,7 +629,7 @@ private:
     for (int k = 0; k < 2; ++k) {
       if (depth + 1 == brickDepth_) {
         const Brick& b = bricks_.items[std::size_t(n.children + k)];
-        value[k] = b.size() == 1 ? uniformValue(b.pointers[0].value) : 0;
+        value[k] = b.size() == 1 ? uniformValue(b.nodes[0].value) : 0;
       } else {
         value[k] = markTopCollapse(n.children + k, depth + 1, marks);
       }
@@ -718,7 +719,7 @@ private:
       const auto packed = packCell(child);
       if (bricks) {
         Brick& brick = bricks_.items[std::size_t(pair + k)];
-        brick.pointers = {Pointer{kNone, kNone, kNone, v}};
+        brick.nodes = {BrickNode{kNone, v}};
         brick.root = child;
         brick.dirty = true;
         if (splits) newBricks_.push_back({pair + k, ca, cb});
@@ -756,13 +757,12 @@ private:
   }
 
   void loadBrick(const VolumeTree& tree, std::size_t begin, std::size_t end, Brick& brick) {
-    brick.pointers.assign(tree.pointers.begin() + std::ptrdiff_t(begin), tree.pointers.begin() + std::ptrdiff_t(end));
+    brick.nodes.resize(end - begin);
+    for (std::size_t n = begin; n < end; ++n) {
+      const Pointer& p = tree.pointers[n];
+      brick.nodes[n - begin] = {p.leaf() ? kNone : p.right - std::int32_t(begin), p.value};
+    }
     brick.root = tree.cell(begin);
-    const auto shift = [&](std::int32_t& i) {
-      if (i >= 0) i -= std::int32_t(begin);
-    };
-    for (Pointer& p : brick.pointers) shift(p.parent), shift(p.left), shift(p.right);
-    brick.pointers[0].parent = kNone;
     brickNodes_ += brick.size();
   }
 
@@ -786,25 +786,26 @@ private:
   }
 
   static std::int32_t emitBrick(VolumeTree& out, const Brick& b, std::int32_t parent) {
+    // Parents and cells down from the root's: children come after their parents in pre-order.
     const auto base = std::int32_t(out.pointers.size());
-    for (Pointer p : b.pointers) {
-      p.parent = p.parent >= 0 ? p.parent + base : parent;
-      if (!p.leaf()) p.left += base, p.right += base;
-      out.pointers.push_back(p);
-    }
-    // Cells down from the root's, children after their parents in pre-order.
+    out.pointers.resize(out.pointers.size() + b.size());
     out.cells.resize(out.cells.size() + 2 * b.size());
+    Pointer* pointers = out.pointers.data() + base;
     std::uint32_t* cells = out.cells.data() + 2 * std::size_t(base);
     const auto root = packCell(b.root);
     cells[0] = root[0], cells[1] = root[1];
+    pointers[0].parent = parent;
     for (std::size_t n = 0; n < b.size(); ++n) {
-      const Pointer& p = b.pointers[n];
-      if (p.leaf()) continue;
+      const BrickNode& node = b.nodes[n];
+      pointers[n].value = node.value;
+      if (node.leaf()) continue;
+      const std::size_t children[2] = {n + 1, std::size_t(node.right)};
+      pointers[n].left = base + std::int32_t(children[0]), pointers[n].right = base + node.right;
       const Cell c = unpackCell(cells[2 * n], cells[2 * n + 1]);
       for (int k = 0; k < 2; ++k) {
         const auto child = packCell(childCell(c, k));
-        const std::size_t m = std::size_t(k == 0 ? p.left : p.right);
-        cells[2 * m] = child[0], cells[2 * m + 1] = child[1];
+        cells[2 * children[k]] = child[0], cells[2 * children[k] + 1] = child[1];
+        pointers[children[k]].parent = base + std::int32_t(n);
       }
     }
     return base;

@@ -1,8 +1,8 @@
 // TreePasses: the data-parallel passes a DVT write and collapse are made of (Jung et al., Alg. 3.1),
 // on the CPU (cpu_tree_passes, TBB) or the GPU (gpu_tree_passes, GL 4.5 compute). Both apply
-// tree_rules.h to pointer and node streams (volume_tree.h) with a mark per node: the GPU to the one
-// stream, the CPU to each brick of a tree it keeps cut into bricks (download() gives the one stream,
-// the GPU's node for node). DynamicVolumeTree drives them. One iteration of a write:
+// tree_rules.h to pre-order streams (volume_tree.h) with a mark per node: the GPU to the one pointer
+// and node stream, the CPU to each brick of a tree it keeps cut into bricks, in a compact stream of
+// its own (download() gives the one stream, the GPU's node for node). DynamicVolumeTree drives them. One iteration of a write:
 //   mark         per input voxel: walk to its target depth; write leaves of that depth, mark a coarser
 //                leaf for expansion (and note it as the voxel's hit), mark a finer subtree for
 //                reduction (its pre-order range, for one scan that removes it whole)
