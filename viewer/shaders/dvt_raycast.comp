@@ -2,7 +2,7 @@
 // Ray casting of a DVT, one thread per pixel (a fragment stage left seams on llvmpipe, where quads were
 // split by the viewport's two triangles): from leaf to leaf along the ray (empty leaves skipped whole) to the first leaf
 // whose centre is inside; the surface is placed and lit from the inside-ness field (leaf value times
-// its radius, world units) and its gradient over the neighbouring leaves.
+// its radius, world units), interpolated between the leaves around the hit, and its gradient.
 #include "dvt_tree.glsl"
 #include "shading.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -19,9 +19,18 @@ float field(vec3 p, float band) {
   return clamp(pointers[l.node].value * radius[depthOf(cells[l.node])], -band, band);
 }
 
-vec3 gradient(vec3 p, float h, float band) {
-  return vec3(field(p + vec3(h, 0, 0), band) - field(p - vec3(h, 0, 0), band), field(p + vec3(0, h, 0), band) - field(p - vec3(0, h, 0), band),
-              field(p + vec3(0, 0, h), band) - field(p - vec3(0, 0, h), band)) / (2.0 * h);
+// The field interpolated trilinearly between the centres of a lattice of cells of size `cell` (index
+// units) around p, as a volume's texture is, and its gradient: the leaves' values alone are piecewise
+// constant and would light cell-sized terraces.
+float smoothField(vec3 p, vec3 cell, float band, out vec3 gradient) {
+  vec3 u = (p + 0.5) / cell - 0.5, base = floor(u), f = u - base;
+  float v[8];
+  for (int i = 0; i < 8; ++i) v[i] = field((base + vec3(i & 1, (i >> 1) & 1, i >> 2) + 0.5) * cell - 0.5, band);
+  vec4 x = vec4(mix(v[0], v[1], f.x), mix(v[2], v[3], f.x), mix(v[4], v[5], f.x), mix(v[6], v[7], f.x));
+  vec4 dx = vec4(v[1] - v[0], v[3] - v[2], v[5] - v[4], v[7] - v[6]);
+  vec2 y = vec2(mix(x[0], x[1], f.y), mix(x[2], x[3], f.y));
+  gradient = vec3(mix(mix(dx[0], dx[1], f.y), mix(dx[2], dx[3], f.y), f.z), mix(x[1] - x[0], x[3] - x[2], f.z), y[1] - y[0]) / cell;
+  return mix(y[0], y[1], f.z);
 }
 
 void main() {
@@ -54,14 +63,14 @@ void main() {
     imageStore(target, pixel, vec4(background, 1.0));
     return;
   }
-  // The inside-ness field, linear around the hit: where along the ray it crosses zero; the normal from
-  // its gradient there. A stencil of a voxel or more: a mask's leaves hold steps, not distances.
-  float h = max(min(min(l.size.x, l.size.y), l.size.z), 1.0), band = 2.0 * radius[depthOf(cells[l.node])];
+  // The inside-ness field, smooth around the hit: where along the ray it crosses zero; the normal from
+  // its gradient there. A lattice of the hit leaf's size, a voxel at most (coarser leaves are uniform).
+  vec3 cell = min(l.size, vec3(1.0)), g;
+  float band = 2.0 * radius[depthOf(cells[l.node])];
   vec3 p = o + t * d;
-  vec3 g = gradient(p, h, band);
-  float rate = dot(g, d);
-  float hit = rate > 0.0 ? clamp(t - field(p, band) / rate, t - lastSpan, t + span) : t;
-  g = gradient(o + hit * d, h, band);
+  float value = smoothField(p, cell, band, g), rate = dot(g, d);
+  float hit = rate > 0.0 ? clamp(t - value / rate, t - lastSpan, t + span) : t;
+  smoothField(o + hit * d, cell, band, g);
   vec3 world = (indexToWorld * vec4(o + hit * d, 1.0)).xyz;
   vec3 normal = length(g) > 0.0 ? normalToWorld * -g : normalToWorld * -d;
   if (dot(normal, eye - world) < 0.0) normal = -normal;  // a first hit faces the eye
