@@ -27,4 +27,17 @@ inline std::pair<std::int64_t, std::int64_t> silhouetteMismatch(const Image& ima
   return {wrong, inside};
 }
 
+// Pixels whose ray passes within radius - margin of a sphere's centre (well inside its silhouette)
+// that the picture leaves as background: rays that slipped through the surface.
+inline std::int64_t holesInside(const Image& image, const viewer::Camera& c, const Vec3& centre, double radius, double margin) {
+  std::int64_t holes = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const Vec3 d = c.rayThrough(x + 0.5, y + 0.5), m = centre - c.eye;
+      const double along = dot(m, d), miss2 = dot(m, m) - along * along;  // squared distance from the ray
+      holes += along > 0 && miss2 < (radius - margin) * (radius - margin) && !drawn(image, x, y);
+    }
+  return holes;
+}
+
 }  // namespace isoatlas::test

@@ -50,14 +50,14 @@ void main() {
   bool found = false;
   float lastSpan = 0.0, span = 0.0;
   Leaf l;
-  for (int step = 0; step < 8192 && !found && t < tEnd; ++step) {
-    l = leafAt(o + t * d);
+  for (int step = 0; step < 262144 && !found && t < tEnd; ++step) {
+    l = leafToward(o + t * d, d);
     vec3 exits = max((l.lo - o) * inv, (l.lo + l.size - o) * inv);
     float tExit = min(min(exits.x, exits.y), exits.z);
     found = pointers[l.node].value > 0.0;
     lastSpan = span;
     span = tExit - t;
-    if (!found) t = tExit + 1e-4 * min(min(l.size.x, l.size.y), l.size.z) / length(d);
+    if (!found) t = max(tExit, t) + 1e-4 * min(min(l.size.x, l.size.y), l.size.z) / length(d);
   }
   if (!found) {
     imageStore(target, pixel, vec4(background, 1.0));

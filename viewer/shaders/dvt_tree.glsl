@@ -15,17 +15,21 @@ struct Leaf {
   vec3 lo, size;  // the leaf's box in index coordinates
 };
 
-Leaf leafAt(vec3 p) {
+// A point on a split plane goes to the half `heading` points into (the upper one for heading >= 0): a
+// ray along a plane, on it, must find the leaves it enters, not the ones it leaves.
+Leaf leafToward(vec3 p, vec3 heading) {
   Leaf l = Leaf(0u, vec3(-0.5), vec3(exp2(float(voxelSplits))));
   for (uint d = 0u; !isLeaf(pointers[l.node]); ++d) {
     uint a = d % 3u;
     l.size[a] *= 0.5;
-    bool upper = p[a] >= l.lo[a] + l.size[a];
+    float split = l.lo[a] + l.size[a];
+    bool upper = p[a] > split || (p[a] == split && heading[a] >= 0.0);
     if (upper) l.lo[a] += l.size[a];
     l.node = uint(upper ? pointers[l.node].right : pointers[l.node].left);
   }
   return l;
 }
+Leaf leafAt(vec3 p) { return leafToward(p, vec3(1.0)); }
 
 vec3 cellLow(uvec2 cell, out vec3 size) {
   uint depth = depthOf(cell);
