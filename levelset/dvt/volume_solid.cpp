@@ -35,13 +35,12 @@ TreeFrame frameAround(const Vec3& lo, const Vec3& hi, int voxelSplits) {
 
 VolumeSolid::VolumeSolid(const Volume& volume)
     : dims_(volume.dims), voxel_([&volume](std::int64_t i, std::int64_t j, std::int64_t k) { return volume.at(i, j, k); }),
-      mask_(!isFloating(volume.type)), unit_(std::min({volume.spacing.x, volume.spacing.y, volume.spacing.z})) {
+      mask_(!isFloating(volume.type)), spacing_(volume.spacing) {
   buildTable();
 }
 
 VolumeSolid::VolumeSolid(const LevelSet& levelSet)
-    : dims_(levelSet.geometry().dims), mask_(false),
-      unit_(std::min({levelSet.geometry().spacing.x, levelSet.geometry().spacing.y, levelSet.geometry().spacing.z})) {
+    : dims_(levelSet.geometry().dims), mask_(false), spacing_(levelSet.geometry().spacing) {
   const float* pool = levelSet.phiPoolOnHost();
   const PageManager& pages = levelSet.pages();
   voxel_ = [pool, &pages](std::int64_t i, std::int64_t j, std::int64_t k) { return double(pool[pages.poolTexel(i, j, k)]); };
@@ -104,9 +103,23 @@ CellClass VolumeSolid::classify(const TreeFrame& frame, const Cell& cell, double
   return inside == 0 ? CellClass::Outside : (inside == voxels ? CellClass::Inside : CellClass::Crossed);
 }
 
+// The slope along each axis is the larger of the two one-sided differences: phi is clamped a few
+// voxels from its front, and a clamp only ever flattens it.
+double VolumeSolid::distance(const Vec3& index, double f) const {
+  Vec3 gradient;
+  for (int a = 0; a < 3; ++a) {
+    Vec3 step{0, 0, 0};
+    step[a] = 1;
+    gradient[a] = std::max(std::abs(field(index + step) - f), std::abs(f - field(index - step))) / spacing_[a];
+  }
+  const double slope = norm(gradient);
+  return slope > 0 ? f / slope : f * std::min({spacing_.x, spacing_.y, spacing_.z});
+}
+
 float VolumeSolid::value(const TreeFrame& frame, const Cell& cell, double radius) const {
-  const double f = field(frame.centreIndex(cell));
-  return mask_ ? boundValue(f, 1.0) : boundValue(f * unit_, radius);
+  const Vec3 c = frame.centreIndex(cell);
+  const double f = field(c);
+  return mask_ ? boundValue(f, 1.0) : boundValue(distance(c, f), radius);
 }
 
 LeafSample sampleAt(const VolumeTree& tree, const Vec3& index) {

@@ -3,10 +3,12 @@
 //   its largest dimension), so depth 3K cells are its voxels. frameAround: an isotropic grid around a
 //   world box, for inputs with no voxels (meshes).
 //   VolumeSolid: a mask (an integer volume, inside where nonzero) or a phi volume (floating point,
-//   inside where > 0, in voxel units as isoatlas segment --phi writes it), or a level set's phi read
-//   from its pages where its backend keeps them (no dense phi); trilinear between voxel centres and
-//   outside past the volume's edges; cells are classified from the voxels their interpolation reads
-//   (a summed-volume table of the inside voxels).
+//   inside where > 0, as isoatlas segment --phi writes it), or a level set's phi read from its pages
+//   where its backend keeps them (no dense phi); trilinear between voxel centres and outside past the
+//   volume's edges; cells are classified from the voxels their interpolation reads (a summed-volume
+//   table of the inside voxels). A crossed cell of phi holds phi's distance to first order, phi over
+//   the length of its gradient: the level set's phi is far steeper than a distance at its front (its
+//   rescaling term vanishes there), so its own values would put the tree's surface on the voxels' faces.
 //   sampleMask / sampleField: the tree at voxel centres (a point on a split plane belongs to the
 //   upper half): a mask (uint8, 1 inside) with the frame's geometry over `dims`, or the inside-ness
 //   in world units (leaf value times its radius; > 0 inside) on the grid of the depth-d cells, for
@@ -38,14 +40,15 @@ public:
   float value(const TreeFrame& frame, const Cell& cell, double radius) const override;
 
 private:
-  double field(const Vec3& index) const;  // inside-ness, trilinear; mask: +-1, phi: voxel units
+  double field(const Vec3& index) const;  // inside-ness, trilinear; mask: +-1, phi: as the source's
+  double distance(const Vec3& index, double f) const;  // phi's world distance to first order, f = field(index)
   double voxelField(std::int64_t i, std::int64_t j, std::int64_t k) const;
   std::uint64_t insideIn(const std::array<std::int64_t, 3>& lo, const std::array<std::int64_t, 3>& hi) const;
   void buildTable();
   std::array<std::int64_t, 3> dims_;
   std::function<double(std::int64_t, std::int64_t, std::int64_t)> voxel_;  // the source's value
   bool mask_;
-  double unit_;  // world units of one voxel unit of phi (the smallest spacing)
+  Vec3 spacing_;
   std::vector<std::uint32_t> table_;  // (nx+1)(ny+1)(nz+1) counts of inside voxels below each corner
 };
 

@@ -232,6 +232,38 @@ TEST(Dvt, LevelSetPagesMakeTheTreeOfItsMask) {
   EXPECT_EQ(back.data, mask.data);
 }
 
+// The level set's phi is far steeper than a distance at its front and clamped a few voxels out: a
+// crossed leaf still holds the distance to phi's zero set (to first order), so that the field between
+// leaves, which the ray caster lights and extract/ meshes, puts the surface where phi does.
+TEST(Dvt, ASteepClampedPhiGivesDistancesInTheBand) {
+  Volume phi = Volume::zeros({24, 24, 16}, ScalarType::Float32);
+  phi.spacing = {1, 1, 1.5};
+  const Vec3 centre{11.3, 12.1, 11.6};
+  const double radius = 7.2;
+  for (std::int64_t k = 0; k < 16; ++k)
+    for (std::int64_t j = 0; j < 24; ++j)
+      for (std::int64_t i = 0; i < 24; ++i) {
+        const double d = radius - norm(Vec3{double(i), double(j), 1.5 * double(k)} - centre);
+        phi.setValue(phi.index(i, j, k), std::clamp(4 * d, -3.0, 3.0));
+      }
+  const TreeFrame frame = frameOf(phi);
+  DynamicVolumeTree tree(VolumeTree::empty(frame), makeCpuTreePasses());
+  tree.write(rasterise(VolumeSolid(phi), frame, frame.voxelDepth()), Op::Union);
+  const VolumeTree& t = tree.tree();
+  std::int64_t near = 0;
+  double worst = 0;
+  for (std::size_t n = 0; n < t.nodeCount(); ++n) {
+    if (!t.pointers[n].leaf()) continue;
+    const Cell c = t.cell(n);
+    const double truth = radius - norm(frame.centreWorld(c) - centre);
+    if (std::abs(truth) > 0.6) continue;  // phi itself is unclamped here
+    ++near;
+    worst = std::max(worst, std::abs(double(t.pointers[n].value) * frame.radius(c.depth) - truth));
+  }
+  EXPECT_GT(near, 300);
+  EXPECT_LT(worst, 0.1);
+}
+
 TEST(Dvt, MalformedBrushesAreRefused) {
   for (const char* bad : {"sphere", "sphere:1,2,3", "sphere:1,2,3,0", "sphere:1,2,x,4", "cube:1,2,3,4", "box:0,0,0,1,1,0",
                           "torus:0,0,0,1", "capsule:0,0,0,1,1,1,-1", "sphere:1,2,3,nan", "sphere:1,2,3,4,", ""})
