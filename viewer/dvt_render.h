@@ -1,9 +1,9 @@
 // Pictures of a dynamic volume tree (levelset/dvt), drawn in the current GL context straight from the
 // tree's pointer and node streams (Jung et al., sec. 5.1):
 //   Cubes:   one instanced cube per inside leaf (the vertex stage drops every other node), flat shaded.
-//   RayCast: a ray per pixel walks the tree from leaf to leaf (empty leaves are skipped whole) to the
-//            first leaf whose centre is inside; the hit and the normal come from the sub-voxel
-//            distances (the inside-ness field's gradient, from the leaves around the hit).
+//   RayCast: a ray per pixel walks the tree from leaf to leaf (coarse empty leaves are skipped whole)
+//            to the first zero of the sub-voxel distances interpolated between the leaves, and is
+//            lit from their gradient there.
 // DvtRenderer draws buffers a GPU tree already has (gpuTreeBuffers) or uploads a CPU tree's streams.
 #pragma once
 #include <memory>

@@ -1,8 +1,11 @@
 #version 450
 // Ray casting of a DVT, one thread per pixel (a fragment stage left seams on llvmpipe, where quads were
-// split by the viewport's two triangles): from leaf to leaf along the ray (empty leaves skipped whole) to the first leaf
-// whose centre is inside; the surface is placed and lit from the inside-ness field (leaf value times
-// its radius, world units), interpolated between the leaves around the hit, and its gradient.
+// split by the viewport's two triangles). The surface is the zero set of the inside-ness field (leaf
+// value times its radius, world units) interpolated between the leaves, as a level set's is between
+// voxels: the walk goes from leaf to leaf along the ray, skipping coarse leaves outside the band whole,
+// samples the field a lattice cell apart through the others, and finds its first sign change by
+// bisection; the normal is the field's gradient there (central differences). (Stopping at the first leaf whose centre is
+// inside placed the surface on the leaves' boxes: voxel-sized terraces.)
 #include "dvt_tree.glsl"
 #include "shading.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -20,17 +23,26 @@ float field(vec3 p, float band) {
 }
 
 // The field interpolated trilinearly between the centres of a lattice of cells of size `cell` (index
-// units) around p, as a volume's texture is, and its gradient: the leaves' values alone are piecewise
-// constant and would light cell-sized terraces.
-float smoothField(vec3 p, vec3 cell, float band, out vec3 gradient) {
+// units) around p, as a volume's texture is: the leaves' values alone are piecewise constant.
+float smoothField(vec3 p, vec3 cell, float band) {
   vec3 u = (p + 0.5) / cell - 0.5, base = floor(u), f = u - base;
   float v[8];
   for (int i = 0; i < 8; ++i) v[i] = field((base + vec3(i & 1, (i >> 1) & 1, i >> 2) + 0.5) * cell - 0.5, band);
   vec4 x = vec4(mix(v[0], v[1], f.x), mix(v[2], v[3], f.x), mix(v[4], v[5], f.x), mix(v[6], v[7], f.x));
-  vec4 dx = vec4(v[1] - v[0], v[3] - v[2], v[5] - v[4], v[7] - v[6]);
   vec2 y = vec2(mix(x[0], x[1], f.y), mix(x[2], x[3], f.y));
-  gradient = vec3(mix(mix(dx[0], dx[1], f.y), mix(dx[2], dx[3], f.y), f.z), mix(x[1] - x[0], x[3] - x[2], f.z), y[1] - y[0]) / cell;
   return mix(y[0], y[1], f.z);
+}
+
+// Its gradient by central differences a cell apart: continuous across the lattice's faces, where the
+// trilinear field's own gradient jumps and would light every cell apart.
+vec3 smoothGradient(vec3 p, vec3 cell, float band) {
+  vec3 g;
+  for (int a = 0; a < 3; ++a) {
+    vec3 e = vec3(0.0);
+    e[a] = 0.5 * cell[a];
+    g[a] = (smoothField(p + e, cell, band) - smoothField(p - e, cell, band)) / cell[a];
+  }
+  return g;
 }
 
 void main() {
@@ -45,32 +57,55 @@ void main() {
   float side = exp2(float(voxelSplits));
   vec3 ta = (vec3(-0.5) - o) * inv, tb = (vec3(side - 0.5) - o) * inv;
   vec3 tmin = min(ta, tb), tmax = max(ta, tb);
-  float t = max(max(max(tmin.x, tmin.y), tmin.z), 0.0), tEnd = min(min(tmax.x, tmax.y), min(tmax.z, 1.0));
-  // The walk finds the hit; the shading comes after it.
-  bool found = false;
-  float lastSpan = 0.0, span = 0.0;
-  Leaf l;
+  float tStart = max(max(max(tmin.x, tmin.y), tmin.z), 0.0), tEnd = min(min(tmax.x, tmax.y), min(tmax.z, 1.0));
+  // The walk brackets the first sign change: the last sample at or below zero (a, va) and the first
+  // above it (b, vb). A sampled stretch begins half a step before its leaf, where a crossing the last
+  // skipped leaf holds at its far face is caught.
+  bool found = false, sampling = false;
+  float t = tStart, a = tStart, va = 0.0, b = tStart, vb = 0.0, band = 1.0;
+  vec3 cell = vec3(1.0);
   for (int step = 0; step < 262144 && !found && t < tEnd; ++step) {
-    l = leafToward(o + t * d, d);
+    Leaf l = leafToward(o + t * d, d);
     vec3 exits = max((l.lo - o) * inv, (l.lo + l.size - o) * inv);
-    float tExit = min(min(exits.x, exits.y), exits.z);
-    found = pointers[l.node].value > 0.0;
-    lastSpan = span;
-    span = tExit - t;
+    float tExit = min(min(min(exits.x, exits.y), exits.z), tEnd);
+    bool fine = all(lessThanEqual(l.size, vec3(1.0)));
+    if (fine || pointers[l.node].value > -1.0) {
+      if (!sampling) {
+        cell = min(l.size, vec3(1.0));
+        band = 2.0 * radius[depthOf(cells[l.node])];
+        a = max(t - 0.5 * min(min(cell.x, cell.y), cell.z) / length(d), tStart);
+        va = smoothField(o + a * d, cell, band);
+        found = va > 0.0;  // the ray starts inside
+        b = a;
+        sampling = true;
+      }
+      float h = min(min(cell.x, cell.y), cell.z) / length(d);
+      float s = max(t, a + h);
+      for (int i = 0; i < 65536 && !found && s < tExit + h; ++i, s += h) {
+        b = min(s, tExit);
+        vb = smoothField(o + b * d, cell, band);
+        found = vb > 0.0;
+        if (!found) a = b, va = vb;
+      }
+    } else {
+      sampling = false;
+    }
     if (!found) t = max(tExit, t) + 1e-4 * min(min(l.size.x, l.size.y), l.size.z) / length(d);
   }
   if (!found) {
     imageStore(target, pixel, vec4(background, 1.0));
     return;
   }
-  // The inside-ness field, smooth around the hit: where along the ray it crosses zero; the normal from
-  // its gradient there. A lattice of the hit leaf's size, a voxel at most (coarser leaves are uniform).
-  vec3 cell = min(l.size, vec3(1.0)), g;
-  float band = 2.0 * radius[depthOf(cells[l.node])];
-  vec3 p = o + t * d;
-  float value = smoothField(p, cell, band, g), rate = dot(g, d);
-  float hit = rate > 0.0 ? clamp(t - value / rate, t - lastSpan, t + span) : t;
-  smoothField(o + hit * d, cell, band, g);
+  float hit = a;
+  if (va <= 0.0) {
+    for (int i = 0; i < 5; ++i) {
+      float m = 0.5 * (a + b), vm = smoothField(o + m * d, cell, band);
+      if (vm > 0.0) b = m, vb = vm;
+      else a = m, va = vm;
+    }
+    hit = a + (b - a) * va / (va - vb);
+  }
+  vec3 g = smoothGradient(o + hit * d, cell, band);
   vec3 world = (indexToWorld * vec4(o + hit * d, 1.0)).xyz;
   vec3 normal = length(g) > 0.0 ? normalToWorld * -g : normalToWorld * -d;
   if (dot(normal, eye - world) < 0.0) normal = -normal;  // a first hit faces the eye
