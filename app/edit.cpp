@@ -18,6 +18,26 @@
 
 namespace isoatlas::app {
 namespace dvt = levelset::dvt;
+namespace {
+
+// A mesh is extracted on the input's voxels, or finer for a finer edit: at most one halving more
+// (8 times the voxels).
+std::uint32_t meshSamplingDepth(const dvt::TreeFrame& frame, std::uint32_t editDepth) {
+  return std::clamp(editDepth, frame.voxelDepth(), frame.voxelDepth() + 3);
+}
+
+// Refuses, before any work, an output volume (the mask, or the field a mesh is extracted from) past
+// the volume size limit: a saved tree's or a mesh's box can be far larger than anything meant to be
+// sampled densely.
+void checkOutputGrid(const std::string& output, const Volume& header) {
+  try {
+    validateVolumeHeader(header, output);
+  } catch (const Error& e) {
+    throw Error(std::string(e.what()) + "; write a tree (.dvt) or choose a smaller --depth");
+  }
+}
+
+}  // namespace
 
 struct EditCommandOptions {
   std::string input, output, backend = "auto";
@@ -55,6 +75,14 @@ void addEditCommand(CLI::App& app, int& exitCode) {
     const EditRequest request{.depth = o->depth, .steps = *o->steps, .hierarchical = !o->flat, .nodeLimit = o->nodeLimit,
                                .collapseEvery = o->collapseEvery};
     const EditInput input = readEditInput(o->input, request);
+    const dvt::TreeFrame frame = editFrame(input, request);
+    if (!toTree) {
+      Volume header;
+      header.dims = toMesh ? dvt::fieldGrid(meshSamplingDepth(frame, editDepth(input, request))) : frame.grid();
+      header.type = toMesh ? ScalarType::Float32 : ScalarType::UInt8;
+      checkOutputGrid(o->output, header);
+    }
+    checkEditBudget(input, request);
     Gpu gpu = chooseBackend(o->backend);
     const EditedTree edited = applyEdits(input, request, gpu);
     const dvt::VolumeTree tree = edited.tree->tree();
@@ -64,16 +92,14 @@ void addEditCommand(CLI::App& app, int& exitCode) {
     if (toTree) {
       dvt::writeDvt(o->output, tree);
     } else if (toMesh) {
-      // On the input's voxels, or finer for a finer edit: at most one halving more (8 times the voxels).
-      const std::uint32_t voxels = edited.tree->frame().voxelDepth();
-      const Volume field = dvt::sampleField(tree, std::clamp(edited.depth, voxels, voxels + 3));
+      const Volume field = dvt::sampleField(tree, meshSamplingDepth(tree.frame, edited.depth));
       extract::ExtractStats stats;
       const Mesh mesh = extract::extractSurface(field, {.iso = 0.0f, .gpu = gpu.backend == levelset::Backend::Gpu}, &stats);
       if (mesh.faceCount() == 0) throw Error(o->output + ": the edited volume is empty (no surface)", ErrorKind::Failure);
       writeMesh(o->output, mesh);
       r["mesh"] = meshFigures(mesh, stats);
     } else {
-      writeVolume(o->output, dvt::sampleMask(tree, edited.dims));
+      writeVolume(o->output, dvt::sampleMask(tree));
     }
     if (!o->render.empty()) {
       viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(tree), o->size[0], o->size[1], {0.6, 1, -0.5}),

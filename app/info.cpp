@@ -81,12 +81,15 @@ int treeInfo(const std::string& path, nlohmann::json& r) {
   r["depth_max"] = t.maxDepth();
   r["voxel_depth"] = t.frame.voxelDepth();
   r["grid"] = {n, n, n};
+  const auto mask = t.frame.grid();  // the source volume's voxels, which a mask of the tree comes back on
+  r["mask_dims"] = {mask[0], mask[1], mask[2]};
   r["spacing"] = vec(t.frame.spacing);
   r["origin"] = vec(t.frame.origin);
   r["bytes"] = t.bytes();
   std::printf("%s: volume tree, %zu nodes, %zu leaves (%zu inside, %zu in the narrow band)\n", path.c_str(), t.nodeCount(),
               t.leafCount(), inside, band);
-  std::printf("  depth up to %u (the grid's voxels at %u: %lld^3)\n", t.maxDepth(), t.frame.voxelDepth(), (long long)n);
+  std::printf("  depth up to %u (the grid's voxels at %u: %lld^3; a mask of it: %lld x %lld x %lld)\n", t.maxDepth(),
+              t.frame.voxelDepth(), (long long)n, (long long)mask[0], (long long)mask[1], (long long)mask[2]);
   std::printf("  spacing   %g x %g x %g mm, origin (%g, %g, %g) mm\n", t.frame.spacing.x, t.frame.spacing.y, t.frame.spacing.z,
               t.frame.origin.x, t.frame.origin.y, t.frame.origin.z);
   return 0;

@@ -271,7 +271,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
         EditedTree edited = treeOfLevelSet(*s.levelSet, edits, gpu);
         applySteps(edited, edits, editSolids);
         const levelset::dvt::VolumeTree tree = edited.tree->tree();
-        writeVolume(products.add("mask_edited.nii.gz", "the segmentation after the edits: uint8, 1 inside"), levelset::dvt::sampleMask(tree, volume.dims));
+        writeVolume(products.add("mask_edited.nii.gz", "the segmentation after the edits: uint8, 1 inside"), levelset::dvt::sampleMask(tree));
         viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(tree), 800, 600, {1, 0.3, -0.3})};
         writePng(products.add("edited_tree.png", "the edited segmentation, ray cast straight from the volume tree", true),
                  renderEditedTree(edited, tree, view, gpu));

@@ -23,6 +23,8 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+constexpr std::uint32_t kMeshDepth = 24;  // a mesh's default depth: 256 voxels a side
+
 std::uint32_t checkedDepth(std::optional<std::uint32_t> depth, const dvt::TreeFrame& frame) {
   const std::uint32_t d = depth.value_or(frame.voxelDepth());
   require(d <= std::uint32_t(dvt::kMaxDepth),
@@ -30,22 +32,25 @@ std::uint32_t checkedDepth(std::optional<std::uint32_t> depth, const dvt::TreeFr
   return d;
 }
 
-EditedTree start(const dvt::VolumeTree& tree, std::array<std::int64_t, 3> dims, std::uint32_t depth, Gpu& gpu,
-                 std::uint64_t nodeLimit, int collapseEvery = 0) {
+EditedTree start(const dvt::VolumeTree& tree, std::uint32_t depth, Gpu& gpu, const EditRequest& request) {
   EditedTree e;
   const bool onGpu = gpu.backend == levelset::Backend::Gpu;
   auto passes = onGpu ? dvt::makeGpuTreePasses(gpu.needGl()) : dvt::makeCpuTreePasses();
-  e.tree = std::make_unique<dvt::DynamicVolumeTree>(tree, std::move(passes), dvt::TreeOptions{.nodeLimit = nodeLimit, .collapseEvery = collapseEvery});
-  e.dims = dims, e.depth = depth, e.backend = onGpu ? "gpu" : "cpu";
+  e.tree = std::make_unique<dvt::DynamicVolumeTree>(
+      tree, std::move(passes), dvt::TreeOptions{.nodeLimit = request.nodeLimit, .collapseEvery = request.collapseEvery});
+  e.depth = depth, e.backend = onGpu ? "gpu" : "cpu";
   return e;
 }
 
-void write(EditedTree& e, const dvt::Solid& solid, dvt::Op op, bool hierarchical) {
+// A segmentation's conversion is always rasterised hierarchically; `--flat` is for the shapes.
+void write(EditedTree& e, const dvt::Solid& solid, dvt::Op op, const EditRequest& request, bool hierarchical) {
   const auto begin = std::chrono::steady_clock::now();
-  dvt::PreOrderInput input = dvt::rasterise(solid, e.tree->frame(), e.depth, hierarchical);
+  dvt::PreOrderInput input = dvt::rasterise(solid, e.tree->frame(), e.depth, hierarchical, request.nodeLimit);
   e.inputVoxels += input.size();
-  e.tree->write(std::move(input), op);
-  e.secondsWrite += secondsSince(begin);
+  const dvt::WriteStats stats = e.tree->write(std::move(input), op);
+  e.iterations += std::uint64_t(stats.iterations);
+  e.secondsCollapse += stats.collapseSeconds;  // a collapse every k writes (--collapse-every)
+  e.secondsWrite += secondsSince(begin) - stats.collapseSeconds;
 }
 
 }  // namespace
@@ -53,14 +58,13 @@ void write(EditedTree& e, const dvt::Solid& solid, dvt::Op op, bool hierarchical
 nlohmann::json EditedTree::figures(const dvt::VolumeTree& t) const {
   return {{"nodes", t.nodeCount()}, {"leaves", t.leafCount()}, {"depth_max", t.maxDepth()}, {"depth", depth},
           {"seconds_write", secondsWrite}, {"seconds_collapse", secondsCollapse}, {"bytes", tree->bytes()},
-          {"backend", backend}, {"input_voxels", inputVoxels}};
+          {"backend", backend}, {"input_voxels", inputVoxels}, {"write_iterations", iterations}};
 }
 
 EditedTree treeOfVolume(const Volume& volume, const EditRequest& request, Gpu& gpu) {
   const dvt::TreeFrame frame = dvt::frameOf(volume);
-  EditedTree e = start(dvt::VolumeTree::empty(frame), volume.dims, checkedDepth(request.depth, frame), gpu, request.nodeLimit,
-                       request.collapseEvery);
-  write(e, dvt::VolumeSolid(volume), dvt::Op::Union, true);
+  EditedTree e = start(dvt::VolumeTree::empty(frame), checkedDepth(request.depth, frame), gpu, request);
+  write(e, dvt::VolumeSolid(volume), dvt::Op::Union, request, true);
   return e;
 }
 
@@ -91,9 +95,8 @@ std::vector<std::unique_ptr<dvt::DistanceSolid>> stepSolids(const std::vector<Ed
 
 EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest& request, Gpu& gpu) {
   const dvt::TreeFrame frame = dvt::frameOf(levelSet.geometry());
-  EditedTree e = start(dvt::VolumeTree::empty(frame), levelSet.geometry().dims, checkedDepth(request.depth, frame), gpu,
-                       request.nodeLimit, request.collapseEvery);
-  write(e, dvt::VolumeSolid(levelSet), dvt::Op::Union, true);
+  EditedTree e = start(dvt::VolumeTree::empty(frame), checkedDepth(request.depth, frame), gpu, request);
+  write(e, dvt::VolumeSolid(levelSet), dvt::Op::Union, request, true);
   return e;
 }
 
@@ -113,21 +116,37 @@ EditInput readEditInput(const std::string& path, const EditRequest& request) {
   return in;
 }
 
+dvt::TreeFrame editFrame(const EditInput& input, const EditRequest& request) {
+  if (input.tree) return input.tree->frame;
+  if (input.volume) return dvt::frameOf(*input.volume);
+  const Mesh& mesh = *input.mesh;
+  Vec3 lo = mesh.positions.front(), hi = lo;
+  for (const Vec3& p : mesh.positions)
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+  const std::uint32_t depth = request.depth.value_or(kMeshDepth);
+  return dvt::frameAround(lo, hi, int(std::min<std::uint32_t>((depth + 2) / 3, dvt::kMaxDepth / 3)));
+}
+
+std::uint32_t editDepth(const EditInput& input, const EditRequest& request) {
+  if (input.mesh) return checkedDepth(request.depth.value_or(kMeshDepth), editFrame(input, request));
+  return checkedDepth(request.depth, editFrame(input, request));
+}
+
+void checkEditBudget(const EditInput& input, const EditRequest& request) {
+  const dvt::TreeFrame frame = editFrame(input, request);
+  const std::uint32_t depth = editDepth(input, request);
+  if (input.volume) dvt::checkVoxelBudget(dvt::VolumeSolid(*input.volume), frame, depth, true, request.nodeLimit);
+  if (input.meshSolid) dvt::checkVoxelBudget(*input.meshSolid, frame, depth, request.hierarchical, request.nodeLimit);
+  for (const auto& solid : input.solids) dvt::checkVoxelBudget(*solid, frame, depth, request.hierarchical, request.nodeLimit);
+}
+
 EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& gpu) {
   EditedTree e;
   if (input.tree) {
-    const auto n = input.tree->frame.voxelsPerAxis();
-    e = start(*input.tree, {n, n, n}, checkedDepth(request.depth, input.tree->frame), gpu, request.nodeLimit, request.collapseEvery);
+    e = start(*input.tree, editDepth(input, request), gpu, request);
   } else if (input.mesh) {
-    const Mesh& mesh = *input.mesh;
-    Vec3 lo = mesh.positions.front(), hi = lo;
-    for (const Vec3& p : mesh.positions)
-      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
-    const std::uint32_t depth = request.depth.value_or(24);
-    const dvt::TreeFrame frame = dvt::frameAround(lo, hi, int(std::min<std::uint32_t>((depth + 2) / 3, dvt::kMaxDepth / 3)));
-    const auto n = frame.voxelsPerAxis();
-    e = start(dvt::VolumeTree::empty(frame), {n, n, n}, depth, gpu, request.nodeLimit, request.collapseEvery);
-    write(e, *input.meshSolid, dvt::Op::Union, request.hierarchical);
+    e = start(dvt::VolumeTree::empty(editFrame(input, request)), editDepth(input, request), gpu, request);
+    write(e, *input.meshSolid, dvt::Op::Union, request, request.hierarchical);
   } else {
     e = treeOfVolume(*input.volume, request, gpu);
   }
@@ -138,13 +157,13 @@ EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& g
 void applySteps(EditedTree& e, const EditRequest& request, const std::vector<std::unique_ptr<dvt::DistanceSolid>>& solids) {
   for (std::size_t i = 0; i < request.steps.size(); ++i) {
     const EditStep& step = request.steps[i];
-    write(e, *solids.at(i), step.op, request.hierarchical);
+    write(e, *solids.at(i), step.op, request, request.hierarchical);
     logInfo("edit: " + std::string(step.op == dvt::Op::Union ? "union " : "subtract ") + step.shape + " (" +
             std::to_string(i + 1) + "/" + std::to_string(request.steps.size()) + "), " + std::to_string(e.tree->nodeCount()) + " nodes");
   }
   const auto begin = std::chrono::steady_clock::now();
   e.tree->collapse();
-  e.secondsCollapse = secondsSince(begin);
+  e.secondsCollapse += secondsSince(begin);
 }
 
 Image renderEditedTree(const EditedTree& e, const dvt::VolumeTree& streams, const viewer::DvtView& view, Gpu& gpu) {

@@ -39,12 +39,12 @@ struct EditRequest {
 
 struct EditedTree {
   std::unique_ptr<levelset::dvt::DynamicVolumeTree> tree;
-  std::array<std::int64_t, 3> dims{0, 0, 0};  // the input's voxels (a volume's own, else the frame's grid)
   std::uint32_t depth = 0;
   std::string backend;
-  double secondsWrite = 0, secondsCollapse = 0;
-  std::uint64_t inputVoxels = 0;
-  // nodes, leaves, depth_max, seconds_write, seconds_collapse, bytes, backend, depth, input_voxels;
+  double secondsWrite = 0, secondsCollapse = 0;  // collapses: every k writes and the last one
+  std::uint64_t inputVoxels = 0, iterations = 0;   // iterations: mark-restructure rounds, all writes
+  // nodes, leaves, depth_max, seconds_write, seconds_collapse, bytes, backend, depth, input_voxels,
+  // write_iterations;
   // `streams`: the tree as tree->tree() gives it (a copy, or a read-back from the GPU: take it once)
   nlohmann::json figures(const levelset::dvt::VolumeTree& streams) const;
 };
@@ -59,6 +59,14 @@ struct EditInput {
   std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>> solids;  // one per step
 };
 EditInput readEditInput(const std::string& input, const EditRequest& request);
+// The tree's frame for the input (a volume's grid, a saved tree's, a box around a mesh) and the depth
+// its edits are made at (the request's, else the input's voxels; 24 for a mesh); throws Error past
+// the depth limit.
+levelset::dvt::TreeFrame editFrame(const EditInput& input, const EditRequest& request);
+std::uint32_t editDepth(const EditInput& input, const EditRequest& request);
+// Refuses (Error) an edit whose shapes would make more voxels than the node limit at its depth, from
+// their coarse levels: cheap, before any GPU work (applyEdits would find it later).
+void checkEditBudget(const EditInput& input, const EditRequest& request);
 
 // A tree of a segmentation (mask or phi volume) in its own grid, at the request's depth (default its
 // voxels), node limit and collapse period (its steps are not applied: applySteps).

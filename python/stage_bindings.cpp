@@ -181,7 +181,7 @@ void bindStages(py::module_& m) {
           const app::EditedTree edited = app::applyEdits(input, request, gpu);
           const levelset::dvt::VolumeTree tree = edited.tree->tree();
           figures = edited.figures(tree);
-          mask = levelset::dvt::sampleMask(tree, edited.dims);
+          mask = levelset::dvt::sampleMask(tree);
         }
         return py::make_tuple(ownedArray(std::move(mask)), toDict(figures));
       }, py::arg("volume"), py::arg("steps"), py::arg("depth") = py::none(), py::arg("backend") = "auto", py::arg("affine") = py::none(),

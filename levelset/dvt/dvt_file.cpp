@@ -20,6 +20,11 @@ void writeDvt(const std::string& path, const VolumeTree& tree) {
   for (const auto& row : tree.frame.direction.m)
     for (const double x : row) frame.put(x);
   out.section("FRAM", frame);
+  if (tree.frame.extent != std::array<std::int64_t, 3>{0, 0, 0}) {
+    SectionWriter grid;
+    for (const std::int64_t e : tree.frame.grid()) grid.put(std::uint64_t(e));
+    out.section("GRID", grid);
+  }
   SectionWriter nodes;
   nodes.bytes.reserve(8 + tree.nodeCount() * kNodeBytes);
   nodes.put(std::uint64_t(tree.nodeCount()));
@@ -38,7 +43,7 @@ VolumeTree readDvt(const std::string& path, bool checksums) {
     throw Error(path + ": .dvt format version " + std::to_string(file.version) + " (this isoatlas reads version " +
                 std::to_string(kDvtVersion) + ")");
   VolumeTree tree;
-  bool frame = false, nodes = false;
+  bool frame = false, grid = false, nodes = false;
   forEachSection(file, checksums, [&](const std::string& tag, SectionReader& r) {
     if (tag == "FRAM") {
       if (frame) r.fail("a second FRAM section");
@@ -52,6 +57,16 @@ VolumeTree readDvt(const std::string& path, bool checksums) {
         for (double& x : row) x = r.finite<double>();
       const double r0 = tree.frame.radius(0), rDeepest = tree.frame.radius(kMaxDepth + 1);
       if (!(std::isfinite(r0) && rDeepest > 0)) r.fail("the frame's cells have no extent (spacing or direction)");
+    } else if (tag == "GRID") {
+      if (!frame) r.fail("comes before the FRAM section");
+      if (grid) r.fail("a second GRID section");
+      grid = true;
+      for (std::int64_t& e : tree.frame.extent) {
+        const std::uint64_t n = r.get<std::uint64_t>();
+        if (n < 1 || n > std::uint64_t(tree.frame.voxelsPerAxis()))
+          r.fail("a grid of " + std::to_string(n) + " voxels in a box of " + std::to_string(tree.frame.voxelsPerAxis()));
+        e = std::int64_t(n);
+      }
     } else if (tag == "NODE") {
       if (!frame) r.fail("comes before the FRAM section");
       if (nodes) r.fail("a second NODE section");

@@ -19,7 +19,7 @@
 namespace isoatlas::levelset::dvt {
 
 struct TreeOptions {
-  std::uint64_t nodeLimit = std::uint64_t(1) << 26;
+  std::uint64_t nodeLimit = kDefaultNodeLimit;
   int collapseEvery = 0;  // 0: only when collapse() is called
 };
 

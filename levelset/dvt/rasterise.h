@@ -13,7 +13,15 @@
 
 namespace isoatlas::levelset::dvt {
 
-// Throws Error when targetDepth is past kMaxDepth.
-PreOrderInput rasterise(const Solid& solid, const TreeFrame& frame, std::uint32_t targetDepth, bool hierarchical = true);
+// Throws Error when targetDepth is past kMaxDepth, and when the voxels would be more than `voxelLimit`
+// (a write's input is held whole; a tree would hold at least as many leaves): at once where the
+// coarse levels foretell twice that (checkVoxelBudget), else as soon as the count passes the limit.
+PreOrderInput rasterise(const Solid& solid, const TreeFrame& frame, std::uint32_t targetDepth, bool hierarchical = true,
+                        std::uint64_t voxelLimit = kDefaultNodeLimit);
+// The coarse levels' check alone (rasterise's first pass; at most 64^3 cells classified): the cells
+// that make voxels, counted down to depth 18 and extrapolated to targetDepth by their growth over the
+// last three levels. For a command to refuse a depth before it starts any work.
+void checkVoxelBudget(const Solid& solid, const TreeFrame& frame, std::uint32_t targetDepth, bool hierarchical = true,
+                      std::uint64_t voxelLimit = kDefaultNodeLimit);
 
 }  // namespace isoatlas::levelset::dvt

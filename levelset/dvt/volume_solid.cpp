@@ -17,6 +17,7 @@ TreeFrame frameOf(const Volume& volume) {
   while ((std::int64_t(1) << f.voxelSplits) < largest) ++f.voxelSplits;
   require(f.voxelSplits <= kMaxDepth / 3, "the volume is too large for a volume tree");
   f.spacing = volume.spacing, f.origin = volume.origin, f.direction = volume.direction;
+  f.extent = volume.dims;
   return f;
 }
 
@@ -148,11 +149,18 @@ Volume sampleMask(const VolumeTree& tree, const std::array<std::int64_t, 3>& dim
   return out;
 }
 
+Volume sampleMask(const VolumeTree& tree) { return sampleMask(tree, tree.frame.grid()); }
+
+std::array<std::int64_t, 3> fieldGrid(std::uint32_t depth) {
+  std::array<std::int64_t, 3> dims;
+  for (int a = 0; a < 3; ++a) dims[a] = std::int64_t(1) << splitsOf(a, depth);
+  return dims;
+}
+
 Volume sampleField(const VolumeTree& tree, std::uint32_t depth) {
   const TreeFrame& f = tree.frame;
   const Vec3 s = f.cellVoxels(depth);
-  std::array<std::int64_t, 3> dims;
-  for (int a = 0; a < 3; ++a) dims[a] = std::int64_t(1) << splitsOf(a, depth);
+  const std::array<std::int64_t, 3> dims = fieldGrid(depth);
   Volume out = Volume::zeros(dims, ScalarType::Float32);
   out.spacing = {f.spacing.x * s.x, f.spacing.y * s.y, f.spacing.z * s.z};
   out.direction = f.direction;

@@ -10,9 +10,10 @@
 //   the length of its gradient: the level set's phi is far steeper than a distance at its front (its
 //   rescaling term vanishes there), so its own values would put the tree's surface on the voxels' faces.
 //   sampleMask / sampleField: the tree at voxel centres (a point on a split plane belongs to the
-//   upper half): a mask (uint8, 1 inside) with the frame's geometry over `dims`, or the inside-ness
-//   in world units (leaf value times its radius; > 0 inside) on the grid of the depth-d cells, for
-//   extract/ to mesh at iso 0.
+//   upper half): a mask (uint8, 1 inside) with the frame's geometry over `dims` (default the frame's
+//   grid(): the source volume's voxels), or the inside-ness in world units (leaf value times its
+//   radius; > 0 inside) on the grid of the depth-d cells (fieldGrid), for extract/ to mesh at iso 0.
+//   Both throw Error before allocating a volume past core's size limit.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -58,6 +59,8 @@ struct LeafSample {
 };
 LeafSample sampleAt(const VolumeTree& tree, const Vec3& index);
 Volume sampleMask(const VolumeTree& tree, const std::array<std::int64_t, 3>& dims);
+Volume sampleMask(const VolumeTree& tree);
+std::array<std::int64_t, 3> fieldGrid(std::uint32_t depth);
 Volume sampleField(const VolumeTree& tree, std::uint32_t depth);
 
 }  // namespace isoatlas::levelset::dvt

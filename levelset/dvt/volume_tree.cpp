@@ -39,6 +39,8 @@ std::string treeProblem(const VolumeTree& tree) {
   if (count == 0) return "the tree has no root";
   if (tree.cells.size() != 2 * count) return "the node stream's length does not match the pointer stream's";
   if (tree.frame.voxelSplits < 0 || tree.frame.voxelSplits > kMaxDepth / 3) return "the frame's voxel splits are out of range";
+  for (const std::int64_t e : tree.frame.extent)
+    if (e < 0 || e > tree.frame.voxelsPerAxis()) return "the frame's extent is outside its box";
   if (tree.pointers[0].parent != kNone || !(tree.cell(0) == Cell{})) return "node 0 is not the root";
   // Walk the pre-order layout with an explicit stack.
   std::vector<std::size_t> stack{0};

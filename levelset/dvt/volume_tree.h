@@ -26,6 +26,7 @@
 namespace isoatlas::levelset::dvt {
 
 inline constexpr int kMaxDepth = 48;           // 16 splits per axis: coordinates fit 16 bits
+inline constexpr std::uint64_t kDefaultNodeLimit = std::uint64_t(1) << 26;  // a tree's, and a write's input voxels
 inline constexpr std::int32_t kNone = -1;      // no parent (the root) or no children (a leaf)
 inline constexpr float kInside = 1.0f, kOutside = -1.0f;
 inline constexpr float kNearZero = 1e-6f;      // band values keep their sign: |value| >= this
@@ -75,7 +76,15 @@ struct TreeFrame {
   int voxelSplits = 8;  // K
   Vec3 spacing{1, 1, 1}, origin{0, 0, 0};
   Mat3 direction;
+  // The source volume's voxels along each axis, from voxel 0 (frameOf); 0: the whole box, 2^K.
+  std::array<std::int64_t, 3> extent{0, 0, 0};
   std::int64_t voxelsPerAxis() const { return std::int64_t(1) << voxelSplits; }
+  // The voxel grid a mask of the tree has: the source's (extent), else the box's.
+  std::array<std::int64_t, 3> grid() const {
+    std::array<std::int64_t, 3> g;
+    for (int a = 0; a < 3; ++a) g[a] = extent[a] > 0 ? extent[a] : voxelsPerAxis();
+    return g;
+  }
   std::uint32_t voxelDepth() const { return std::uint32_t(3 * voxelSplits); }  // depth of cells = voxels
   // A point in voxel index coordinates in the world (as Volume::indexToWorld).
   Vec3 indexToWorld(const Vec3& i) const { return origin + direction * Vec3{i.x * spacing.x, i.y * spacing.y, i.z * spacing.z}; }

@@ -642,7 +642,8 @@ TEST(Cli, EditAppliesBrushesOnBothBackendsAsADenseReferenceSays) {
   ASSERT_EQ(run("edit " + tree + " -o " + back + " --render " + picture + " --render-mode cubes --size 120,90").code, 0);
   EXPECT_EQ(readPng(picture).width, 120);
   const Volume again = readVolume(back);
-  ASSERT_EQ(again.dims[0], 64);
+  ASSERT_EQ(again.dims, mask.dims) << "a saved tree keeps its source's grid";
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(again.spacing[a], mask.spacing[a], 1e-6);
   for (std::int64_t k = 0; k < 30; ++k)
     for (std::int64_t j = 0; j < 36; ++j)
       for (std::int64_t i = 0; i < 40; ++i) ASSERT_EQ(again.at(i, j, k), double(std::to_integer<int>(cpuVoxels[mask.index(i, j, k)])));
@@ -652,7 +653,41 @@ TEST(Cli, EditAppliesBrushesOnBothBackendsAsADenseReferenceSays) {
   EXPECT_EQ(ij["kind"], "volume tree");
   EXPECT_GT(ij["inside_leaves"].get<int>(), 0);
   EXPECT_EQ(ij["voxel_depth"], 18);
-  // A mesh out, and a closed mesh in.
+  EXPECT_EQ(ij["mask_dims"], nlohmann::json({40, 36, 30}));
+  // Collapsing after every write changes the tree's history, not its voxels; its time is counted.
+  const std::string everyWrite = (dir / "every.nii.gz").string(), everyReport = (dir / "every.json").string();
+  ASSERT_EQ(run("edit " + input + edits + " --collapse-every 1 -o " + everyWrite + " --report " + everyReport).code, 0);
+  EXPECT_TRUE(readVolume(everyWrite).data == cpuVoxels);
+  EXPECT_GT(nlohmann::json::parse(test::readBytes(everyReport))["seconds_collapse"].get<double>(), 0);
+
+  // A closed mesh as a shape: a box's 12 triangles, inside where a voxel's centre is, on both backends.
+  const Vec3 lo{3.3, -8.6, -4.1}, hi{14.7, 6.4, 7.9};
+  Mesh boxMesh;
+  for (int c = 0; c < 8; ++c) boxMesh.positions.push_back({c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z});
+  for (const auto& q : std::vector<std::array<std::uint32_t, 4>>{{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}})
+    boxMesh.addFace({q[0], q[1], q[2]}), boxMesh.addFace({q[0], q[2], q[3]});
+  const std::string boxFile = (dir / "box.off").string();
+  writeMesh(boxFile, boxMesh);
+  std::vector<std::byte> meshStepVoxels;
+  for (const char* backend : {"cpu", "gpu"}) {
+    const std::string out = (dir / (std::string("mesh_step_") + backend + ".nii.gz")).string();
+    const Result r = run("edit " + input + " --union mesh:" + boxFile + " --backend " + backend + " -o " + out);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Volume edited = readVolume(out);
+    std::int64_t wrong = 0;
+    for (std::int64_t k = 0; k < 30; ++k)
+      for (std::int64_t j = 0; j < 36; ++j)
+        for (std::int64_t i = 0; i < 40; ++i) {
+          const Vec3 p = mask.indexToWorld({double(i), double(j), double(k)});
+          const bool inBox = p.x > lo.x && p.x < hi.x && p.y > lo.y && p.y < hi.y && p.z > lo.z && p.z < hi.z;
+          wrong += (edited.at(i, j, k) == 1) != (mask.at(i, j, k) == 1 || inBox);
+        }
+    EXPECT_EQ(wrong, 0) << backend;
+    if (meshStepVoxels.empty()) meshStepVoxels = edited.data;
+    EXPECT_TRUE(edited.data == meshStepVoxels) << "the backends disagree on a mesh step";
+  }
+
+  // A mesh out, and a closed mesh in (the same tree on both backends).
   const std::string surface = (dir / "edited.ply").string(), torus = (dir / "torus.off").string();
   ASSERT_EQ(run("edit " + tree + " -o " + surface).code, 0);
   const MeshTopology t = analyzeTopology(readMesh(surface));
@@ -662,11 +697,18 @@ TEST(Cli, EditAppliesBrushesOnBothBackendsAsADenseReferenceSays) {
   const MeshTopology cut = analyzeTopology(readMesh(surface));
   EXPECT_TRUE(cut.closed && cut.manifold);
   EXPECT_EQ(cut.genus, 0) << "half a torus";
+  for (const char* backend : {"cpu", "gpu"})
+    ASSERT_EQ(run("edit " + torus + " --depth 18 --subtract box:-5,-5,-5,0,5,5 --backend " + backend + " -o " +
+                  (dir / (std::string("torus_") + backend + ".dvt")).string()).code, 0);
+  EXPECT_EQ(test::readBytes(dir / "torus_cpu.dvt"), test::readBytes(dir / "torus_gpu.dvt")) << "the backends' trees differ";
 
   expectBadInput("edit " + input + " --union sphere:1,2,3 -o " + back, "sphere takes 4 numbers");
   expectBadInput("edit " + input + " --subtract cube:1,2,3,4 -o " + back, "a shape is sphere:");
   expectBadInput("edit " + input + " --depth 60 --union sphere:1,2,3,4 -o " + back, "past the tree's limit");
   expectBadInput("edit " + input + " --union sphere:1,2,3,4 -o x.png", "write a mask");
+  // Depths whose voxels no memory holds: refused before any work, naming what to change.
+  expectBadInput("edit " + torus + " --depth 45 -o " + surface, "choose a smaller --depth");
+  expectBadInput("edit " + torus + " --depth 45 -o " + tree, "choose a smaller depth or a larger node limit");
   expectBadInput("edit " + input + " -o " + back + " --render t.png --render-mode splat", "--render-mode");
   expectBadInput("edit " + input + " --union mesh:" + (dir / "none.off").string() + " -o " + back, "none.off");
   test::writeBytes(dir / "bad.dvt", "ISOA-DVT\x01");

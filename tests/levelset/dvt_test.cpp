@@ -96,6 +96,13 @@ TEST(Dvt, PointersAgreeAfterEveryPass) {
       ASSERT_EQ(treeProblem(passes->download()), "") << backend << ", " << shape;
     }
     EXPECT_GE(iterations, 3) << "each write restructures";
+    // The collapse's passes: mark equal siblings, restructure without expanding.
+    int collapses = 0;
+    for (; passes->markCollapse() > 0; ++collapses) {
+      passes->restructure(passes->plan(false), false, 1u << 24);
+      ASSERT_EQ(treeProblem(passes->download()), "") << backend << ", collapse pass " << collapses;
+    }
+    EXPECT_GE(collapses, 1) << backend << ": the carved box leaves equal siblings to join";
   }
 }
 
@@ -205,11 +212,63 @@ TEST(Dvt, FileRoundTripAndDamage) {
     test::writeBytes(dir / "cut.dvt", bytes.substr(0, cut));
     EXPECT_THROW(readDvt((dir / "cut.dvt").string()), Error) << cut;
   }
-  // A child pointing elsewhere, with the checksum not checked: the tree check refuses it.
+  // A child pointing elsewhere: the writer refuses it, and so does the reader with the checksum not
+  // checked (node 1's left child, after the NODE section's header and count and node 0).
   VolumeTree bad = tree.tree();
   std::swap(bad.pointers[1].left, bad.pointers[1].right);
   EXPECT_NE(treeProblem(bad), "");
   EXPECT_THROW(writeDvt(path, bad), Error);
+  std::string swapped = bytes;
+  const std::size_t node1 = swapped.find("NODE") + 4 + 8 + 4 + 8 + 24;
+  std::swap_ranges(swapped.begin() + std::ptrdiff_t(node1 + 4), swapped.begin() + std::ptrdiff_t(node1 + 8),
+                   swapped.begin() + std::ptrdiff_t(node1 + 8));
+  test::writeBytes(dir / "swapped.dvt", swapped);
+  EXPECT_THROW(readDvt((dir / "swapped.dvt").string()), Error) << "the checksum";
+  try {
+    readDvt((dir / "swapped.dvt").string(), false);
+    ADD_FAILURE() << "a tree with swapped children was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not a sound tree"), std::string::npos) << e.what();
+  }
+}
+
+// A tree of a volume keeps the volume's grid (GRID section) through the file; a grid larger than
+// the box is refused.
+TEST(Dvt, FileKeepsTheSourceGrid) {
+  Volume mask = Volume::zeros({23, 17, 12}, ScalarType::UInt8);
+  mask.setValue(mask.index(5, 6, 7), 1);
+  const TreeFrame frame = frameOf(mask);
+  DynamicVolumeTree tree(VolumeTree::empty(frame), makeCpuTreePasses());
+  tree.write(rasterise(VolumeSolid(mask), frame, frame.voxelDepth()), Op::Union);
+  const auto dir = test::scratchDir();
+  const std::string path = (dir / "g.dvt").string();
+  writeDvt(path, tree.tree());
+  const VolumeTree back = readDvt(path);
+  EXPECT_EQ(back.frame.grid(), mask.dims);
+  EXPECT_EQ(sampleMask(back).data, mask.data);
+  std::string bytes = test::readBytes(path);
+  const std::size_t grid = bytes.find("GRID") + 4 + 8 + 4;
+  bytes[grid] = char(33);  // 33 voxels along x in a box of 32
+  test::writeBytes(dir / "wide.dvt", bytes);
+  EXPECT_THROW(readDvt((dir / "wide.dvt").string(), false), Error);
+}
+
+// The rasteriser holds a write's voxels within a budget: the exact count fits, one fewer is refused,
+// and a depth whose voxels no budget holds is refused from the coarse levels, at once.
+TEST(Dvt, RasteriserKeepsToItsVoxelBudget) {
+  for (const char* shape : {"sphere:0.5,0.5,0.5,0.3", "torus:0.5,0.5,0.5,0.3,0.05", "box:0.1,0.2,0.3,0.7,0.8,0.6",
+                            "capsule:0.2,0.2,0.2,0.8,0.7,0.6,0.04"}) {
+    const auto solid = parseBrush(shape);
+    for (const std::uint32_t depth : {15u, 18u, 21u})
+      for (const bool hierarchical : {true, false}) {
+        const std::uint64_t n = rasterise(*solid, unitFrame(), depth, hierarchical).size();
+        EXPECT_EQ(rasterise(*solid, unitFrame(), depth, hierarchical, n).size(), n) << shape << " at " << depth;
+        EXPECT_THROW(rasterise(*solid, unitFrame(), depth, hierarchical, n - 1), Error) << shape << " at " << depth;
+      }
+  }
+  const auto sphere = parseBrush("sphere:0.5,0.5,0.5,0.3");
+  EXPECT_THROW(checkVoxelBudget(*sphere, frameAround({0, 0, 0}, {1, 1, 1}, 16), 48), Error);
+  EXPECT_NO_THROW(checkVoxelBudget(*sphere, unitFrame(), 21));
 }
 
 TEST(Dvt, LevelSetPagesMakeTheTreeOfItsMask) {
