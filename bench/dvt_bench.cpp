@@ -2,12 +2,15 @@
 //   A sphere brush of radius 0.04 moves 120 steps of 3 degrees around a circle of radius 0.3 in the unit
 //   cube (a union each step), then a brush of radius 0.02 carves a groove along the top of the tube
 //   (a subtraction each step). Voxel size 5 % of the brush (1/512 of the cube) and 1.25 % (1/2048).
-//   isoatlas: the four variants of Fig. 7: with and without the redundancy optimisation (collapse every
-//   10 writes) and hierarchical rasterisation; a step is rasterise + write (+ the collapse when due).
+//   isoatlas: the four variants of Fig. 7 at both sizes: with and without the redundancy optimisation
+//   (collapse every 10 writes) and hierarchical rasterisation; a step is rasterise + write (+ the
+//   collapse when due).
 //   OpenVDB: createLevelSetSphere (half width 3 voxels) + csgUnion / csgDifference per step.
 //   Figures: ms per step (median, over the drawing and the carving; the drawing's mean too, with the
 //   collapses every 10th step), nodes or active voxels, memory.
-//   Plots bench/dvt_steps.png. With ISOATLAS_BENCH_GPU=1 the GPU backend too (ROHR).
+//   Plots bench/dvt_steps.png and dvt_nodes.png (512^3), dvt_steps_2048.png and dvt_nodes_2048.png.
+//   With ISOATLAS_BENCH_GPU=1 the GPU backend too (ROHR), when the GL renderer is not a software one;
+//   its rows name the GPU (and the CPU the peer ran on).
 // Usage: bench_dvt [DATA] (no data needed).
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Composite.h>
@@ -65,6 +68,7 @@ double mean(const std::vector<double>& v) { return std::accumulate(v.begin(), v.
 
 Trace drawOurs(int k, bool collapse, bool hierarchical, std::unique_ptr<dvt::TreePasses> passes) {
   const dvt::TreeFrame frame = unitCube(k);
+  const bool onGpu = passes->name() == "gpu";
   dvt::DynamicVolumeTree tree(dvt::VolumeTree::empty(frame), std::move(passes),
                               {.nodeLimit = std::uint64_t(1) << 28, .collapseEvery = collapse ? 10 : 0});
   Trace t;
@@ -72,8 +76,9 @@ Trace drawOurs(int k, bool collapse, bool hierarchical, std::unique_ptr<dvt::Tre
     const bool carve = step >= kSteps;
     const auto brush = dvt::parseBrush(carve ? sphere(along(step, kBrush), kGroove) : sphere(along(step, 0), kBrush));
     const auto start = std::chrono::steady_clock::now();
-    tree.write(dvt::rasterise(*brush, frame, frame.voxelDepth(), hierarchical), carve ? dvt::Op::Subtract : dvt::Op::Union);
-    glFinish();
+    tree.write(dvt::rasterise(*brush, frame, frame.voxelDepth(), hierarchical, std::uint64_t(1) << 28),
+               carve ? dvt::Op::Subtract : dvt::Op::Union);
+    if (onGpu) glFinish();
     t.ms.push_back(1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     t.size.push_back(double(tree.nodeCount()));
     t.bytesPeak = std::max(t.bytesPeak, double(tree.bytes()));
@@ -112,13 +117,44 @@ std::vector<double> part(const std::vector<double>& v, int from, int to) { retur
 }  // namespace
 }  // namespace isoatlas
 
+namespace isoatlas {
+namespace {
+
+// Our trace beside OpenVDB's: the step times of the drawing and the carving, memory, the final size.
+void reportBeside(const std::string& name, const Trace& ours, const Trace& vdb, const std::string& device = "") {
+  bench::report("dvt", name + ", union", "ms per step (median)", median(part(ours.ms, 0, kSteps)), "openvdb-csgUnion",
+                median(part(vdb.ms, 0, kSteps)), true, device);
+  bench::report("dvt", name + ", subtract", "ms per step (median)", median(part(ours.ms, kSteps, 2 * kSteps)), "openvdb-csgDifference",
+                median(part(vdb.ms, kSteps, 2 * kSteps)), true, device);
+  bench::report("dvt", name + ", union", "ms per step (mean, the collapses included)", mean(part(ours.ms, 0, kSteps)), "openvdb-csgUnion",
+                mean(part(vdb.ms, 0, kSteps)), true, device);
+  bench::report("dvt", name, "memory peak (MiB)", ours.bytesPeak / 1048576.0, "openvdb-memUsage", vdb.bytesPeak / 1048576.0, true, device);
+  bench::report("dvt", name, "nodes (isoatlas) / active voxels (openvdb), final", ours.size.back(), "openvdb", vdb.size.back(), true, device);
+}
+
+// A GL context on a real GPU when ISOATLAS_BENCH_GPU=1 asks for one; none on a software renderer,
+// whose figures would say nothing of a GPU.
+std::unique_ptr<gl::Context> gpuContext() {
+  const char* asked = std::getenv("ISOATLAS_BENCH_GPU");
+  if (!asked || std::string(asked) != "1") return nullptr;
+  auto context = gl::Context::headless();
+  if (context->info().software()) {
+    std::fprintf(stderr, "bench_dvt: ISOATLAS_BENCH_GPU=1, but GL runs on %s (software): no GPU figures\n",
+                 context->info().renderer.c_str());
+    return nullptr;
+  }
+  return context;
+}
+
+}  // namespace
+}  // namespace isoatlas
+
 int main() {
   using namespace isoatlas;
   openvdb::initialize();
-  const bool gpu = std::getenv("ISOATLAS_BENCH_GPU") && std::string(std::getenv("ISOATLAS_BENCH_GPU")) == "1";
-  auto context = gl::Context::headless();  // the CPU variants call glFinish harmlessly
-  const std::string device = gpu ? context->info().renderer : "";
-  std::vector<PlotSeries> timeSeries, nodeSeries;
+  const std::unique_ptr<gl::Context> gpu = gpuContext();
+  const std::string device = gpu ? gpu->info().renderer + " (OpenVDB on " + bench::machineName() + ")" : "";
+  const std::string dir = ISOATLAS_BENCH_DIR;
   for (const int k : {9, 11}) {
     const std::string size = k == 9 ? "voxel 5% of the brush (512^3)" : "voxel 1.25% of the brush (2048^3)";
     const Trace vdb = drawOpenVdb(k);
@@ -126,42 +162,26 @@ int main() {
       const char* name;
       bool collapse, hierarchical;
     };
-    // The flat variants (every voxel of the brush at full depth) only at the coarser size: at 2048^3
-    // a brush is ~1.5 million voxels a step.
-    std::vector<Variant> variants{{"ROHR", true, true}, {"HR", false, true}};
-    if (k == 9) variants.insert(variants.end(), {{"RO", true, false}, {"NO", false, false}});
-    for (const Variant& v : variants) {
+    std::vector<PlotSeries> timeSeries, nodeSeries;
+    for (const Variant& v : {Variant{"ROHR", true, true}, Variant{"HR", false, true}, Variant{"RO", true, false}, Variant{"NO", false, false}}) {
       const Trace ours = drawOurs(k, v.collapse, v.hierarchical, dvt::makeCpuTreePasses());
-      const std::string name = std::string("torus drawing, ") + v.name + ", " + size;
-      bench::report("dvt", name + ", union", "ms per step (median)", median(part(ours.ms, 0, kSteps)), "openvdb-csgUnion",
-                    median(part(vdb.ms, 0, kSteps)));
-      bench::report("dvt", name + ", subtract", "ms per step (median)", median(part(ours.ms, kSteps, 2 * kSteps)), "openvdb-csgDifference",
-                    median(part(vdb.ms, kSteps, 2 * kSteps)));
-      bench::report("dvt", name + ", union", "ms per step (mean, the collapses included)", mean(part(ours.ms, 0, kSteps)), "openvdb-csgUnion",
-                    mean(part(vdb.ms, 0, kSteps)));
-      bench::report("dvt", name, "memory peak (MiB)", ours.bytesPeak / 1048576.0, "openvdb-memUsage", vdb.bytesPeak / 1048576.0);
-      bench::report("dvt", name, "nodes (isoatlas) / active voxels (openvdb), final", ours.size.back(), "openvdb", vdb.size.back(), true);
-      if (k == 9) {
-        timeSeries.push_back({std::string(v.name), steps(0, 2 * kSteps), ours.ms});
-        nodeSeries.push_back({std::string(v.name), steps(0, 2 * kSteps), ours.size});
-      }
+      reportBeside(std::string("torus drawing, ") + v.name + ", " + size, ours, vdb);
+      timeSeries.push_back({std::string(v.name), steps(0, 2 * kSteps), ours.ms});
+      nodeSeries.push_back({std::string(v.name), steps(0, 2 * kSteps), ours.size});
     }
     if (gpu) {
-      const Trace ours = drawOurs(k, true, true, dvt::makeGpuTreePasses(*context));
-      const std::string name = std::string("torus drawing, ROHR on the GPU, ") + size;
-      bench::report("dvt", name + ", union", "ms per step (median)", median(part(ours.ms, 0, kSteps)), "openvdb-csgUnion",
-                    median(part(vdb.ms, 0, kSteps)), true, device);
-      bench::report("dvt", name + ", subtract", "ms per step (median)", median(part(ours.ms, kSteps, 2 * kSteps)), "openvdb-csgDifference",
-                    median(part(vdb.ms, kSteps, 2 * kSteps)), true, device);
+      const Trace ours = drawOurs(k, true, true, dvt::makeGpuTreePasses(*gpu));
+      reportBeside(std::string("torus drawing, ROHR on the GPU, ") + size, ours, vdb, device);
+      timeSeries.push_back({"ROHR, GPU", steps(0, 2 * kSteps), ours.ms});
+      nodeSeries.push_back({"ROHR, GPU", steps(0, 2 * kSteps), ours.size});
     }
-    if (k == 9) {
-      timeSeries.push_back({"OpenVDB", steps(0, 2 * kSteps), vdb.ms});
-    }
+    timeSeries.push_back({"OpenVDB", steps(0, 2 * kSteps), vdb.ms});
+    const std::string suffix = k == 9 ? "" : "_2048";
+    writePng(dir + "/dvt_steps" + suffix + ".png",
+             linePlot(timeSeries, {.title = "Torus drawing (steps 1-120), then carving (121-240), " + size, .xLabel = "step",
+                                   .yLabel = "ms per step"}));
+    writePng(dir + "/dvt_nodes" + suffix + ".png",
+             linePlot(nodeSeries, {.title = "Tree nodes per step, " + size, .xLabel = "step", .yLabel = "nodes"}));
   }
-  const std::string dir = ISOATLAS_BENCH_DIR;
-  writePng(dir + "/dvt_steps.png",
-           linePlot(timeSeries, {.title = "Torus drawing (steps 1-120), then carving (121-240), voxel 5% of the brush",
-                                 .xLabel = "step", .yLabel = "ms per step"}));
-  writePng(dir + "/dvt_nodes.png", linePlot(nodeSeries, {.title = "Tree nodes per step, voxel 5% of the brush", .xLabel = "step", .yLabel = "nodes"}));
   return 0;
 }
