@@ -2,7 +2,9 @@
 // bright ellipsoid "brain" (100) inside a brighter shell "skull" (160) in a dark background (20),
 // mild noise. The brain's truth comes with it.
 #pragma once
+#include <algorithm>
 #include <random>
+#include <vector>
 
 #include "core/volume.h"
 
@@ -36,6 +38,16 @@ inline HeadPhantom headPhantom() {
         h.image.setValue(h.image.index(i, j, k), (brain ? 100 : inside(6) ? 160 : 20) + noise(rng));
       }
   return h;
+}
+
+// Whether p lies within `radius` of the polyline through `path`: inside a brush stroke dragged there.
+inline bool inStroke(const Vec3& p, const std::vector<Vec3>& path, double radius) {
+  for (std::size_t n = 0; n + 1 < path.size(); ++n) {
+    const Vec3 ab = path[n + 1] - path[n];
+    const double t = std::clamp(dot(p - path[n], ab) / std::max(1e-12, dot(ab, ab)), 0.0, 1.0);
+    if (norm(p - (path[n] + ab * t)) < radius) return true;
+  }
+  return false;
 }
 
 }  // namespace isoatlas::test

@@ -93,6 +93,40 @@ TEST(ViewSession, ABrushCarvesThroughTheVolumeTree) {
   EXPECT_EQ(s.levelSet().mask().data, before.data);
 }
 
+// A dragged brush: one tree, a write a dab, each dab a capsule from the last; what the slices showed
+// while painting is the mask the stroke leaves, which is the segmentation with the swept spheres
+// added (then carved), voxel for voxel.
+TEST(ViewSession, AStrokeSweepsItsBrushThroughTheDabs) {
+  const test::HeadPhantom head = test::headPhantom();
+  SegmentationSession s(head.image, levelset::Backend::Cpu);
+  s.seed({0, 0, 0}, 12, true);
+  const Volume before = s.levelSet().mask();
+  const std::vector<Vec3> path{{-16.1, -20.3, 4.2}, {-3.9, -8.2, 4.6}, {14.3, 1.1, 3.8}, {15.2, 17.9, -6.3}};
+  for (const bool add : {true, false}) {
+    SCOPED_TRACE(add ? "union" : "subtract");
+    const double radius = add ? 3.1 : 5.2;
+    BrushStroke stroke(s.levelSet(), add ? levelset::dvt::Op::Union : levelset::dvt::Op::Subtract, nullptr);
+    for (const Vec3& p : path) stroke.dabTo(p, radius);
+    EXPECT_EQ(stroke.dabs(), path.size());
+    const Volume preview = stroke.preview();
+    const BrushResult r = stroke.finish();
+    EXPECT_TRUE(r.mask.data == preview.data) << "the preview is the stroke's mask";
+    EXPECT_THROW(stroke.dabTo(path[0], radius), Error) << "a finished stroke takes no more dabs";
+    std::int64_t wrong = 0, swept = 0;
+    for (std::int64_t k = 0; k < before.dims[2]; ++k)
+      for (std::int64_t j = 0; j < before.dims[1]; ++j)
+        for (std::int64_t i = 0; i < before.dims[0]; ++i) {
+          const Vec3 w = head.image.indexToWorld({double(i), double(j), double(k)});
+          const bool inStroke = test::inStroke(w, path, radius);
+          const bool was = before.value(before.index(i, j, k)) > 0;
+          swept += inStroke && was != add;
+          wrong += (r.mask.value(r.mask.index(i, j, k)) > 0) != (add ? was || inStroke : was && !inStroke);
+        }
+    EXPECT_GT(swept, 100) << "the stroke changes the segmentation";
+    EXPECT_EQ(wrong, 0);
+  }
+}
+
 std::string writeScript(const std::filesystem::path& dir, const std::string& text) {
   const auto path = (dir / "actions.txt").string();
   std::ofstream(path) << text;
@@ -106,10 +140,10 @@ TEST(ViewScript, ReadsEveryActionAndNamesTheLineOfABadOne) {
                                                   "open head.nii.gz\n"
                                                   "probe 0,0,0   # radius 3 by default\n"
                                                   "seed 0,0,0,6\nunseed 1,2,3,4\nset eps 30\nrun 50\nundo\n"
-                                                  "brush subtract sphere:9,0,0,6\nbuild\nlevels 2 1\nwireframe on\n"
+                                                  "brush subtract sphere:9,0,0,6\nstroke union 2.5 1,2,3 4,5,6\nbuild\nlevels 2 1\nwireframe on\n"
                                                   "render cubes\nmode mesh\nslice 1,2,3\nview3d volume\nclip -y\nstamp 1,2,3,4,0.5 word\nsave-mask m.nii.gz\n"
                                                   "save-model m.isoatlas\nscreenshot s.png\nframes 3\nquit\n"));
-  ASSERT_EQ(actions.size(), 22u);
+  ASSERT_EQ(actions.size(), 23u);
   EXPECT_EQ(actions[0].verb, "open");
   EXPECT_EQ(actions[0].line, 2);
   EXPECT_EQ(actions[1].numbers, (std::vector<double>{0, 0, 0, 3}));
@@ -117,10 +151,14 @@ TEST(ViewScript, ReadsEveryActionAndNamesTheLineOfABadOne) {
   EXPECT_EQ(actions[4].word, "eps");
   EXPECT_EQ(actions[7].word, "sphere:9,0,0,6");
   EXPECT_FALSE(actions[7].on);
-  EXPECT_EQ(actions[9].numbers, (std::vector<double>{2, 1}));
+  EXPECT_EQ(actions[8].verb, "stroke");
+  EXPECT_TRUE(actions[8].on);
+  EXPECT_EQ(actions[8].numbers, (std::vector<double>{2.5, 1, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(actions[10].numbers, (std::vector<double>{2, 1}));
   for (const std::string bad : {"probe 0,0", "seed 0,0,0", "seed 0,0,0,-1", "set T 3", "run -2", "run 2.5", "brush union sphere:1,2",
                                 "brush add sphere:0,0,0,1", "screenshot s.jpg", "levels 2", "mode volume", "teleport 1,2,3",
-                                "open", "quit now", "clip y", "view3d slices", "stamp 1,2,3,4 word", "stamp 1,2,3,4,0 word"}) {
+                                "open", "quit now", "clip y", "view3d slices", "stamp 1,2,3,4 word", "stamp 1,2,3,4,0 word",
+                                "stroke union 2", "stroke carve 2 1,2,3", "stroke union 0 1,2,3", "stroke subtract 2 1,2"}) {
     SCOPED_TRACE(bad);
     try {
       readViewScript(writeScript(dir, "frames 1\n\n" + bad + "\n"));

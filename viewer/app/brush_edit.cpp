@@ -1,5 +1,8 @@
 #include "viewer/app/brush_edit.h"
 
+#include <algorithm>
+#include <cstdio>
+
 #include "core/error.h"
 #include "levelset/dvt/cpu_tree_passes.h"
 #include "levelset/dvt/gpu_tree_passes.h"
@@ -10,19 +13,65 @@ namespace isoatlas::viewer {
 
 namespace dvt = levelset::dvt;
 
-BrushResult brushSegmentation(const levelset::LevelSet& levelSet, const dvt::Solid& brush, dvt::Op op, gl::Context* gpu, int levels) {
+BrushStroke::BrushStroke(const levelset::LevelSet& levelSet, dvt::Op op, gl::Context* gpu, int levels)
+    : dims_(levelSet.geometry().dims), op_(op), preview_(levelSet.mask()) {
   const dvt::TreeFrame frame = dvt::frameOf(levelSet.geometry());
   const std::uint32_t voxels = frame.voxelDepth();
   require(levels >= -int(voxels) && int(voxels) + levels <= int(dvt::kMaxDepth), "the brush's depth is past the tree's range");
-  const std::uint32_t depth = std::uint32_t(int(voxels) + levels);
+  depth_ = std::uint32_t(int(voxels) + levels);
+  tree_ = std::make_unique<dvt::DynamicVolumeTree>(dvt::VolumeTree::empty(frame), gpu ? dvt::makeGpuTreePasses(*gpu) : dvt::makeCpuTreePasses());
+  tree_->write(dvt::rasterise(dvt::VolumeSolid(levelSet), frame, voxels), dvt::Op::Union);
+}
+
+void BrushStroke::apply(const dvt::Solid& shape) {
+  require(bool(tree_), "the brush stroke has ended");
+  const dvt::TreeFrame& frame = tree_->frame();
+  dvt::PreOrderInput input = dvt::rasterise(shape, frame, depth_);
+  // Each written cell whose centre is inside the shape (value > 0) sets the voxels it covers: inside
+  // for a union, outside for a subtraction. A cell finer than a voxel paints the voxel it lies in.
+  const std::uint8_t paint = op_ == dvt::Op::Union ? 1 : 0;
+  for (const dvt::InputVoxel& v : input.voxels()) {
+    if (v.value <= 0) continue;
+    const dvt::Cell c = dvt::unpackCell(v.xy, v.zd);
+    const Vec3 size = frame.cellVoxels(c.depth);
+    const std::uint32_t at[3] = {c.x, c.y, c.z};
+    std::int64_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::int64_t(double(at[a]) * size[a]);
+      hi[a] = std::min<std::int64_t>(dims_[a], std::max<std::int64_t>(lo[a] + 1, std::int64_t(double(at[a] + 1) * size[a])));
+    }
+    for (std::int64_t k = lo[2]; k < hi[2]; ++k)
+      for (std::int64_t j = lo[1]; j < hi[1]; ++j)
+        for (std::int64_t i = lo[0]; i < hi[0]; ++i) preview_.setValue(preview_.index(i, j, k), paint);
+  }
+  tree_->write(std::move(input), op_);
+  ++dabs_;
+}
+
+void BrushStroke::dabTo(const Vec3& centre, double radius) {
+  char text[256];
+  if (last_)
+    std::snprintf(text, sizeof text, "capsule:%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", last_->x, last_->y, last_->z, centre.x, centre.y,
+                  centre.z, radius);
+  else
+    std::snprintf(text, sizeof text, "sphere:%.17g,%.17g,%.17g,%.17g", centre.x, centre.y, centre.z, radius);
+  apply(*dvt::parseBrush(text));
+  last_ = centre;
+}
+
+BrushResult BrushStroke::finish() {
+  require(bool(tree_), "the brush stroke has ended");
+  tree_->collapse();
   BrushResult r;
-  r.tree = std::make_unique<dvt::DynamicVolumeTree>(dvt::VolumeTree::empty(frame),
-                                                    gpu ? dvt::makeGpuTreePasses(*gpu) : dvt::makeCpuTreePasses());
-  r.tree->write(dvt::rasterise(dvt::VolumeSolid(levelSet), frame, voxels), dvt::Op::Union);
-  r.tree->write(dvt::rasterise(brush, frame, depth), op);
-  r.tree->collapse();
-  r.mask = dvt::sampleMask(r.tree->tree(), levelSet.geometry().dims);
+  r.mask = dvt::sampleMask(tree_->tree(), dims_);
+  r.tree = std::move(tree_);
   return r;
+}
+
+BrushResult brushSegmentation(const levelset::LevelSet& levelSet, const dvt::Solid& brush, dvt::Op op, gl::Context* gpu, int levels) {
+  BrushStroke stroke(levelSet, op, gpu, levels);
+  stroke.apply(brush);
+  return stroke.finish();
 }
 
 }  // namespace isoatlas::viewer

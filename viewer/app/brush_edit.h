@@ -1,12 +1,20 @@
-// brushSegmentation: a brush stroke on a segmentation through a dynamic volume tree, as `isoatlas edit`
-// makes one: the level set's inside (read from its pages) written into a tree at its voxels, the brush
-// applied (union or subtract), the tree collapsed. Returns the tree (the tree view shows it) and its
-// mask in the level set's grid, the segmentation to go on from.
+// Brush edits of a segmentation through a dynamic volume tree, as `isoatlas edit` makes them: the
+// level set's inside (read from its pages) written into a tree at its voxels, the brush applied
+// (union or subtract), the tree collapsed, and its mask in the level set's grid the segmentation to
+// go on from.
+//   BrushStroke: a brush dragged as ITK-SNAP's paintbrush is: the tree is made once when the stroke
+//   starts, each dab is one write (a sphere brush sweeps a capsule from the last dab, so fast moves
+//   leave no gaps), and the mask comes from the tree when it ends. While it lasts, preview() is the
+//   segmentation's mask with the dabs painted from the written cells: what the tree's mask will be,
+//   exactly, for brushes at the voxels' depth (levels 0); coarser or finer brushes preview at the
+//   voxels their cells cover.
+//   brushSegmentation: a stroke of one shape.
 //   gpu: the context whose compute shaders run the tree passes (the window's), or null for the CPU twin
 //   levels: the brush's depth past the voxels' (-3: cells of 2 x 2 x 2 voxels; past 0 the tree holds
 //     detail the mask, at the voxels, does not keep)
 #pragma once
 #include <memory>
+#include <optional>
 
 #include "core/gl/context.h"
 #include "core/volume.h"
@@ -19,6 +27,28 @@ namespace isoatlas::viewer {
 struct BrushResult {
   std::unique_ptr<levelset::dvt::DynamicVolumeTree> tree;
   Volume mask;
+};
+
+class BrushStroke {
+public:
+  BrushStroke(const levelset::LevelSet& levelSet, levelset::dvt::Op op, gl::Context* gpu, int levels = 0);
+  // One write of `shape`, painted into the preview.
+  void apply(const levelset::dvt::Solid& shape);
+  // A sphere of `radius` mm at `centre`, swept from the last dab's centre when there was one.
+  void dabTo(const Vec3& centre, double radius);
+  std::size_t dabs() const { return dabs_; }
+  const Volume& preview() const { return preview_; }
+  // Collapses the tree and takes its mask; the stroke is spent.
+  BrushResult finish();
+
+private:
+  std::array<std::int64_t, 3> dims_;
+  levelset::dvt::Op op_;
+  std::uint32_t depth_;
+  std::unique_ptr<levelset::dvt::DynamicVolumeTree> tree_;
+  Volume preview_;
+  std::optional<Vec3> last_;
+  std::size_t dabs_ = 0;
 };
 
 BrushResult brushSegmentation(const levelset::LevelSet& levelSet, const levelset::dvt::Solid& brush, levelset::dvt::Op op,

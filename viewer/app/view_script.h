@@ -9,8 +9,10 @@
 //   unseed X,Y,Z,R            a ball carved out (model off)
 //   set t|eps|alpha VALUE     a speed parameter
 //   run N                     N solver steps (a few per frame; the script waits for them)
-//   undo                      back to before the last seed, unseed or brush
+//   undo                      back to before the last seed, unseed, brush or stroke
 //   brush union|subtract SHAPE   a volume-tree edit of the segmentation (SHAPE as `isoatlas edit` takes it)
+//   stroke union|subtract R X,Y,Z [X,Y,Z ...]   a sphere brush of R mm dragged through the points (one
+//                             stroke: one tree, a write a dab, one undo)
 //   view3d volume|surface     the 3D view: volume rendering from the pages, or the extracted surface
 //   clip +x|-x|+y|-y|+z|-z|off   a clipping plane through the slice point; the side named is cut away
 //   build                     extract the surface and build the model (in the background; the script waits)
@@ -34,7 +36,7 @@ struct ViewAction {
   std::string verb;             // as written: open, mode, ...
   int line = 0;                 // in the script, for messages
   std::string word;             // open/save/screenshot's file, mode, set's parameter, brush's shape, render's mode
-  std::vector<double> numbers;  // a point (and radius), a value, counts, levels
+  std::vector<double> numbers;  // a point (and radius), a value, counts, levels; a stroke's radius, then its points
   bool on = true;               // brush union (else subtract), wireframe on
   std::string where() const;    // "FILE:LINE" of the script, for errors met while running
   std::string script;

@@ -80,6 +80,8 @@ struct SegmentView {
   BrushShape brushShape = BrushShape::Sphere;
   bool brushUnion = false;
   int brushLevels = 0;  // the brush's tree depth past the voxels' (negative: coarser cells)
+  std::unique_ptr<BrushStroke> stroke;  // while the brush is dragged; the slices show its preview
+  Vec3 lastDab;
   // The slices as last drawn, and what they showed.
   ImagePanel slices;
   bool slicesDirty = true;
@@ -211,14 +213,44 @@ public:
   }
   void run(int steps) { seg().session->requestSteps(steps); }
   void undo() { seg().session->undo(); }
-  void brush(const std::string& shape, bool add, int levels = 0) {
-    const auto solid = dvt::parseBrush(shape);
-    BrushResult r = brushSegmentation(seg().session->levelSet(), *solid, add ? dvt::Op::Union : dvt::Op::Subtract,
-                                      backend_ == levelset::Backend::Gpu ? &context_ : nullptr, levels);
-    seg().session->replaceMask(r.mask);
+  // A brush stroke: begun with the tree of the segmentation, dabs as the mouse moves (or as a script
+  // lists them), ended with its mask as the segmentation (one undo takes the whole stroke back).
+  void beginStroke(bool add, int levels) {
+    seg().session->pause();  // the stroke's mask replaces the segmentation as it was when the stroke began
+    seg().stroke = std::make_unique<BrushStroke>(seg().session->levelSet(), add ? dvt::Op::Union : dvt::Op::Subtract,
+                                                 backend_ == levelset::Backend::Gpu ? &context_ : nullptr, levels);
+  }
+  void strokeWith(const dvt::Solid& shape) {
+    seg().stroke->apply(shape);
+    seg().slicesDirty = true;
+  }
+  void strokeTo(const Vec3& at, double radius) {
+    seg().stroke->dabTo(at, radius);
+    seg().slicesDirty = true;
+  }
+  void endStroke() {
+    SegmentView& s = seg();
+    const std::unique_ptr<BrushStroke> stroke = std::move(s.stroke);
+    const std::size_t dabs = stroke->dabs();
+    BrushResult r = stroke->finish();
+    s.session->replaceMask(r.mask);
     showTree(r.tree->tree(), "brushed segmentation");
     mode_ = Mode::Segment;
+    s.slicesDirty = true;
+    status_ = "brush stroke of " + std::to_string(dabs) + (dabs == 1 ? " dab: " : " dabs: ") + std::to_string(tree_->tree.nodeCount()) + " nodes";
+  }
+  void brush(const std::string& shape, bool add, int levels = 0) {
+    const auto solid = dvt::parseBrush(shape);
+    beginStroke(add, levels);
+    strokeWith(*solid);
+    endStroke();
     status_ = std::string(add ? "union " : "subtract ") + shape + ": " + std::to_string(tree_->tree.nodeCount()) + " nodes";
+  }
+  // A sphere brush of `radius` mm dragged through `points`.
+  void stroke(const std::vector<Vec3>& points, double radius, bool add) {
+    beginStroke(add, 0);
+    for (const Vec3& p : points) strokeTo(p, radius);
+    endStroke();
   }
   void build() {
     require(bool(options_.buildModel), "build: this window was opened without the model builder");
@@ -336,6 +368,7 @@ private:
   Image surfacePicture(int width, int height);
   std::optional<Vec3> pick3d(double x, double y) const;
   void applyTool(const Vec3& at);
+  void brushAt(const Vec3& at);
 
   gl::Context& context_;
   const ViewerOptions& options_;
@@ -531,6 +564,7 @@ void Viewer::drawSegment(int width, int height) {
   const std::uint64_t version = s.session->version();
   if (s.slicesDirty || version != s.slicesVersion || n != s.panelSize) {
     SliceOptions o{.panelSize = n, .window = s.window, .crosshair = s.crosshair};
+    if (s.stroke) o.mask = &s.stroke->preview();  // the stroke so far, tinted over the segmentation's contour
     if (s.contour) o.phi = s.session->phi();
     const levelset::SpeedParams params = s.session->params();
     if (s.speed) o.speed = &params;
@@ -638,8 +672,19 @@ void Viewer::applyTool(const Vec3& at) {
     case Tool::Probe: probe(at, s.probeRadius); break;
     case Tool::SeedIn: seed(at, s.seedRadius, true); break;
     case Tool::SeedOut: seed(at, s.seedRadius, false); break;
-    case Tool::Brush: brush(brushText(at), s.brushUnion, s.brushLevels); break;
+    case Tool::Brush:
+      beginStroke(s.brushUnion, s.brushLevels);
+      brushAt(at);
+      break;
   }
+}
+
+// The brush's next dab at `at`: a sphere sweeps from its last dab; other shapes are stamped.
+void Viewer::brushAt(const Vec3& at) {
+  SegmentView& s = *segment_;
+  if (s.brushShape == BrushShape::Sphere) strokeTo(at, s.brushSize);
+  else strokeWith(*dvt::parseBrush(brushText(at)));
+  s.lastDab = at;
 }
 
 void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
@@ -654,6 +699,7 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
   const bool pressed = down && !leftWasDown_;
   const double dx = x - lastX_, dy = y - lastY_;
   leftWasDown_ = down, lastX_ = x, lastY_ = y;
+  if (!down && segment_ && segment_->stroke) attempt([&] { endStroke(); });  // released anywhere
   if (io.WantCaptureMouse || x >= width - kPanelWidth) return;
   Orbit* orbit = mode_ == Mode::Mesh && model_ ? &model_->orbit : mode_ == Mode::Tree && tree_ ? &tree_->orbit : nullptr;
   int viewHeight = height;
@@ -679,7 +725,11 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
         s.point[axis] += io.MouseWheel > 0 ? step : -step;
         s.slicesDirty = s.view3dDirty = true;
       }
-      if (pressed || (down && s.tool == Tool::Navigate)) attempt([&] { applyTool(at); });
+      if (pressed || (down && s.tool == Tool::Navigate)) {
+        attempt([&] { applyTool(at); });
+      } else if (down && s.stroke && norm(at - s.lastDab) >= 0.25 * s.brushSize) {  // dragging the brush
+        attempt([&] { brushAt(at); });
+      }
       return;
     }
   }
@@ -696,6 +746,13 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
   if (down) orbit->drag(dx, dy);
   if (rightDown) orbit->pan(dx, dy, viewHeight);
   if (io.MouseWheel != 0) orbit->zoom(io.MouseWheel);
+}
+
+// A stroke action's points: its numbers after the radius, three a point.
+std::vector<Vec3> strokePoints(const std::vector<double>& numbers) {
+  std::vector<Vec3> points;
+  for (std::size_t i = 1; i + 2 < numbers.size(); i += 3) points.push_back({numbers[i], numbers[i + 1], numbers[i + 2]});
+  return points;
 }
 
 // Replays a script's actions one per frame, waiting where an action takes time.
@@ -734,6 +791,7 @@ private:
     else if (verb == "run") v.run(int(n[0]));
     else if (verb == "undo") v.undo();
     else if (verb == "brush") v.brush(a.word, a.on);
+    else if (verb == "stroke") v.stroke(strokePoints(n), n[0], a.on);
     else if (verb == "build") v.build();
     else if (verb == "levels") v.levels(int(n[0]), int(n[1]));
     else if (verb == "view3d") v.view3d(a.word == "volume");
