@@ -49,7 +49,7 @@ TEST(ViewSession, ProbeSeedStepsAndUndo) {
   EXPECT_LT(inside(s.levelSet().mask()), inside(grown));
   s.undo();
   EXPECT_EQ(s.levelSet().mask().data, grown.data);
-  EXPECT_FALSE(s.canUndo()) << "one level of undo";
+  EXPECT_TRUE(s.canUndo()) << "the first seed is still there to undo";
 }
 
 TEST(ViewSession, UndoRestoresTheMaskBeforeTheLastEdit) {
@@ -61,6 +61,41 @@ TEST(ViewSession, UndoRestoresTheMaskBeforeTheLastEdit) {
   EXPECT_LT(inside(s.levelSet().mask()), inside(before));
   s.undo();
   EXPECT_EQ(s.levelSet().mask().data, before.data);
+}
+
+// Edits undone in turn back to the empty start, redone in turn, and a new edit drops what was left
+// to redo; at most kUndoLevels are kept.
+TEST(ViewSession, UndoAndRedoWalkThroughTheEdits) {
+  const test::HeadPhantom head = test::headPhantom();
+  SegmentationSession s(head.image, levelset::Backend::Cpu);
+  std::vector<Volume> masks{s.levelSet().mask()};
+  s.seed({0, 0, 0}, 9, true);
+  masks.push_back(s.levelSet().mask());
+  s.seed({3, 0, 0}, 4.5, false);
+  masks.push_back(s.levelSet().mask());
+  s.seed({-12, 6, 3}, 6, true);
+  masks.push_back(s.levelSet().mask());
+  for (std::size_t i = 1; i < masks.size(); ++i) EXPECT_NE(masks[i].data, masks[i - 1].data);
+  for (int i = 2; i >= 0; --i) {
+    ASSERT_TRUE(s.canUndo());
+    s.undo();
+    EXPECT_EQ(s.levelSet().mask().data, masks[std::size_t(i)].data) << "undo to " << i;
+  }
+  EXPECT_FALSE(s.canUndo());
+  EXPECT_EQ(inside(s.levelSet().mask()), 0);
+  for (std::size_t i = 1; i <= 2; ++i) {
+    ASSERT_TRUE(s.canRedo());
+    s.redo();
+    EXPECT_EQ(s.levelSet().mask().data, masks[i].data) << "redo to " << i;
+  }
+  s.seed({9, -9, 0}, 4.5, true);
+  EXPECT_FALSE(s.canRedo()) << "a new edit drops the redo";
+  s.undo();
+  EXPECT_EQ(s.levelSet().mask().data, masks[2].data);
+  for (std::size_t i = 0; i < SegmentationSession::kUndoLevels + 5; ++i) s.seed({double(i % 7), 0, 0}, 3, i % 2 == 0);
+  std::size_t undone = 0;
+  for (; s.canUndo(); ++undone) s.undo();
+  EXPECT_EQ(undone, SegmentationSession::kUndoLevels);
 }
 
 TEST(ViewSession, ABrushCarvesThroughTheVolumeTree) {
@@ -139,26 +174,27 @@ TEST(ViewScript, ReadsEveryActionAndNamesTheLineOfABadOne) {
                                                   "# a session\n"
                                                   "open head.nii.gz\n"
                                                   "probe 0,0,0   # radius 3 by default\n"
-                                                  "seed 0,0,0,6\nunseed 1,2,3,4\nset eps 30\nrun 50\nundo\n"
+                                                  "seed 0,0,0,6\nunseed 1,2,3,4\nset eps 30\nrun 50\nundo\nredo\n"
                                                   "brush subtract sphere:9,0,0,6\nstroke union 2.5 1,2,3 4,5,6\nbuild\nlevels 2 1\nwireframe on\n"
                                                   "render cubes\nmode mesh\nslice 1,2,3\nview3d volume\nclip -y\nstamp 1,2,3,4,0.5 word\nsave-mask m.nii.gz\n"
                                                   "save-model m.isoatlas\nscreenshot s.png\nframes 3\nquit\n"));
-  ASSERT_EQ(actions.size(), 23u);
+  ASSERT_EQ(actions.size(), 24u);
   EXPECT_EQ(actions[0].verb, "open");
   EXPECT_EQ(actions[0].line, 2);
   EXPECT_EQ(actions[1].numbers, (std::vector<double>{0, 0, 0, 3}));
   EXPECT_EQ(actions[3].verb, "unseed");
   EXPECT_EQ(actions[4].word, "eps");
-  EXPECT_EQ(actions[7].word, "sphere:9,0,0,6");
-  EXPECT_FALSE(actions[7].on);
-  EXPECT_EQ(actions[8].verb, "stroke");
-  EXPECT_TRUE(actions[8].on);
-  EXPECT_EQ(actions[8].numbers, (std::vector<double>{2.5, 1, 2, 3, 4, 5, 6}));
-  EXPECT_EQ(actions[10].numbers, (std::vector<double>{2, 1}));
+  EXPECT_EQ(actions[7].verb, "redo");
+  EXPECT_EQ(actions[8].word, "sphere:9,0,0,6");
+  EXPECT_FALSE(actions[8].on);
+  EXPECT_EQ(actions[9].verb, "stroke");
+  EXPECT_TRUE(actions[9].on);
+  EXPECT_EQ(actions[9].numbers, (std::vector<double>{2.5, 1, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(actions[11].numbers, (std::vector<double>{2, 1}));
   for (const std::string bad : {"probe 0,0", "seed 0,0,0", "seed 0,0,0,-1", "set T 3", "run -2", "run 2.5", "brush union sphere:1,2",
                                 "brush add sphere:0,0,0,1", "screenshot s.jpg", "levels 2", "mode volume", "teleport 1,2,3",
                                 "open", "quit now", "clip y", "view3d slices", "stamp 1,2,3,4 word", "stamp 1,2,3,4,0 word",
-                                "stroke union 2", "stroke carve 2 1,2,3", "stroke union 0 1,2,3", "stroke subtract 2 1,2"}) {
+                                "stroke union 2", "stroke carve 2 1,2,3", "redo now", "stroke union 0 1,2,3", "stroke subtract 2 1,2"}) {
     SCOPED_TRACE(bad);
     try {
       readViewScript(writeScript(dir, "frames 1\n\n" + bad + "\n"));

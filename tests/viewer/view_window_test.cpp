@@ -86,7 +86,7 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   std::ofstream(script) << "open " << volume << "\nprobe 0,0,0,4.5\nseed 0,0,0,6\nset eps 30\nrun 50\nscreenshot " << p("segment.png") << "\nsave-mask "
                         << p("mask.nii.gz") << "\nview3d volume\nclip +y\nscreenshot " << p("volume.png") << "\nbrush subtract sphere:12,0,0,7.5\nsave-mask " << p("brushed.nii.gz")
                         << "\nstroke union 2.5 -10.3,-7.1,2.2 -2.2,4.3,2.9 6.1,8.8,27.3\nsave-mask " << p("stroked.nii.gz") << "\nundo\nsave-mask "
-                        << p("unstroked.nii.gz") << "\nmode tree\nscreenshot " << p("tree.png") << "\nmode segment\nbuild\nlevels 2 1\nstamp 0,-27,0,12,1 iso\nscreenshot "
+                        << p("unstroked.nii.gz") << "\nredo\nsave-mask " << p("restroked.nii.gz") << "\nundo\nmode tree\nscreenshot " << p("tree.png") << "\nmode segment\nbuild\nlevels 2 1\nstamp 0,-27,0,12,1 iso\nscreenshot "
                         << p("mesh.png") << "\nsave-model " << p("model.isoatlas") << "\nquit\n";
   const int width = 880, height = 520;
   const ViewerReport report = runViewer({.script = script, .width = width, .height = height, .backend = "cpu",
@@ -162,7 +162,8 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   EXPECT_EQ(leftInBall, 0);
   EXPECT_EQ(changed, 0);
 
-  // The stroke added the brush swept along its points, and one undo took the whole stroke back.
+  // The stroke added the brush swept along its points, one undo took the whole stroke back, redo
+  // brought it again.
   const Volume stroked = readVolume(p("stroked.nii.gz"));
   const std::vector<Vec3> path{{-10.3, -7.1, 2.2}, {-2.2, 4.3, 2.9}, {6.1, 8.8, 27.3}};
   std::int64_t added = 0, strokeWrong = 0;
@@ -178,6 +179,7 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   EXPECT_GT(added, 20) << "the stroke reaches outside the segmentation";
   EXPECT_EQ(strokeWrong, 0);
   EXPECT_TRUE(readVolume(p("unstroked.nii.gz")).data == brushed.data) << "undo takes the stroke back";
+  EXPECT_TRUE(readVolume(p("restroked.nii.gz")).data == stroked.data) << "redo brings it again";
 
   // The tree view shows the brushed segmentation; the mesh view shows the model where it projects.
   const Image tree = readPng(p("tree.png"));

@@ -1,5 +1,6 @@
 #include "viewer/app/segmentation_session.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -45,7 +46,35 @@ levelset::ProbeResult SegmentationSession::probe(const Vec3& world, double radiu
   return r;
 }
 
-void SegmentationSession::remember() { undoMask_ = levelSet_->mask(); }
+SegmentationSession::Runs SegmentationSession::currentRuns() const {
+  const Volume mask = levelSet_->mask();
+  Runs runs{0};
+  bool inside = false;
+  for (const std::byte b : mask.data) {
+    const bool in = b != std::byte{0};
+    if (in != inside) runs.push_back(0), inside = in;
+    ++runs.back();
+  }
+  return runs;
+}
+
+void SegmentationSession::restore(const Runs& runs) {
+  Volume mask = Volume::zeros(source_.dims, ScalarType::UInt8);
+  mask.spacing = source_.spacing, mask.origin = source_.origin, mask.direction = source_.direction;
+  std::size_t at = 0;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    if (r % 2 == 1) std::fill_n(mask.data.begin() + std::ptrdiff_t(at), runs[r], std::byte{1});
+    at += runs[r];
+  }
+  levelSet_->setMask(mask);
+  ++version_;
+}
+
+void SegmentationSession::remember() {
+  undo_.push_back(currentRuns());
+  if (undo_.size() > kUndoLevels) undo_.erase(undo_.begin());
+  redo_.clear();
+}
 
 void SegmentationSession::seed(const Vec3& world, double radius, bool add) {
   const Vec3 centre = toIndex(world);
@@ -63,10 +92,17 @@ void SegmentationSession::replaceMask(const Volume& mask) {
 }
 
 void SegmentationSession::undo() {
-  if (!undoMask_) return;
-  levelSet_->setMask(*undoMask_);
-  undoMask_.reset();
-  ++version_;
+  if (undo_.empty()) return;
+  redo_.push_back(currentRuns());
+  restore(undo_.back());
+  undo_.pop_back();
+}
+
+void SegmentationSession::redo() {
+  if (redo_.empty()) return;
+  undo_.push_back(currentRuns());
+  restore(redo_.back());
+  redo_.pop_back();
 }
 
 int SegmentationSession::advance(double budgetMs) {

@@ -1,7 +1,7 @@
 // SegmentationSession: the level set a window steers, as ITK-SNAP's snake mode does: T and eps probed
 // from the source, seeds drawn in (model on) or out (model off), T, eps and alpha changed while it
-// runs, a bounded number of steps per frame so the window stays responsive, the last edit undone,
-// the mask saved. No GL or UI here: the window's mouse and the scripted actions drive it alike. On
+// runs, a bounded number of steps per frame so the window stays responsive, edits undone and redone
+// (the segmentation before each kept as a run-length-coded mask, kUndoLevels deep), the mask saved. No GL or UI here: the window's mouse and the scripted actions drive it alike. On
 // the GPU backend the window's GL context must be current whenever the session is used.
 // Points are world positions (mm, RAS); radii are in mm.
 #pragma once
@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/volume.h"
 #include "levelset/level_set.h"
@@ -37,8 +38,13 @@ public:
   void seed(const Vec3& world, double radius, bool add);
   // The segmentation replaced by a mask of the source's grid (a brush's result); undoable.
   void replaceMask(const Volume& mask);
-  void undo();  // back to before the last seed, unseed or replaceMask
-  bool canUndo() const { return undoMask_.has_value(); }
+  // Back to before the last seed, unseed or replaceMask, and forward again (until the next edit). The
+  // level set restarts from the mask: phi's sub-voxel detail and steps taken since are not kept.
+  void undo();
+  void redo();
+  bool canUndo() const { return !undo_.empty(); }
+  bool canRedo() const { return !redo_.empty(); }
+  static constexpr std::size_t kUndoLevels = 32;
 
   void start() { running_ = true; }
   void pause() { running_ = false, pendingSteps_ = 0; }
@@ -59,6 +65,10 @@ public:
   void saveMask(const std::string& path) const;
 
 private:
+  // A mask as the lengths of its runs of outside and inside voxels, in turn (outside first).
+  using Runs = std::vector<std::uint32_t>;
+  Runs currentRuns() const;
+  void restore(const Runs& runs);
   void remember();
   Vec3 toIndex(const Vec3& world) const;
   double toVoxels(double radius) const;
@@ -66,7 +76,7 @@ private:
   Volume source_;
   IntensityWindow window_;
   std::unique_ptr<levelset::LevelSet> levelSet_;
-  std::optional<Volume> undoMask_;
+  std::vector<Runs> undo_, redo_;  // the newest last
   bool running_ = false;
   int pendingSteps_ = 0;
   double stepsPerSecond_ = 0;

@@ -12,7 +12,7 @@ namespace {
 
 const char* kUsage =
     "open FILE, mode segment|mesh|tree, slice X,Y,Z, probe X,Y,Z[,R], seed X,Y,Z,R, unseed X,Y,Z,R, set t|eps|alpha V, run N, "
-    "undo, brush union|subtract SHAPE, stroke union|subtract R X,Y,Z..., view3d volume|surface, clip +x|-x|+y|-y|+z|-z|off, build, levels CPU GPU, stamp X,Y,Z,R,DEPTH WORD, wireframe on|off, render raycast|cubes, save-mask FILE, "
+    "undo, redo, brush union|subtract SHAPE, stroke union|subtract R X,Y,Z..., view3d volume|surface, clip +x|-x|+y|-y|+z|-z|off, build, levels CPU GPU, stamp X,Y,Z,R,DEPTH WORD, wireframe on|off, render raycast|cubes, save-mask FILE, "
     "save-model FILE, screenshot FILE.png, frames N, quit";
 
 // One line's action, its words checked.
@@ -102,7 +102,7 @@ ViewAction parseAction(const std::vector<std::string>& words, const std::string&
   } else if (v == "clip") {
     need(1, "+x, -x, +y, -y, +z, -z or off");
     oneOf(a.word = words[1], {"+x", "-x", "+y", "-y", "+z", "-z", "off"});
-  } else if (v == "undo" || v == "build" || v == "quit") {
+  } else if (v == "undo" || v == "redo" || v == "build" || v == "quit") {
     need(0, "nothing");
   } else {
     throw Error(where + ": " + v + " is not an action (" + kUsage + ")");

@@ -9,7 +9,8 @@
 //   unseed X,Y,Z,R            a ball carved out (model off)
 //   set t|eps|alpha VALUE     a speed parameter
 //   run N                     N solver steps (a few per frame; the script waits for them)
-//   undo                      back to before the last seed, unseed, brush or stroke
+//   undo                      back to before the last seed, unseed, brush or stroke (32 deep)
+//   redo                      the last undone edit again
 //   brush union|subtract SHAPE   a volume-tree edit of the segmentation (SHAPE as `isoatlas edit` takes it)
 //   stroke union|subtract R X,Y,Z [X,Y,Z ...]   a sphere brush of R mm dragged through the points (one
 //                             stroke: one tree, a write a dab, one undo)

@@ -216,7 +216,14 @@ public:
     seg().session->setParams(p);
   }
   void run(int steps) { seg().session->requestSteps(steps); }
-  void undo() { seg().session->undo(); }
+  void undo() {
+    require(seg().session->canUndo(), "undo: nothing to undo");
+    seg().session->undo();
+  }
+  void redo() {
+    require(seg().session->canRedo(), "redo: nothing to redo");
+    seg().session->redo();
+  }
   // A brush stroke: begun with the tree of the segmentation, dabs as the mouse moves (or as a script
   // lists them), ended with its mask as the segmentation (one undo takes the whole stroke back).
   void beginStroke(bool add, int levels) {
@@ -327,6 +334,8 @@ public:
   void drawPanel(int width, int height, bool& screenshot, bool& quit);
   void drawView(int width, int height);
   void handleMouse(GLFWwindow* window, int width, int height);
+  // Ctrl+Z undoes the last edit of the segmentation, Ctrl+Y (or Ctrl+Shift+Z) redoes it.
+  void handleKeys(GLFWwindow* window);
   int iterations() const { return segment_ ? segment_->session->iterations() : 0; }
   std::string backendName() const { return segment_ ? segment_->session->levelSet().backendName() : ""; }
 
@@ -390,7 +399,7 @@ private:
   Mode mode_ = Mode::Segment;
   std::string status_, buildError_;
   char pathField_[256] = "";
-  bool leftWasDown_ = false;
+  bool leftWasDown_ = false, zWasDown_ = false, yWasDown_ = false;
   double lastX_ = 0, lastY_ = 0;
 };
 
@@ -419,6 +428,8 @@ void Viewer::segmentPanel() {
   if (ImGui::Button("step")) session.requestSteps(1);
   ImGui::SameLine();
   if (ImGui::Button("undo") && session.canUndo()) session.undo();
+  ImGui::SameLine();
+  if (ImGui::Button("redo") && session.canRedo()) session.redo();
   ImGui::Text("%d steps, %.1f steps/s (%s)", session.iterations(), running ? session.stepsPerSecond() : 0.0,
               session.levelSet().backendName().c_str());
   ImGui::Text("%lld active pages", (long long)session.activePages());
@@ -756,6 +767,16 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
   if (io.MouseWheel != 0) orbit->zoom(io.MouseWheel);
 }
 
+void Viewer::handleKeys(GLFWwindow* window) {
+  const bool zDown = glfwGetKey(window, GLFW_KEY_Z) == GLFW_PRESS, yDown = glfwGetKey(window, GLFW_KEY_Y) == GLFW_PRESS;
+  const bool zPressed = zDown && !zWasDown_, yPressed = yDown && !yWasDown_;
+  zWasDown_ = zDown, yWasDown_ = yDown;
+  const ImGuiIO& io = ImGui::GetIO();
+  if (!segment_ || io.WantCaptureKeyboard || !io.KeyCtrl) return;
+  if ((zPressed && !io.KeyShift) && segment_->session->canUndo()) attempt([&] { undo(); });
+  else if ((yPressed || (zPressed && io.KeyShift)) && segment_->session->canRedo()) attempt([&] { redo(); });
+}
+
 // A stroke action's points: its numbers after the radius, three a point.
 std::vector<Vec3> strokePoints(const std::vector<double>& numbers) {
   std::vector<Vec3> points;
@@ -798,6 +819,7 @@ private:
     else if (verb == "set") v.set(a.word, n[0]);
     else if (verb == "run") v.run(int(n[0]));
     else if (verb == "undo") v.undo();
+    else if (verb == "redo") v.redo();
     else if (verb == "brush") v.brush(a.word, a.on);
     else if (verb == "stroke") v.stroke(strokePoints(n), n[0], a.on);
     else if (verb == "build") v.build();
@@ -872,6 +894,7 @@ ViewerReport runViewer(const ViewerOptions& options) {
       ImGui_ImplGlfw_NewFrame();
       ImGui::NewFrame();
       viewer.handleMouse(window, width, height);
+      viewer.handleKeys(window);
       bool shoot = false;
       viewer.drawPanel(width, height, shoot, quit);
       const bool pDown = glfwGetKey(window, GLFW_KEY_P) == GLFW_PRESS;
