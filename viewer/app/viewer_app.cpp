@@ -483,7 +483,7 @@ void Viewer::segmentPanel() {
     for (int a = 0; a < 3; ++a) ImGui::SameLine(), view3d |= ImGui::RadioButton(a == 0 ? "x" : a == 1 ? "y" : "z", &s.clipAxis, a);
     ImGui::SameLine();
     view3d |= ImGui::Checkbox("cut above", &s.clipAbove);
-    ImGui::TextUnformatted("ctrl-click in 3D: the tool on the cut face or the surface");
+    ImGui::TextUnformatted("ctrl-click in 3D: the tool on the cut face or the surface (ctrl-drag paints with the brush)");
   }
   s.view3dDirty |= view3d;
   s.slicesDirty |= ImGui::Checkbox("contour", &s.contour);
@@ -729,6 +729,10 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
       if (pressed && io.KeyCtrl && s.volumeRendering) {
         if (const auto at = pick3d(x, y - n)) attempt([&] { applyTool(*at); });
         else status_ = "nothing there to pick";
+        return;
+      }
+      if (down && s.stroke) {  // a stroke begun with ctrl-click goes on where the mouse picks
+        if (const auto at = pick3d(x, y - n); at && norm(*at - s.lastDab) >= 0.25 * s.brushSize) attempt([&] { brushAt(*at); });
         return;
       }
       orbit = &s.orbit;
