@@ -52,9 +52,6 @@ py::dict toDict(const nlohmann::json& json);
 // the command makes one): "gpu", "cpu" or "auto"; auto without a GPU warns (RuntimeWarning) that it
 // runs on the CPU, unless the caller only wants the context (renders).
 app::Gpu& gpuFor(const std::string& backend, bool warnOnFallback = true);
-// Destroys that context; the module registers it with Python's atexit, so the context goes while the
-// GL libraries are still loaded, not among the static destructors after the interpreter.
-void releaseGpu();
 
 // While alive: core/progress's updates go to `callback(task, fraction)` with the GIL held, and a
 // pending Ctrl-C stops the work there (KeyboardInterrupt propagates out of the stage).

@@ -16,5 +16,4 @@ PYBIND11_MODULE(_isoatlas, m) {
   isoatlas::python::bindVolumes(m);
   isoatlas::python::bindStages(m);
   isoatlas::python::bindModels(m);
-  py::module_::import("atexit").attr("register")(py::cpp_function(&isoatlas::python::releaseGpu));
 }

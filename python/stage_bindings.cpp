@@ -30,25 +30,13 @@ std::vector<app::Ball> seedBalls(const std::vector<std::vector<double>>& seeds, 
   return balls;
 }
 
-app::Gpu& cpuChoice() {
-  static app::Gpu cpu;  // no context
-  return cpu;
-}
-std::optional<app::Gpu>& glChoice() {
-  static std::optional<app::Gpu> gl;  // the first gpu or auto choice decides, later ones share it
-  return gl;
-}
 }  // namespace
-
-void releaseGpu() {
-  glChoice().reset();
-  cpuChoice().context.reset();
-}
 
 app::Gpu& gpuFor(const std::string& backend, bool warnOnFallback) {
   require(backend == "gpu" || backend == "cpu" || backend == "auto", "backend=" + backend + ": expected gpu, cpu or auto");
-  if (backend == "cpu") return cpuChoice();
-  std::optional<app::Gpu>& gl = glChoice();
+  static app::Gpu cpu;  // no context
+  static std::optional<app::Gpu> gl;  // the first gpu or auto choice decides, later ones share it
+  if (backend == "cpu") return cpu;
   if (!gl) {
     gl.emplace(app::chooseBackend(backend));
     // As the command says it on stderr: auto on a machine whose only GL is a software rasteriser.
