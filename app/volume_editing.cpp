@@ -50,6 +50,7 @@ void write(EditedTree& e, const dvt::Solid& solid, dvt::Op op, const EditRequest
   const dvt::WriteStats stats = e.tree->write(std::move(input), op);
   e.iterations += std::uint64_t(stats.iterations);
   e.secondsCollapse += stats.collapseSeconds;  // a collapse every k writes (--collapse-every)
+  e.collapses += stats.collapsed;
   e.secondsWrite += secondsSince(begin) - stats.collapseSeconds;
 }
 
@@ -57,7 +58,7 @@ void write(EditedTree& e, const dvt::Solid& solid, dvt::Op op, const EditRequest
 
 nlohmann::json EditedTree::figures(const dvt::VolumeTree& t) const {
   return {{"nodes", t.nodeCount()}, {"leaves", t.leafCount()}, {"depth_max", t.maxDepth()}, {"depth", depth},
-          {"seconds_write", secondsWrite}, {"seconds_collapse", secondsCollapse}, {"bytes", tree->bytes()},
+          {"seconds_write", secondsWrite}, {"seconds_collapse", secondsCollapse}, {"collapses", collapses}, {"bytes", tree->bytes()},
           {"backend", backend}, {"input_voxels", inputVoxels}, {"write_iterations", iterations}};
 }
 
@@ -164,6 +165,7 @@ void applySteps(EditedTree& e, const EditRequest& request, const std::vector<std
   const auto begin = std::chrono::steady_clock::now();
   e.tree->collapse();
   e.secondsCollapse += secondsSince(begin);
+  ++e.collapses;
 }
 
 Image renderEditedTree(const EditedTree& e, const dvt::VolumeTree& streams, const viewer::DvtView& view, Gpu& gpu) {

@@ -43,8 +43,9 @@ struct EditedTree {
   std::string backend;
   double secondsWrite = 0, secondsCollapse = 0;  // collapses: every k writes and the last one
   std::uint64_t inputVoxels = 0, iterations = 0;   // iterations: mark-restructure rounds, all writes
-  // nodes, leaves, depth_max, seconds_write, seconds_collapse, bytes, backend, depth, input_voxels,
-  // write_iterations;
+  std::uint64_t collapses = 0;                     // every k writes and the last one
+  // nodes, leaves, depth_max, seconds_write, seconds_collapse, collapses, bytes, backend, depth,
+  // input_voxels, write_iterations;
   // `streams`: the tree as tree->tree() gives it (a copy, or a read-back from the GPU: take it once)
   nlohmann::json figures(const levelset::dvt::VolumeTree& streams) const;
 };

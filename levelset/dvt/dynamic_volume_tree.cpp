@@ -50,6 +50,7 @@ WriteStats DynamicVolumeTree::write(PreOrderInput input, Op op) {
     const auto collapseStart = std::chrono::steady_clock::now();
     collapse();
     stats.collapseSeconds = secondsSince(collapseStart);
+    stats.collapsed = true;
     stats.nodes = passes_->nodeCount();
   }
   return stats;

@@ -27,6 +27,7 @@ struct WriteStats {
   int iterations = 0;
   std::uint64_t inputVoxels = 0, nodes = 0;
   double seconds = 0, collapseSeconds = 0;  // collapseSeconds: an automatic collapse after this write
+  bool collapsed = false;                   // whether that collapse ran (every k writes)
 };
 
 class DynamicVolumeTree {

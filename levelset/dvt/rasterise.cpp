@@ -152,8 +152,12 @@ PreOrderInput rasterise(const Solid& solid, const TreeFrame& frame, std::uint32_
   const auto& items = top.items;
   std::vector<std::vector<InputVoxel>> parts(items.size());
   tbb::parallel_for(std::size_t(0), items.size(), [&](std::size_t i) {
-    if (items[i].crossed) r.visit(items[i].cell, frame.centreWorld(items[i].cell), parts[i]);
-    else parts[i] = {items[i].voxel};
+    if (items[i].crossed) {
+      r.visit(items[i].cell, frame.centreWorld(items[i].cell), parts[i]);
+      budget.add(parts[i].size() % VoxelBudget::kBatch);  // what emit's batches left uncounted
+    } else {
+      parts[i] = {items[i].voxel};
+    }
   });
   std::vector<std::size_t> at(parts.size() + 1, 0);
   for (std::size_t i = 0; i < parts.size(); ++i) at[i + 1] = at[i] + parts[i].size();

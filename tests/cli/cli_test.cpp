@@ -634,6 +634,7 @@ TEST(Cli, EditAppliesBrushesOnBothBackendsAsADenseReferenceSays) {
       EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_EQ(j["backend"], backend);
     EXPECT_EQ(j["depth"], 18) << "the default depth is the input's voxels (64 = 2^6 a side)";
+    EXPECT_EQ(j["collapses"], 1) << "once, at the end";
   }
   // A saved tree edits on, and comes back as the same voxels.
   const std::string tree = (dir / "t.dvt").string(), back = (dir / "back.nii.gz").string();
@@ -658,7 +659,9 @@ TEST(Cli, EditAppliesBrushesOnBothBackendsAsADenseReferenceSays) {
   const std::string everyWrite = (dir / "every.nii.gz").string(), everyReport = (dir / "every.json").string();
   ASSERT_EQ(run("edit " + input + edits + " --collapse-every 1 -o " + everyWrite + " --report " + everyReport).code, 0);
   EXPECT_TRUE(readVolume(everyWrite).data == cpuVoxels);
-  EXPECT_GT(nlohmann::json::parse(test::readBytes(everyReport))["seconds_collapse"].get<double>(), 0);
+  const auto every = nlohmann::json::parse(test::readBytes(everyReport));
+  EXPECT_EQ(every["collapses"], 5) << "after the conversion and each of the 3 shapes, and at the end";
+  EXPECT_GT(every["seconds_collapse"].get<double>(), 0);
 
   // A closed mesh as a shape: a box's 12 triangles, inside where a voxel's centre is, on both backends.
   const Vec3 lo{3.3, -8.6, -4.1}, hi{14.7, 6.4, 7.9};

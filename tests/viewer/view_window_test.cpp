@@ -181,7 +181,8 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   EXPECT_TRUE(readVolume(p("unstroked.nii.gz")).data == brushed.data) << "undo takes the stroke back";
   EXPECT_TRUE(readVolume(p("restroked.nii.gz")).data == stroked.data) << "redo brings it again";
 
-  // The tree view shows the brushed segmentation; the mesh view shows the model where it projects.
+  // The tree view shows the last stroke's tree (the brushed segmentation with the stroke); the mesh
+  // view shows the model where it projects.
   const Image tree = readPng(p("tree.png"));
   std::int64_t treeCovered = 0;
   for (int y = 0; y < height; ++y)

@@ -27,12 +27,15 @@ void BrushStroke::apply(const dvt::Solid& shape) {
   require(bool(tree_), "the brush stroke has ended");
   const dvt::TreeFrame& frame = tree_->frame();
   dvt::PreOrderInput input = dvt::rasterise(shape, frame, depth_);
-  // Each written cell whose centre is inside the shape (value > 0) sets the voxels it covers: inside
-  // for a union, outside for a subtraction. A cell finer than a voxel paints the voxel it lies in.
+  std::vector<dvt::Cell> painted;  // the cells whose centres are inside the shape (value > 0)
+  for (const dvt::InputVoxel& v : input.voxels())
+    if (v.value > 0) painted.push_back(dvt::unpackCell(v.xy, v.zd));
+  tree_->write(std::move(input), op_);  // first: a write past the node limit throws, and paints nothing
+  ++dabs_;
+  // Each painted cell sets the voxels it covers: inside for a union, outside for a subtraction. A
+  // cell finer than a voxel paints the voxel it lies in.
   const std::uint8_t paint = op_ == dvt::Op::Union ? 1 : 0;
-  for (const dvt::InputVoxel& v : input.voxels()) {
-    if (v.value <= 0) continue;
-    const dvt::Cell c = dvt::unpackCell(v.xy, v.zd);
+  for (const dvt::Cell& c : painted) {
     const Vec3 size = frame.cellVoxels(c.depth);
     const std::uint32_t at[3] = {c.x, c.y, c.z};
     std::int64_t lo[3], hi[3];
@@ -44,8 +47,6 @@ void BrushStroke::apply(const dvt::Solid& shape) {
       for (std::int64_t j = lo[1]; j < hi[1]; ++j)
         for (std::int64_t i = lo[0]; i < hi[0]; ++i) preview_.setValue(preview_.index(i, j, k), paint);
   }
-  tree_->write(std::move(input), op_);
-  ++dabs_;
 }
 
 void BrushStroke::dabTo(const Vec3& centre, double radius) {

@@ -91,22 +91,22 @@ void SegmentationSession::replaceMask(const Volume& mask) {
   ++version_;
 }
 
-void SegmentationSession::undo() {
-  if (undo_.empty()) return;
-  redo_.push_back(currentRuns());
-  restore(undo_.back());
-  undo_.pop_back();
+// The segmentation now goes on `to`, the one it goes back to leaves `from` (both stacks as they were
+// when restoring fails).
+void SegmentationSession::step(std::vector<Runs>& from, std::vector<Runs>& to) {
+  if (from.empty()) return;
+  Runs now = currentRuns();
+  restore(from.back());
+  from.pop_back();
+  to.push_back(std::move(now));
 }
 
-void SegmentationSession::redo() {
-  if (redo_.empty()) return;
-  undo_.push_back(currentRuns());
-  restore(redo_.back());
-  redo_.pop_back();
-}
+void SegmentationSession::undo() { step(undo_, redo_); }
+void SegmentationSession::redo() { step(redo_, undo_); }
 
 int SegmentationSession::advance(double budgetMs) {
   if (!running()) return 0;
+  ++version_;  // before the steps: whatever they change, views made before them are stale
   const auto begin = std::chrono::steady_clock::now();
   int steps = 0;
   double ms = 0;
@@ -117,7 +117,6 @@ int SegmentationSession::advance(double budgetMs) {
     ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
   } while (running() && ms < budgetMs);
   stepsPerSecond_ = ms > 0 ? 1000.0 * steps / ms : 0;
-  ++version_;
   return steps;
 }
 

@@ -66,9 +66,10 @@ public:
 
 private:
   // A mask as the lengths of its runs of outside and inside voxels, in turn (outside first).
-  using Runs = std::vector<std::uint32_t>;
+  using Runs = std::vector<std::uint64_t>;
   Runs currentRuns() const;
   void restore(const Runs& runs);
+  void step(std::vector<Runs>& from, std::vector<Runs>& to);
   void remember();
   Vec3 toIndex(const Vec3& world) const;
   double toVoxels(double radius) const;

@@ -82,6 +82,7 @@ struct SegmentView {
   int brushLevels = 0;  // the brush's tree depth past the voxels' (negative: coarser cells)
   std::unique_ptr<BrushStroke> stroke;  // while the brush is dragged; the slices show its preview
   Vec3 lastDab;
+  int strokeView = 0;  // where the stroke began: slice panel 0, 1, 2, or 3 the 3D view; it paints only there
   // The slices as last drawn, and what they showed.
   ImagePanel slices;
   bool slicesDirty = true;
@@ -693,7 +694,12 @@ void Viewer::applyTool(const Vec3& at) {
     case Tool::SeedOut: seed(at, s.seedRadius, false); break;
     case Tool::Brush:
       beginStroke(s.brushUnion, s.brushLevels);
-      brushAt(at);
+      try {
+        brushAt(at);
+      } catch (...) {
+        s.stroke.reset();  // no empty stroke to commit on release
+        throw;
+      }
       break;
   }
 }
@@ -727,11 +733,12 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
     const int n = s.panelSize;
     if (y >= n || x >= 3 * n) {  // the 3D view
       if (pressed && io.KeyCtrl && s.volumeRendering) {
+        s.strokeView = 3;
         if (const auto at = pick3d(x, y - n)) attempt([&] { applyTool(*at); });
         else status_ = "nothing there to pick";
         return;
       }
-      if (down && s.stroke) {  // a stroke begun with ctrl-click goes on where the mouse picks
+      if (down && s.stroke && s.strokeView == 3) {  // a stroke begun with ctrl-click goes on where the mouse picks
         if (const auto at = pick3d(x, y - n); at && norm(*at - s.lastDab) >= 0.25 * s.brushSize) attempt([&] { brushAt(*at); });
         return;
       }
@@ -749,8 +756,9 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
         s.slicesDirty = s.view3dDirty = true;
       }
       if (pressed || (down && s.tool == Tool::Navigate)) {
+        s.strokeView = panel;
         attempt([&] { applyTool(at); });
-      } else if (down && s.stroke && norm(at - s.lastDab) >= 0.25 * s.brushSize) {  // dragging the brush
+      } else if (down && s.stroke && s.strokeView == panel && norm(at - s.lastDab) >= 0.25 * s.brushSize) {  // dragging the brush
         attempt([&] { brushAt(at); });
       }
       return;
@@ -776,7 +784,7 @@ void Viewer::handleKeys(GLFWwindow* window) {
   const bool zPressed = zDown && !zWasDown_, yPressed = yDown && !yWasDown_;
   zWasDown_ = zDown, yWasDown_ = yDown;
   const ImGuiIO& io = ImGui::GetIO();
-  if (!segment_ || io.WantCaptureKeyboard || !io.KeyCtrl) return;
+  if (!segment_ || segment_->stroke || io.WantCaptureKeyboard || !io.KeyCtrl) return;  // not while painting
   if ((zPressed && !io.KeyShift) && segment_->session->canUndo()) attempt([&] { undo(); });
   else if ((yPressed || (zPressed && io.KeyShift)) && segment_->session->canRedo()) attempt([&] { redo(); });
 }
