@@ -34,7 +34,7 @@ double SegmentationSession::toVoxels(double radius) const {
 void SegmentationSession::setParams(const levelset::SpeedParams& params) {
   levelset::validateParams(params);
   levelSet_->setParams(params);
-  ++version_;
+  ++version_;  // phi is as it was
 }
 
 levelset::ProbeResult SegmentationSession::probe(const Vec3& world, double radius) {
@@ -67,7 +67,7 @@ void SegmentationSession::restore(const Runs& runs) {
     at += runs[r];
   }
   levelSet_->setMask(mask);
-  ++version_;
+  phiChanged();
 }
 
 void SegmentationSession::remember() {
@@ -81,14 +81,14 @@ void SegmentationSession::seed(const Vec3& world, double radius, bool add) {
   const double r = toVoxels(radius);
   remember();
   levelSet_->addSphere(centre, r, add);
-  ++version_;
+  phiChanged();
 }
 
 void SegmentationSession::replaceMask(const Volume& mask) {
   require(mask.dims == source_.dims, "a mask for the segmentation needs the source's voxel grid");
   remember();
   levelSet_->setMask(mask);
-  ++version_;
+  phiChanged();
 }
 
 // The segmentation now goes on `to`, the one it goes back to leaves `from` (both stacks as they were
@@ -106,7 +106,7 @@ void SegmentationSession::redo() { step(redo_, undo_); }
 
 int SegmentationSession::advance(double budgetMs) {
   if (!running()) return 0;
-  ++version_;  // before the steps: whatever they change, views made before them are stale
+  phiChanged();  // before the steps: whatever they change, views made before them are stale
   const auto begin = std::chrono::steady_clock::now();
   int steps = 0;
   double ms = 0;

@@ -59,6 +59,8 @@ public:
   double stepsPerSecond() const { return stepsPerSecond_; }
   // Bumped by every change of phi or the parameters: a view redraws when it moves.
   std::uint64_t version() const { return version_; }
+  // Bumped by every change of phi alone: what is made from phi (its pages on the GPU) is made again.
+  std::uint64_t phiVersion() const { return phiVersion_; }
 
   // phi voxel by voxel from the backend's pool (read back once on the GPU): valid until the next step.
   VoxelField phi() const;
@@ -81,7 +83,8 @@ private:
   bool running_ = false;
   int pendingSteps_ = 0;
   double stepsPerSecond_ = 0;
-  std::uint64_t version_ = 0;
+  std::uint64_t version_ = 0, phiVersion_ = 0;
+  void phiChanged() { ++version_, ++phiVersion_; }
 };
 
 }  // namespace isoatlas::viewer

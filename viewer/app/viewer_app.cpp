@@ -98,8 +98,8 @@ struct SegmentView {
   bool clipAbove = false;  // cut away what lies above the slice point along the axis (else below)
   std::unique_ptr<VolumeRenderer> volume;
   std::unique_ptr<gl::Framebuffer> volumeTarget;
-  // The level set's pages as the volume renderer reads them, made again only when the segmentation
-  // changes (an orbit redraws from the same; on the CPU backend making them uploads the whole pool).
+  // The level set's pages as the volume renderer reads them, made again only when phi changes (an
+  // orbit or a new T or eps redraws from the same; on the CPU backend making them uploads the pool).
   std::unique_ptr<levelset::PagedPhiGpu> pagedPhi;
   std::uint64_t pagedPhiVersion = ~0ull;
   ImagePanel surface;
@@ -598,9 +598,9 @@ void Viewer::drawSegment(int width, int height) {
       if (!s.volumeTarget || s.volumeTarget->width() != w3 || s.volumeTarget->height() != h3)
         s.volumeTarget = std::make_unique<gl::Framebuffer>(w3, h3);
       s.volumeTarget->bind();
-      if (!s.pagedPhi || s.pagedPhiVersion != version) {
+      if (!s.pagedPhi || s.pagedPhiVersion != s.session->phiVersion()) {
         s.pagedPhi = std::make_unique<levelset::PagedPhiGpu>(s.session->levelSet());
-        s.pagedPhiVersion = version;
+        s.pagedPhiVersion = s.session->phiVersion();
       }
       s.volume->draw(*s.pagedPhi,
                      {.camera = s.camera3d, .window = s.window, .opacity = s.opacity, .scan = s.showScan, .insideOnly = s.insideOnly,
