@@ -62,7 +62,26 @@ private:
   double major_, minor_;
 };
 
+class Slab final : public DistanceSolid {
+public:
+  Slab(std::unique_ptr<DistanceSolid> shape, Vec3 point, Vec3 normal, double halfWidth)
+      : shape_(std::move(shape)), point_(point), normal_(normal), halfWidth_(halfWidth) {}
+  double signedDistance(const Vec3& p) const override {
+    return std::max(shape_->signedDistance(p), std::abs(dot(p - point_, normal_)) - halfWidth_);
+  }
+
+private:
+  std::unique_ptr<DistanceSolid> shape_;
+  Vec3 point_, normal_;
+  double halfWidth_;
+};
+
 }  // namespace
+
+std::unique_ptr<DistanceSolid> withinSlab(std::unique_ptr<DistanceSolid> shape, const Vec3& point, const Vec3& normal, double halfWidth) {
+  require(std::abs(norm(normal) - 1) < 1e-9 && halfWidth > 0, "a slab needs a unit normal and a width > 0");
+  return std::make_unique<Slab>(std::move(shape), point, normal, halfWidth);
+}
 
 float boundValue(double insideness, double radius) {
   const double v = std::clamp(insideness / radius, -1.0, 1.0);

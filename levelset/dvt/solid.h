@@ -46,6 +46,11 @@ public:
 // sign of `insideness` (0 counts as outside).
 float boundValue(double insideness, double radius);
 
+// `shape` cut to the slab of points within `halfWidth` of the plane through `point` normal to
+// `normal` (a unit vector): the larger of the two signed distances, a bound as classify needs it.
+// A brush painting one layer of voxels, as a 2D brush on a slice does.
+std::unique_ptr<DistanceSolid> withinSlab(std::unique_ptr<DistanceSolid> shape, const Vec3& point, const Vec3& normal, double halfWidth);
+
 // An implicit brush from its command-line form, in world coordinates: sphere:X,Y,Z,R
 // box:X0,Y0,Z0,X1,Y1,Z1  capsule:X0,Y0,Z0,X1,Y1,Z1,R  torus:X,Y,Z,R,r (in the plane z = Z). Throws
 // Error naming the text on a malformed one (unknown kind, wrong count, not finite, sizes <= 0).

@@ -162,6 +162,38 @@ TEST(ViewSession, AStrokeSweepsItsBrushThroughTheDabs) {
   }
 }
 
+// A 2D stroke: the same sweep, kept to the layer of voxels of the slice through the first point.
+TEST(ViewSession, AStrokeKeptToASliceChangesThatLayerOnly) {
+  const test::HeadPhantom head = test::headPhantom();
+  SegmentationSession s(head.image, levelset::Backend::Cpu);
+  s.seed({0, 0, 0}, 12, true);
+  const Volume before = s.levelSet().mask();
+  const std::vector<Vec3> path{{-16.1, -20.3, 4.9}, {-3.9, -8.2, 4.9}, {14.3, 1.1, 4.9}};
+  for (const int axis : {2, 0}) {
+    SCOPED_TRACE(axis);
+    BrushStroke stroke(s.levelSet(), levelset::dvt::Op::Union, nullptr);
+    stroke.keepToSlice(axis, path[0]);
+    for (const Vec3& p : path) stroke.dabTo(p, 6.2);
+    const Volume preview = stroke.preview();
+    const BrushResult r = stroke.finish();
+    EXPECT_TRUE(r.mask.data == preview.data);
+    const std::int64_t layer = std::lround(head.image.worldToIndex(path[0])[axis]);
+    std::int64_t wrong = 0, painted = 0;
+    for (std::int64_t k = 0; k < before.dims[2]; ++k)
+      for (std::int64_t j = 0; j < before.dims[1]; ++j)
+        for (std::int64_t i = 0; i < before.dims[0]; ++i) {
+          const std::int64_t ijk[3] = {i, j, k};
+          const Vec3 w = head.image.indexToWorld({double(i), double(j), double(k)});
+          const bool was = before.value(before.index(i, j, k)) > 0;
+          const bool paintedHere = ijk[axis] == layer && test::inStroke(w, path, 6.2);
+          painted += paintedHere && !was;
+          wrong += (r.mask.value(r.mask.index(i, j, k)) > 0) != (was || paintedHere);
+        }
+    EXPECT_GT(painted, 30) << "the stroke paints its slice";
+    EXPECT_EQ(wrong, 0) << "and nothing else";
+  }
+}
+
 std::string writeScript(const std::filesystem::path& dir, const std::string& text) {
   const auto path = (dir / "actions.txt").string();
   std::ofstream(path) << text;
@@ -175,10 +207,10 @@ TEST(ViewScript, ReadsEveryActionAndNamesTheLineOfABadOne) {
                                                   "open head.nii.gz\n"
                                                   "probe 0,0,0   # radius 3 by default\n"
                                                   "seed 0,0,0,6\nunseed 1,2,3,4\nset eps 30\nrun 50\nundo\nredo\n"
-                                                  "brush subtract sphere:9,0,0,6\nstroke union 2.5 1,2,3 4,5,6\nbuild\nlevels 2 1\nwireframe on\n"
+                                                  "brush subtract sphere:9,0,0,6\nstroke union 2.5 1,2,3 4,5,6\npaint subtract 3 k 1,2,3\nbuild\nlevels 2 1\nwireframe on\n"
                                                   "render cubes\nmode mesh\nslice 1,2,3\nview3d volume\nclip -y\nstamp 1,2,3,4,0.5 word\nsave-mask m.nii.gz\n"
                                                   "save-model m.isoatlas\nscreenshot s.png\nframes 3\nquit\n"));
-  ASSERT_EQ(actions.size(), 24u);
+  ASSERT_EQ(actions.size(), 25u);
   EXPECT_EQ(actions[0].verb, "open");
   EXPECT_EQ(actions[0].line, 2);
   EXPECT_EQ(actions[1].numbers, (std::vector<double>{0, 0, 0, 3}));
@@ -190,11 +222,15 @@ TEST(ViewScript, ReadsEveryActionAndNamesTheLineOfABadOne) {
   EXPECT_EQ(actions[9].verb, "stroke");
   EXPECT_TRUE(actions[9].on);
   EXPECT_EQ(actions[9].numbers, (std::vector<double>{2.5, 1, 2, 3, 4, 5, 6}));
-  EXPECT_EQ(actions[11].numbers, (std::vector<double>{2, 1}));
+  EXPECT_EQ(actions[10].verb, "paint");
+  EXPECT_FALSE(actions[10].on);
+  EXPECT_EQ(actions[10].word, "k");
+  EXPECT_EQ(actions[10].numbers, (std::vector<double>{3, 1, 2, 3}));
+  EXPECT_EQ(actions[12].numbers, (std::vector<double>{2, 1}));
   for (const std::string bad : {"probe 0,0", "seed 0,0,0", "seed 0,0,0,-1", "set T 3", "run -2", "run 2.5", "brush union sphere:1,2",
                                 "brush add sphere:0,0,0,1", "screenshot s.jpg", "levels 2", "mode volume", "teleport 1,2,3",
                                 "open", "quit now", "clip y", "view3d slices", "stamp 1,2,3,4 word", "stamp 1,2,3,4,0 word",
-                                "stroke union 2", "stroke carve 2 1,2,3", "redo now", "stroke union 0 1,2,3", "stroke subtract 2 1,2"}) {
+                                "stroke union 2", "stroke carve 2 1,2,3", "redo now", "paint union 2 1,2,3", "paint union 2 z 1,2,3", "stroke union 0 1,2,3", "stroke subtract 2 1,2"}) {
     SCOPED_TRACE(bad);
     try {
       readViewScript(writeScript(dir, "frames 1\n\n" + bad + "\n"));

@@ -1,6 +1,7 @@
 #include "viewer/app/brush_edit.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "core/error.h"
@@ -15,6 +16,8 @@ namespace dvt = levelset::dvt;
 
 BrushStroke::BrushStroke(const levelset::LevelSet& levelSet, dvt::Op op, gl::Context* gpu, int levels)
     : dims_(levelSet.geometry().dims), op_(op), preview_(levelSet.mask()) {
+  grid_.dims = dims_;
+  grid_.spacing = preview_.spacing, grid_.origin = preview_.origin, grid_.direction = preview_.direction;
   const dvt::TreeFrame frame = dvt::frameOf(levelSet.geometry());
   const std::uint32_t voxels = frame.voxelDepth();
   require(levels >= -int(voxels) && int(voxels) + levels <= int(dvt::kMaxDepth), "the brush's depth is past the tree's range");
@@ -56,8 +59,28 @@ void BrushStroke::dabTo(const Vec3& centre, double radius) {
                   centre.z, radius);
   else
     std::snprintf(text, sizeof text, "sphere:%.17g,%.17g,%.17g,%.17g", centre.x, centre.y, centre.z, radius);
-  apply(*dvt::parseBrush(text));
+  apply(*kept(dvt::parseBrush(text)));
   last_ = centre;
+}
+
+void BrushStroke::keepToSlice(int axis, const Vec3& through) {
+  require(axis >= 0 && axis < 3, "a slice is normal to voxel axis 0, 1 or 2");
+  Vec3 index = grid_.worldToIndex(through);
+  index[axis] = std::round(index[axis]);  // the plane through voxel centres: exactly their layer
+  // The slice's plane is spanned by the other two voxel axes; half the layer's thickness either side.
+  const Vec3 origin = grid_.indexToWorld(index);
+  const auto along = [&](int a) {
+    Vec3 step{0, 0, 0};
+    step[a] = 1;
+    return grid_.indexToWorld(index + step) - origin;
+  };
+  const Vec3 normal = unit(cross(along((axis + 1) % 3), along((axis + 2) % 3)));
+  slice_ = Slice{origin, normal, 0.5 * std::abs(dot(along(axis), normal))};
+}
+
+std::unique_ptr<dvt::DistanceSolid> BrushStroke::kept(std::unique_ptr<dvt::DistanceSolid> shape) const {
+  if (!slice_) return shape;
+  return dvt::withinSlab(std::move(shape), slice_->point, slice_->normal, slice_->halfWidth);
 }
 
 BrushResult BrushStroke::finish() {

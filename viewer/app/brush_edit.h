@@ -36,12 +36,23 @@ public:
   void apply(const levelset::dvt::Solid& shape);
   // A sphere of `radius` mm at `centre`, swept from the last dab's centre when there was one.
   void dabTo(const Vec3& centre, double radius);
+  // From here on the dabs keep to one layer of voxels: the slice normal to voxel axis `axis` (0 i,
+  // 1 j, 2 k) through the voxel nearest `through` (ITK-SNAP's 2D brush).
+  void keepToSlice(int axis, const Vec3& through);
+  // `shape` as the stroke paints it: cut to its slice when it keeps to one.
+  std::unique_ptr<levelset::dvt::DistanceSolid> kept(std::unique_ptr<levelset::dvt::DistanceSolid> shape) const;
   std::size_t dabs() const { return dabs_; }
   const Volume& preview() const { return preview_; }
   // Collapses the tree and takes its mask; the stroke is spent.
   BrushResult finish();
 
 private:
+  Volume grid_;  // the segmentation's geometry (no voxels)
+  struct Slice {
+    Vec3 point, normal;
+    double halfWidth;
+  };
+  std::optional<Slice> slice_;
   std::array<std::int64_t, 3> dims_;
   levelset::dvt::Op op_;
   std::uint32_t depth_;

@@ -12,7 +12,7 @@ namespace {
 
 const char* kUsage =
     "open FILE, mode segment|mesh|tree, slice X,Y,Z, probe X,Y,Z[,R], seed X,Y,Z,R, unseed X,Y,Z,R, set t|eps|alpha V, run N, "
-    "undo, redo, brush union|subtract SHAPE, stroke union|subtract R X,Y,Z..., view3d volume|surface, clip +x|-x|+y|-y|+z|-z|off, build, levels CPU GPU, stamp X,Y,Z,R,DEPTH WORD, wireframe on|off, render raycast|cubes, save-mask FILE, "
+    "undo, redo, brush union|subtract SHAPE, stroke union|subtract R X,Y,Z..., paint union|subtract R i|j|k X,Y,Z..., view3d volume|surface, clip +x|-x|+y|-y|+z|-z|off, build, levels CPU GPU, stamp X,Y,Z,R,DEPTH WORD, wireframe on|off, render raycast|cubes, save-mask FILE, "
     "save-model FILE, screenshot FILE.png, frames N, quit";
 
 // One line's action, its words checked.
@@ -73,14 +73,18 @@ ViewAction parseAction(const std::vector<std::string>& words, const std::string&
     } catch (const Error& e) {
       throw Error(where + ": brush " + e.what());
     }
-  } else if (v == "stroke") {
-    if (args < 3) throw Error(where + ": stroke takes union or subtract, a radius R (mm) and the points X,Y,Z it passes through");
+  } else if (v == "stroke" || v == "paint") {
+    const std::size_t first = v == "paint" ? 4 : 3;  // paint names the slice's voxel axis before its points
+    if (words.size() <= first)
+      throw Error(where + ": " + v + " takes union or subtract, a radius R (mm), " + (v == "paint" ? "i, j or k, " : "") +
+                  "and the points X,Y,Z it passes through");
     oneOf(words[1], {"union", "subtract"});
     a.on = words[1] == "union";
-    a.numbers = parseNumbers(words[2], where + ": stroke", "a radius R (mm)");
-    if (a.numbers.size() != 1 || !(a.numbers[0] > 0)) throw Error(where + ": stroke " + words[2] + ": expected a radius R > 0 (mm)");
-    for (std::size_t i = 3; i < words.size(); ++i) {
-      const Vec3 p = parsePoint(words[i], where + ": stroke");
+    a.numbers = parseNumbers(words[2], where + ": " + v, "a radius R (mm)");
+    if (a.numbers.size() != 1 || !(a.numbers[0] > 0)) throw Error(where + ": " + v + " " + words[2] + ": expected a radius R > 0 (mm)");
+    if (v == "paint") oneOf(a.word = words[3], {"i", "j", "k"});
+    for (std::size_t i = first; i < words.size(); ++i) {
+      const Vec3 p = parsePoint(words[i], where + ": " + v);
       a.numbers.insert(a.numbers.end(), {p.x, p.y, p.z});
     }
   } else if (v == "wireframe") {

@@ -14,6 +14,8 @@
 //   brush union|subtract SHAPE   a volume-tree edit of the segmentation (SHAPE as `isoatlas edit` takes it)
 //   stroke union|subtract R X,Y,Z [X,Y,Z ...]   a sphere brush of R mm dragged through the points (one
 //                             stroke: one tree, a write a dab, one undo)
+//   paint union|subtract R i|j|k X,Y,Z [X,Y,Z ...]   the same kept to one slice of voxels, normal to
+//                             voxel axis i, j or k through the first point (a 2D brush)
 //   view3d volume|surface     the 3D view: volume rendering from the pages, or the extracted surface
 //   clip +x|-x|+y|-y|+z|-z|off   a clipping plane through the slice point; the side named is cut away
 //   build                     extract the surface and build the model (in the background; the script waits)
@@ -36,7 +38,7 @@ namespace isoatlas::viewer {
 struct ViewAction {
   std::string verb;             // as written: open, mode, ...
   int line = 0;                 // in the script, for messages
-  std::string word;             // open/save/screenshot's file, mode, set's parameter, brush's shape, render's mode
+  std::string word;             // open/save/screenshot's file, mode, set's parameter, brush's shape, render's mode, paint's axis
   std::vector<double> numbers;  // a point (and radius), a value, counts, levels; a stroke's radius, then its points
   bool on = true;               // brush union (else subtract), wireframe on
   std::string where() const;    // "FILE:LINE" of the script, for errors met while running

@@ -68,6 +68,9 @@ Loaded load(const std::string& file) {
   return l;
 }
 
+// The voxel axis a slice panel is normal to: k for the axial (0), j the coronal (1), i the sagittal (2).
+int sliceNormalAxis(int panel) { return 2 - panel; }
+
 struct SegmentView {
   std::unique_ptr<SegmentationSession> session;
   std::string file;
@@ -79,6 +82,7 @@ struct SegmentView {
   float probeRadius = 3, seedRadius = 6, brushSize = 8;
   BrushShape brushShape = BrushShape::Sphere;
   bool brushUnion = false;
+  bool brushInSlice = false;  // a 2D brush: on a slice it paints that slice's layer of voxels only
   int brushLevels = 0;  // the brush's tree depth past the voxels' (negative: coarser cells)
   std::unique_ptr<BrushStroke> stroke;  // while the brush is dragged; the slices show its preview
   Vec3 lastDab;
@@ -258,9 +262,11 @@ public:
     endStroke();
     status_ = std::string(add ? "union " : "subtract ") + shape + ": " + std::to_string(tree_->tree.nodeCount()) + " nodes";
   }
-  // A sphere brush of `radius` mm dragged through `points`.
-  void stroke(const std::vector<Vec3>& points, double radius, bool add) {
+  // A sphere brush of `radius` mm dragged through `points`; with `sliceAxis` (0 i, 1 j, 2 k) only in
+  // the slice of voxels normal to that axis through the first point.
+  void stroke(const std::vector<Vec3>& points, double radius, bool add, int sliceAxis = -1) {
     beginStroke(add, 0);
+    if (sliceAxis >= 0) seg().stroke->keepToSlice(sliceAxis, points.front());
     for (const Vec3& p : points) strokeTo(p, radius);
     endStroke();
   }
@@ -463,6 +469,7 @@ void Viewer::segmentPanel() {
   s.brushShape = BrushShape(shape);
   ImGui::SliderFloat("brush size (mm)", &s.brushSize, 1, 60);
   ImGui::Checkbox("brush adds (else carves)", &s.brushUnion);
+  ImGui::Checkbox("brush on the slice only (2D)", &s.brushInSlice);
   ImGui::SliderInt("brush depth (levels past the voxels)", &s.brushLevels, -6, 3);
   ImGui::Separator();
   // The intensity window: the slices' grey levels and the volume rendering's transfer function.
@@ -694,6 +701,7 @@ void Viewer::applyTool(const Vec3& at) {
     case Tool::SeedOut: seed(at, s.seedRadius, false); break;
     case Tool::Brush:
       beginStroke(s.brushUnion, s.brushLevels);
+      if (s.brushInSlice && s.strokeView < 3) s.stroke->keepToSlice(sliceNormalAxis(s.strokeView), at);
       try {
         brushAt(at);
       } catch (...) {
@@ -708,7 +716,7 @@ void Viewer::applyTool(const Vec3& at) {
 void Viewer::brushAt(const Vec3& at) {
   SegmentView& s = *segment_;
   if (s.brushShape == BrushShape::Sphere) strokeTo(at, s.brushSize);
-  else strokeWith(*dvt::parseBrush(brushText(at)));
+  else strokeWith(*s.stroke->kept(dvt::parseBrush(brushText(at))));
   s.lastDab = at;
 }
 
@@ -750,7 +758,7 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
       const SliceLayout layout(s.session->source(), s.point, n);
       const Vec3 at = layout.world(panel, x - panel * n, y);
       if (io.MouseWheel != 0) {  // scroll through the slices: one voxel along the panel's normal
-        const int axis = panel == 0 ? 2 : panel == 1 ? 1 : 0;
+        const int axis = sliceNormalAxis(panel);
         const double step = std::min({s.session->source().spacing.x, s.session->source().spacing.y, s.session->source().spacing.z});
         s.point[axis] += io.MouseWheel > 0 ? step : -step;
         s.slicesDirty = s.view3dDirty = true;
@@ -834,6 +842,7 @@ private:
     else if (verb == "redo") v.redo();
     else if (verb == "brush") v.brush(a.word, a.on);
     else if (verb == "stroke") v.stroke(strokePoints(n), n[0], a.on);
+    else if (verb == "paint") v.stroke(strokePoints(n), n[0], a.on, int(a.word[0] - 'i'));
     else if (verb == "build") v.build();
     else if (verb == "levels") v.levels(int(n[0]), int(n[1]));
     else if (verb == "view3d") v.view3d(a.word == "volume");
