@@ -78,6 +78,16 @@ private:
 
 }  // namespace
 
+std::unique_ptr<DistanceSolid> sphereBrush(const Vec3& centre, double radius) {
+  require(radius > 0, "a sphere's radius must be > 0");
+  return std::make_unique<Sphere>(centre, radius);
+}
+
+std::unique_ptr<DistanceSolid> capsuleBrush(const Vec3& a, const Vec3& b, double radius) {
+  require(radius > 0, "a capsule's radius must be > 0");
+  return std::make_unique<Capsule>(a, b, radius);
+}
+
 std::unique_ptr<DistanceSolid> withinSlab(std::unique_ptr<DistanceSolid> shape, const Vec3& point, const Vec3& normal, double halfWidth) {
   require(std::abs(norm(normal) - 1) < 1e-9 && halfWidth > 0, "a slab needs a unit normal and a width > 0");
   return std::make_unique<Slab>(std::move(shape), point, normal, halfWidth);
@@ -135,7 +145,7 @@ std::unique_ptr<DistanceSolid> parseBrush(const std::string& text) {
   auto positive = [&](double x, const char* what) { require(x > 0, "\"" + text + "\": the " + std::string(what) + " must be > 0"); };
   if (kind == "sphere") {
     need(4), positive(v[3], "radius");
-    return std::make_unique<Sphere>(Vec3{v[0], v[1], v[2]}, v[3]);
+    return sphereBrush(Vec3{v[0], v[1], v[2]}, v[3]);
   }
   if (kind == "box") {
     need(6);
@@ -144,7 +154,7 @@ std::unique_ptr<DistanceSolid> parseBrush(const std::string& text) {
   }
   if (kind == "capsule") {
     need(7), positive(v[6], "radius");
-    return std::make_unique<Capsule>(Vec3{v[0], v[1], v[2]}, Vec3{v[3], v[4], v[5]}, v[6]);
+    return capsuleBrush(Vec3{v[0], v[1], v[2]}, Vec3{v[3], v[4], v[5]}, v[6]);
   }
   if (kind == "torus") {
     need(5), positive(v[3], "major radius"), positive(v[4], "minor radius");

@@ -51,6 +51,10 @@ float boundValue(double insideness, double radius);
 // A brush painting one layer of voxels, as a 2D brush on a slice does.
 std::unique_ptr<DistanceSolid> withinSlab(std::unique_ptr<DistanceSolid> shape, const Vec3& point, const Vec3& normal, double halfWidth);
 
+// A sphere, and a capsule (the sphere swept from a to b), in world coordinates; radius > 0.
+std::unique_ptr<DistanceSolid> sphereBrush(const Vec3& centre, double radius);
+std::unique_ptr<DistanceSolid> capsuleBrush(const Vec3& a, const Vec3& b, double radius);
+
 // An implicit brush from its command-line form, in world coordinates: sphere:X,Y,Z,R
 // box:X0,Y0,Z0,X1,Y1,Z1  capsule:X0,Y0,Z0,X1,Y1,Z1,R  torus:X,Y,Z,R,r (in the plane z = Z). Throws
 // Error naming the text on a malformed one (unknown kind, wrong count, not finite, sizes <= 0).

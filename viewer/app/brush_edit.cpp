@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "core/error.h"
 #include "levelset/dvt/cpu_tree_passes.h"
@@ -15,9 +14,7 @@ namespace isoatlas::viewer {
 namespace dvt = levelset::dvt;
 
 BrushStroke::BrushStroke(const levelset::LevelSet& levelSet, dvt::Op op, gl::Context* gpu, int levels)
-    : dims_(levelSet.geometry().dims), op_(op), preview_(levelSet.mask()) {
-  grid_.dims = dims_;
-  grid_.spacing = preview_.spacing, grid_.origin = preview_.origin, grid_.direction = preview_.direction;
+    : op_(op), preview_(levelSet.mask()) {
   const dvt::TreeFrame frame = dvt::frameOf(levelSet.geometry());
   const std::uint32_t voxels = frame.voxelDepth();
   require(levels >= -int(voxels) && int(voxels) + levels <= int(dvt::kMaxDepth), "the brush's depth is past the tree's range");
@@ -44,7 +41,7 @@ void BrushStroke::apply(const dvt::Solid& shape) {
     std::int64_t lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
       lo[a] = std::int64_t(double(at[a]) * size[a]);
-      hi[a] = std::min<std::int64_t>(dims_[a], std::max<std::int64_t>(lo[a] + 1, std::int64_t(double(at[a] + 1) * size[a])));
+      hi[a] = std::min<std::int64_t>(preview_.dims[a], std::max<std::int64_t>(lo[a] + 1, std::int64_t(double(at[a] + 1) * size[a])));
     }
     for (std::int64_t k = lo[2]; k < hi[2]; ++k)
       for (std::int64_t j = lo[1]; j < hi[1]; ++j)
@@ -53,26 +50,20 @@ void BrushStroke::apply(const dvt::Solid& shape) {
 }
 
 void BrushStroke::dabTo(const Vec3& centre, double radius) {
-  char text[256];
-  if (last_)
-    std::snprintf(text, sizeof text, "capsule:%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", last_->x, last_->y, last_->z, centre.x, centre.y,
-                  centre.z, radius);
-  else
-    std::snprintf(text, sizeof text, "sphere:%.17g,%.17g,%.17g,%.17g", centre.x, centre.y, centre.z, radius);
-  apply(*kept(dvt::parseBrush(text)));
+  apply(*kept(last_ ? dvt::capsuleBrush(*last_, centre, radius) : dvt::sphereBrush(centre, radius)));
   last_ = centre;
 }
 
 void BrushStroke::keepToSlice(int axis, const Vec3& through) {
   require(axis >= 0 && axis < 3, "a slice is normal to voxel axis 0, 1 or 2");
-  Vec3 index = grid_.worldToIndex(through);
+  Vec3 index = preview_.worldToIndex(through);
   index[axis] = std::round(index[axis]);  // the plane through voxel centres: exactly their layer
   // The slice's plane is spanned by the other two voxel axes; half the layer's thickness either side.
-  const Vec3 origin = grid_.indexToWorld(index);
+  const Vec3 origin = preview_.indexToWorld(index);
   const auto along = [&](int a) {
     Vec3 step{0, 0, 0};
     step[a] = 1;
-    return grid_.indexToWorld(index + step) - origin;
+    return preview_.indexToWorld(index + step) - origin;
   };
   const Vec3 normal = unit(cross(along((axis + 1) % 3), along((axis + 2) % 3)));
   slice_ = Slice{origin, normal, 0.5 * std::abs(dot(along(axis), normal))};
@@ -87,7 +78,7 @@ BrushResult BrushStroke::finish() {
   require(bool(tree_), "the brush stroke has ended");
   tree_->collapse();
   BrushResult r;
-  r.mask = dvt::sampleMask(tree_->tree(), dims_);
+  r.mask = dvt::sampleMask(tree_->tree(), preview_.dims);
   r.tree = std::move(tree_);
   return r;
 }

@@ -47,17 +47,15 @@ public:
   BrushResult finish();
 
 private:
-  Volume grid_;  // the segmentation's geometry (no voxels)
   struct Slice {
     Vec3 point, normal;
     double halfWidth;
   };
   std::optional<Slice> slice_;
-  std::array<std::int64_t, 3> dims_;
   levelset::dvt::Op op_;
   std::uint32_t depth_;
   std::unique_ptr<levelset::dvt::DynamicVolumeTree> tree_;
-  Volume preview_;
+  Volume preview_;  // also the segmentation's grid: its dims, spacing and placement
   std::optional<Vec3> last_;
   std::size_t dabs_ = 0;
 };
