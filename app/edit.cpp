@@ -75,10 +75,9 @@ void addEditCommand(CLI::App& app, int& exitCode) {
     const EditRequest request{.depth = o->depth, .steps = *o->steps, .hierarchical = !o->flat, .nodeLimit = o->nodeLimit,
                                .collapseEvery = o->collapseEvery};
     const EditInput input = readEditInput(o->input, request);
-    const dvt::TreeFrame frame = editFrame(input, request);
     if (!toTree) {
       Volume header;
-      header.dims = toMesh ? dvt::fieldGrid(meshSamplingDepth(frame, editDepth(input, request))) : frame.grid();
+      header.dims = toMesh ? dvt::fieldGrid(meshSamplingDepth(input.frame, input.depth)) : input.frame.grid();
       header.type = toMesh ? ScalarType::Float32 : ScalarType::UInt8;
       checkOutputGrid(o->output, header);
     }

@@ -25,11 +25,23 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 constexpr std::uint32_t kMeshDepth = 24;  // a mesh's default depth: 256 voxels a side
 
+void requireDepthLimit(std::optional<std::uint32_t> depth) {
+  require(!depth || *depth <= std::uint32_t(dvt::kMaxDepth),
+          "--depth " + std::to_string(depth.value_or(0)) + " is past the tree's limit of " + std::to_string(dvt::kMaxDepth));
+}
+
 std::uint32_t checkedDepth(std::optional<std::uint32_t> depth, const dvt::TreeFrame& frame) {
   const std::uint32_t d = depth.value_or(frame.voxelDepth());
-  require(d <= std::uint32_t(dvt::kMaxDepth),
-          "--depth " + std::to_string(d) + " is past the tree's limit of " + std::to_string(dvt::kMaxDepth));
+  requireDepthLimit(d);
   return d;
+}
+
+// A mesh has no voxels: its frame is a box around it, split finely enough for its depth.
+dvt::TreeFrame frameAroundMesh(const Mesh& mesh, std::uint32_t depth) {
+  Vec3 lo = mesh.positions.front(), hi = lo;
+  for (const Vec3& p : mesh.positions)
+    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+  return dvt::frameAround(lo, hi, int(std::min<std::uint32_t>((depth + 2) / 3, dvt::kMaxDepth / 3)));
 }
 
 EditedTree start(const dvt::VolumeTree& tree, std::uint32_t depth, Gpu& gpu, const EditRequest& request) {
@@ -42,7 +54,12 @@ EditedTree start(const dvt::VolumeTree& tree, std::uint32_t depth, Gpu& gpu, con
   return e;
 }
 
-// A segmentation's conversion is always rasterised hierarchically; `--flat` is for the shapes.
+// A segmentation's conversion is always rasterised hierarchically; `--flat` is for the shapes (and a
+// mesh input).
+bool inputHierarchical(const EditInput& input, const EditRequest& request) {
+  return input.volume != nullptr || request.hierarchical;
+}
+
 void write(EditedTree& e, const dvt::Solid& solid, dvt::Op op, const EditRequest& request, bool hierarchical) {
   const auto begin = std::chrono::steady_clock::now();
   dvt::PreOrderInput input = dvt::rasterise(solid, e.tree->frame(), e.depth, hierarchical, request.nodeLimit);
@@ -60,13 +77,6 @@ nlohmann::json EditedTree::figures(const dvt::VolumeTree& t) const {
   return {{"nodes", t.nodeCount()}, {"leaves", t.leafCount()}, {"depth_max", t.maxDepth()}, {"depth", depth},
           {"seconds_write", secondsWrite}, {"seconds_collapse", secondsCollapse}, {"collapses", collapses}, {"bytes", tree->bytes()},
           {"backend", backend}, {"input_voxels", inputVoxels}, {"write_iterations", iterations}};
-}
-
-EditedTree treeOfVolume(const Volume& volume, const EditRequest& request, Gpu& gpu) {
-  const dvt::TreeFrame frame = dvt::frameOf(volume);
-  EditedTree e = start(dvt::VolumeTree::empty(frame), checkedDepth(request.depth, frame), gpu, request);
-  write(e, dvt::VolumeSolid(volume), dvt::Op::Union, request, true);
-  return e;
 }
 
 void addEditStepOptions(CLI::App& sub, const std::shared_ptr<std::vector<EditStep>>& steps) {
@@ -101,56 +111,44 @@ EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest&
   return e;
 }
 
+EditInput editInputOf(Volume segmentation, const EditRequest& request) {
+  requireDepthLimit(request.depth);
+  EditInput in;
+  in.solids = stepSolids(request.steps);
+  in.volume = std::make_unique<const Volume>(std::move(segmentation));
+  in.solid = std::make_unique<const dvt::VolumeSolid>(*in.volume);
+  in.frame = dvt::frameOf(*in.volume);
+  in.depth = checkedDepth(request.depth, in.frame);
+  return in;
+}
+
 EditInput readEditInput(const std::string& path, const EditRequest& request) {
-  require(!request.depth || *request.depth <= std::uint32_t(dvt::kMaxDepth),
-          "--depth " + std::to_string(request.depth.value_or(0)) + " is past the tree's limit of " + std::to_string(dvt::kMaxDepth));
+  requireDepthLimit(request.depth);
+  if (!endsWith(path, ".dvt") && !isMeshPath(path)) return editInputOf(readVolume(path), request);
   EditInput in;
   in.solids = stepSolids(request.steps);
   if (endsWith(path, ".dvt")) {
     in.tree = dvt::readDvt(path);
-  } else if (isMeshPath(path)) {
-    in.mesh = readMesh(path);
-    in.meshSolid = dvt::meshSolid(*in.mesh, path);
+    in.frame = in.tree->frame;
+    in.depth = checkedDepth(request.depth, in.frame);
   } else {
-    in.volume = readVolume(path);
+    const Mesh mesh = readMesh(path);
+    in.solid = dvt::meshSolid(mesh, path);
+    const std::uint32_t depth = request.depth.value_or(kMeshDepth);
+    in.frame = frameAroundMesh(mesh, depth);
+    in.depth = checkedDepth(depth, in.frame);
   }
   return in;
 }
 
-dvt::TreeFrame editFrame(const EditInput& input, const EditRequest& request) {
-  if (input.tree) return input.tree->frame;
-  if (input.volume) return dvt::frameOf(*input.volume);
-  const Mesh& mesh = *input.mesh;
-  Vec3 lo = mesh.positions.front(), hi = lo;
-  for (const Vec3& p : mesh.positions)
-    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
-  const std::uint32_t depth = request.depth.value_or(kMeshDepth);
-  return dvt::frameAround(lo, hi, int(std::min<std::uint32_t>((depth + 2) / 3, dvt::kMaxDepth / 3)));
-}
-
-std::uint32_t editDepth(const EditInput& input, const EditRequest& request) {
-  if (input.mesh) return checkedDepth(request.depth.value_or(kMeshDepth), editFrame(input, request));
-  return checkedDepth(request.depth, editFrame(input, request));
-}
-
 void checkEditBudget(const EditInput& input, const EditRequest& request) {
-  const dvt::TreeFrame frame = editFrame(input, request);
-  const std::uint32_t depth = editDepth(input, request);
-  if (input.volume) dvt::checkVoxelBudget(dvt::VolumeSolid(*input.volume), frame, depth, true, request.nodeLimit);
-  if (input.meshSolid) dvt::checkVoxelBudget(*input.meshSolid, frame, depth, request.hierarchical, request.nodeLimit);
-  for (const auto& solid : input.solids) dvt::checkVoxelBudget(*solid, frame, depth, request.hierarchical, request.nodeLimit);
+  if (input.solid) dvt::checkVoxelBudget(*input.solid, input.frame, input.depth, inputHierarchical(input, request), request.nodeLimit);
+  for (const auto& solid : input.solids) dvt::checkVoxelBudget(*solid, input.frame, input.depth, request.hierarchical, request.nodeLimit);
 }
 
 EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& gpu) {
-  EditedTree e;
-  if (input.tree) {
-    e = start(*input.tree, editDepth(input, request), gpu, request);
-  } else if (input.mesh) {
-    e = start(dvt::VolumeTree::empty(editFrame(input, request)), editDepth(input, request), gpu, request);
-    write(e, *input.meshSolid, dvt::Op::Union, request, request.hierarchical);
-  } else {
-    e = treeOfVolume(*input.volume, request, gpu);
-  }
+  EditedTree e = start(input.tree ? *input.tree : dvt::VolumeTree::empty(input.frame), input.depth, gpu, request);
+  if (input.solid) write(e, *input.solid, dvt::Op::Union, request, inputHierarchical(input, request));
   applySteps(e, request, input.solids);
   return e;
 }

@@ -50,29 +50,27 @@ struct EditedTree {
   nlohmann::json figures(const levelset::dvt::VolumeTree& streams) const;
 };
 
-// What an edit starts from, read and checked before any GPU work: one of a volume (mask or phi), a
-// closed mesh or a saved tree; and the steps' solids (brushes parsed, meshes read).
+// What an edit starts from, read and checked before any GPU work: a segmentation (mask or phi volume),
+// a closed mesh or a saved tree; the steps' solids (brushes parsed, meshes read); and the frame and
+// depth of the tree, fixed once here.
 struct EditInput {
-  std::optional<Volume> volume;
-  std::optional<Mesh> mesh;
-  std::unique_ptr<levelset::dvt::DistanceSolid> meshSolid;  // with `mesh`
-  std::optional<levelset::dvt::VolumeTree> tree;
+  std::unique_ptr<const Volume> volume;                    // a segmentation, held for `solid` to read
+  std::optional<levelset::dvt::VolumeTree> tree;           // a saved tree
+  std::unique_ptr<const levelset::dvt::Solid> solid;       // the segmentation's or the mesh's; none for a tree
   std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>> solids;  // one per step
+  levelset::dvt::TreeFrame frame;  // a segmentation's grid, a saved tree's, a box around a mesh
+  std::uint32_t depth = 0;         // the request's, else the input's voxels (24 for a mesh)
 };
+// Both throw Error naming the file or the shape, and past the depth limit.
 EditInput readEditInput(const std::string& input, const EditRequest& request);
-// The tree's frame for the input (a volume's grid, a saved tree's, a box around a mesh) and the depth
-// its edits are made at (the request's, else the input's voxels; 24 for a mesh); throws Error past
-// the depth limit.
-levelset::dvt::TreeFrame editFrame(const EditInput& input, const EditRequest& request);
-std::uint32_t editDepth(const EditInput& input, const EditRequest& request);
+EditInput editInputOf(Volume segmentation, const EditRequest& request);
 // Refuses (Error) an edit whose shapes would make more voxels than the node limit at its depth, from
-// their coarse levels: cheap, before any GPU work (applyEdits would find it later).
+// their coarse levels: cheap, before any GPU work (rasterise would find it later).
 void checkEditBudget(const EditInput& input, const EditRequest& request);
 
-// A tree of a segmentation (mask or phi volume) in its own grid, at the request's depth (default its
-// voxels), node limit and collapse period (its steps are not applied: applySteps).
-EditedTree treeOfVolume(const Volume& volume, const EditRequest& request, Gpu& gpu);
-// The same from a level set's pages, where its backend keeps them (no dense phi).
+// A tree of a level set's segmentation in its own grid, read from its pages where its backend keeps
+// them (no dense phi), at the request's depth (default its voxels), node limit and collapse period
+// (its steps are not applied: applySteps).
 EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest& request, Gpu& gpu);
 // The input's tree with the request's steps applied, then collapsed.
 EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& gpu);

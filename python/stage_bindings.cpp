@@ -170,9 +170,8 @@ void bindStages(py::module_& m) {
           require(op == "union" || op == "subtract", "edit: each step is (\"union\" or \"subtract\", SHAPE), not " + op);
           request.steps.push_back({op == "union" ? levelset::dvt::Op::Union : levelset::dvt::Op::Subtract, shape});
         }
-        app::EditInput input;
-        input.volume = toVolume(volume, affine, "edit");
-        input.solids = app::stepSolids(request.steps);
+        const app::EditInput input = app::editInputOf(toVolume(volume, affine, "edit"), request);
+        app::checkEditBudget(input, request);
         app::Gpu& gpu = gpuFor(backend);
         Volume mask;
         nlohmann::json figures;

@@ -88,6 +88,11 @@ std::unique_ptr<DistanceSolid> capsuleBrush(const Vec3& a, const Vec3& b, double
   return std::make_unique<Capsule>(a, b, radius);
 }
 
+std::unique_ptr<DistanceSolid> boxBrush(const Vec3& lo, const Vec3& hi) {
+  require(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z, "a box's extent must be > 0 on every axis");
+  return std::make_unique<Box>(lo, hi);
+}
+
 std::unique_ptr<DistanceSolid> withinSlab(std::unique_ptr<DistanceSolid> shape, const Vec3& point, const Vec3& normal, double halfWidth) {
   require(std::abs(norm(normal) - 1) < 1e-9 && halfWidth > 0, "a slab needs a unit normal and a width > 0");
   return std::make_unique<Slab>(std::move(shape), point, normal, halfWidth);
@@ -150,7 +155,7 @@ std::unique_ptr<DistanceSolid> parseBrush(const std::string& text) {
   if (kind == "box") {
     need(6);
     for (int a = 0; a < 3; ++a) positive(v[3 + a] - v[a], "box's extent (X1 - X0, Y1 - Y0, Z1 - Z0)");
-    return std::make_unique<Box>(Vec3{v[0], v[1], v[2]}, Vec3{v[3], v[4], v[5]});
+    return boxBrush(Vec3{v[0], v[1], v[2]}, Vec3{v[3], v[4], v[5]});
   }
   if (kind == "capsule") {
     need(7), positive(v[6], "radius");

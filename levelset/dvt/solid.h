@@ -51,9 +51,11 @@ float boundValue(double insideness, double radius);
 // A brush painting one layer of voxels, as a 2D brush on a slice does.
 std::unique_ptr<DistanceSolid> withinSlab(std::unique_ptr<DistanceSolid> shape, const Vec3& point, const Vec3& normal, double halfWidth);
 
-// A sphere, and a capsule (the sphere swept from a to b), in world coordinates; radius > 0.
+// A sphere, a capsule (the sphere swept from a to b) and an axis-aligned box, in world coordinates;
+// radius > 0, hi > lo on every axis.
 std::unique_ptr<DistanceSolid> sphereBrush(const Vec3& centre, double radius);
 std::unique_ptr<DistanceSolid> capsuleBrush(const Vec3& a, const Vec3& b, double radius);
+std::unique_ptr<DistanceSolid> boxBrush(const Vec3& lo, const Vec3& hi);
 
 // An implicit brush from its command-line form, in world coordinates: sphere:X,Y,Z,R
 // box:X0,Y0,Z0,X1,Y1,Z1  capsule:X0,Y0,Z0,X1,Y1,Z1,R  torus:X,Y,Z,R,r (in the plane z = Z). Throws

@@ -225,6 +225,11 @@ def test_edit_and_eval_equal_the_command(tmp_path):
         isoatlas.edit(mask, [("subtract", "sphere:1,2")])
     with pytest.raises(ValueError, match="union"):
         isoatlas.edit(mask, [("add", "sphere:1,2,3,4")])
+    # Refused from the coarse levels, before any work: too deep for the node limit, past the tree's depth.
+    with pytest.raises(ValueError, match="node limit"):
+        isoatlas.edit(mask, [("union", "sphere:0,0,0,6")], depth=45, backend="cpu")
+    with pytest.raises(ValueError, match="past the tree's limit"):
+        isoatlas.edit(mask, [("union", "sphere:0,0,0,6")], depth=60, backend="cpu")
 
     cli("build", surface, "--chart", "9", "--base-ratio", "0.05", "-o", str(tmp_path / "m.isoatlas"))
     cli("eval", str(tmp_path / "m.isoatlas"), "--dense", surface, "--levels", "0,4", "--report", str(tmp_path / "eval.json"))

@@ -381,7 +381,7 @@ private:
       status_ = e.what();
     }
   }
-  std::string brushText(const Vec3& at) const;
+  std::unique_ptr<dvt::DistanceSolid> brushSolid(const Vec3& at) const;
   void segmentPanel();
   void modelPanel();
   void drawSegment(int width, int height);
@@ -410,19 +410,14 @@ private:
   double lastX_ = 0, lastY_ = 0;
 };
 
-std::string Viewer::brushText(const Vec3& c) const {
+std::unique_ptr<dvt::DistanceSolid> Viewer::brushSolid(const Vec3& c) const {
   const double s = segment_->brushSize;
-  char text[200];
   switch (segment_->brushShape) {
-    case BrushShape::Sphere: std::snprintf(text, sizeof text, "sphere:%g,%g,%g,%g", c.x, c.y, c.z, s); break;
-    case BrushShape::Box:
-      std::snprintf(text, sizeof text, "box:%g,%g,%g,%g,%g,%g", c.x - s, c.y - s, c.z - s, c.x + s, c.y + s, c.z + s);
-      break;
-    case BrushShape::Capsule:  // upright, as long as it is wide
-      std::snprintf(text, sizeof text, "capsule:%g,%g,%g,%g,%g,%g,%g", c.x, c.y, c.z - s, c.x, c.y, c.z + s, s / 2);
-      break;
+    case BrushShape::Sphere: return dvt::sphereBrush(c, s);
+    case BrushShape::Box: return dvt::boxBrush(c - Vec3{s, s, s}, c + Vec3{s, s, s});
+    case BrushShape::Capsule: return dvt::capsuleBrush(c - Vec3{0, 0, s}, c + Vec3{0, 0, s}, s / 2);  // upright, as long as it is wide
   }
-  return text;
+  throw Error("unknown brush shape");
 }
 
 void Viewer::segmentPanel() {
@@ -716,7 +711,7 @@ void Viewer::applyTool(const Vec3& at) {
 void Viewer::brushAt(const Vec3& at) {
   SegmentView& s = *segment_;
   if (s.brushShape == BrushShape::Sphere) strokeTo(at, s.brushSize);
-  else strokeWith(*s.stroke->kept(dvt::parseBrush(brushText(at))));
+  else strokeWith(*s.stroke->kept(brushSolid(at)));
   s.lastDab = at;
 }
 
