@@ -38,10 +38,8 @@ std::uint32_t checkedDepth(std::optional<std::uint32_t> depth, const dvt::TreeFr
 
 // A mesh has no voxels: its frame is a box around it, split finely enough for its depth.
 dvt::TreeFrame frameAroundMesh(const Mesh& mesh, std::uint32_t depth) {
-  Vec3 lo = mesh.positions.front(), hi = lo;
-  for (const Vec3& p : mesh.positions)
-    for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
-  return dvt::frameAround(lo, hi, int(std::min<std::uint32_t>((depth + 2) / 3, dvt::kMaxDepth / 3)));
+  const Box box = boundingBox(mesh.positions);
+  return dvt::frameAround(box.min, box.max, int(std::min<std::uint32_t>((depth + 2) / 3, dvt::kMaxDepth / 3)));
 }
 
 EditedTree start(const dvt::VolumeTree& tree, std::uint32_t depth, Gpu& gpu, const EditRequest& request) {

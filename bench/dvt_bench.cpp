@@ -11,10 +11,15 @@
 //   Plots bench/dvt_steps.png and dvt_nodes.png (512^3), dvt_steps_2048.png and dvt_nodes_2048.png.
 //   With ISOATLAS_BENCH_GPU=1 the GPU backend too (ROHR), when the GL renderer is not a software one;
 //   its rows name the GPU (and the CPU the peer ran on).
-// Usage: bench_dvt [DATA] (no data needed).
+//   With DATA: closed meshes of DATA/meshes into volumes, as `isoatlas edit MESH -o TREE.dvt` makes them
+//   (the mesh's distance solid built, rasterised hierarchically, written into an empty tree and
+//   collapsed), beside OpenVDB's meshToLevelSet (half width 3 voxels) at the same voxel size; median
+//   of 3 runs.
+// Usage: bench_dvt [DATA [torus|meshes]] (the torus needs no data; both parts by default).
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Composite.h>
 #include <openvdb/tools/LevelSetSphere.h>
+#include <openvdb/tools/MeshToVolume.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -24,11 +29,14 @@
 #include "bench/bench_util.h"
 #include "core/gl/context.h"
 #include "core/image.h"
+#include "core/mesh_io.h"
 #include "core/plot.h"
 #include "levelset/dvt/cpu_tree_passes.h"
 #include "levelset/dvt/dynamic_volume_tree.h"
 #include "levelset/dvt/gpu_tree_passes.h"
+#include "levelset/dvt/mesh_solid.h"
 #include "levelset/dvt/rasterise.h"
+#include "levelset/dvt/volume_solid.h"
 
 namespace isoatlas {
 namespace dvt = levelset::dvt;
@@ -107,6 +115,35 @@ Trace drawOpenVdb(int k) {
   return t;
 }
 
+// A closed mesh into a volume of 2^splits voxels along its longest side: ours and OpenVDB's.
+void meshIntoVolume(const std::string& data, const std::string& name, int splits) {
+  const Mesh mesh = readMesh(data + "/meshes/" + name + ".off");
+  const Box box = boundingBox(mesh.positions);
+  const dvt::TreeFrame frame = dvt::frameAround(box.min, box.max, splits);
+  const std::uint64_t limit = std::uint64_t(1) << 28;
+  double nodes = 0, active = 0;
+  const double ours = bench::medianSeconds(3, [&] {
+    const auto solid = dvt::meshSolid(mesh, name);
+    dvt::DynamicVolumeTree tree(dvt::VolumeTree::empty(frame), dvt::makeCpuTreePasses(), {.nodeLimit = limit});
+    tree.write(dvt::rasterise(*solid, frame, frame.voxelDepth(), true, limit), dvt::Op::Union);
+    tree.collapse();
+    nodes = double(tree.nodeCount());
+  });
+  std::vector<openvdb::Vec3s> points;
+  for (const Vec3& p : mesh.positions) points.emplace_back(float(p.x), float(p.y), float(p.z));
+  std::vector<openvdb::Vec3I> triangles;
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f) triangles.emplace_back(mesh.face(f)[0], mesh.face(f)[1], mesh.face(f)[2]);
+  const auto transform = openvdb::math::Transform::createLinearTransform(frame.spacing.x);
+  const double theirs = bench::medianSeconds(3, [&] {
+    const auto grid = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*transform, points, triangles, 3.0f);
+    active = double(grid->activeVoxelCount());
+  });
+  const std::string side = std::to_string(std::int64_t(1) << splits);
+  const std::string caseName = name + " (" + std::to_string(mesh.faceCount()) + " triangles) into a volume, " + side + "^3";
+  bench::report("dvt", caseName, "seconds", ours, "openvdb-meshToLevelSet", theirs);
+  bench::report("dvt", caseName, "nodes (isoatlas) / active voxels (openvdb)", nodes, "openvdb", active);
+}
+
 std::vector<double> steps(int from, int to) {
   std::vector<double> x;
   for (int i = from; i < to; ++i) x.push_back(i + 1);
@@ -149,9 +186,15 @@ std::unique_ptr<gl::Context> gpuContext() {
 }  // namespace
 }  // namespace isoatlas
 
-int main() {
+int main(int argc, char** argv) {
   using namespace isoatlas;
   openvdb::initialize();
+  const std::string part = argc > 2 ? argv[2] : "";
+  if (argc > 1 && part != "torus") {
+    for (const char* name : {"armadillo", "bunny00"})
+      for (const int splits : {8, 9}) meshIntoVolume(argv[1], name, splits);
+  }
+  if (part == "meshes") return 0;
   const std::unique_ptr<gl::Context> gpu = gpuContext();
   const std::string device = gpu ? gpu->info().renderer + " (OpenVDB on " + bench::machineName() + ")" : "";
   const std::string dir = ISOATLAS_BENCH_DIR;

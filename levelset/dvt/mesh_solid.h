@@ -1,5 +1,7 @@
 // MeshSolid: a closed triangle mesh as a DVT solid (solid.h): the signed distance to the mesh,
-// negative inside, the side from the parity of a ray's crossings (CGAL's AABB tree for both).
+// negative inside (CGAL's AABB tree). The side comes from the closest point's pseudonormal
+// (mesh_sign.h) where the mesh is consistently oriented, else, and where that cannot tell, from the
+// parity of a ray's crossings.
 #pragma once
 #include <memory>
 

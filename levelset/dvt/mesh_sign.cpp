@@ -1,0 +1,119 @@
+#include "levelset/dvt/mesh_sign.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/union_find.h"
+
+namespace isoatlas::levelset::dvt {
+
+// By the Voronoi regions of the triangle's features, tested in turn from the corners (Ericson,
+// Real-Time Collision Detection, 5.1.5).
+ClosestOnTriangle closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return {a, 0};
+  const Vec3 bp = p - b;
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return {b, 1};
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return {a + ab * (d1 / (d1 - d3)), kEdgeFeature + 0};
+  const Vec3 cp = p - c;
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return {c, 2};
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return {a + ac * (d2 / (d2 - d6)), kEdgeFeature + 2};
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) return {b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))), kEdgeFeature + 1};
+  const double denom = 1 / (va + vb + vc);
+  return {a + ab * (vb * denom) + ac * (vc * denom), kFaceFeature};
+}
+
+namespace {
+
+double angleBetween(const Vec3& u, const Vec3& v) {
+  const double lu = norm(u), lv = norm(v);
+  if (lu == 0 || lv == 0) return 0;
+  return std::acos(std::clamp(dot(u, v) / (lu * lv), -1.0, 1.0));
+}
+
+}  // namespace
+
+PseudoNormals::PseudoNormals(const Mesh& mesh, const std::function<bool(const Vec3&)>& insideAt) : positions_(mesh.positions) {
+  require(mesh.allFacesHave(3), "pseudonormals need a triangle mesh");
+  const std::size_t F = mesh.faceCount();
+  faces_.resize(F);
+  faceNormals_.resize(F);
+  UnionFind components(mesh.vertexCount());
+  for (std::size_t f = 0; f < F; ++f) {
+    const auto c = mesh.face(f);
+    faces_[f] = {c[0], c[1], c[2]};
+    const Vec3 n = cross(positions_[c[1]] - positions_[c[0]], positions_[c[2]] - positions_[c[0]]);
+    const double length = norm(n);
+    faceNormals_[f] = length > 0 ? n * (1 / length) : Vec3{0, 0, 0};
+    components.unite(c[0], c[1]), components.unite(c[0], c[2]);
+  }
+
+  // The face across each edge: in a closed, consistently oriented mesh the one running it backwards.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> directed;  // (from << 32 | to, face * 3 + edge)
+  directed.reserve(3 * F);
+  for (std::size_t f = 0; f < F; ++f)
+    for (int i = 0; i < 3; ++i)
+      directed.push_back({std::uint64_t(faces_[f][i]) << 32 | faces_[f][(i + 1) % 3], std::uint32_t(3 * f + i)});
+  std::sort(directed.begin(), directed.end());
+  across_.resize(F);
+  for (std::size_t f = 0; f < F; ++f)
+    for (int i = 0; i < 3; ++i) {
+      const std::uint64_t back = std::uint64_t(faces_[f][(i + 1) % 3]) << 32 | faces_[f][i];
+      const auto it = std::lower_bound(directed.begin(), directed.end(), std::pair{back, std::uint32_t(0)});
+      require(it != directed.end() && it->first == back, "pseudonormals need a closed, consistently oriented mesh");
+      across_[f][i] = it->second / 3;
+    }
+
+  // Each component's outward side, from the largest face: a probe a little off each side of it.
+  std::vector<std::int64_t> largest(mesh.vertexCount(), -1);
+  std::vector<double> largestArea(mesh.vertexCount(), 0);
+  for (std::size_t f = 0; f < F; ++f) {
+    const std::uint32_t root = components.find(faces_[f][0]);
+    const double area = norm(cross(positions_[faces_[f][1]] - positions_[faces_[f][0]], positions_[faces_[f][2]] - positions_[faces_[f][0]]));
+    if (area > largestArea[root]) largestArea[root] = area, largest[root] = std::int64_t(f);
+  }
+  std::vector<double> outward(mesh.vertexCount(), 0);  // per component root: +1 as stored, -1 inside out
+  for (std::size_t root = 0; root < largest.size(); ++root) {
+    if (largest[root] < 0) continue;
+    const auto& v = faces_[std::size_t(largest[root])];
+    const Vec3 centre = (positions_[v[0]] + positions_[v[1]] + positions_[v[2]]) * (1.0 / 3);
+    const Vec3 offset = faceNormals_[std::size_t(largest[root])] * (1e-3 * std::sqrt(largestArea[root]));
+    const bool front = insideAt(centre + offset), back = insideAt(centre - offset);
+    if (front == back) usable_ = false;
+    outward[root] = front ? -1 : 1;
+  }
+  for (std::size_t f = 0; f < F; ++f) faceNormals_[f] = faceNormals_[f] * outward[components.find(faces_[f][0])];
+
+  vertexNormals_.assign(mesh.vertexCount(), Vec3{0, 0, 0});
+  for (std::size_t f = 0; f < F; ++f)
+    for (int i = 0; i < 3; ++i) {
+      const Vec3& at = positions_[faces_[f][i]];
+      const double angle = angleBetween(positions_[faces_[f][(i + 1) % 3]] - at, positions_[faces_[f][(i + 2) % 3]] - at);
+      vertexNormals_[faces_[f][i]] = vertexNormals_[faces_[f][i]] + faceNormals_[f] * angle;
+    }
+}
+
+std::optional<double> PseudoNormals::signedDistance(const Vec3& p, std::size_t face) const {
+  const auto& v = faces_[face];
+  const ClosestOnTriangle closest = closestOnTriangle(p, positions_[v[0]], positions_[v[1]], positions_[v[2]]);
+  const Vec3 offset = p - closest.point;
+  const double distance = norm(offset);
+  if (distance == 0) return 0.0;
+  Vec3 normal;
+  if (closest.feature == kFaceFeature) normal = faceNormals_[face];
+  else if (closest.feature >= kEdgeFeature) normal = faceNormals_[face] + faceNormals_[across_[face][closest.feature - kEdgeFeature]];
+  else normal = vertexNormals_[v[closest.feature]];
+  const double side = dot(offset, normal);
+  // Near the tangent plane, rounding could pick the side: let the caller ask otherwise (also NaN).
+  if (!(std::abs(side) > 1e-9 * distance * norm(normal))) return std::nullopt;
+  return side > 0 ? distance : -distance;
+}
+
+}  // namespace isoatlas::levelset::dvt
