@@ -6,6 +6,7 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
+#include <atomic>
 #include <cmath>
 #include <optional>
 #include <vector>
@@ -34,6 +35,7 @@ public:
       const auto c = mesh.face(f);
       triangles_.emplace_back(point(c[0]), point(c[1]), point(c[2]));
     }
+    for (const Triangle& t : triangles_) meanEdge_ += std::sqrt(CGAL::squared_distance(t[0], t[1])) / double(triangles_.size());
     tree_.insert(triangles_.begin(), triangles_.end());
     tree_.accelerate_distance_queries();
     if (oriented) {
@@ -43,15 +45,34 @@ public:
   }
 
   double signedDistance(const Vec3& p) const override {
+    const Kernel::Point_3 q(p.x, p.y, p.z);
     if (pseudoNormals_) {
-      const auto [closest, triangle] = tree_.closest_point_and_primitive(Kernel::Point_3(p.x, p.y, p.z));
+      const auto [closest, triangle] = closestTo(q);
       if (const auto d = pseudoNormals_->signedDistance(p, std::size_t(triangle - triangles_.begin()))) return *d;
     }
-    const Kernel::Point_3 q(p.x, p.y, p.z);
     return byParity(p, std::sqrt(tree_.squared_distance(q)));
   }
 
 private:
+  // The closest point to q. The rasteriser asks of neighbouring cells in turn, so the last answer on
+  // this thread bounds the search well when q is near the last query (its distance exceeds the true
+  // one by at most twice the step): about as well as CGAL's own hint (the nearest vertex, within an
+  // edge of the surface) when the step is under the last distance plus a mean edge, and without
+  // searching for it. After a longer step, CGAL's hint.
+  Tree::Point_and_primitive_id closestTo(const Kernel::Point_3& q) const {
+    struct Last {
+      std::uint64_t solid = 0;
+      Kernel::Point_3 query;
+      double distance = 0;
+      Tree::Point_and_primitive_id closest;
+    };
+    thread_local Last last;
+    const bool near = last.solid == id_ && std::sqrt(CGAL::squared_distance(q, last.query)) < last.distance + meanEdge_;
+    last.closest = near ? tree_.closest_point_and_primitive(q, last.closest) : tree_.closest_point_and_primitive(q);
+    last.solid = id_, last.query = q, last.distance = std::sqrt(CGAL::squared_distance(q, last.closest.first));
+    return last.closest;
+  }
+
   // `distance`, negative where a ray from p crosses the mesh an odd number of times.
   double byParity(const Vec3& p, double distance) const {
     // A direction no mesh of ours is aligned with, so the ray meets edges and vertices almost never.
@@ -62,6 +83,10 @@ private:
   std::vector<Triangle> triangles_;
   Tree tree_;
   std::optional<PseudoNormals> pseudoNormals_;  // the side without a ray, where the mesh is oriented
+  double meanEdge_ = 0;
+  // Tells this solid's hint from another's (an address can be reused by a later solid).
+  static inline std::atomic<std::uint64_t> solids_{0};
+  const std::uint64_t id_ = ++solids_;
 };
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <array>
 
 #include "levelset/dvt/mesh_sign.h"
+#include "levelset/dvt/mesh_solid.h"
 
 namespace isoatlas::levelset::dvt {
 namespace {
@@ -221,6 +222,23 @@ TEST(MeshSign, PseudoNormalsTellInsideFromOutsideEitherWayRound) {
   };
   expectSignsOf({"spike", spike, spikeDistance, nullptr}, 0);
   expectSignsOf({"spike inside out", reversed(spike), spikeDistance, nullptr}, 0);
+}
+
+// A mesh solid's query starts from its thread's last answer: asked in turn with another solid, and
+// after long jumps, it gives what a fresh solid asked once gives, the side its mesh says.
+TEST(MeshSign, MeshSolidsAskedInTurnAnswerAsAlone) {
+  const Mesh t = torus(1, 0.4, 40, 20), s = sphere(0.7, 24, 12);
+  const auto torusSolid = meshSolid(t, "torus"), sphereSolid = meshSolid(reversed(s), "sphere");
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.6, 1.6);
+  for (int i = 0; i < 400; ++i) {
+    const Vec3 p{u(rng), u(rng), u(rng) * 0.6};
+    const double a = torusSolid->signedDistance(p), b = sphereSolid->signedDistance(p);
+    EXPECT_NEAR(a, meshSolid(t, "torus")->signedDistance(p), 1e-12);
+    EXPECT_NEAR(b, meshSolid(reversed(s), "sphere")->signedDistance(p), 1e-12);
+    EXPECT_EQ(a < 0, insideByParity(t, p));
+    EXPECT_EQ(b < 0, insideByParity(s, p));
+  }
 }
 
 }  // namespace
