@@ -109,32 +109,41 @@ EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest&
   return e;
 }
 
-EditInput editInputOf(Volume segmentation, const EditRequest& request) {
-  requireDepthLimit(request.depth);
-  EditInput in;
-  in.solids = stepSolids(request.steps);
+namespace {
+
+void setSegmentation(EditInput& in, Volume segmentation, const EditRequest& request) {
   in.volume = std::make_unique<const Volume>(std::move(segmentation));
   in.solid = std::make_unique<const dvt::VolumeSolid>(*in.volume);
   in.frame = dvt::frameOf(*in.volume);
   in.depth = checkedDepth(request.depth, in.frame);
+}
+
+}  // namespace
+
+EditInput editInputOf(Volume segmentation, const EditRequest& request) {
+  requireDepthLimit(request.depth);
+  EditInput in;
+  in.solids = stepSolids(request.steps);
+  setSegmentation(in, std::move(segmentation), request);
   return in;
 }
 
 EditInput readEditInput(const std::string& path, const EditRequest& request) {
   requireDepthLimit(request.depth);
-  if (!endsWith(path, ".dvt") && !isMeshPath(path)) return editInputOf(readVolume(path), request);
   EditInput in;
-  in.solids = stepSolids(request.steps);
+  in.solids = stepSolids(request.steps);  // first: a mistyped shape is told before a large input is read
   if (endsWith(path, ".dvt")) {
     in.tree = dvt::readDvt(path);
     in.frame = in.tree->frame;
     in.depth = checkedDepth(request.depth, in.frame);
-  } else {
+  } else if (isMeshPath(path)) {
     const Mesh mesh = readMesh(path);
     in.solid = dvt::meshSolid(mesh, path);
     const std::uint32_t depth = request.depth.value_or(kMeshDepth);
     in.frame = frameAroundMesh(mesh, depth);
     in.depth = checkedDepth(depth, in.frame);
+  } else {
+    setSegmentation(in, readVolume(path), request);
   }
   return in;
 }

@@ -170,8 +170,13 @@ void bindStages(py::module_& m) {
           require(op == "union" || op == "subtract", "edit: each step is (\"union\" or \"subtract\", SHAPE), not " + op);
           request.steps.push_back({op == "union" ? levelset::dvt::Op::Union : levelset::dvt::Op::Subtract, shape});
         }
-        const app::EditInput input = app::editInputOf(toVolume(volume, affine, "edit"), request);
-        app::checkEditBudget(input, request);
+        Volume segmentation = toVolume(volume, affine, "edit");
+        app::EditInput input;
+        {
+          py::gil_scoped_release release;
+          input = app::editInputOf(std::move(segmentation), request);
+          app::checkEditBudget(input, request);  // before any GL work, as the command does
+        }
         app::Gpu& gpu = gpuFor(backend);
         Volume mask;
         nlohmann::json figures;

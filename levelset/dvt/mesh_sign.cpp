@@ -71,23 +71,39 @@ PseudoNormals::PseudoNormals(const Mesh& mesh, const std::function<bool(const Ve
       across_[f][i] = it->second / 3;
     }
 
-  // Each component's outward side, from the largest face: a probe a little off each side of it.
-  std::vector<std::int64_t> largest(mesh.vertexCount(), -1);
-  std::vector<double> largestArea(mesh.vertexCount(), 0);
+  // Each component's outward side: a probe a little off each side of its largest face and of its
+  // faces farthest along each axis, both ways (spread over it). They must all agree: a face inside
+  // another component (closed shells that overlap) reads inside out, and then the whole mesh is left
+  // to the caller's parity.
+  auto centreOf = [&](std::size_t f) { return (positions_[faces_[f][0]] + positions_[faces_[f][1]] + positions_[faces_[f][2]]) * (1.0 / 3); };
+  auto sizeOf = [&](std::size_t f) {
+    return std::sqrt(norm(cross(positions_[faces_[f][1]] - positions_[faces_[f][0]], positions_[faces_[f][2]] - positions_[faces_[f][0]])));
+  };
+  constexpr int kProbes = 7;  // the largest face, then the least and the most along x, y and z
+  std::vector<std::array<std::int64_t, kProbes>> probes(mesh.vertexCount());
+  for (auto& p : probes) p.fill(-1);
   for (std::size_t f = 0; f < F; ++f) {
-    const std::uint32_t root = components.find(faces_[f][0]);
-    const double area = norm(cross(positions_[faces_[f][1]] - positions_[faces_[f][0]], positions_[faces_[f][2]] - positions_[faces_[f][0]]));
-    if (area > largestArea[root]) largestArea[root] = area, largest[root] = std::int64_t(f);
+    if (norm(faceNormals_[f]) == 0) continue;
+    auto& p = probes[components.find(faces_[f][0])];
+    if (p[0] < 0 || sizeOf(f) > sizeOf(std::size_t(p[0]))) p[0] = std::int64_t(f);
+    for (int axis = 0; axis < 3; ++axis) {
+      if (p[1 + 2 * axis] < 0 || centreOf(f)[axis] < centreOf(std::size_t(p[1 + 2 * axis]))[axis]) p[1 + 2 * axis] = std::int64_t(f);
+      if (p[2 + 2 * axis] < 0 || centreOf(f)[axis] > centreOf(std::size_t(p[2 + 2 * axis]))[axis]) p[2 + 2 * axis] = std::int64_t(f);
+    }
   }
   std::vector<double> outward(mesh.vertexCount(), 0);  // per component root: +1 as stored, -1 inside out
-  for (std::size_t root = 0; root < largest.size(); ++root) {
-    if (largest[root] < 0) continue;
-    const auto& v = faces_[std::size_t(largest[root])];
-    const Vec3 centre = (positions_[v[0]] + positions_[v[1]] + positions_[v[2]]) * (1.0 / 3);
-    const Vec3 offset = faceNormals_[std::size_t(largest[root])] * (1e-3 * std::sqrt(largestArea[root]));
-    const bool front = insideAt(centre + offset), back = insideAt(centre - offset);
-    if (front == back) usable_ = false;
-    outward[root] = front ? -1 : 1;
+  for (std::size_t f = 0; f < F && usable_; ++f) {
+    const std::uint32_t root = components.find(faces_[f][0]);
+    if (outward[root] != 0) continue;
+    if (probes[root][0] < 0) usable_ = false;  // every face of it degenerate
+    for (const std::int64_t g : probes[root]) {
+      if (g < 0 || !usable_) break;
+      const Vec3 offset = faceNormals_[std::size_t(g)] * (1e-3 * sizeOf(std::size_t(g)));
+      const bool front = insideAt(centreOf(std::size_t(g)) + offset), back = insideAt(centreOf(std::size_t(g)) - offset);
+      const double verdict = front ? -1 : 1;
+      if (front == back || (outward[root] != 0 && outward[root] != verdict)) usable_ = false;
+      outward[root] = verdict;
+    }
   }
   for (std::size_t f = 0; f < F; ++f) faceNormals_[f] = faceNormals_[f] * outward[components.find(faces_[f][0])];
 
@@ -108,7 +124,11 @@ std::optional<double> PseudoNormals::signedDistance(const Vec3& p, std::size_t f
   if (distance == 0) return 0.0;
   Vec3 normal;
   if (closest.feature == kFaceFeature) normal = faceNormals_[face];
-  else if (closest.feature >= kEdgeFeature) normal = faceNormals_[face] + faceNormals_[across_[face][closest.feature - kEdgeFeature]];
+  else if (closest.feature >= kEdgeFeature) {
+    const Vec3& other = faceNormals_[across_[face][closest.feature - kEdgeFeature]];
+    if (norm(faceNormals_[face]) == 0 || norm(other) == 0) return std::nullopt;  // a degenerate face: no pseudonormal
+    normal = faceNormals_[face] + other;
+  }
   else normal = vertexNormals_[v[closest.feature]];
   const double side = dot(offset, normal);
   // Near the tangent plane, rounding could pick the side: let the caller ask otherwise (also NaN).

@@ -5,8 +5,9 @@
 // mesh; one closest-point query per point, where a ray's crossings need a second, longer one.
 //   closestOnTriangle: the closest point of a triangle to p and the feature it lies on.
 //   PseudoNormals: per face its unit normal, per vertex its angle-weighted pseudonormal, per edge the
-//   two faces' sum, each component turned outward (`insideAt` decides one probe per component, so
-//   a cavity, or a component stored inside out, is told from a shell).
+//   two faces' sum, each component turned outward (`insideAt` decides probes off 7 of its faces,
+//   so a cavity, or a component stored inside out, is told from a shell; where they disagree, as
+//   where closed shells overlap, the normals are not usable).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -30,9 +31,10 @@ ClosestOnTriangle closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b,
 class PseudoNormals {
 public:
   // `mesh`: closed triangles, each component consistently oriented (analyzeTopology's `oriented`).
-  // insideAt(q): whether q is inside the solid, asked twice per component.
+  // insideAt(q): whether q is inside the solid, asked twice for each of up to 7 faces per component.
   PseudoNormals(const Mesh& mesh, const std::function<bool(const Vec3&)>& insideAt);
-  // False when some component's outward side could not be told (its probes agreed).
+  // False when some component's outward side could not be told (a probe's two sides agreed, or two
+  // probes of one component disagreed).
   bool usable() const { return usable_; }
   // p's signed distance (< 0 inside) to the mesh when `face` is a closest triangle to p; nullopt where
   // the pseudonormal cannot tell (a degenerate feature, or p too near its tangent plane to trust).

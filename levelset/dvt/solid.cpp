@@ -78,17 +78,24 @@ private:
 
 }  // namespace
 
+namespace {
+bool finite(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+}  // namespace
+
 std::unique_ptr<DistanceSolid> sphereBrush(const Vec3& centre, double radius) {
+  require(finite(centre) && std::isfinite(radius), "a sphere needs a finite centre and radius");
   require(radius > 0, "a sphere's radius must be > 0");
   return std::make_unique<Sphere>(centre, radius);
 }
 
 std::unique_ptr<DistanceSolid> capsuleBrush(const Vec3& a, const Vec3& b, double radius) {
+  require(finite(a) && finite(b) && std::isfinite(radius), "a capsule needs finite ends and radius");
   require(radius > 0, "a capsule's radius must be > 0");
   return std::make_unique<Capsule>(a, b, radius);
 }
 
 std::unique_ptr<DistanceSolid> boxBrush(const Vec3& lo, const Vec3& hi) {
+  require(finite(lo) && finite(hi), "a box needs finite corners");
   require(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z, "a box's extent must be > 0 on every axis");
   return std::make_unique<Box>(lo, hi);
 }

@@ -239,6 +239,35 @@ TEST(MeshSign, MeshSolidsAskedInTurnAnswerAsAlone) {
     EXPECT_EQ(a < 0, insideByParity(t, p));
     EXPECT_EQ(b < 0, insideByParity(s, p));
   }
+  // A walk in small steps, where each query starts from the last answer: the brute-force distance and
+  // the mesh's own side.
+  for (int i = 0; i < 600; ++i) {
+    const Vec3 p{-1.6 + i * 0.0053, 0.3 * std::sin(i * 0.05), 0.25 * std::cos(i * 0.031)};
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t f = 0; f < t.faceCount(); ++f) {
+      const auto c = t.face(f);
+      best = std::min(best, norm(p - closestOnTriangle(p, t.positions[c[0]], t.positions[c[1]], t.positions[c[2]]).point));
+    }
+    const double d = torusSolid->signedDistance(p);
+    EXPECT_NEAR(std::abs(d), best, 1e-12);
+    EXPECT_EQ(d < 0, insideByParity(t, p));
+  }
+}
+
+// Closed shells that overlap: the probes of one shell's faces disagree (some lie inside the other
+// shell), so the pseudonormals are not used and the mesh's solid keeps the parity's side.
+TEST(MeshSign, OverlappingShellsAreLeftToTheParity) {
+  Mesh a = sphere(0.7, 24, 12), b = sphere(0.7, 24, 12);
+  for (Vec3& p : b.positions) p.x += 0.5;
+  const Mesh both = merged(a, b);
+  EXPECT_FALSE(PseudoNormals(both, [&](const Vec3& p) { return insideByParity(both, p); }).usable());
+  const auto solid = meshSolid(both, "two spheres");
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1, 1.5);
+  for (int i = 0; i < 300; ++i) {
+    const Vec3 p{u(rng), u(rng) * 0.8, u(rng) * 0.8};
+    EXPECT_EQ(solid->signedDistance(p) < 0, insideByParity(both, p));
+  }
 }
 
 }  // namespace

@@ -225,7 +225,7 @@ def test_edit_and_eval_equal_the_command(tmp_path):
         isoatlas.edit(mask, [("subtract", "sphere:1,2")])
     with pytest.raises(ValueError, match="union"):
         isoatlas.edit(mask, [("add", "sphere:1,2,3,4")])
-    # Refused from the coarse levels, before any work: too deep for the node limit, past the tree's depth.
+    # Refused, as the command refuses them: too deep for the node limit, past the tree's depth.
     with pytest.raises(ValueError, match="node limit"):
         isoatlas.edit(mask, [("union", "sphere:0,0,0,6")], depth=45, backend="cpu")
     with pytest.raises(ValueError, match="past the tree's limit"):
