@@ -1,6 +1,7 @@
 // Mesh: a polygon mesh as plain arrays (triangles, quads or mixed), positions in world mm.
 // Face f's corners are faceVertices[faceOffsets[f] .. faceOffsets[f+1]).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -68,6 +69,11 @@ struct VertexAdjacency {
   std::vector<char> boundary;
 };
 VertexAdjacency vertexAdjacency(const Mesh& mesh);
+
+// Per triangle t and edge e (corner e to corner e + 1): the triangle that runs that edge the other
+// way (its neighbour in a consistently oriented mesh), or kNoTriangle where none does (a boundary).
+inline constexpr std::uint32_t kNoTriangle = ~0u;
+std::vector<std::array<std::uint32_t, 3>> triangleNeighbours(std::span<const std::array<std::uint32_t, 3>> triangles);
 
 // Per-vertex normals: the area-weighted sum of the faces' normals (polygons as fans), normalised;
 // zero where every face around the vertex is flat.

@@ -6,20 +6,7 @@
 
 namespace isoatlas::multires {
 
-std::vector<std::array<std::uint32_t, 3>> BaseMesh::triangleNeighbours() const {
-  std::unordered_map<std::uint64_t, std::uint32_t> halfedge;  // (from, to) -> triangle
-  halfedge.reserve(triangles.size() * 3);
-  auto key = [](std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; };
-  for (std::uint32_t t = 0; t < triangles.size(); ++t)
-    for (int i = 0; i < 3; ++i) halfedge[key(triangles[t][i], triangles[t][(i + 1) % 3])] = t;
-  std::vector<std::array<std::uint32_t, 3>> across(triangles.size());
-  for (std::uint32_t t = 0; t < triangles.size(); ++t)
-    for (int i = 0; i < 3; ++i) {
-      const auto it = halfedge.find(key(triangles[t][(i + 1) % 3], triangles[t][i]));
-      across[t][i] = it == halfedge.end() ? kNoTriangle : it->second;
-    }
-  return across;
-}
+std::vector<std::array<std::uint32_t, 3>> BaseMesh::triangleNeighbours() const { return isoatlas::triangleNeighbours(triangles); }
 
 Mesh BaseMesh::triangleMesh() const {
   Mesh mesh;

@@ -49,7 +49,7 @@ struct BaseMesh {
   std::pair<std::uint32_t, std::array<double, 3>> chartToTriangle(std::uint32_t tile, double u, double v) const;
   // Per triangle t and edge e (corner e to corner e + 1): the triangle across it, or kNoTriangle on
   // the boundary.
-  static constexpr std::uint32_t kNoTriangle = ~0u;
+  static constexpr std::uint32_t kNoTriangle = isoatlas::kNoTriangle;  // core/mesh.h's triangleNeighbours
   std::vector<std::array<std::uint32_t, 3>> triangleNeighbours() const;
   Mesh triangleMesh() const;  // the base triangles as a Mesh
   Mesh quadMesh() const;      // the tiles as quads (the shared edge dropped); requires tiles

@@ -55,21 +55,9 @@ PseudoNormals::PseudoNormals(const Mesh& mesh, const std::function<bool(const Ve
     components.unite(c[0], c[1]), components.unite(c[0], c[2]);
   }
 
-  // The face across each edge: in a closed, consistently oriented mesh the one running it backwards.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> directed;  // (from << 32 | to, face * 3 + edge)
-  directed.reserve(3 * F);
-  for (std::size_t f = 0; f < F; ++f)
-    for (int i = 0; i < 3; ++i)
-      directed.push_back({std::uint64_t(faces_[f][i]) << 32 | faces_[f][(i + 1) % 3], std::uint32_t(3 * f + i)});
-  std::sort(directed.begin(), directed.end());
-  across_.resize(F);
-  for (std::size_t f = 0; f < F; ++f)
-    for (int i = 0; i < 3; ++i) {
-      const std::uint64_t back = std::uint64_t(faces_[f][(i + 1) % 3]) << 32 | faces_[f][i];
-      const auto it = std::lower_bound(directed.begin(), directed.end(), std::pair{back, std::uint32_t(0)});
-      require(it != directed.end() && it->first == back, "pseudonormals need a closed, consistently oriented mesh");
-      across_[f][i] = it->second / 3;
-    }
+  across_ = triangleNeighbours(faces_);
+  for (const auto& across : across_)
+    require(std::find(across.begin(), across.end(), kNoTriangle) == across.end(), "pseudonormals need a closed, consistently oriented mesh");
 
   // Each component's outward side: a probe a little off each side of its largest face and of its
   // faces farthest along each axis, both ways (spread over it). They must all agree: a face inside

@@ -46,11 +46,10 @@ public:
 
   double signedDistance(const Vec3& p) const override {
     const Kernel::Point_3 q(p.x, p.y, p.z);
-    if (pseudoNormals_) {
-      const auto [closest, triangle] = closestTo(q);
-      if (const auto d = pseudoNormals_->signedDistance(p, std::size_t(triangle - triangles_.begin()))) return *d;
-    }
-    return byParity(p, std::sqrt(tree_.squared_distance(q)));
+    if (!pseudoNormals_) return byParity(p, std::sqrt(tree_.squared_distance(q)));
+    const auto [closest, triangle] = closestTo(q);
+    if (const auto d = pseudoNormals_->signedDistance(p, std::size_t(triangle - triangles_.begin()))) return *d;
+    return byParity(p, std::sqrt(CGAL::squared_distance(q, closest)));  // the normal could not tell
   }
 
 private:

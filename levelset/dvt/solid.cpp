@@ -76,10 +76,8 @@ private:
   double halfWidth_;
 };
 
-}  // namespace
-
-namespace {
 bool finite(const Vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
 }  // namespace
 
 std::unique_ptr<DistanceSolid> sphereBrush(const Vec3& centre, double radius) {
