@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "core/progress.h"
+#include "multires/folded_dense_triangles.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
 
@@ -52,6 +53,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   const multires::PairingStats pairing = multires::pairTriangles(base, dense);
   logInfo("build: " + std::to_string(pairing.tiles) + " tiles, " + std::to_string(pairing.splits) +
           " edge splits for the matching, " + std::to_string(pairing.seconds) + " s");
+  r["folded_dense_triangles"] = multires::countFoldedTriangles(dense, base);
   atlas::ChartStats charts;
   model.atlas = atlas::makeAtlas(dense, base, request.chartSize, &charts);
   model.foldedTexels = charts.foldedTexels, model.gapTexels = charts.gapTexels;
@@ -67,19 +69,20 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   r["base_triangles_before_matching"] = stats.baseTriangles;
   r["target_vertices"] = stats.targetVertices;
   r["reached_target"] = stats.reachedTarget;
+  r["vertices_above_target"] = stats.baseVertices > stats.targetVertices ? stats.baseVertices - stats.targetVertices : 0;
+  r["refused_welds"] = {{"point_outside", stats.refusals.pointOutside}, {"dense_triangle", stats.refusals.denseTriangle}};
+  r["history_steps"] = stats.historySteps;
+  r["history_bytes"] = stats.historyBytes;
   r["tiles"] = pairing.tiles;
   r["splits_for_matching"] = pairing.splits;
   r["zero_weight_tiles"] = pairing.zeroWeightTiles;
   r["mean_tile_orthogonality"] = pairing.meanOrthogonality;
   r["operators"] = {{"flips", stats.operators.flips}, {"face_welds", stats.operators.faceWelds},
                     {"edge_welds", stats.operators.edgeWelds}, {"boundary_welds", stats.operators.boundaryWelds}};
-  r["folded_before_untangle"] = stats.untangle.foldedBefore;
-  r["folded_after_untangle"] = stats.untangle.foldedAfter;
-  r["untangled_vertices"] = stats.untangle.movedVertices;
   r.update(atlasFigures(model));
-  r["repaired_texels"] = charts.repairedTexels;
   r["border_disagreements"] = charts.borderDisagreements;
-  r["seconds_untangle"] = stats.untangle.seconds;
+  r["mean_history_steps"] = charts.meanHistorySteps;
+  r["turned_texel_quads"] = charts.turnedTexelQuads;
   r["seconds_simplify"] = stats.seconds;
   r["seconds_match"] = pairing.seconds;
   r["seconds_chart"] = charts.seconds;

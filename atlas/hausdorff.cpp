@@ -3,9 +3,6 @@
 #include <CGAL/Polygon_mesh_processing/distance.h>
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_triangle_primitive.h>
 
 #include <cmath>
 #include <limits>
@@ -58,45 +55,6 @@ double oneWay(const SurfaceMesh& from, const SurfaceMesh& to, std::size_t facePo
 Hausdorff hausdorffDistance(const Mesh& a, const Mesh& b, std::size_t facePoints) {
   const SurfaceMesh ma = toSurfaceMesh(a, "first"), mb = toSurfaceMesh(b, "second");
   return {oneWay(ma, mb, facePoints), oneWay(mb, ma, facePoints)};
-}
-
-struct NearestPoints::Tree {
-  using Triangle = Kernel::Triangle_3;
-  using Iterator = std::vector<Triangle>::const_iterator;
-  using Primitive = CGAL::AABB_triangle_primitive<Kernel, Iterator>;
-  using AabbTree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-  std::vector<Triangle> triangles;
-  AabbTree tree;
-};
-
-NearestPoints::NearestPoints(const Mesh& mesh) : mesh_(mesh), tree_(std::make_unique<Tree>()) {
-  require(mesh.faceCount() > 0 && mesh.allFacesHave(3), "nearest points: the mesh must be a non-empty triangle mesh");
-  auto point = [&](std::uint32_t v) { return Kernel::Point_3(mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z); };
-  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
-    const auto c = mesh.face(f);
-    tree_->triangles.emplace_back(point(c[0]), point(c[1]), point(c[2]));
-  }
-  tree_->tree.insert(tree_->triangles.cbegin(), tree_->triangles.cend());
-  tree_->tree.accelerate_distance_queries();
-}
-
-NearestPoints::~NearestPoints() = default;
-
-NearestPoints::Hit NearestPoints::nearest(const Vec3& query) const {
-  const auto [p, primitive] = tree_->tree.closest_point_and_primitive(Kernel::Point_3(query.x, query.y, query.z));
-  const std::uint32_t face = std::uint32_t(primitive - tree_->triangles.cbegin());
-  const auto c = mesh_.face(face);
-  const Vec3 a = mesh_.positions[c[0]], b = mesh_.positions[c[1]], d = mesh_.positions[c[2]], x{p.x(), p.y(), p.z()};
-  // Barycentric weights of x on (a, b, d), by areas (x lies on the triangle).
-  const Vec3 n = cross(b - a, d - a);
-  const double area = dot(n, n);
-  std::array<double, 3> w{1.0 / 3, 1.0 / 3, 1.0 / 3};
-  if (area > 0) {
-    w[1] = dot(cross(x - a, d - a), n) / area;
-    w[2] = dot(cross(b - a, x - a), n) / area;
-    w[0] = 1 - w[1] - w[2];
-  }
-  return {face, w, x};
 }
 
 double psnrDb(double diagonal, double distance) {

@@ -8,10 +8,7 @@
 //   facePoints  face samples per mesh
 // PSNR = 20 log10(diagonal / distance), the diagonal that of the dense mesh's bounding box.
 #pragma once
-#include <array>
 #include <cstddef>
-#include <cstdint>
-#include <memory>
 
 #include "core/mesh.h"
 
@@ -24,25 +21,6 @@ struct Hausdorff {
   double symmetric() const { return aToB > bToA ? aToB : bToA; }
 };
 Hausdorff hausdorffDistance(const Mesh& a, const Mesh& b, std::size_t facePoints = kHausdorffFacePoints);
-
-// The nearest point of a triangle mesh to a query, through CGAL's AABB tree (kept in this file's
-// translation unit): the face and the point's barycentric weights on it.
-class NearestPoints {
-public:
-  explicit NearestPoints(const Mesh& mesh);  // keeps a reference; triangles only
-  ~NearestPoints();
-  struct Hit {
-    std::uint32_t face;
-    std::array<double, 3> bary;
-    Vec3 point;
-  };
-  Hit nearest(const Vec3& query) const;
-
-private:
-  struct Tree;
-  const Mesh& mesh_;
-  std::unique_ptr<Tree> tree_;
-};
 
 // 20 log10(diagonal / distance); infinite for a zero distance.
 double psnrDb(double diagonal, double distance);

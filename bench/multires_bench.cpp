@@ -15,7 +15,6 @@
 #include "core/mesh_io.h"
 #include "core/mesh_topology.h"
 #include "extract/extract_surface.h"
-#include "multires/dense_sampler.h"
 #include "atlas/hausdorff.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
@@ -41,35 +40,6 @@ Mesh meshoptSimplify(const Mesh& dense, std::size_t faces, double& seconds) {
   m.positions = dense.positions;
   for (std::size_t i = 0; i < n; i += 3) m.addFace({out[i], out[i + 1], out[i + 2]});
   return dropUnusedVertices(m);
-}
-
-// The dense sampler's speed, indexed against its scan of every image (as it was before the index):
-// each base triangle sampled at the lattice of a 33 x 33 chart's triangle (561 points), as charting
-// the atlas will. Same answers, bit for bit (tests/multires/untangle_test.cpp).
-void samplerFigures(const std::string& caseName, const Mesh& dense, const multires::BaseMesh& base) {
-  constexpr int n = 32;
-  auto sampleAll = [&](const multires::DenseSampler& sampler) {
-    double sum = 0;  // kept, so the work is not optimised away
-    for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
-      for (int j = 0; j <= n; ++j)
-        for (int i = 0; i + j <= n; ++i) sum += sampler.position(t, {double(n - i - j) / n, double(i) / n, double(j) / n}).x;
-    return sum;
-  };
-  double seconds[2] = {}, building[2] = {};
-  std::uint64_t queries = 0, scans = 0;
-  for (const bool indexed : {true, false}) {
-    auto start = std::chrono::steady_clock::now();
-    const multires::DenseSampler sampler(dense, base, indexed);
-    building[indexed ? 0 : 1] = since(start);
-    static volatile double sink = 0;
-    sink = sink + sampleAll(sampler);
-    seconds[indexed ? 0 : 1] = since(start);
-    if (indexed) queries = sampler.queries(), scans = sampler.fullScans();
-  }
-  std::fprintf(stderr, "multires: sampler %llu queries, %llu scanned every image; built in %.3f s (scan: %.3f s)\n",
-               (unsigned long long)queries, (unsigned long long)scans, building[0], building[1]);
-  bench::report("multires", caseName, "seconds to sample every base triangle at a 33-texel lattice", seconds[0],
-                "isoatlas DenseSampler scanning every image (before the index)", seconds[1]);
 }
 
 void compare(const std::string& name, const Mesh& dense) {
@@ -107,7 +77,6 @@ void compare(const std::string& name, const Mesh& dense) {
                 atlas::psnrDb(diagonal, hCgal), false);
   bench::report("multires", caseName, "base PSNR (dB)", atlas::psnrDb(diagonal, hOurs), meshoptName,
                 atlas::psnrDb(diagonal, hMeshopt), false);
-  samplerFigures(caseName, dense, base);
 }
 
 }  // namespace

@@ -152,8 +152,8 @@ VertexH AdaptiveMesh::split(EdgeH e) {
 
 std::optional<Vec3> AdaptiveMesh::splitPosition(EdgeH e) const {
   // On a tile side, the chart of lower index is sampled, so the new vertex does not depend on which
-  // side the edge's handle happens to start from. (Averaging both, as the atlas will average shared
-  // edges, puts the vertex off the surface while the two charts still disagree: see DenseSampler.)
+  // side the edge's handle happens to start from (the two charts' samples agree only within
+  // rounding).
   HalfedgeH from;
   for (int i = 0; i < 2; ++i) {
     const HalfedgeH h = mesh_.halfedge_handle(e, i);

@@ -172,22 +172,6 @@ bool BaseDomain::inFrame(const Chart& chart, const Point2& p, std::uint32_t t, B
   return true;
 }
 
-void BaseDomain::fromChart(const Chart& chart, const Point2& p, std::uint32_t& t, Bary& out) const {
-  if (chart.vertex == kNone) {
-    t = chart.home;
-    out = {1 - p.x - p.y, p.x, p.y};
-  } else {
-    // The star triangle by angle; beyond the boundary, the nearer end of the star.
-    double angle = std::atan2(p.y, p.x);
-    if (chart.closed && angle < 0) angle += 2 * std::numbers::pi;
-    if (!chart.closed && angle < -std::numbers::pi / 2) angle = double(chart.star.size()) * chart.step;
-    const auto k = std::size_t(std::clamp(std::floor(angle / chart.step), 0.0, double(chart.star.size() - 1)));
-    t = chart.star[k];
-    inFrame(chart, p, t, out);
-  }
-  locate(t, out);
-}
-
 bool BaseDomain::transfer(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const {
   if (from == to) {
     out = bary;
@@ -205,28 +189,6 @@ bool BaseDomain::transfer(std::uint32_t from, const Bary& bary, std::uint32_t to
   starChart(common, to, chart);
   Point2 p;
   return toChart(chart, from, bary, p) && inFrame(chart, p, to, out);
-}
-
-bool BaseDomain::transferNear(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const {
-  if (transfer(from, bary, to, out)) return true;
-  Bary between;
-  for (const std::uint32_t via : across_[to])
-    if (via != kNone && transfer(from, bary, via, between) && transfer(via, between, to, out)) return true;
-  return false;
-}
-
-void BaseDomain::locate(std::uint32_t& t, Bary& bary, int maxSteps) const {
-  for (int step = 0; step < maxSteps; ++step) {
-    int c = 0;
-    for (int i = 1; i < 3; ++i)
-      if (bary[i] < bary[c]) c = i;
-    if (bary[c] >= 0) return;
-    const std::uint32_t next = across_[t][(c + 1) % 3];  // the edge opposite corner c
-    Bary moved;
-    if (next == kNone || !unfold(t, bary, next, moved)) break;
-    t = next, bary = moved;
-  }
-  clampToTriangle(bary);
 }
 
 }  // namespace isoatlas::multires

@@ -1,4 +1,5 @@
-// BaseDomain: the base mesh as the parameter domain of the dense surface. A point of the domain is a
+// BaseDomain: the base mesh as a parameter domain where dense triangles are drawn straight (to count
+// those that fold: folded_dense_triangles.h). A point of the domain is a
 // base triangle and barycentric weights in it (the triangle's frame). Points move between frames:
 // across a shared edge by the unfold (the other triangle's apex mirrored through the edge midpoint,
 // an affine map both sides agree on, as if both were equilateral), around a shared vertex through
@@ -33,34 +34,24 @@ public:
 
   explicit BaseDomain(const BaseMesh& base);
 
-  // Point `bary` of triangle `from` in the frame of `to` (weights may then be negative). Works when
-  // the two are the same, share an edge or share a vertex; returns false otherwise.
-  bool transfer(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const;
-  // As transfer, and also one step further: through a triangle across an edge of `to` that `from`
-  // shares an edge or vertex with (two maps composed: shapes farther from `to` bend more).
-  bool transferNear(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const;
-
-  // One chart for points of the n given triangles and `home`, so that a dense triangle or a
-  // vertex's neighbourhood keeps its shape: home's frame when they lie in home and at most one other
-  // triangle, else the star of the base vertex they all share (the unfolds around a vertex do not
-  // close up unless it has six triangles). A point on a base vertex or edge counts as in every
-  // triangle that holds it. False when they share no vertex.
-  bool chartFor(const std::uint32_t* triangles, const Bary* bary, std::size_t n, std::uint32_t home, Chart& chart) const;
-  bool toChart(const Chart& chart, std::uint32_t t, const Bary& bary, Point2& out) const;
   // A dense triangle (three dense vertex indices) in the one chart that holds its corners (chartFor,
   // homed at the first corner's base triangle): the chart and the corners' points in it. False when
   // the corners share no chart.
   bool chartDenseTriangle(std::span<const std::uint32_t> corners, Chart& chart, std::array<Point2, 3>& points) const;
-  // Weights of chart point p in triangle t's frame (any sign); t must lie in the chart.
-  bool inFrame(const Chart& chart, const Point2& p, std::uint32_t t, Bary& out) const;
-  // The triangle holding chart point p, and p's weights there (walked and clamped as in locate).
-  void fromChart(const Chart& chart, const Point2& p, std::uint32_t& t, Bary& out) const;
 
 private:
-  // A point given in t's frame, possibly outside t, walked across edges into the triangle that
-  // holds it (at most `maxSteps` edges); clamped onto the last triangle at the boundary or when the
-  // walk runs out. Updates t and bary.
-  void locate(std::uint32_t& t, Bary& bary, int maxSteps = 16) const;
+  // Point `bary` of triangle `from` in the frame of `to` (weights may then be negative). Works when
+  // the two are the same, share an edge or share a vertex; returns false otherwise.
+  bool transfer(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const;
+  // One chart for points of the n given triangles and `home`, so that a dense triangle keeps its
+  // shape: home's frame when they lie in home and at most one other triangle, else the star of the
+  // base vertex they all share (the unfolds around a vertex do not close up unless it has six
+  // triangles). A point on a base vertex or edge counts as in every triangle that holds it. False
+  // when they share no vertex.
+  bool chartFor(const std::uint32_t* triangles, const Bary* bary, std::size_t n, std::uint32_t home, Chart& chart) const;
+  bool toChart(const Chart& chart, std::uint32_t t, const Bary& bary, Point2& out) const;
+  // Weights of chart point p in triangle t's frame (any sign); t must lie in the chart.
+  bool inFrame(const Chart& chart, const Point2& p, std::uint32_t t, Bary& out) const;
   // The unfold of a point of `from` into neighbour `to` across their shared edge.
   bool unfold(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const;
   void starChart(std::uint32_t vertex, std::uint32_t someTriangle, Chart& chart) const;

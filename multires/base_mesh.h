@@ -4,9 +4,11 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/mesh.h"
+#include "multires/parametrisation_history.h"
 
 namespace isoatlas::multires {
 
@@ -26,6 +28,16 @@ struct BaseMesh {
   // corners (non-negative, summing to one).
   std::vector<std::uint32_t> denseTriangle;
   std::vector<std::array<double, 3>> denseBary;
+
+  // The exact map the other way, from the base mesh to the dense mesh (stellar simplification records
+  // it): base triangle t lies in historyFrames[t] of `history`. Charts sample the dense surface
+  // through it. Empty for a base mesh read from a model file.
+  std::shared_ptr<const ParametrisationHistory> history;
+  std::vector<HistoryFrame> historyFrames;
+  // The dense surface at base point (triangle, bary), through the history (which must be there).
+  ParametrisationHistory::DensePoint densePoint(std::uint32_t triangle, const std::array<double, 3>& bary) const {
+    return history->toDense(historyFrames[triangle].version, historyFrames[triangle].toVersion(bary));
+  }
 
   // Filled by pairTriangles: each tile is two triangles sharing an edge; every triangle is in one.
   std::vector<std::array<std::uint32_t, 2>> tiles;

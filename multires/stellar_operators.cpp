@@ -99,9 +99,15 @@ bool canWeldInto(const StellarMesh& mesh, VertexH v, VertexH u, const DegreeTabl
   return common == opposites;
 }
 
-WeldCounts weldInto(StellarMesh& mesh, VertexH v, VertexH u, DegreeTable* degrees) {
+WeldCounts weldInto(StellarMesh& mesh, VertexH v, VertexH u, DegreeTable* degrees, std::span<const VertexH> spokes) {
   WeldCounts counts;
   const bool boundary = mesh.is_boundary(v);
+  auto flip = [&](HalfedgeH g) {
+    if (!g.is_valid() || !mesh.is_flip_ok(mesh.edge_handle(g))) throw Error("stellar weld: a flip in a checked 1-ring failed", ErrorKind::Failure);
+    mesh.flip(mesh.edge_handle(g));
+    ++counts.flips;
+  };
+  for (const VertexH w : spokes) flip(mesh.find_halfedge(v, w));
   // An interior vertex goes down to degree 4 (then an edge weld, or a face weld if it had 3); a
   // boundary vertex down to two faces (three neighbours).
   const unsigned target = boundary ? 3 : 4;
@@ -109,12 +115,7 @@ WeldCounts weldInto(StellarMesh& mesh, VertexH v, VertexH u, DegreeTable* degree
     const HalfedgeH h = mesh.find_halfedge(v, u);
     const HalfedgeH back = mesh.opposite_halfedge_handle(h);
     // Flip the edge from v to u's neighbour in the ring: the quad's new diagonal ends at u.
-    const HalfedgeH g = mesh.is_boundary(back) ? mesh.opposite_halfedge_handle(mesh.prev_halfedge_handle(h))
-                                               : mesh.next_halfedge_handle(back);
-    const EdgeH e = mesh.edge_handle(g);
-    if (!mesh.is_flip_ok(e)) throw Error("stellar weld: a flip in a checked 1-ring failed", ErrorKind::Failure);
-    mesh.flip(e);
-    ++counts.flips;
+    flip(mesh.is_boundary(back) ? mesh.opposite_halfedge_handle(mesh.prev_halfedge_handle(h)) : mesh.next_halfedge_handle(back));
   }
   if (boundary) ++counts.boundaryWelds;
   else if (degree(mesh, v) == 3) ++counts.faceWelds;

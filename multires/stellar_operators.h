@@ -5,6 +5,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "multires/stellar_mesh.h"
@@ -50,8 +51,11 @@ struct WeldCounts {
 // degree 4 (an interior vertex) or to two faces (a boundary vertex), then an edge weld, or a face weld
 // when v already had degree 3, or a boundary weld. Requires canWeldInto(mesh, v, u). The faces of
 // the 1-ring that remain keep their handles; v and two faces (one at the boundary) are deleted.
-// `degrees`, when given, is kept current (only u and its neighbours change).
-WeldCounts weldInto(StellarMesh& mesh, VertexH v, VertexH u, DegreeTable* degrees = nullptr);
+// `degrees`, when given, is kept current (only u and its neighbours change). `spokes`, when given, are
+// the far ends of the edges to flip, in order (planWeld's, each a neighbour of v next to u when its
+// turn comes); else the spokes next to u on one side are flipped.
+WeldCounts weldInto(StellarMesh& mesh, VertexH v, VertexH u, DegreeTable* degrees = nullptr,
+                    std::span<const VertexH> spokes = {});
 
 // Splits edge e at a new vertex placed at `position`, joined to the opposite vertices (the inverse
 // of an edge weld or, on the boundary, of a boundary weld). Returns the new vertex.

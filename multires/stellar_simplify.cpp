@@ -7,7 +7,9 @@
 
 #include "core/error.h"
 #include "core/progress.h"
+#include "multires/exact_orientation.h"
 #include "multires/exponential_map.h"
+#include "multires/weld_plan.h"
 #include "multires/weld_distance.h"
 #include "multires/quadric.h"
 
@@ -54,7 +56,8 @@ using CandidateHeap = OpenMesh::Utils::HeapT<Candidate, CandidateHeapInterface>;
 class Simplifier {
 public:
   Simplifier(const Mesh& dense, const SimplifyOptions& options)
-      : options_(options), mesh_(toStellarMesh(dense, "simplify")), heap_(CandidateHeapInterface{&heapPosition_}) {}
+      : options_(options), dense_(dense), mesh_(toStellarMesh(dense, "simplify")),
+        heap_(CandidateHeapInterface{&heapPosition_}) {}
 
   BaseMesh run(SimplifyStats& stats);
 
@@ -64,11 +67,22 @@ private:
   void ringPoints(VertexH v, const OneRing& ring, const std::vector<Vec2>& plane, std::vector<FanPoint>& points,
                   std::vector<std::uint32_t>* ids) const;
   void push(VertexH v);
-  void removeVertex(VertexH v, VertexH u);
-  BaseMesh compact() const;
+  bool removeVertex(VertexH v, VertexH u);
+  bool denseTrianglesTurnLeft(const std::vector<FanPoint>& points, const std::vector<std::uint32_t>& ids,
+                              const OneRing& ring, const std::vector<Vec2>& plane);
+  void recordStep(const OneRing& ring, const std::vector<Vec2>& plane, VertexH v);
+  BaseMesh compact();
 
   SimplifyOptions options_;
+  const Mesh& dense_;
   StellarMesh mesh_;
+  Rows denseFaces_;  // per dense vertex, its dense faces
+  std::shared_ptr<ParametrisationHistory> history_;
+  std::vector<std::uint32_t> faceVersion_;              // per face, its version in history_
+  std::vector<std::array<int, 3>> faceCorners_;         // per face, its version's corners in order
+  std::vector<std::vector<std::uint32_t>> refused_;     // per vertex, targets refused since its ring last changed
+  std::vector<std::int32_t> regionIndex_;               // scratch: per dense vertex, its place in a weld's points
+  RefusalCounts refusals_;
   std::vector<Quadric> quadric_;
   bool measuring_ = false;  // ranking by measured distance (near the target size) instead of the quadric
   std::vector<MappedPoint> mapped_;                    // per dense vertex, once removed
@@ -78,7 +92,7 @@ private:
   CandidateHeap heap_;
   WeldCounts operators_;
   OneRing ringBuffer_;  // scratch for evaluate, reused to avoid allocations
-  std::vector<Vec2> planeBuffer_;
+  std::vector<Vec2> planeBuffer_, planeBuffer2_;
   std::vector<FanPoint> denseBuffer_;
 };
 
@@ -162,7 +176,14 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
     for (std::size_t t = 0; t < k; ++t) rank(t);
   }
   std::sort(options, options + count);
+  if (!starIsValid(plane, ring.boundary)) return false;
+  const std::vector<std::uint32_t>& refused = refused_[v.idx()];
+  WeldPlan plan;
+  // planWeld decides bijectivity exactly; the fan must also keep some area in the plane (a sliver
+  // makes the weights of the points in it ill-conditioned) and not turn over in space.
   auto valid = [&](std::size_t t) {
+    if (std::find(refused.begin(), refused.end(), std::uint32_t(ring.vertices[t].idx())) != refused.end()) return false;
+    if (!planWeld(plane, ring.boundary, t, plan)) return false;
     const Vec3& pu = points[t];
     for (std::size_t i = 0; i < ring.faces.size(); ++i) {
       const std::size_t j = i, j1 = (i + 1) % k;
@@ -247,56 +268,137 @@ void Simplifier::push(VertexH v) {
   if (evaluate(v, c)) heap_.insert(c);
 }
 
-void Simplifier::removeVertex(VertexH v, VertexH u) {
-  // Ranked by evaluate() on this very ring (any change to it ranks v again), so the map is not degenerate.
+// Welds v into u when the region passes every check: the plan (evaluate() checked it on this very
+// ring: any change to the ring ranks v again), every dense point of the ring found in the new fan by
+// exact location, and no dense triangle inside the ring clockwise in its layout. Else the target is
+// refused until v's ring changes, and v is ranked again. Returns whether it welded.
+bool Simplifier::removeVertex(VertexH v, VertexH u) {
   const OneRing ring = oneRing(mesh_, v);
+  const std::size_t k = ring.vertices.size();
   std::vector<Vec2> plane;
   exponentialMap(mesh_, v, ring, plane);
+  const std::size_t t = std::size_t(std::find(ring.vertices.begin(), ring.vertices.end(), u) - ring.vertices.begin());
+  WeldPlan plan;
+  if (t == k || !planWeld(plane, ring.boundary, t, plan))
+    throw Error("stellar simplify: a weld ranked valid has no valid plan", ErrorKind::Failure);
   std::vector<FanPoint> points;
   std::vector<std::uint32_t> ids;
   ringPoints(v, ring, plane, points, &ids);
+  const std::size_t fanFaces = plan.rimSize - 1;
+  auto fanFace = [&](std::size_t m) { return std::array<Vec2, 3>{plane[t], plane[plan.rim[m]], plane[plan.rim[m + 1]]}; };
+  std::vector<TriangleHit> hits(points.size());
+  std::size_t hint = 0;
+  bool located = true;
+  for (std::size_t i = 0; i < points.size() && located; ++i) {
+    hits[i] = locateExactly(points[i].plane, fanFaces, fanFace, hint);
+    located = hits[i].triangle != kNoTriangleHit;
+    hint = located ? hits[i].triangle : 0;
+  }
+  const bool keepsDenseTriangles = located && denseTrianglesTurnLeft(points, ids, ring, plane);
+  if (!keepsDenseTriangles) {
+    ++(located ? refusals_.denseTriangle : refusals_.pointOutside);
+    refused_[v.idx()].push_back(std::uint32_t(u.idx()));
+    push(v);
+    return false;
+  }
+
+  recordStep(ring, plane, v);
   for (const FaceH f : ring.faces) facePoints_[f.idx()].clear();
+  VertexH spokes[kMaxDegree];
+  for (std::size_t i = 0; i < plan.flipCount; ++i) spokes[i] = ring.vertices[plan.flips[i]];
+  operators_ += weldInto(mesh_, v, u, &degrees_, {spokes, plan.flipCount});
 
-  operators_ += weldInto(mesh_, v, u, &degrees_);
-
-  // The faces left where the ring was, with their corners in the same flat map.
-  auto planeOf = [&](int vertex) -> Vec2 {
-    for (std::size_t i = 0; i < ring.vertices.size(); ++i)
-      if (ring.vertices[i].idx() == vertex) return plane[i];
+  // The faces left where the ring was are the plan's fan: each gets a new version in the history.
+  auto local = [&](int vertex) {
+    for (std::size_t i = 0; i < k; ++i)
+      if (ring.vertices[i].idx() == vertex) return i;
     throw Error("stellar simplify: a face after the weld has a corner outside the 1-ring", ErrorKind::Failure);
   };
-  struct NewFace {
-    int face;
-    std::array<int, 3> vertices;
-    std::array<Vec2, 3> corners;
-  };
-  std::vector<NewFace> faces;
+  std::size_t rimPosition[kMaxDegree];
+  for (std::size_t m = 0; m < plan.rimSize; ++m) rimPosition[plan.rim[m]] = m;
+  FaceH fan[kMaxDegree];
   for (const FaceH f : ring.faces) {
     if (mesh_.status(f).deleted()) continue;
-    NewFace nf{f.idx(), {}, {}};
+    std::array<int, 3> corners{};
+    std::array<std::uint8_t, 3> localCorners{};
+    std::size_t first = kMaxDegree;
     int i = 0;
     for (const VertexH w : mesh_.fv_range(f)) {
-      nf.vertices[i] = w.idx();
-      nf.corners[i] = planeOf(w.idx());
+      corners[i] = w.idx();
+      localCorners[i] = std::uint8_t(local(w.idx()));
+      if (localCorners[i] != t) first = std::min(first, rimPosition[localCorners[i]]);
       ++i;
     }
-    faces.push_back(nf);
+    fan[first] = f;
+    faceVersion_[f.idx()] = history_->adds(localCorners);
+    faceCorners_[f.idx()] = corners;
   }
-  auto cornersOf = [&](std::size_t f) { return faces[f].corners; };
-  std::size_t hint = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const TriangleHit hit = locateInTriangles(points[i].plane, faces.size(), cornersOf, hint);
-    if (hit.triangle == kNoTriangleHit)  // evaluate() refuses welds that leave flat faces
-      throw Error("stellar simplify: a weld left no face to map a point into", ErrorKind::Failure);
-    hint = hit.triangle;
-    const NewFace& face = faces[hit.triangle];
-    mapped_[ids[i]] = {face.face, face.vertices, hit.bary};
-    facePoints_[face.face].push_back(ids[i]);
+    const std::size_t m = hits[i].triangle;
+    const FaceH f = fan[m];
+    mapped_[ids[i]] = {f.idx(), {u.idx(), ring.vertices[plan.rim[m]].idx(), ring.vertices[plan.rim[m + 1]].idx()}, hits[i].bary};
+    facePoints_[f.idx()].push_back(ids[i]);
   }
 
   quadric_[u.idx()] += quadric_[v.idx()];
+  refused_[u.idx()].clear();
   push(u);
-  for (const VertexH w : mesh_.vv_range(u)) push(w);
+  for (const VertexH w : mesh_.vv_range(u)) {
+    refused_[w.idx()].clear();
+    push(w);
+  }
+  return true;
+}
+
+// Whether every dense triangle with a corner among the points a weld maps again (v and the dense
+// vertices mapped into its ring: inside the ring) and all its corners there or on the ring turns
+// counter-clockwise in the ring's layout (exact test).
+bool Simplifier::denseTrianglesTurnLeft(const std::vector<FanPoint>& points, const std::vector<std::uint32_t>& ids,
+                                        const OneRing& ring, const std::vector<Vec2>& plane) {
+  std::vector<Vec2>& at = planeBuffer2_;
+  at.clear();
+  auto mark = [&](std::uint32_t vertex, const Vec2& p) {
+    regionIndex_[vertex] = std::int32_t(at.size());
+    at.push_back(p);
+  };
+  for (std::size_t i = 0; i < ids.size(); ++i) mark(ids[i], points[i].plane);
+  for (std::size_t i = 0; i < ring.vertices.size(); ++i) mark(std::uint32_t(ring.vertices[i].idx()), plane[i]);
+  bool ok = true;
+  for (std::size_t i = 0; i < ids.size() && ok; ++i)
+    for (const std::uint32_t f : denseFaces_.of(ids[i])) {
+      const auto c = dense_.face(f);
+      const std::int32_t a = regionIndex_[c[0]], b = regionIndex_[c[1]], d = regionIndex_[c[2]];
+      if (a < 0 || b < 0 || d < 0) continue;
+      // Once per face: from its corner that comes first among the inner points.
+      if (std::min({a, b, d}) != std::int32_t(i)) continue;
+      if (exactOrientation(at[std::size_t(a)], at[std::size_t(b)], at[std::size_t(d)]) <= 0) {
+        ok = false;
+        break;
+      }
+    }
+  for (const std::uint32_t id : ids) regionIndex_[id] = -1;
+  for (const VertexH w : ring.vertices) regionIndex_[w.idx()] = -1;
+  return ok;
+}
+
+// The step of removing v into the history: its ring's layout (v at local index k) and the faces it
+// replaces, with their versions' corners as local indices.
+void Simplifier::recordStep(const OneRing& ring, const std::vector<Vec2>& plane, VertexH v) {
+  const std::size_t k = ring.vertices.size();
+  Vec2 layout[kMaxDegree + 1];
+  std::copy(plane.begin(), plane.end(), layout);
+  layout[k] = {0, 0};
+  history_->beginStep({layout, k + 1});
+  auto local = [&](int vertex) {
+    if (vertex == v.idx()) return std::uint8_t(k);
+    for (std::size_t i = 0; i < k; ++i)
+      if (ring.vertices[i].idx() == vertex) return std::uint8_t(i);
+    throw Error("stellar simplify: a face of the 1-ring has a corner outside it", ErrorKind::Failure);
+  };
+  for (const FaceH f : ring.faces) {
+    const auto& c = faceCorners_[f.idx()];
+    history_->replaces(faceVersion_[f.idx()], {local(c[0]), local(c[1]), local(c[2])});
+  }
 }
 
 BaseMesh Simplifier::run(SimplifyStats& stats) {
@@ -308,6 +410,17 @@ BaseMesh Simplifier::run(SimplifyStats& stats) {
   initQuadrics();
   degrees_ = degreeTable(mesh_);
   heapPosition_.assign(n, -1);
+  denseFaces_ = vertexAdjacency(dense_).faces;
+  history_ = std::make_shared<ParametrisationHistory>(std::uint32_t(dense_.faceCount()));
+  faceVersion_.resize(mesh_.n_faces());
+  faceCorners_.resize(mesh_.n_faces());
+  for (std::uint32_t f = 0; f < dense_.faceCount(); ++f) {
+    faceVersion_[f] = f;
+    const auto c = dense_.face(f);
+    faceCorners_[f] = {int(c[0]), int(c[1]), int(c[2])};
+  }
+  refused_.assign(n, {});
+  regionIndex_.assign(n, -1);
   heap_.reserve(n);
   mapped_.assign(n, {});
   facePoints_.assign(mesh_.n_faces(), {});
@@ -329,7 +442,7 @@ BaseMesh Simplifier::run(SimplifyStats& stats) {
       push(v);  // its ring changed since it was ranked
       continue;
     }
-    removeVertex(v, u);
+    if (!removeVertex(v, u)) continue;
     --alive;
     if ((n - alive) % 4096 == 0) progress.update(n - alive);
   }
@@ -342,12 +455,15 @@ BaseMesh Simplifier::run(SimplifyStats& stats) {
   stats.baseTriangles = base.triangleCount();
   stats.targetVertices = target;
   stats.operators = operators_;
+  stats.refusals = refusals_;
+  stats.historySteps = history_->steps();
+  stats.historyBytes = history_->bytes();
   stats.reachedTarget = alive <= target;
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return base;
 }
 
-BaseMesh Simplifier::compact() const {
+BaseMesh Simplifier::compact() {
   BaseMesh base;
   std::vector<std::uint32_t> vertexIndex(mesh_.n_vertices(), ~0u), faceIndex(mesh_.n_faces(), ~0u);
   for (const VertexH v : mesh_.vertices()) {
@@ -358,10 +474,17 @@ BaseMesh Simplifier::compact() const {
   for (const FaceH f : mesh_.faces()) {
     faceIndex[f.idx()] = std::uint32_t(base.triangles.size());
     std::array<std::uint32_t, 3> t{};
+    HistoryFrame frame{faceVersion_[f.idx()], {}};
     int i = 0;
-    for (const VertexH v : mesh_.fv_range(f)) t[i++] = vertexIndex[v.idx()];
+    for (const VertexH v : mesh_.fv_range(f)) {
+      t[i] = vertexIndex[v.idx()];
+      for (int j = 0; j < 3; ++j) frame.corner[i][j] = faceCorners_[f.idx()][j] == v.idx() ? 1 : 0;
+      ++i;
+    }
     base.triangles.push_back(t);
+    base.historyFrames.push_back(frame);
   }
+  base.history = history_;
   const std::size_t n = mesh_.n_vertices();
   base.denseTriangle.resize(n);
   base.denseBary.resize(n);
@@ -396,10 +519,7 @@ BaseMesh simplifyStellar(const Mesh& dense, const SimplifyOptions& options, Simp
   Simplifier simplifier(dense, options);
   SimplifyStats local;
   SimplifyStats& out = stats ? *stats : local;
-  BaseMesh base = simplifier.run(out);
-  out.untangle = untangleParametrisation(dense, base);
-  out.seconds += out.untangle.seconds;
-  return base;
+  return simplifier.run(out);
 }
 
 }  // namespace isoatlas::multires

@@ -4,15 +4,17 @@
 // near the target size, by the weld's measured largest distance (weldDistance2), and
 // keeps a local parametrisation as it goes (Maximo, Velho and Siqueira, section 4.1): the 1-ring of a
 // removed vertex is laid flat by an exponential map, and the removed vertex and every dense vertex
-// already mapped into that 1-ring are located in the new faces with barycentric coordinates. At the
-// end the parametrisation is untangled where dense triangles fold (untangleParametrisation).
+// already mapped into that 1-ring are located in the new faces with barycentric coordinates.
+// Bijective by construction: a weld is applied only when planWeld finds every step of it valid in
+// the ring's layout by exact predicates, every dense point of the ring lies in a face of the new fan
+// by exact location, and no dense triangle inside the ring turns clockwise there; each step goes
+// into the parametrisation's history (base.history), which maps base points back exactly.
 // Every base vertex is an original vertex; the genus and the boundary loops are kept.
 #pragma once
 #include <limits>
 
 #include "multires/base_mesh.h"
 #include "multires/stellar_operators.h"
-#include "multires/untangle_parametrisation.h"
 
 namespace isoatlas::multires {
 
@@ -22,11 +24,19 @@ struct SimplifyOptions {
   double maxError = std::numeric_limits<double>::infinity();  // never weld above this RMS distance (mm)
 };
 
+// Welds refused when applied, each until the vertex's ring changes: a dense point of the ring that no
+// face of the new fan holds by exact location (it lies within rounding of the ring's border), or a
+// dense triangle inside the ring that turns clockwise in its layout.
+struct RefusalCounts {
+  std::size_t pointOutside = 0, denseTriangle = 0;
+};
+
 struct SimplifyStats {
   std::size_t denseVertices = 0, baseVertices = 0, baseTriangles = 0, targetVertices = 0;
   WeldCounts operators;
-  UntangleStats untangle;  // the parametrisation's folds, before and after untangling
-  double seconds = 0;      // all of it, untangling included
+  RefusalCounts refusals;
+  std::size_t historySteps = 0, historyBytes = 0;  // the exact parametrisation's record (base.history)
+  double seconds = 0;
   bool reachedTarget = false;  // false when no weld was left that keeps the mesh valid and under maxError
 };
 

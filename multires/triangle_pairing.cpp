@@ -2,12 +2,10 @@
 
 #include <algorithm>
 #include <chrono>
-#include <memory>
 #include <cmath>
 #include <queue>
 
 #include "core/error.h"
-#include "multires/dense_sampler.h"
 #include "multires/max_weight_matching.h"
 
 namespace isoatlas::multires {
@@ -69,22 +67,14 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
   for (std::uint32_t t = 0; t < n; ++t) mate[t] = matched[t] < 0 ? kNone : std::uint32_t(matched[t]);
 
   // Leftovers: shift the matching along an alternating path to a triangle with a boundary edge, and
-  // split that edge. Each base triangle remembers its frame in the original triangle, so the dense
-  // sampler (built once) serves split triangles too.
-  struct Frame {
-    std::uint32_t original;
-    std::array<std::array<double, 3>, 3> corner;  // the corners' barycentric coordinates in it
-  };
-  std::vector<Frame> frame(n);
-  for (std::uint32_t t = 0; t < n; ++t) frame[t] = {t, {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}};
-  std::unique_ptr<DenseSampler> sampler;  // of the unsplit base (it keeps its own corners)
+  // split that edge; the halves keep their place in the parametrisation's history (their frames).
+  require(base.history && base.historyFrames.size() == n, "pairing: the base mesh has no parametrisation history");
   std::vector<std::uint32_t> parent, via, visited;  // the search's tree, reset where it went
   std::vector<std::vector<std::uint32_t>> densePoints;  // per base triangle, filled on the first split
 
   for (std::uint32_t t0 = 0; t0 < base.triangleCount(); ++t0) {
     if (mate[t0] != kNone) continue;
-    if (!sampler) {
-      sampler = std::make_unique<DenseSampler>(dense, base);
+    if (densePoints.empty()) {
       densePoints.assign(base.triangleCount(), {});
       for (std::uint32_t d = 0; d < base.denseTriangle.size(); ++d) densePoints[base.denseTriangle[d]].push_back(d);
     }
@@ -123,13 +113,13 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
     // Split the goal's boundary edge (p, q) at s: goal = (p, s, r), new = (s, q, r), a tile.
     auto& tri = base.triangles[goal];
     const std::uint32_t p = tri[goalCorner], q = tri[(goalCorner + 1) % 3], r = tri[(goalCorner + 2) % 3];
-    const Frame f = frame[goal];
+    const HistoryFrame f = base.historyFrames[goal];
     const auto& fp = f.corner[goalCorner];
     const auto& fq = f.corner[(goalCorner + 1) % 3];
     const auto& fr = f.corner[(goalCorner + 2) % 3];
     const std::array<double, 3> fs{(fp[0] + fq[0]) / 2, (fp[1] + fq[1]) / 2, (fp[2] + fq[2]) / 2};
     const std::uint32_t s = std::uint32_t(base.positions.size());
-    base.positions.push_back(sampler->position(f.original, fs));
+    base.positions.push_back(densePosition(dense, base.history->toDense(f.version, fs)));
     base.denseVertex.push_back(-1);
     const std::uint32_t added = std::uint32_t(base.triangles.size());
     base.triangles[goal] = {p, s, r};
@@ -142,8 +132,8 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
     if (acrossQR != kNone)
       for (std::uint32_t& t : across[acrossQR])
         if (t == goal) t = added;
-    frame[goal] = {f.original, {fp, fs, fr}};
-    frame.push_back({f.original, {fs, fq, fr}});
+    base.historyFrames[goal] = {f.version, {fp, fs, fr}};
+    base.historyFrames.push_back({f.version, {fs, fq, fr}});
     mate[goal] = added;
     mate.push_back(goal);
     densePoints.emplace_back();

@@ -434,7 +434,7 @@ TEST(Cli, BuildMakesATriquadBaseMeshAndAModel) {
   for (const char* key : {"dense_vertices", "base_vertices", "base_triangles", "tiles", "splits_for_matching",
                           "seconds_simplify", "seconds_match", "hausdorff_base", "psnr_base_db",
                           "hausdorff_dense_to_base", "hausdorff_base_to_dense", "bounding_box_diagonal",
-                          "folded_before_untangle", "folded_after_untangle", "untangled_vertices", "seconds_untangle",
+                          "folded_dense_triangles", "refused_welds", "history_steps", "vertices_above_target",
                           "charts", "atlas_width", "atlas_height", "atlas_efficiency", "folded_texels", "gap_texels",
                           "seconds_chart", "model_bytes", "dense_halfedge_bytes"})
     EXPECT_TRUE(j.contains(key)) << key;
@@ -456,6 +456,11 @@ TEST(Cli, BuildMakesATriquadBaseMeshAndAModel) {
   EXPECT_EQ(j["base_vertices"], 54);
   EXPECT_EQ(j["tiles"].get<int>() * 2, j["base_triangles"].get<int>());
   EXPECT_LT(j["hausdorff_base"].get<double>(), 0.5);
+  // The charts sample through the exact history: no gaps, no place of the surface claimed twice.
+  EXPECT_EQ(j["folded_texels"], 0);
+  EXPECT_EQ(j["gap_texels"], 0);
+  EXPECT_EQ(j["border_disagreements"], 0);
+  EXPECT_EQ(j["history_steps"].get<int>(), 1800 - 54);
   const Mesh quads = readMesh(base);
   EXPECT_TRUE(quads.allFacesHave(4));
   EXPECT_EQ(quads.faceCount(), j["tiles"].get<std::size_t>());

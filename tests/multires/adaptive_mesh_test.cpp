@@ -10,7 +10,6 @@
 #include "core/error.h"
 #include "core/mesh_topology.h"
 #include "multires/adaptive_mesh.h"
-#include "multires/dense_sampler.h"
 #include "multires/mesh_distance.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
@@ -22,16 +21,14 @@ namespace {
 struct Fixture {
   Mesh dense = test::torusMesh(64, 32);
   BaseMesh base;
-  std::unique_ptr<DenseSampler> sampler;
   Fixture() {
     base = simplifyStellar(dense, {.vertexRatio = 0.02});
     pairTriangles(base, dense);
-    sampler = std::make_unique<DenseSampler>(dense, base);
   }
   AdaptiveMesh adaptive(std::uint32_t chart = 17) {
     return AdaptiveMesh(base, chart, [this](const ChartPoint& p) {
       const auto [t, w] = base.chartToTriangle(p.chart, p.u, p.v);
-      return sampler->position(t, w);
+      return densePosition(dense, base.densePoint(t, w));
     });
   }
 };

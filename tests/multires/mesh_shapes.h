@@ -71,4 +71,25 @@ inline Mesh doubleTorusMesh() {
   });
 }
 
+// Three tori in a row, fused: genus 3.
+inline Mesh tripleTorusMesh() {
+  auto torus = [](double x, double y, double z, double cx) {
+    const double q = std::sqrt((x - cx) * (x - cx) + (y - 12) * (y - 12)) - 6;
+    return 2.8 - std::sqrt(q * q + (z - 6) * (z - 6));
+  };
+  return implicitMesh({62, 24, 12}, [&](double x, double y, double z) {
+    return std::max({torus(x, y, z, 12), torus(x, y, z, 28.5), torus(x, y, z, 45)});
+  });
+}
+
+// A hollow ball whose wall is 1.2 voxels thick (marching cubes of a thin shell): two sheets close
+// together, joined by tunnels where the wall falls between the samples, where a parametrisation that
+// folds samples the wrong sheet.
+inline Mesh thinShellMesh() {
+  return implicitMesh({24, 24, 24}, [](double x, double y, double z) {
+    const double r = std::sqrt((x - 11.6) * (x - 11.6) + (y - 11.8) * (y - 11.8) + (z - 11.3) * (z - 11.3));
+    return 0.6 - std::abs(r - 8.4);
+  });
+}
+
 }  // namespace isoatlas::test

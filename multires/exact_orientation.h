@@ -1,0 +1,51 @@
+// Exact orientation of flat triangles (CGAL's Epick orientation_2: a floating-point filter with an
+// exact fallback), for the decisions the parametrisation's bijectivity rests on: a triangle of a
+// layout is valid, a point lies in a triangle. The coordinates are taken as given; the answer is
+// exact for them.
+#pragma once
+#include <array>
+#include <cmath>
+
+#include "multires/vec2.h"
+
+namespace isoatlas::multires {
+
+// The exact test alone (CGAL), for the cases the filter below cannot decide.
+int exactOrientationSlow(const Vec2& a, const Vec2& b, const Vec2& c);
+
+// +1 when (a, b, c) turns counter-clockwise, -1 clockwise, 0 when the three are collinear. The
+// floating-point determinant decides when it exceeds its rounding bound (Shewchuk's orient2d
+// filter), which is nearly always; the rest goes to CGAL.
+inline int exactOrientation(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const double left = (a.x - c.x) * (b.y - c.y), right = (a.y - c.y) * (b.x - c.x);
+  const double det = left - right;
+  constexpr double kBound = 3.3306690738754716e-16;  // (3 + 16 eps) eps
+  const double bound = kBound * (std::abs(left) + std::abs(right));
+  if (det > bound) return 1;
+  if (-det > bound) return -1;
+  return exactOrientationSlow(a, b, c);
+}
+
+// Whether the counter-clockwise triangle (a, b, c) holds p (its boundary included).
+inline bool exactlyInTriangle(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {
+  return exactOrientation(a, b, p) >= 0 && exactOrientation(b, c, p) >= 0 && exactOrientation(c, a, p) >= 0;
+}
+
+// Which of `count` counter-clockwise triangles holds p by exact tests, tried from `hint` on, and p's
+// weights there (rounded onto the triangle: the test was exact, the weights are computed in floating
+// point); kNoTriangleHit when none does. corners(i) gives triangle i's three corners.
+template <class Corners>
+TriangleHit locateExactly(const Vec2& p, std::size_t count, const Corners& corners, std::size_t hint = 0) {
+  TriangleHit hit;
+  for (std::size_t m = 0; m < count; ++m) {
+    const std::size_t t = (hint + m) % count;
+    const std::array<Vec2, 3> c = corners(t);
+    if (!exactlyInTriangle(p, c[0], c[1], c[2])) continue;
+    hit = {t, barycentric2(p, c[0], c[1], c[2]), true};
+    clampToTriangle(hit.bary);
+    break;
+  }
+  return hit;
+}
+
+}  // namespace isoatlas::multires

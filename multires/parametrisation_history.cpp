@@ -1,0 +1,57 @@
+#include "multires/parametrisation_history.h"
+
+#include <algorithm>
+
+#include "core/error.h"
+#include "multires/exact_orientation.h"
+
+namespace isoatlas::multires {
+
+void ParametrisationHistory::beginStep(std::span<const Vec2> layout) {
+  require(layout.size() <= 255, "parametrisation history: a ring of more than 255 vertices");
+  steps_.push_back({std::uint32_t(layout_.size()), std::uint32_t(replaced_.size()), std::uint16_t(layout.size()), 0});
+  layout_.insert(layout_.end(), layout.begin(), layout.end());
+}
+
+void ParametrisationHistory::replaces(std::uint32_t version, const std::array<std::uint8_t, 3>& corners) {
+  replaced_.push_back({version, corners});
+  ++steps_.back().replacedSize;
+}
+
+std::uint32_t ParametrisationHistory::adds(const std::array<std::uint8_t, 3>& corners) {
+  made_.push_back({std::uint32_t(steps_.size() - 1), corners});
+  return denseFaces_ + std::uint32_t(made_.size() - 1);
+}
+
+ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t version, const Bary& bary) const {
+  DensePoint out{version, bary, 0, 0};
+  while (out.face >= denseFaces_) {
+    const Face& made = made_[out.face - denseFaces_];
+    const Step& step = steps_[made.version];
+    const Vec2* layout = layout_.data() + step.layoutBegin;
+    const Vec2 p = layout[made.corners[0]] * out.bary[0] + layout[made.corners[1]] * out.bary[1] +
+                   layout[made.corners[2]] * out.bary[2];
+    const Face* replaced = replaced_.data() + step.replacedBegin;
+    auto corners = [&](std::size_t i) {
+      const auto& c = replaced[i].corners;
+      return std::array<Vec2, 3>{layout[c[0]], layout[c[1]], layout[c[2]]};
+    };
+    TriangleHit hit = locateExactly(p, step.replacedSize, corners);
+    if (hit.triangle == kNoTriangleHit) {
+      hit = locateInTriangles(p, step.replacedSize, corners);
+      const std::array<Vec2, 3> c = corners(hit.triangle);
+      const Bary raw = barycentric2(p, c[0], c[1], c[2]);
+      out.outside = std::max(out.outside, -std::min({raw[0], raw[1], raw[2]}));
+    }
+    out.face = replaced[hit.triangle].version;
+    out.bary = hit.bary;
+    ++out.steps;
+  }
+  return out;
+}
+
+std::size_t ParametrisationHistory::bytes() const {
+  return steps_.size() * sizeof(Step) + layout_.size() * sizeof(Vec2) + (replaced_.size() + made_.size()) * sizeof(Face);
+}
+
+}  // namespace isoatlas::multires

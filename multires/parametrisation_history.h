@@ -1,0 +1,92 @@
+// ParametrisationHistory: the parametrisation of a dense mesh over its base mesh kept exactly, as the
+// record of the stellar simplification that made it (successive self-parametrisation, Liu et al.
+// 2020). Each step removed one vertex and re-triangulated its ring: it is recorded as the ring laid
+// flat (the removed vertex at the origin) with the faces it replaced and the faces it made, two
+// triangulations of one polygon that planWeld checked by exact predicates. A point of a face is
+// carried back to the dense mesh step by step: placed in the step's layout by its weights in the
+// face that step made, found by exact point location among the faces it replaced, and so on down to
+// a dense face. The map is therefore one-to-one and onto: no point is lost in a gap, none is claimed
+// twice, whatever the dense triangles look like drawn straight across the base mesh.
+//
+// Faces are named by versions: dense face f is version f; each step's new faces get new versions.
+// A version's weights refer to its corners in the order it was recorded with.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "core/mesh.h"
+#include "multires/vec2.h"
+
+namespace isoatlas::multires {
+
+class ParametrisationHistory {
+public:
+  using Bary = std::array<double, 3>;
+  explicit ParametrisationHistory(std::uint32_t denseFaces) : denseFaces_(denseFaces) {}
+
+  // Recording a step: the ring's layout (its points, by local index), then each face it replaces
+  // (a version, with its corners as local indices in that version's corner order), then each face
+  // it makes (corners as local indices); addFace returns the new version.
+  void beginStep(std::span<const Vec2> layout);
+  void replaces(std::uint32_t version, const std::array<std::uint8_t, 3>& corners);
+  std::uint32_t adds(const std::array<std::uint8_t, 3>& corners);
+
+  // Where a point of face `version` at weights `bary` comes from on the dense mesh: a dense face and
+  // weights of its corners (dense.face order). At a step where no replaced face holds the point by
+  // exact test (its place in the step's layout is computed in floating point, so a point on the
+  // ring's border may fall just outside), it goes to the nearest face, and `outside` keeps the
+  // largest such miss as a weight (0: every step held the point exactly; rounding: ~1e-16).
+  struct DensePoint {
+    std::uint32_t face = 0;
+    Bary bary{};
+    double outside = 0;
+    std::uint32_t steps = 0;  // the steps walked back
+  };
+  // A miss past this weight is a gap in the map, not rounding.
+  static constexpr double kGapWeight = 1e-9;
+  DensePoint toDense(std::uint32_t version, const Bary& bary) const;
+
+  std::uint32_t denseFaces() const { return denseFaces_; }
+  std::uint32_t versions() const { return denseFaces_ + std::uint32_t(made_.size()); }
+  std::size_t steps() const { return steps_.size(); }
+  std::size_t bytes() const;
+
+private:
+  struct Step {
+    std::uint32_t layoutBegin, replacedBegin;
+    std::uint16_t layoutSize, replacedSize;
+  };
+  struct Face {
+    std::uint32_t version;  // the replaced face's (in replaced_), or the step (in made_)
+    std::array<std::uint8_t, 3> corners;
+  };
+  std::uint32_t denseFaces_;
+  std::vector<Step> steps_;
+  std::vector<Vec2> layout_;
+  std::vector<Face> replaced_;
+  std::vector<Face> made_;  // per version past the dense faces: the step that made it, its corners there
+};
+
+// The point of the dense surface a DensePoint names.
+inline Vec3 densePosition(const Mesh& dense, const ParametrisationHistory::DensePoint& p) {
+  const auto c = dense.face(p.face);
+  return dense.positions[c[0]] * p.bary[0] + dense.positions[c[1]] * p.bary[1] + dense.positions[c[2]] * p.bary[2];
+}
+
+// A base triangle's place in the history: the face version it lies in, and its corners' weights
+// there (a triangle split after simplification is part of one).
+struct HistoryFrame {
+  std::uint32_t version = 0;
+  std::array<std::array<double, 3>, 3> corner{};  // corner i's weights in the version's face
+  ParametrisationHistory::Bary toVersion(const ParametrisationHistory::Bary& bary) const {
+    ParametrisationHistory::Bary w{};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) w[j] += bary[i] * corner[i][j];
+    return w;
+  }
+};
+
+}  // namespace isoatlas::multires
