@@ -81,6 +81,9 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
         r.update(atlasFigures(model));
         r["model_bytes"] = std::filesystem::file_size((*models)[m]);
         r["dense_halfedge_bytes"] = atlas::halfedgeMeshBytes(denseMesh);
+        r["dense_ply_bytes"] = atlas::binaryPlyBytes(denseMesh);
+        r["model_to_dense_halfedge"] = double(r["model_bytes"]) / double(r["dense_halfedge_bytes"]);
+        r["model_to_dense_ply"] = double(r["model_bytes"]) / double(r["dense_ply_bytes"]);
         r["dense_triangles"] = denseMesh.faceCount();
         r["bounding_box_diagonal"] = boundingBox(denseMesh.positions).diagonal();
         r["hausdorff_face_samples"] = *samples;

@@ -89,6 +89,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   const double diagonal = boundingBox(dense.positions).diagonal();
   r["bounding_box_diagonal"] = diagonal;
   r["dense_halfedge_bytes"] = atlas::halfedgeMeshBytes(dense);
+  r["dense_ply_bytes"] = atlas::binaryPlyBytes(dense);
   if (request.hausdorff) {
     const auto start = std::chrono::steady_clock::now();
     const atlas::Hausdorff h = atlas::hausdorffDistance(dense, base.triangleMesh(), request.hausdorffFacePoints);
@@ -114,12 +115,14 @@ nlohmann::json atlasFigures(const atlas::Model& model) {
   return {{"chart_size", model.chartSize},          {"charts", l.charts},
           {"atlas_width", l.width()},               {"atlas_height", l.height()},
           {"atlas_efficiency", l.efficiency()},     {"folded_texels", model.foldedTexels},
-          {"gap_texels", model.gapTexels}};
+          {"gap_texels", model.gapTexels},         {"quantisation_error", model.quantisationError}};
 }
 
 void writeModelFiles(const atlas::Model& model, const std::string& path, const std::string& previewDir, nlohmann::json& r) {
-  atlas::writeModel(path, model);
+  r["quantisation_error"] = atlas::writeModel(path, model);
   r["model_bytes"] = std::filesystem::file_size(path);
+  if (r.contains("dense_halfedge_bytes")) r["model_to_dense_halfedge"] = double(r["model_bytes"]) / double(r["dense_halfedge_bytes"]);
+  if (r.contains("dense_ply_bytes")) r["model_to_dense_ply"] = double(r["model_bytes"]) / double(r["dense_ply_bytes"]);
   if (!previewDir.empty()) {
     std::filesystem::create_directories(previewDir);
     writePng((std::filesystem::path(previewDir) / "position_atlas.png").string(), atlas::positionPreview(model.atlas));

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "atlas/quantised_atlas.h"
 #include "core/sectioned_file.h"
 
 namespace isoatlas::atlas {
@@ -64,12 +65,39 @@ void readBase(Reader& r, multires::BaseMesh& b) {
   if (const std::string problem = baseMeshProblem(b); !problem.empty()) r.fail(problem);
 }
 
-void readAtlas(Reader& r, std::uint32_t chartSize, Atlas& atlas) {
-  AtlasLayout& l = atlas.layout;
+void readLayout(Reader& r, std::uint32_t chartSize, std::size_t tiles, AtlasLayout& l) {
   l.chartSize = chartSize;
   l.charts = r.get<std::uint32_t>(), l.columns = r.get<std::uint32_t>(), l.rows = r.get<std::uint32_t>();
   if (l.charts == 0 || std::uint64_t(l.columns) * l.rows < l.charts || std::uint64_t(l.columns) * l.rows > l.charts + std::uint64_t(l.columns))
     r.fail(std::to_string(l.columns) + " x " + std::to_string(l.rows) + " slots for " + std::to_string(l.charts) + " charts");
+  if (l.charts != tiles) r.fail("the atlas's chart count is not the tile count");
+}
+
+// Version 3: per chart its box and N x N position codes, then N x N octahedral normals.
+void readQuantisedAtlas(Reader& r, std::uint32_t chartSize, const multires::BaseMesh& base, Atlas& atlas) {
+  readLayout(r, chartSize, base.tiles.size(), atlas.layout);
+  const std::uint64_t texels = std::uint64_t(chartSize) * chartSize;
+  const std::uint64_t chartBytes = 24 + texels * 8;  // f32 x 6, then u16 x 3 and u8 x 2 a texel
+  r.fits(atlas.layout.charts, chartBytes, "chart");
+  if (atlas.layout.charts * chartBytes != r.left()) r.fail("the charts take " + std::to_string(atlas.layout.charts * chartBytes) +
+                                                           " bytes, the section holds " + std::to_string(r.left()));
+  std::vector<QuantisedChart> charts(atlas.layout.charts);
+  for (QuantisedChart& q : charts) {
+    for (float& x : q.lo) x = r.finite<float>();
+    for (float& x : q.step)
+      if ((x = r.finite<float>()) < 0) r.fail("a chart's quantisation step is negative");
+    q.positions.resize(texels);
+    for (auto& p : q.positions) p = {r.get<std::uint16_t>(), r.get<std::uint16_t>(), r.get<std::uint16_t>()};
+    q.normals.resize(texels);
+    for (auto& n : q.normals) n = {r.get<std::uint8_t>(), r.get<std::uint8_t>()};
+  }
+  dequantiseAtlas(charts, base, atlas);
+}
+
+// Version 2: the atlas image as floats and 16-bit normals, empty slots included.
+void readFloatAtlas(Reader& r, std::uint32_t chartSize, std::size_t tiles, Atlas& atlas) {
+  AtlasLayout& l = atlas.layout;
+  readLayout(r, chartSize, tiles, l);
   const std::uint64_t texelBytes = 18;  // f32 x 3 + i16 x 3
   r.fits(std::uint64_t(l.columns) * l.rows, texelBytes * chartSize * chartSize, "atlas slot");
   const std::uint64_t texels = std::uint64_t(l.width()) * l.height();
@@ -142,7 +170,13 @@ std::uint64_t halfedgeMeshBytes(const Mesh& mesh) {
   return mesh.vertexCount() * (12 + 4) + halfedges * 16 + mesh.faceCount() * 4;
 }
 
-void writeModel(const std::string& path, const Model& model) {
+std::uint64_t binaryPlyBytes(const Mesh& mesh) {
+  std::uint64_t corners = 0;
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f) corners += mesh.face(f).size();
+  return mesh.vertexCount() * 12 + mesh.faceCount() + corners * 4;
+}
+
+double writeModel(const std::string& path, const Model& model) {
   // Checked before the file is touched, so a refused model loses nothing already there.
   require(multires::isChartSize(model.chartSize), path + ": chart size " + std::to_string(model.chartSize) +
                                                       " is not 2^k + 1 between 3 and " +
@@ -182,7 +216,9 @@ void writeModel(const std::string& path, const Model& model) {
   SectionedFileWriter out(path, kMagic, kModelVersion);
 
   Writer head;
-  head.put(model.chartSize), head.put(model.foldedTexels), head.put(model.gapTexels);
+  const std::vector<QuantisedChart> charts = quantiseAtlas(model.atlas);
+  const double quantisationError = largestQuantisationError(model.atlas, b);
+  head.put(model.chartSize), head.put(model.foldedTexels), head.put(model.gapTexels), head.put(quantisationError);
   out.section("HEAD", head);
 
   Writer base;
@@ -204,8 +240,12 @@ void writeModel(const std::string& path, const Model& model) {
 
   Writer atlas;
   atlas.put(l.charts), atlas.put(l.columns), atlas.put(l.rows);
-  for (const auto& p : model.atlas.positions) atlas.put(p[0]), atlas.put(p[1]), atlas.put(p[2]);
-  for (const auto& n : model.atlas.normals) atlas.put(n[0]), atlas.put(n[1]), atlas.put(n[2]);
+  for (const QuantisedChart& q : charts) {
+    for (const float x : q.lo) atlas.put(x);
+    for (const float x : q.step) atlas.put(x);
+    for (const auto& p : q.positions) atlas.put(p[0]), atlas.put(p[1]), atlas.put(p[2]);
+    for (const auto& n : q.normals) atlas.put(n[0]), atlas.put(n[1]);
+  }
   out.section("ATLS", atlas);
 
   if (!model.atlas.details.empty()) {
@@ -235,6 +275,7 @@ void writeModel(const std::string& path, const Model& model) {
     out.section("PARA", para);
   }
   out.finish();
+  return quantisationError;
 }
 
 Model readModel(const std::string& path, const ModelReadOptions& options) {
@@ -242,7 +283,7 @@ Model readModel(const std::string& path, const ModelReadOptions& options) {
   const std::uint32_t version = file.version;
   if (version == 1)
     throw Error(path + ": model format version 1 holds no atlas; build the model again with this isoatlas (isoatlas build)");
-  if (version != kModelVersion)
+  if (version != 2 && version != kModelVersion)
     throw Error(path + ": model format version " + std::to_string(version) + " (this isoatlas reads version " +
                 std::to_string(kModelVersion) + ")");
   Model model;
@@ -258,6 +299,7 @@ Model readModel(const std::string& path, const ModelReadOptions& options) {
       model.chartSize = r.get<std::uint32_t>();
       if (!multires::isChartSize(model.chartSize)) r.fail("chart size " + std::to_string(model.chartSize));
       model.foldedTexels = r.get<std::uint64_t>(), model.gapTexels = r.get<std::uint64_t>();
+      if (version >= 3 && (model.quantisationError = r.finite<double>()) < 0) r.fail("a negative quantisation error");
     } else if (tag == "BASE") {
       readBase(r, model.base);
     } else if (tag == "HALF") {
@@ -274,8 +316,8 @@ Model readModel(const std::string& path, const ModelReadOptions& options) {
         if (r.get<std::uint8_t>() != 0) r.fail("a base vertex's level is not 0");
     } else if (tag == "ATLS") {
       after("HEAD"), after("BASE");
-      readAtlas(r, model.chartSize, model.atlas);
-      if (model.atlas.layout.charts != model.base.tiles.size()) r.fail("the atlas's chart count is not the tile count");
+      if (version >= 3) readQuantisedAtlas(r, model.chartSize, model.base, model.atlas);
+      else readFloatAtlas(r, model.chartSize, model.base.tiles.size(), model.atlas);
     } else if (tag == "DETL") {
       after("HEAD"), after("BASE");
       readDetails(r, model.chartSize, model.base.tiles.size(), model.atlas.details);

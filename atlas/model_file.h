@@ -1,10 +1,10 @@
-// The .isoatlas model file, version 2: what `isoatlas build` makes and eval, render and the viewer
+// The .isoatlas model file, version 3: what `isoatlas build` makes and eval, render and the viewer
 // read. Little-endian on every machine (written and read byte by byte), integers unsigned unless
 // said, reals IEEE 754.
-//   magic "ISOATLAS" (8 bytes), format version (u32 = 2), then sections until the end of the file,
+//   magic "ISOATLAS" (8 bytes), format version (u32 = 3), then sections until the end of the file,
 //   each: tag (4 ASCII bytes), payload length (u64), CRC-32 of the payload (u32, zlib's), payload.
-//   HEAD  chart size N (u32, 2^k + 1); texels where a folded image held the point, and where no
-//         image did (u64 x 2: the charts' folded_texels and gap_texels)
+//   HEAD  chart size N (u32, 2^k + 1); the charts' folded_texels and gap_texels (u64 x 2); the
+//         largest distance quantisation moved a position (f64, mm)
 //   BASE  base vertex count (u64), per vertex position (f64 x 3) and dense vertex (i64, -1 when
 //         made by a split); triangle count (u64), corners (u32 x 3, counter-clockwise); tile count
 //         (u64), tiles (u32 x 2: the two triangles)
@@ -12,16 +12,20 @@
 //         from corner k to k + 1: chart index (u32) and start and end (u, v) in texels (u8 x 4);
 //         then per base vertex its level (u8, 0 at the base). Must agree with BASE's tiles.
 //   ATLS  chart count, columns, rows (u32 x 3; charts = tiles, columns x rows slots hold them),
-//         then width x height texels (width = columns N, height = rows N, row-major from the top):
-//         positions (f32 x 3), then normals (i16 x 3, signed normalised)
+//         then per chart (quantised_atlas.h): its box's low corner and step (f32 x 3 each), N x N
+//         position codes (u16 x 3: lo + code * step, row by row), N x N normals (u8 x 2,
+//         octahedral). Shared sides are taken from the lower-numbered chart and corners are
+//         their base vertices, so borders come back identical.
 //   DETL  (only where detail was stamped) detail chart count and size M (u32 x 2; M = 2^k + 1 above
 //         N), then per detail chart in increasing tile order: its tile (u32), M x M positions
 //         (f32 x 3), M x M normals (i16 x 3)
 //   DENS  (only with --keep-dense) the dense mesh: vertex count (u64), positions (f64 x 3),
 //         triangle count (u64), corners (u32 x 3)
 //   PARA  (with DENS) per dense vertex its base triangle (u32) and barycentric weights (f64 x 3)
-// Unknown tags are skipped (their checksum still checked). Version 1 files (no atlas) are refused
-// with a line saying to rebuild them.
+// Unknown tags are skipped (their checksum still checked). Version 2 files (the same, but HEAD
+// without the quantisation error and ATLS as the whole atlas image: f32 x 3 positions, then i16 x 3
+// signed normalised normals, row-major from the top) are still read. Version 1 files (no atlas) are
+// refused with a line saying to rebuild them.
 #pragma once
 #include <string>
 
@@ -31,11 +35,12 @@
 
 namespace isoatlas::atlas {
 
-inline constexpr std::uint32_t kModelVersion = 2;
+inline constexpr std::uint32_t kModelVersion = 3;
 
 struct Model {
   std::uint32_t chartSize = 33;
   std::uint64_t foldedTexels = 0, gapTexels = 0;  // as makeAtlas counted them
+  double quantisationError = 0;  // as the file's writer measured it (0 for a version 2 file)
   multires::BaseMesh base;  // its parametrisation (denseTriangle, denseBary) only with the dense mesh
   Atlas atlas;
   Mesh dense;  // empty unless kept
@@ -50,8 +55,9 @@ struct BaseHalfedge {
 };
 std::vector<BaseHalfedge> baseHalfedges(const multires::BaseMesh& base, std::uint32_t chartSize);
 
-// Throws Error(BadInput) for a model the reader would refuse, before touching the file.
-void writeModel(const std::string& path, const Model& model);
+// Throws Error(BadInput) for a model the reader would refuse, before touching the file. Returns the
+// largest distance (mm) quantising the atlas moved a position (what a reader will get back).
+double writeModel(const std::string& path, const Model& model);
 
 struct ModelReadOptions {
   bool checksums = true;  // false only for fuzzing, so that damaged payloads reach the parsers
@@ -65,5 +71,9 @@ Model readModel(const std::string& path, const ModelReadOptions& options = {});
 // (f32 x 3) and one halfedge (u32); per halfedge its vertex, next, opposite and face (u32 x 4); per
 // face one halfedge (u32).
 std::uint64_t halfedgeMeshBytes(const Mesh& mesh);
+
+// Bytes of the dense mesh as a binary PLY file's body (its header of a few hundred bytes aside): per
+// vertex its position (f32 x 3), per face its corner count (u8) and corners (i32 each).
+std::uint64_t binaryPlyBytes(const Mesh& mesh);
 
 }  // namespace isoatlas::atlas

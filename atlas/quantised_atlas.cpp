@@ -1,0 +1,107 @@
+#include "atlas/quantised_atlas.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "atlas/tile_sides.h"
+
+namespace isoatlas::atlas {
+
+std::array<std::uint8_t, 2> encodeOctahedral(const Vec3& normal) {
+  const double l1 = std::abs(normal.x) + std::abs(normal.y) + std::abs(normal.z);
+  double x = l1 > 0 ? normal.x / l1 : 0, y = l1 > 0 ? normal.y / l1 : 0;
+  if (l1 > 0 && normal.z < 0) {  // the lower half folded over the diagonals
+    const double fx = (1 - std::abs(y)) * (x >= 0 ? 1 : -1), fy = (1 - std::abs(x)) * (y >= 0 ? 1 : -1);
+    x = fx, y = fy;
+  }
+  auto code = [](double v) { return std::uint8_t(std::lround(std::clamp((v + 1) * 127.5, 0.0, 255.0))); };
+  return {code(x), code(y)};
+}
+
+Vec3 decodeOctahedral(const std::array<std::uint8_t, 2>& code) {
+  double x = code[0] / 127.5 - 1, y = code[1] / 127.5 - 1;
+  const double z = 1 - std::abs(x) - std::abs(y);
+  if (z < 0) {
+    const double fx = (1 - std::abs(y)) * (x >= 0 ? 1 : -1), fy = (1 - std::abs(x)) * (y >= 0 ? 1 : -1);
+    x = fx, y = fy;
+  }
+  const Vec3 n{x, y, z};
+  return n * (1 / norm(n));
+}
+
+std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas) {
+  const std::uint32_t n = atlas.layout.chartSize;
+  std::vector<QuantisedChart> charts(atlas.layout.charts);
+  for (std::uint32_t c = 0; c < atlas.layout.charts; ++c) {
+    QuantisedChart& q = charts[c];
+    std::array<float, 3> hi{};
+    q.lo = hi = atlas.positions[atlas.layout.texel(c, 0, 0)];
+    for (std::uint32_t j = 0; j < n; ++j)
+      for (std::uint32_t i = 0; i < n; ++i) {
+        const auto& p = atlas.positions[atlas.layout.texel(c, i, j)];
+        for (int a = 0; a < 3; ++a) q.lo[a] = std::min(q.lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
+      }
+    for (int a = 0; a < 3; ++a) q.step[a] = (hi[a] - q.lo[a]) / 65535.0f;
+    for (std::uint32_t j = 0; j < n; ++j)
+      for (std::uint32_t i = 0; i < n; ++i) {
+        const std::size_t at = atlas.layout.texel(c, i, j);
+        std::array<std::uint16_t, 3> code{};
+        for (int a = 0; a < 3; ++a)
+          if (q.step[a] > 0)
+            code[a] = std::uint16_t(std::clamp(std::lround((atlas.positions[at][a] - q.lo[a]) / q.step[a]), 0L, 65535L));
+        q.positions.push_back(code);
+        q.normals.push_back(encodeOctahedral(unpackNormal(atlas.normals[at])));
+      }
+  }
+  return charts;
+}
+
+void dequantiseAtlas(const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base, Atlas& atlas) {
+  const std::uint32_t n = atlas.layout.chartSize;
+  const std::size_t texels = std::size_t(atlas.layout.width()) * atlas.layout.height();
+  atlas.positions.assign(texels, {0, 0, 0});
+  atlas.normals.assign(texels, {0, 0, 0});
+  for (std::uint32_t c = 0; c < charts.size(); ++c) {
+    const QuantisedChart& q = charts[c];
+    for (std::uint32_t j = 0; j < n; ++j)
+      for (std::uint32_t i = 0; i < n; ++i) {
+        const std::size_t k = std::size_t(j) * n + i, at = atlas.layout.texel(c, i, j);
+        for (int a = 0; a < 3; ++a) atlas.positions[at][a] = q.lo[a] + float(q.positions[k][a]) * q.step[a];
+        atlas.normals[at] = packNormal(decodeOctahedral(q.normals[k]));
+      }
+  }
+  const auto across = sidesAcross(base);
+  for (std::uint32_t c = 0; c < charts.size(); ++c)
+    for (int s = 0; s < 4; ++s) {
+      const SideAcross other = across[c][s];
+      if (other.tile == kNoTile || other.tile < c) continue;
+      for (std::uint32_t m = 1; m + 1 < n; ++m) {
+        const auto ij = sideTexel(s, m, n), kl = sideTexel(other.side, n - 1 - m, n);
+        const std::size_t from = atlas.layout.texel(c, ij[0], ij[1]), to = atlas.layout.texel(other.tile, kl[0], kl[1]);
+        atlas.positions[to] = atlas.positions[from];
+        atlas.normals[to] = atlas.normals[from];
+      }
+    }
+  for (std::uint32_t c = 0; c < charts.size(); ++c) {
+    const auto sides = tileSides(base, c);
+    for (int s = 0; s < 4; ++s) {
+      const auto ij = sideTexel(s, 0, n);
+      const Vec3& p = base.positions[sides[s].from];
+      atlas.positions[atlas.layout.texel(c, ij[0], ij[1])] = {float(p.x), float(p.y), float(p.z)};
+    }
+  }
+}
+
+double largestQuantisationError(const Atlas& atlas, const multires::BaseMesh& base) {
+  Atlas decoded;
+  decoded.layout = atlas.layout;
+  dequantiseAtlas(quantiseAtlas(atlas), base, decoded);
+  double worst = 0;
+  for (std::size_t t = 0; t < atlas.positions.size(); ++t) {
+    const auto &a = atlas.positions[t], &b = decoded.positions[t];
+    worst = std::max(worst, std::hypot(double(a[0]) - b[0], double(a[1]) - b[1], double(a[2]) - b[2]));
+  }
+  return worst;
+}
+
+}  // namespace isoatlas::atlas
