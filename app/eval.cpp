@@ -45,7 +45,8 @@ nlohmann::json levelFiguresJson(const std::vector<atlas::LevelFigures>& levels) 
   nlohmann::json out = nlohmann::json::array();
   for (const auto& l : levels)
     out.push_back({{"level", l.level}, {"vertices", l.vertices}, {"triangles", l.triangles}, {"hausdorff", l.hausdorff},
-                   {"psnr_db", l.psnrDb}, {"closed", l.closed}, {"manifold", l.manifold}});
+                   {"psnr_db", l.psnrDb}, {"rms", l.rms}, {"psnr_rms_db", l.psnrRmsDb}, {"closed", l.closed},
+                   {"manifold", l.manifold}});
   return out;
 }
 
@@ -94,7 +95,8 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
       else r["others"].push_back({{"model", (*models)[m]}, {"levels", levelFiguresJson(measured.back().second)}});
       for (const auto& l : measured.back().second)
         logInfo("eval: " + measured.back().first + " level " + std::to_string(l.level) + ": " + std::to_string(l.triangles) +
-                " triangles, Hausdorff " + std::to_string(l.hausdorff) + ", PSNR " + std::to_string(l.psnrDb) + " dB");
+                " triangles, Hausdorff " + std::to_string(l.hausdorff) + ", PSNR " + std::to_string(l.psnrDb) + " dB (RMS: " +
+                std::to_string(l.psnrRmsDb) + " dB)");
     }
     if (!plot->empty()) writePng(*plot, atlas::psnrPlot(measured));
     return 0;

@@ -10,14 +10,15 @@ namespace isoatlas::atlas {
 std::vector<LevelFigures> evaluateLevels(const multires::BaseMesh& base, const Atlas& atlas, const Mesh& dense,
                                          const std::vector<int>& levels, std::size_t facePoints) {
   const double diagonal = boundingBox(dense.positions).diagonal();
+  const MeshDistances fromDense(dense, facePoints);  // the dense samples and tree, once for every level
   std::vector<LevelFigures> out;
   Progress progress("eval: levels", levels.size(), "levels");
   for (const int level : levels) {
     const Mesh mesh = reconstructLevel(base, atlas, level);
     const MeshTopology topology = analyzeTopology(mesh);
-    const Hausdorff h = hausdorffDistance(dense, mesh, facePoints);
-    out.push_back({level, mesh.vertexCount(), mesh.faceCount(), h.symmetric(), psnrDb(diagonal, h.symmetric()),
-                   topology.closed, topology.manifold});
+    const Hausdorff h = fromDense.to(mesh);
+    out.push_back({level, mesh.vertexCount(), mesh.faceCount(), h.symmetric(), psnrDb(diagonal, h.symmetric()), h.rms(),
+                   psnrDb(diagonal, h.rms()), topology.closed, topology.manifold});
     progress.update(out.size());
   }
   progress.finish();
@@ -27,11 +28,12 @@ std::vector<LevelFigures> evaluateLevels(const multires::BaseMesh& base, const A
 Image psnrPlot(const std::vector<std::pair<std::string, std::vector<LevelFigures>>>& models) {
   std::vector<PlotSeries> series;
   for (const auto& [name, levels] : models) {
-    PlotSeries s{name, {}, {}};
-    for (const auto& l : levels) s.x.push_back(l.level), s.y.push_back(l.psnrDb);
+    PlotSeries s{name, {}, {}}, rms{name + " (RMS)", {}, {}};
+    for (const auto& l : levels) s.x.push_back(l.level), s.y.push_back(l.psnrDb), rms.x.push_back(l.level), rms.y.push_back(l.psnrRmsDb);
     series.push_back(std::move(s));
+    series.push_back(std::move(rms));
   }
-  return linePlot(series, {.title = "Accuracy per level (CGAL Hausdorff distance to the dense mesh)",
+  return linePlot(series, {.title = "Accuracy per level (CGAL: largest distance to the dense mesh, and RMS)",
                            .xLabel = "level (0: base mesh; 2 log2(N-1): the whole chart)",
                            .yLabel = "PSNR (dB)"});
 }

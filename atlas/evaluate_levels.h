@@ -1,6 +1,7 @@
 // evaluateLevels: how close the model comes to the dense mesh at each uniform level: the mesh
 // reconstructed at that level (reconstructLevel), measured by CGAL's Hausdorff distance both ways
-// (hausdorff.h), PSNR against the dense mesh's bounding-box diagonal.
+// (hausdorff.h; the dense mesh's samples and tree made once for all levels), PSNR against the dense
+// mesh's bounding-box diagonal from the largest distance and from the RMS distance.
 //   base, atlas  the model
 //   dense        the dense triangle mesh it was built from
 //   levels       each within 0 .. maxLevel(chart size)
@@ -21,7 +22,8 @@ namespace isoatlas::atlas {
 struct LevelFigures {
   int level = 0;
   std::size_t vertices = 0, triangles = 0;
-  double hausdorff = 0, psnrDb = 0;
+  double hausdorff = 0, psnrDb = 0;  // from the largest distance (the seed paper's measure)
+  double rms = 0, psnrRmsDb = 0;      // from the root mean square distance (Multi-chart Geometry Images')
   bool closed = false, manifold = false;  // analyzeTopology's
 };
 

@@ -1,14 +1,18 @@
 // hausdorffDistance: the approximate Hausdorff distance between two triangle meshes, both ways, by
-// CGAL's Polygon_mesh_processing::approximate_Hausdorff_distance (the one yardstick of every
+// CGAL's Polygon_mesh_processing::approximate_Hausdorff_distance taken apart into its two public
+// steps, so that one side's samples and tree serve many measures (the one yardstick of every
 // Hausdorff and PSNR figure isoatlas reports, so that its models and CGAL's simplifier are judged
-// alike). Each mesh is sampled at its vertices plus `facePoints` points spread at random (seed 0,
-// so a figure repeats) over its faces in proportion to their area, and each sample measured to the
-// other surface. Keeps CGAL's headers in this one translation unit.
+// alike): each mesh is sampled by CGAL's sample_triangle_mesh at its vertices plus `facePoints`
+// points spread at random (seed 0, so a figure repeats) over its faces in proportion to their
+// area, and each sample measured to the other surface by CGAL's AABB tree. The root mean square
+// of the same distances is Multi-chart Geometry Images' measure. Keeps CGAL's headers in this one
+// translation unit.
 //   a, b        triangle meshes (faces of three corners; others refused)
 //   facePoints  face samples per mesh
 // PSNR = 20 log10(diagonal / distance), the diagonal that of the dense mesh's bounding box.
 #pragma once
 #include <cstddef>
+#include <memory>
 
 #include "core/mesh.h"
 
@@ -18,9 +22,24 @@ inline constexpr std::size_t kHausdorffFacePoints = 200000;
 
 struct Hausdorff {
   double aToB = 0, bToA = 0;  // farthest sample of one mesh from the other surface
+  double rmsAToB = 0, rmsBToA = 0;  // root mean square of the same samples' distances
   double symmetric() const { return aToB > bToA ? aToB : bToA; }
+  double rms() const { return rmsAToB > rmsBToA ? rmsAToB : rmsBToA; }
 };
 Hausdorff hausdorffDistance(const Mesh& a, const Mesh& b, std::size_t facePoints = kHausdorffFacePoints);
+
+// One mesh measured against many (eval's levels against the dense mesh): its samples are drawn and
+// its AABB tree built once. to(b) gives what hausdorffDistance(a, b, facePoints) gives.
+class MeshDistances {
+public:
+  MeshDistances(const Mesh& a, std::size_t facePoints = kHausdorffFacePoints);
+  ~MeshDistances();
+  Hausdorff to(const Mesh& b) const;
+
+private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 // 20 log10(diagonal / distance); infinite for a zero distance.
 double psnrDb(double diagonal, double distance);

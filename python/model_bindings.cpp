@@ -106,7 +106,7 @@ void bindModels(py::module_& m) {
         return toDict(nlohmann::json{{"levels", app::levelFiguresJson(figures)}})["levels"];
       }, py::arg("model"), py::arg("vertices"), py::arg("triangles"), py::arg("levels") = "", py::arg("samples") = atlas::kHausdorffFacePoints,
       py::arg("progress") = py::none(),
-      "per level (isoatlas eval): level, vertices, triangles, hausdorff, psnr_db, closed, manifold against the dense mesh; "
+      "per level (isoatlas eval): level, vertices, triangles, hausdorff, psnr_db, rms, psnr_rms_db, closed, manifold against the dense mesh; "
       "levels as eval takes them (\"0-10\", \"4\", \"0,2,10\"; default all)");
 
   m.def("write_png", [](const std::string& path, const py::object& image) {

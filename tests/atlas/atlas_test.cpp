@@ -276,6 +276,18 @@ TEST(Hausdorff, KnownDistancesBothWays) {
   const Hausdorff h = hausdorffDistance(a, b, 20000);
   EXPECT_NEAR(h.aToB, 0.5, 0.06);
   EXPECT_NEAR(h.bToA, 0.5, 0.06);
+  // The RMS of the same samples: also near 0.5, and never past the largest distance.
+  EXPECT_NEAR(h.rmsAToB, 0.5, 0.06);
+  EXPECT_NEAR(h.rmsBToA, 0.5, 0.06);
+  EXPECT_LE(h.rms(), h.symmetric());
+  // One mesh measured against many answers as measuring each pair afresh, bit for bit.
+  const MeshDistances fromA(a, 20000);
+  for (int k = 0; k < 2; ++k) {
+    const Hausdorff reused = fromA.to(b);
+    EXPECT_EQ(reused.aToB, h.aToB);
+    EXPECT_EQ(reused.bToA, h.bToA);
+    EXPECT_EQ(reused.rms(), h.rms());
+  }
   EXPECT_LT(hausdorffDistance(a, a, 20000).symmetric(), 1e-12);
   // Seeded: the same figure every time (CGAL 5.5 placed points in faces with a generator seeded
   // from the clock).
@@ -288,6 +300,7 @@ TEST(Hausdorff, KnownDistancesBothWays) {
   const Hausdorff m = hausdorffDistance(a, moved, 20000);
   EXPECT_LE(m.symmetric(), 0.25 + 1e-9);
   EXPECT_GT(m.symmetric(), 0.2);
+  EXPECT_LT(m.rms(), m.symmetric());  // most points of a sphere moved sideways lie nearer than 0.25
   EXPECT_NEAR(psnrDb(100, 1), 40, 1e-12);
   EXPECT_THROW(hausdorffDistance(Mesh{}, a), Error);
   // A point that is not finite is refused (CGAL's face sampler would never return).
