@@ -111,10 +111,11 @@ TEST(Atlas, NoFoldedOrGapTexelsOnAnyShape) {
   }
 }
 
-// Texel quads turning against the surface, counted by hand on the sphere and the torus, are what
-// the charts report. They come from the map's shear, not from a fold (it is one-to-one), and mark
-// where it is most distorted: today about 1 % of the torus's quads, along a few tiles' diagonals,
-// which the bound below keeps from growing.
+// Texel quads turning against the surface: counted by hand against the true outward normal of the
+// sphere and the torus, they are about what the charts report against the dense mesh's normals
+// (the two normals differ a little). They come from the map's shear, not from a fold (it is
+// one-to-one), and mark where it is most distorted: today about 1 % of the torus's quads, along a
+// few tiles' diagonals, which the bound below keeps from growing.
 TEST(Atlas, TurnedTexelQuadsAreCountedAndRare) {
   auto outwardSphere = [](const Vec3& p) { return p - Vec3{12.3, 12.5, 12.2}; };
   auto outwardTorus = [](const Vec3& p) {
@@ -132,7 +133,7 @@ TEST(Atlas, TurnedTexelQuadsAreCountedAndRare) {
           const Vec3 normal = cross(b->atlas.position(c, i + 1, j) - p, b->atlas.position(c, i, j + 1) - p);
           turned += dot(normal, outward(p)) < 0;
         }
-    EXPECT_EQ(turned, b->stats.turnedTexelQuads);
+    EXPECT_NEAR(double(turned), double(b->stats.turnedTexelQuads), 0.02 * double(turned) + 2);
     EXPECT_LT(double(turned), 0.02 * b->atlas.layout.charts * (n - 1) * (n - 1));
   }
 }
