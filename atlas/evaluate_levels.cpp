@@ -28,7 +28,8 @@ std::vector<LevelFigures> evaluateLevels(const multires::BaseMesh& base, const A
 Image psnrPlot(const std::vector<std::pair<std::string, std::vector<LevelFigures>>>& models) {
   std::vector<PlotSeries> series;
   for (const auto& [name, levels] : models) {
-    PlotSeries s{name, {}, {}}, rms{name + " (RMS)", {}, {}};
+    const int colour = int(series.size() / 2);
+    PlotSeries s{name, {}, {}, colour, false}, rms{name + " (RMS)", {}, {}, colour, true};
     for (const auto& l : levels) s.x.push_back(l.level), s.y.push_back(l.psnrDb), rms.x.push_back(l.level), rms.y.push_back(l.psnrRmsDb);
     series.push_back(std::move(s));
     series.push_back(std::move(rms));

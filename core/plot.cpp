@@ -14,17 +14,19 @@ namespace {
 
 using Rgb = std::array<std::uint8_t, 3>;
 constexpr Rgb kBlack{0, 0, 0}, kGrid{225, 225, 225};
-constexpr Rgb kColours[] = {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {255, 127, 14}, {148, 103, 189}, {140, 86, 75}};
+constexpr Rgb kColours[] = {{31, 119, 180}, {214, 39, 40}, {44, 160, 44}, {255, 127, 14},
+                            {148, 103, 189}, {140, 86, 75}, {227, 119, 194}, {23, 190, 207}};
 
 void fillRect(Image& image, int x0, int y0, int x1, int y1, Rgb c) {
   for (int y = std::max(0, y0); y <= std::min(image.height - 1, y1); ++y)
     for (int x = std::max(0, x0); x <= std::min(image.width - 1, x1); ++x) std::copy(c.begin(), c.end(), image.at(x, y));
 }
 
-// A line `thickness` pixels wide, by steps along its longer axis.
-void drawLine(Image& image, double x0, double y0, double x1, double y1, Rgb c, int thickness) {
+// A line `thickness` pixels wide, by steps along its longer axis; dashed: 8 steps drawn, 6 left.
+void drawLine(Image& image, double x0, double y0, double x1, double y1, Rgb c, int thickness, bool dashed = false) {
   const int steps = int(std::max(std::abs(x1 - x0), std::abs(y1 - y0))) + 1;
   for (int s = 0; s <= steps; ++s) {
+    if (dashed && s % 14 >= 8) continue;
     const double t = double(s) / steps;
     const int x = int(std::lround(x0 + (x1 - x0) * t)), y = int(std::lround(y0 + (y1 - y0) * t));
     fillRect(image, x - thickness / 2, y - thickness / 2, x + (thickness - 1) / 2, y + (thickness - 1) / 2, c);
@@ -93,8 +95,8 @@ Image linePlot(const std::vector<PlotSeries>& series, const PlotOptions& o) {
   if (!o.xLabel.empty()) drawText(image, (left + right) / 2 - int(o.xLabel.size()) * font * 3 / 10, bottom + font * 2, o.xLabel, font, kBlack);
   if (!o.yLabel.empty()) drawText(image, font / 4, top - font * 2, o.yLabel, font, kBlack);
   for (std::size_t k = 0; k < series.size(); ++k) {
-    const Rgb c = kColours[k % std::size(kColours)];
     const PlotSeries& s = series[k];
+    const Rgb c = kColours[std::size_t(s.colour >= 0 ? s.colour : int(k)) % std::size(kColours)];
     bool have = false;
     double lx = 0, ly = 0;
     for (std::size_t i = 0; i < s.x.size(); ++i) {
@@ -103,13 +105,13 @@ Image linePlot(const std::vector<PlotSeries>& series, const PlotOptions& o) {
         continue;
       }
       const double x = px(s.x[i]), y = py(s.y[i]);
-      if (have) drawLine(image, lx, ly, x, y, c, 3);
+      if (have) drawLine(image, lx, ly, x, y, c, 3, s.dashed);
       fillRect(image, int(x) - 4, int(y) - 4, int(x) + 4, int(y) + 4, c);
       lx = x, ly = y, have = true;
     }
     // Legend, top left inside the axes.
     const int ly0 = top + font / 2 + int(k) * font * 3 / 2;
-    fillRect(image, left + font, ly0 + font / 3, left + font * 2, ly0 + font * 2 / 3, c);
+    drawLine(image, left + font, ly0 + font / 2, left + font * 2, ly0 + font / 2, c, 4, s.dashed);
     drawText(image, left + font * 5 / 2, ly0 - font / 6, s.name, font, kBlack);
   }
   return image;

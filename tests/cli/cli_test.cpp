@@ -482,8 +482,9 @@ TEST(Cli, EvalMeasuresEveryLevelAgainstTheDenseMesh) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(test::readBytes(report));
   for (const char* key : {"atlas_efficiency", "atlas_width", "atlas_height", "charts", "model_bytes", "dense_halfedge_bytes",
-                          "folded_texels", "gap_texels"})
+                          "folded_texels", "gap_texels", "quantisation_error", "dense_ply_bytes", "model_to_dense_halfedge"})
     EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["model_to_dense_halfedge"].get<double>(), j["model_bytes"].get<double>() / j["dense_halfedge_bytes"].get<double>());
   ASSERT_EQ(j["levels"].size(), 7u);  // chart 9: levels 0..6
   const double diagonal = j["bounding_box_diagonal"].get<double>();
   for (int l = 0; l <= 6; ++l) {
@@ -492,6 +493,9 @@ TEST(Cli, EvalMeasuresEveryLevelAgainstTheDenseMesh) {
     EXPECT_EQ(f["triangles"].get<std::size_t>(), j["charts"].get<std::size_t>() * (std::size_t(1) << l / 2 * 2) * (l % 2 ? 4 : 2));
     EXPECT_TRUE(f["closed"].get<bool>() && f["manifold"].get<bool>());
     EXPECT_NEAR(f["psnr_db"].get<double>(), 20 * std::log10(diagonal / f["hausdorff"].get<double>()), 1e-9);
+    // The RMS of the same samples: never past the largest, so its PSNR is never below.
+    EXPECT_NEAR(f["psnr_rms_db"].get<double>(), 20 * std::log10(diagonal / f["rms"].get<double>()), 1e-9);
+    EXPECT_LE(f["rms"].get<double>(), f["hausdorff"].get<double>());
   }
   // Finer levels come closer: the finest beats the base mesh by a wide margin.
   EXPECT_GT(j["levels"][6]["psnr_db"].get<double>(), j["levels"][0]["psnr_db"].get<double>() + 10);
