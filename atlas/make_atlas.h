@@ -21,8 +21,8 @@ namespace isoatlas::atlas {
 
 struct ChartStats {
   std::uint64_t texels = 0;        // sampled (charts x N x N)
-  std::uint64_t foldedTexels = 0;  // landing where another texel of their chart lands
-  std::uint64_t gapTexels = 0;     // sent to the nearest face at some step (within rounding of its border)
+  std::uint64_t foldedTexels = 0;  // landing exactly where another texel of their chart lands (a broken record would)
+  std::uint64_t gapTexels = 0;     // found outside a step's ring by more than rounding, sent to the nearest face
   std::uint64_t turnedTexelQuads = 0;  // texel quads turning against the surface (a shear, not a fold)
   double meanHistorySteps = 0;     // the steps a texel walked back through the history
   std::uint64_t sharedSides = 0;   // tile sides averaged with a neighbour's

@@ -70,6 +70,7 @@ void readLayout(Reader& r, std::uint32_t chartSize, std::size_t tiles, AtlasLayo
   l.charts = r.get<std::uint32_t>(), l.columns = r.get<std::uint32_t>(), l.rows = r.get<std::uint32_t>();
   if (l.charts == 0 || std::uint64_t(l.columns) * l.rows < l.charts || std::uint64_t(l.columns) * l.rows > l.charts + std::uint64_t(l.columns))
     r.fail(std::to_string(l.columns) + " x " + std::to_string(l.rows) + " slots for " + std::to_string(l.charts) + " charts");
+  if (l.columns > l.charts) r.fail(std::to_string(l.columns) + " columns for " + std::to_string(l.charts) + " charts");  // never packed so
   if (l.charts != tiles) r.fail("the atlas's chart count is not the tile count");
 }
 
@@ -86,6 +87,8 @@ void readQuantisedAtlas(Reader& r, std::uint32_t chartSize, const multires::Base
     for (float& x : q.lo) x = r.finite<float>();
     for (float& x : q.step)
       if ((x = r.finite<float>()) < 0) r.fail("a chart's quantisation step is negative");
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(q.lo[a] + 65535.0f * q.step[a])) r.fail("a chart's box reaches past the largest float");
     q.positions.resize(texels);
     for (auto& p : q.positions) p = {r.get<std::uint16_t>(), r.get<std::uint16_t>(), r.get<std::uint16_t>()};
     q.normals.resize(texels);
@@ -284,7 +287,7 @@ Model readModel(const std::string& path, const ModelReadOptions& options) {
   if (version == 1)
     throw Error(path + ": model format version 1 holds no atlas; build the model again with this isoatlas (isoatlas build)");
   if (version != 2 && version != kModelVersion)
-    throw Error(path + ": model format version " + std::to_string(version) + " (this isoatlas reads version " +
+    throw Error(path + ": model format version " + std::to_string(version) + " (this isoatlas reads versions 2 and " +
                 std::to_string(kModelVersion) + ")");
   Model model;
   std::set<std::string> seen;

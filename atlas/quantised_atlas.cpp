@@ -82,12 +82,26 @@ void dequantiseAtlas(const std::vector<QuantisedChart>& charts, const multires::
         atlas.normals[to] = atlas.normals[from];
       }
     }
+  // Corners: each base vertex's from the first chart that has it, copied into the others; within
+  // that chart's quantisation of the base vertex it is the base vertex (as makeAtlas made it), else
+  // a stamp moved it and it stays where the chart puts it.
+  std::vector<std::size_t> cornerFrom(base.vertexCount(), ~std::size_t(0));
   for (std::uint32_t c = 0; c < charts.size(); ++c) {
     const auto sides = tileSides(base, c);
     for (int s = 0; s < 4; ++s) {
       const auto ij = sideTexel(s, 0, n);
-      const Vec3& p = base.positions[sides[s].from];
-      atlas.positions[atlas.layout.texel(c, ij[0], ij[1])] = {float(p.x), float(p.y), float(p.z)};
+      const std::size_t at = atlas.layout.texel(c, ij[0], ij[1]);
+      std::size_t& from = cornerFrom[sides[s].from];
+      if (from == ~std::size_t(0)) {
+        from = at;
+        const Vec3& v = base.positions[sides[s].from];
+        const auto& p = atlas.positions[at];
+        const auto& step = charts[c].step;
+        const double halfStep = 0.5 * std::hypot(double(step[0]), double(step[1]), double(step[2]));
+        if (std::hypot(p[0] - v.x, p[1] - v.y, p[2] - v.z) <= halfStep * 1.001) atlas.positions[at] = {float(v.x), float(v.y), float(v.z)};
+      }
+      atlas.positions[at] = atlas.positions[from];
+      atlas.normals[at] = atlas.normals[from];
     }
   }
 }

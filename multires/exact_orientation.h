@@ -32,16 +32,20 @@ inline bool exactlyInTriangle(const Vec2& p, const Vec2& a, const Vec2& b, const
 }
 
 // Which of `count` counter-clockwise triangles holds p by exact tests, tried from `hint` on, and p's
-// weights there (rounded onto the triangle: the test was exact, the weights are computed in floating
-// point); kNoTriangleHit when none does. corners(i) gives triangle i's three corners.
+// weights there: a corner whose opposite edge holds p exactly gets weight 0 exactly (so the point
+// stays on that edge in every later layout), the others are computed in floating point and
+// rounded onto the triangle. kNoTriangleHit when none holds p. corners(i) gives triangle i's corners.
 template <class Corners>
 TriangleHit locateExactly(const Vec2& p, std::size_t count, const Corners& corners, std::size_t hint = 0) {
   TriangleHit hit;
   for (std::size_t m = 0; m < count; ++m) {
     const std::size_t t = (hint + m) % count;
     const std::array<Vec2, 3> c = corners(t);
-    if (!exactlyInTriangle(p, c[0], c[1], c[2])) continue;
+    const int o[3] = {exactOrientation(c[1], c[2], p), exactOrientation(c[2], c[0], p), exactOrientation(c[0], c[1], p)};
+    if (o[0] < 0 || o[1] < 0 || o[2] < 0) continue;
     hit = {t, barycentric2(p, c[0], c[1], c[2]), true};
+    for (int i = 0; i < 3; ++i)
+      if (o[i] == 0) hit.bary[std::size_t(i)] = 0;
     clampToTriangle(hit.bary);
     break;
   }

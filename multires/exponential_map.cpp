@@ -32,6 +32,9 @@ bool exponentialMap(const StellarMesh& mesh, VertexH v, const OneRing& ring, std
     plane[i] = {radius[i] * std::cos(phi), radius[i] * std::sin(phi)};
     if (i < ring.faces.size()) phi += scale * angle[i];
   }
+  // A boundary vertex lies exactly on the line between its boundary neighbours (sin of the rounded
+  // half turn is not 0), so that a boundary weld's fan still holds it by exact test.
+  if (ring.boundary) plane[k - 1] = {-radius[k - 1], 0};
   return true;
 }
 

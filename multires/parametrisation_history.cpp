@@ -39,6 +39,7 @@ ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t
     TriangleHit hit = locateExactly(p, step.replacedSize, corners);
     if (hit.triangle == kNoTriangleHit) {
       hit = locateInTriangles(p, step.replacedSize, corners);
+      if (hit.triangle == kNoTriangleHit) throw Error("parametrisation history: a step replaced only flat faces", ErrorKind::Failure);
       const std::array<Vec2, 3> c = corners(hit.triangle);
       const Bary raw = barycentric2(p, c[0], c[1], c[2]);
       out.outside = std::max(out.outside, -std::min({raw[0], raw[1], raw[2]}));

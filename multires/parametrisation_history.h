@@ -29,7 +29,7 @@ public:
 
   // Recording a step: the ring's layout (its points, by local index), then each face it replaces
   // (a version, with its corners as local indices in that version's corner order), then each face
-  // it makes (corners as local indices); addFace returns the new version.
+  // it makes (corners as local indices); adds returns the new version.
   void beginStep(std::span<const Vec2> layout);
   void replaces(std::uint32_t version, const std::array<std::uint8_t, 3>& corners);
   std::uint32_t adds(const std::array<std::uint8_t, 3>& corners);

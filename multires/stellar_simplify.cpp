@@ -289,7 +289,32 @@ bool Simplifier::removeVertex(VertexH v, VertexH u) {
   std::vector<TriangleHit> hits(points.size());
   std::size_t hint = 0;
   bool located = true;
+  // A point on the ring's border (no weight on v) stays there: the fan face across that border edge
+  // holds it with the same weights (its place in the plane, computed in floating point, may fall
+  // just outside the ring).
+  auto onBorder = [&](std::size_t i, TriangleHit& hit) {
+    if (i == 0) return false;
+    const MappedPoint& m = mapped_[ids[i]];
+    int at = -1;
+    for (int c = 0; c < 3; ++c)
+      if (m.vertices[c] == v.idx()) at = c;
+    if (at < 0 || m.bary[at] != 0) return false;
+    for (std::size_t f = 0; f < fanFaces; ++f) {
+      const int corners[3] = {u.idx(), ring.vertices[plan.rim[f]].idx(), ring.vertices[plan.rim[f + 1]].idx()};
+      std::array<double, 3> bary{};
+      int found = 0;
+      for (int c = 0; c < 3; ++c)
+        for (const int e : {(at + 1) % 3, (at + 2) % 3})
+          if (corners[c] == m.vertices[e]) bary[c] = m.bary[e], ++found;
+      if (found == 2) {
+        hit = {f, bary, true};
+        return true;
+      }
+    }
+    return false;
+  };
   for (std::size_t i = 0; i < points.size() && located; ++i) {
+    if (onBorder(i, hits[i])) continue;
     hits[i] = locateExactly(points[i].plane, fanFaces, fanFace, hint);
     located = hits[i].triangle != kNoTriangleHit;
     hint = located ? hits[i].triangle : 0;

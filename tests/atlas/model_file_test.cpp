@@ -199,7 +199,7 @@ TEST_F(ModelFileTest, OtherVersionsAndUnknownSections) {
   expectRefused(v1, "version 1 holds no atlas; build the model again");
   std::string v9 = good_;
   v9[8] = 9;
-  expectRefused(v9, "format version 9 (this isoatlas reads version 3)");
+  expectRefused(v9, "format version 9 (this isoatlas reads versions 2 and 3)");
   // A section of a later version is skipped.
   std::string extra = good_ + std::string("NEWS\x03\0\0\0\0\0\0\0", 12);
   const char payload[] = "abc";

@@ -176,6 +176,9 @@ TEST(StellarSimplify, BoundariesAreWeldedAlongThemselves) {
   SimplifyStats stats;
   const BaseMesh base = simplifyStellar(dense, {.vertexRatio = 0.05}, &stats);
   EXPECT_GT(stats.operators.boundaryWelds, 50);
+  // A boundary vertex lies on its ring's border exactly, so its welds are not refused by rounding.
+  EXPECT_TRUE(stats.reachedTarget);
+  EXPECT_LT(stats.refusals.pointOutside, 5u);
   expectSameTopology(dense, base.triangleMesh());
   // 1.5 grid cells: untangling moves a few vertices' parameters across a fold, about a cell.
   expectParametrisation(dense, base, 1.5);
