@@ -319,7 +319,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       const std::vector<atlas::LevelFigures> figures =
           atlas::evaluateLevels(model.base, model.atlas, *surface, levels, request.hausdorffFacePoints);
       m["levels"] = levelFiguresJson(figures);
-      writePng(products.add("psnr_per_level.png", "the model's accuracy per level: PSNR against the surface (CGAL's Hausdorff distance)", true),
+      writePng(products.add("psnr_per_level.png", "the model's accuracy per level: PSNR against the surface (CGAL: from the largest distance, and dashed from the RMS)", true),
                atlas::psnrPlot({{"model", figures}}));
       const int shown = std::min(4, topLevel);
       writePng(products.add("model_level" + std::to_string(shown) + "_left.png",

@@ -220,7 +220,7 @@ double writeModel(const std::string& path, const Model& model) {
 
   Writer head;
   const std::vector<QuantisedChart> charts = quantiseAtlas(model.atlas);
-  const double quantisationError = largestQuantisationError(model.atlas, b);
+  const double quantisationError = largestQuantisationError(model.atlas, charts, b);
   head.put(model.chartSize), head.put(model.foldedTexels), head.put(model.gapTexels), head.put(quantisationError);
   out.section("HEAD", head);
 

@@ -106,10 +106,10 @@ void dequantiseAtlas(const std::vector<QuantisedChart>& charts, const multires::
   }
 }
 
-double largestQuantisationError(const Atlas& atlas, const multires::BaseMesh& base) {
+double largestQuantisationError(const Atlas& atlas, const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base) {
   Atlas decoded;
   decoded.layout = atlas.layout;
-  dequantiseAtlas(quantiseAtlas(atlas), base, decoded);
+  dequantiseAtlas(charts, base, decoded);
   double worst = 0;
   for (std::size_t t = 0; t < atlas.positions.size(); ++t) {
     const auto &a = atlas.positions[t], &b = decoded.positions[t];

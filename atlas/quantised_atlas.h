@@ -7,7 +7,7 @@
 //   quantiseAtlas   inputs: the atlas (its charts' texels); output: one QuantisedChart per chart
 //   dequantiseAtlas inputs: the charts, the base mesh (for the shared sides), the layout; output: the
 //                   atlas's positions and normals (details untouched)
-//   largestQuantisationError  how far (mm) the decoded positions lie from the atlas's own
+//   largestQuantisationError  how far (mm) the charts, decoded, lie from the atlas's own positions
 #pragma once
 #include <array>
 #include <cstdint>
@@ -29,6 +29,6 @@ Vec3 decodeOctahedral(const std::array<std::uint8_t, 2>& code);
 
 std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas);
 void dequantiseAtlas(const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base, Atlas& atlas);
-double largestQuantisationError(const Atlas& atlas, const multires::BaseMesh& base);
+double largestQuantisationError(const Atlas& atlas, const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base);
 
 }  // namespace isoatlas::atlas

@@ -68,6 +68,9 @@ private:
                   std::vector<std::uint32_t>* ids) const;
   void push(VertexH v);
   bool removeVertex(VertexH v, VertexH u);
+  bool locateInFan(VertexH v, const OneRing& ring, const std::vector<Vec2>& plane, const WeldPlan& plan,
+                   const std::vector<FanPoint>& points, const std::vector<std::uint32_t>& ids,
+                   std::vector<TriangleHit>& hits) const;
   bool denseTrianglesTurnLeft(const std::vector<FanPoint>& points, const std::vector<std::uint32_t>& ids,
                               const OneRing& ring, const std::vector<Vec2>& plane);
   void recordStep(const OneRing& ring, const std::vector<Vec2>& plane, VertexH v);
@@ -92,11 +95,21 @@ private:
   CandidateHeap heap_;
   WeldCounts operators_;
   OneRing ringBuffer_;  // scratch for evaluate, reused to avoid allocations
-  std::vector<Vec2> planeBuffer_, planeBuffer2_;
+  std::vector<Vec2> planeBuffer_, regionPlane_;
+  std::vector<TriangleHit> hitBuffer_;  // scratch for removeVertex
   std::vector<FanPoint> denseBuffer_;
 };
 
 Vec3 pointOf(const StellarMesh& mesh, VertexH v) { return toVec3(mesh.point(v)); }
+
+// A vertex's local index in a weld's layout: ring vertex i is i, the removed vertex v is k.
+std::uint8_t layoutIndex(const OneRing& ring, VertexH v, int vertex) {
+  const std::size_t k = ring.vertices.size();
+  if (vertex == v.idx()) return std::uint8_t(k);
+  for (std::size_t i = 0; i < k; ++i)
+    if (ring.vertices[i].idx() == vertex) return std::uint8_t(i);
+  throw Error("stellar simplify: a face of the 1-ring has a corner outside it", ErrorKind::Failure);
+}
 
 void Simplifier::initQuadrics() {
   quadric_.assign(mesh_.n_vertices(), {});
@@ -284,14 +297,73 @@ bool Simplifier::removeVertex(VertexH v, VertexH u) {
   std::vector<FanPoint> points;
   std::vector<std::uint32_t> ids;
   ringPoints(v, ring, plane, points, &ids);
+  std::vector<TriangleHit>& hits = hitBuffer_;
+  const bool located = locateInFan(v, ring, plane, plan, points, ids, hits);
+  const bool keepsDenseTriangles = located && denseTrianglesTurnLeft(points, ids, ring, plane);
+  if (!keepsDenseTriangles) {
+    ++(located ? refusals_.denseTriangle : refusals_.pointOutside);
+    refused_[v.idx()].push_back(std::uint32_t(u.idx()));
+    push(v);
+    return false;
+  }
+
+  recordStep(ring, plane, v);
+  for (const FaceH f : ring.faces) facePoints_[f.idx()].clear();
+  VertexH spokes[kMaxDegree];
+  for (std::size_t i = 0; i < plan.flipCount; ++i) spokes[i] = ring.vertices[plan.flips[i]];
+  operators_ += weldInto(mesh_, v, u, &degrees_, {spokes, plan.flipCount});
+
+  // The faces left where the ring was are the plan's fan: each gets a new version in the history.
+  std::size_t rimPosition[kMaxDegree];
+  for (std::size_t m = 0; m < plan.rimSize; ++m) rimPosition[plan.rim[m]] = m;
+  FaceH fan[kMaxDegree];
+  for (const FaceH f : ring.faces) {
+    if (mesh_.status(f).deleted()) continue;
+    std::array<int, 3> corners{};
+    std::array<std::uint8_t, 3> localCorners{};
+    std::size_t first = kMaxDegree;
+    int i = 0;
+    for (const VertexH w : mesh_.fv_range(f)) {
+      corners[i] = w.idx();
+      localCorners[i] = layoutIndex(ring, v, w.idx());
+      if (localCorners[i] != t) first = std::min(first, rimPosition[localCorners[i]]);
+      ++i;
+    }
+    fan[first] = f;
+    faceVersion_[f.idx()] = history_->adds(localCorners);
+    faceCorners_[f.idx()] = corners;
+  }
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::size_t m = hits[i].triangle;
+    const FaceH f = fan[m];
+    mapped_[ids[i]] = {f.idx(), {u.idx(), ring.vertices[plan.rim[m]].idx(), ring.vertices[plan.rim[m + 1]].idx()}, hits[i].bary};
+    facePoints_[f.idx()].push_back(ids[i]);
+  }
+
+  quadric_[u.idx()] += quadric_[v.idx()];
+  refused_[u.idx()].clear();
+  push(u);
+  for (const VertexH w : mesh_.vv_range(u)) {
+    refused_[w.idx()].clear();
+    push(w);
+  }
+  return true;
+}
+
+// Where each point a weld maps again lies in the fan the plan leaves around ring vertex t (u):
+// by exact location, or, for a point on the ring's border (no weight on v), in the fan face across
+// that border edge with the same weights (its place in the plane, computed in floating point, may
+// fall just outside the ring). False when a point lies in no fan face.
+bool Simplifier::locateInFan(VertexH v, const OneRing& ring, const std::vector<Vec2>& plane, const WeldPlan& plan,
+                             const std::vector<FanPoint>& points, const std::vector<std::uint32_t>& ids,
+                             std::vector<TriangleHit>& hits) const {
+  const std::size_t t = plan.target;
+  const VertexH u = ring.vertices[t];
   const std::size_t fanFaces = plan.rimSize - 1;
   auto fanFace = [&](std::size_t m) { return std::array<Vec2, 3>{plane[t], plane[plan.rim[m]], plane[plan.rim[m + 1]]}; };
-  std::vector<TriangleHit> hits(points.size());
+  hits.resize(points.size());
   std::size_t hint = 0;
   bool located = true;
-  // A point on the ring's border (no weight on v) stays there: the fan face across that border edge
-  // holds it with the same weights (its place in the plane, computed in floating point, may fall
-  // just outside the ring).
   auto onBorder = [&](std::size_t i, TriangleHit& hit) {
     if (i == 0) return false;
     const MappedPoint& m = mapped_[ids[i]];
@@ -319,60 +391,7 @@ bool Simplifier::removeVertex(VertexH v, VertexH u) {
     located = hits[i].triangle != kNoTriangleHit;
     hint = located ? hits[i].triangle : 0;
   }
-  const bool keepsDenseTriangles = located && denseTrianglesTurnLeft(points, ids, ring, plane);
-  if (!keepsDenseTriangles) {
-    ++(located ? refusals_.denseTriangle : refusals_.pointOutside);
-    refused_[v.idx()].push_back(std::uint32_t(u.idx()));
-    push(v);
-    return false;
-  }
-
-  recordStep(ring, plane, v);
-  for (const FaceH f : ring.faces) facePoints_[f.idx()].clear();
-  VertexH spokes[kMaxDegree];
-  for (std::size_t i = 0; i < plan.flipCount; ++i) spokes[i] = ring.vertices[plan.flips[i]];
-  operators_ += weldInto(mesh_, v, u, &degrees_, {spokes, plan.flipCount});
-
-  // The faces left where the ring was are the plan's fan: each gets a new version in the history.
-  auto local = [&](int vertex) {
-    for (std::size_t i = 0; i < k; ++i)
-      if (ring.vertices[i].idx() == vertex) return i;
-    throw Error("stellar simplify: a face after the weld has a corner outside the 1-ring", ErrorKind::Failure);
-  };
-  std::size_t rimPosition[kMaxDegree];
-  for (std::size_t m = 0; m < plan.rimSize; ++m) rimPosition[plan.rim[m]] = m;
-  FaceH fan[kMaxDegree];
-  for (const FaceH f : ring.faces) {
-    if (mesh_.status(f).deleted()) continue;
-    std::array<int, 3> corners{};
-    std::array<std::uint8_t, 3> localCorners{};
-    std::size_t first = kMaxDegree;
-    int i = 0;
-    for (const VertexH w : mesh_.fv_range(f)) {
-      corners[i] = w.idx();
-      localCorners[i] = std::uint8_t(local(w.idx()));
-      if (localCorners[i] != t) first = std::min(first, rimPosition[localCorners[i]]);
-      ++i;
-    }
-    fan[first] = f;
-    faceVersion_[f.idx()] = history_->adds(localCorners);
-    faceCorners_[f.idx()] = corners;
-  }
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const std::size_t m = hits[i].triangle;
-    const FaceH f = fan[m];
-    mapped_[ids[i]] = {f.idx(), {u.idx(), ring.vertices[plan.rim[m]].idx(), ring.vertices[plan.rim[m + 1]].idx()}, hits[i].bary};
-    facePoints_[f.idx()].push_back(ids[i]);
-  }
-
-  quadric_[u.idx()] += quadric_[v.idx()];
-  refused_[u.idx()].clear();
-  push(u);
-  for (const VertexH w : mesh_.vv_range(u)) {
-    refused_[w.idx()].clear();
-    push(w);
-  }
-  return true;
+  return located;
 }
 
 // Whether every dense triangle with a corner among the points a weld maps again (v and the dense
@@ -380,7 +399,7 @@ bool Simplifier::removeVertex(VertexH v, VertexH u) {
 // counter-clockwise in the ring's layout (exact test).
 bool Simplifier::denseTrianglesTurnLeft(const std::vector<FanPoint>& points, const std::vector<std::uint32_t>& ids,
                                         const OneRing& ring, const std::vector<Vec2>& plane) {
-  std::vector<Vec2>& at = planeBuffer2_;
+  std::vector<Vec2>& at = regionPlane_;
   at.clear();
   auto mark = [&](std::uint32_t vertex, const Vec2& p) {
     regionIndex_[vertex] = std::int32_t(at.size());
@@ -414,15 +433,9 @@ void Simplifier::recordStep(const OneRing& ring, const std::vector<Vec2>& plane,
   std::copy(plane.begin(), plane.end(), layout);
   layout[k] = {0, 0};
   history_->beginStep({layout, k + 1});
-  auto local = [&](int vertex) {
-    if (vertex == v.idx()) return std::uint8_t(k);
-    for (std::size_t i = 0; i < k; ++i)
-      if (ring.vertices[i].idx() == vertex) return std::uint8_t(i);
-    throw Error("stellar simplify: a face of the 1-ring has a corner outside it", ErrorKind::Failure);
-  };
   for (const FaceH f : ring.faces) {
     const auto& c = faceCorners_[f.idx()];
-    history_->replaces(faceVersion_[f.idx()], {local(c[0]), local(c[1]), local(c[2])});
+    history_->replaces(faceVersion_[f.idx()], {layoutIndex(ring, v, c[0]), layoutIndex(ring, v, c[1]), layoutIndex(ring, v, c[2])});
   }
 }
 

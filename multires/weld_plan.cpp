@@ -33,6 +33,7 @@ bool planWeld(std::span<const Vec2> plane, bool boundary, std::size_t t, WeldPla
   const Vec2 origin{0, 0};
   const Vec2& u = plane[t];
   auto at = [&](std::size_t i) -> const Vec2& { return plane[(i + k) % k]; };
+  plan.target = t;
   plan.flipCount = 0;
   // Flipping spoke l on u's clockwise side: diamond (v, w_l-1, w_l, u) -> edge (u, w_l-1). On its
   // counter-clockwise side, spoke r: diamond (v, u, w_r, w_r+1) -> edge (u, w_r+1).

@@ -18,6 +18,7 @@
 namespace isoatlas::multires {
 
 struct WeldPlan {
+  std::size_t target = 0;         // u's ring index
   std::size_t flips[kMaxDegree];  // ring indices of the spokes flipped, in order
   std::size_t flipCount = 0;
   // The fan left around u: ring indices rim[0 .. rimSize), faces (u, rim[m], rim[m + 1]).
