@@ -2,7 +2,7 @@
 // parametrisation, the triquad base mesh by max-weight matching, one geometry-image chart per tile
 // packed into an atlas, written as one .isoatlas file.
 #include "app/command.h"
-#include "app/model_building.h"
+#include "pipeline/model_building.h"
 #include "core/error.h"
 #include "core/mesh_io.h"
 
@@ -10,7 +10,7 @@ namespace isoatlas::app {
 
 void addBuildCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("build", "multiresolution model of a triangle mesh: base mesh and atlas of charts");
-  auto o = std::make_shared<ModelRequest>();
+  auto o = std::make_shared<pipeline::ModelRequest>();
   auto input = std::make_shared<std::string>(), output = std::make_shared<std::string>();
   auto baseOnly = std::make_shared<std::string>(), previews = std::make_shared<std::string>();
   auto chart = std::make_shared<int>(int(o->chartSize));
@@ -30,14 +30,14 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
     require(output->empty() || output->ends_with(".isoatlas"), *output + ": the model file must end in .isoatlas");
     require(baseOnly->empty() || baseOnly->ends_with(".obj"), *baseOnly + ": --base-only writes an .obj");
     require(*chart > 0, "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
-    ModelRequest request = *o;
+    pipeline::ModelRequest request = *o;
     request.chartSize = std::uint32_t(*chart);
     request.hausdorff = !*noHausdorff;
-    checkModelRequest(request);
-    const Mesh dense = prepareModelInput(readMesh(*input));
-    const atlas::Model model = buildModel(dense, request, r);
+    pipeline::checkModelRequest(request);
+    const Mesh dense = pipeline::prepareModelInput(readMesh(*input));
+    const atlas::Model model = pipeline::buildModel(dense, request, r);
     if (!baseOnly->empty()) writeMesh(*baseOnly, model.base.quadMesh(), {.binary = false, .normals = false});
-    if (!output->empty()) writeModelFiles(model, *output, *previews, r);
+    if (!output->empty()) pipeline::writeModelFiles(model, *output, *previews, r);
     return 0;
   }, exitCode);
 }

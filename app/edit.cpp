@@ -3,7 +3,7 @@
 
 #include "app/command.h"
 #include "app/options.h"
-#include "app/volume_editing.h"
+#include "pipeline/volume_editing.h"
 #include "core/error.h"
 #include "core/gz_file.h"
 #include "core/mesh_io.h"
@@ -42,7 +42,7 @@ void checkOutputGrid(const std::string& output, const Volume& header) {
 struct EditCommandOptions {
   std::string input, output, backend = "auto";
   std::optional<std::uint32_t> depth;
-  std::shared_ptr<std::vector<EditStep>> steps = std::make_shared<std::vector<EditStep>>();
+  std::shared_ptr<std::vector<pipeline::EditStep>> steps = std::make_shared<std::vector<pipeline::EditStep>>();
   bool flat = false;
   int collapseEvery = 0;
   std::string render, renderMode = "raycast";
@@ -72,18 +72,18 @@ void addEditCommand(CLI::App& app, int& exitCode) {
     require(o->collapseEvery >= 0, "--collapse-every must be >= 0");
     require(o->renderMode == "raycast" || o->renderMode == "cubes", "--render-mode must be raycast or cubes, not " + o->renderMode);
     require(o->render.empty() || endsWith(o->render, ".png"), o->render + ": --render writes a PNG");
-    const EditRequest request{.depth = o->depth, .steps = *o->steps, .hierarchical = !o->flat, .nodeLimit = o->nodeLimit,
+    const pipeline::EditRequest request{.depth = o->depth, .steps = *o->steps, .hierarchical = !o->flat, .nodeLimit = o->nodeLimit,
                                .collapseEvery = o->collapseEvery};
-    const EditInput input = readEditInput(o->input, request);
+    const pipeline::EditInput input = pipeline::readEditInput(o->input, request);
     if (!toTree) {
       Volume header;
       header.dims = toMesh ? dvt::fieldGrid(meshSamplingDepth(input.frame, input.depth)) : input.frame.grid();
       header.type = toMesh ? ScalarType::Float32 : ScalarType::UInt8;
       checkOutputGrid(o->output, header);
     }
-    checkEditBudget(input, request);
-    Gpu gpu = chooseBackend(o->backend);
-    const EditedTree edited = applyEdits(input, request, gpu);
+    pipeline::checkEditBudget(input, request);
+    pipeline::Gpu gpu = pipeline::chooseBackend(o->backend);
+    const pipeline::EditedTree edited = pipeline::applyEdits(input, request, gpu);
     const dvt::VolumeTree tree = edited.tree->tree();
     r.update(edited.figures(tree));
     r["renderer"] = gpu.renderer;
@@ -103,7 +103,7 @@ void addEditCommand(CLI::App& app, int& exitCode) {
     if (!o->render.empty()) {
       viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(tree), o->size[0], o->size[1], {0.6, 1, -0.5}),
                            .mode = o->renderMode == "cubes" ? viewer::DvtRenderMode::Cubes : viewer::DvtRenderMode::RayCast};
-      writePng(o->render, renderEditedTree(edited, tree, view, gpu));
+      writePng(o->render, pipeline::renderEditedTree(edited, tree, view, gpu));
       r["render"] = o->render;
     }
     logInfo("edit: " + std::to_string(request.steps.size()) + " edits, " + std::to_string(edited.tree->nodeCount()) + " nodes on the " +

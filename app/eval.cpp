@@ -3,7 +3,7 @@
 #include <filesystem>
 
 #include "app/command.h"
-#include "app/model_building.h"
+#include "pipeline/model_building.h"
 #include "atlas/evaluate_levels.h"
 #include "atlas/reconstruct.h"
 #include "core/error.h"
@@ -11,45 +11,6 @@
 #include "core/progress.h"
 
 namespace isoatlas::app {
-std::vector<int> parseLevels(const std::string& text, int maxLevel) {
-  std::vector<int> levels;
-  auto number = [&](const std::string& s) {
-    std::size_t used = 0;
-    int v = -1;
-    try {
-      v = std::stoi(s, &used);
-    } catch (const std::exception&) {
-    }
-    require(used == s.size() && v >= 0 && v <= maxLevel,
-            "--levels: '" + s + "' is not a level from 0 to " + std::to_string(maxLevel) + " (e.g. 0-" + std::to_string(maxLevel) + " or 0,4,8)");
-    return v;
-  };
-  std::size_t at = 0;
-  while (at <= text.size()) {
-    const std::size_t comma = std::min(text.find(',', at), text.size());
-    const std::string item = text.substr(at, comma - at);
-    const std::size_t dash = item.find('-');
-    if (dash == std::string::npos) {
-      levels.push_back(number(item));
-    } else {
-      const int from = number(item.substr(0, dash)), to = number(item.substr(dash + 1));
-      require(from <= to, "--levels: the range '" + item + "' runs backwards");
-      for (int l = from; l <= to; ++l) levels.push_back(l);
-    }
-    at = comma + 1;
-  }
-  return levels;
-}
-
-nlohmann::json levelFiguresJson(const std::vector<atlas::LevelFigures>& levels) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const auto& l : levels)
-    out.push_back({{"level", l.level}, {"vertices", l.vertices}, {"triangles", l.triangles}, {"hausdorff", l.hausdorff},
-                   {"psnr_db", l.psnrDb}, {"rms", l.rms}, {"psnr_rms_db", l.psnrRmsDb}, {"closed", l.closed},
-                   {"manifold", l.manifold}});
-  return out;
-}
-
 void addEvalCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("eval", "accuracy of a model per level against its dense mesh (PSNR, Hausdorff)");
   auto models = std::make_shared<std::vector<std::string>>();
@@ -66,12 +27,12 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
   bindAction(*sub, [=](nlohmann::json& r) {
     require(plot->empty() || plot->ends_with(".png"), *plot + ": --plot writes a .png");
     require(*samples >= 1000, "--samples must be at least 1000");
-    const Mesh denseMesh = prepareModelInput(readMesh(*dense));
+    const Mesh denseMesh = pipeline::prepareModelInput(readMesh(*dense));
     std::vector<std::pair<std::string, std::vector<atlas::LevelFigures>>> measured;
     for (std::size_t m = 0; m < models->size(); ++m) {
       const atlas::Model model = atlas::readModel((*models)[m]);
       const int top = atlas::maxLevel(model.atlas);
-      const std::vector<int> levels = levelText->empty() ? parseLevels("0-" + std::to_string(top), top) : parseLevels(*levelText, top);
+      const std::vector<int> levels = levelText->empty() ? pipeline::parseLevels("0-" + std::to_string(top), top) : pipeline::parseLevels(*levelText, top);
       if (m == 0) {
         if (outMesh->first != -1) {
           require(outMesh->first >= 0 && outMesh->first <= top, "--out-mesh-level: level " + std::to_string(outMesh->first) +
@@ -79,7 +40,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
           writeMesh(outMesh->second, atlas::reconstructLevel(model.base, model.atlas, outMesh->first));
         }
         r["model"] = (*models)[m];
-        r.update(atlasFigures(model));
+        r.update(pipeline::atlasFigures(model));
         r["model_bytes"] = std::filesystem::file_size((*models)[m]);
         r["dense_halfedge_bytes"] = atlas::halfedgeMeshBytes(denseMesh);
         r["dense_ply_bytes"] = atlas::binaryPlyBytes(denseMesh);
@@ -91,8 +52,8 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
       }
       measured.emplace_back(std::filesystem::path((*models)[m]).stem().string(),
                             atlas::evaluateLevels(model.base, model.atlas, denseMesh, levels, *samples));
-      if (m == 0) r["levels"] = levelFiguresJson(measured.back().second);
-      else r["others"].push_back({{"model", (*models)[m]}, {"levels", levelFiguresJson(measured.back().second)}});
+      if (m == 0) r["levels"] = pipeline::levelFiguresJson(measured.back().second);
+      else r["others"].push_back({{"model", (*models)[m]}, {"levels", pipeline::levelFiguresJson(measured.back().second)}});
       for (const auto& l : measured.back().second)
         logInfo("eval: " + measured.back().first + " level " + std::to_string(l.level) + ": " + std::to_string(l.triangles) +
                 " triangles, Hausdorff " + std::to_string(l.hausdorff) + ", PSNR " + std::to_string(l.psnrDb) + " dB (RMS: " +

@@ -42,7 +42,7 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
     require(isMeshPath(o->output) && !endsWith(o->output, ".stl"), o->output + ": write the mesh as .ply, .off or .obj");
     require(o->smooth >= 0, "--smooth must be >= 0");
     const Volume v = readVolume(o->input);
-    const Gpu backend = chooseBackend(o->backend);
+    const pipeline::Gpu backend = pipeline::chooseBackend(o->backend);
     const bool gpu = backend.backend == levelset::Backend::Gpu;
     extract::ExtractOptions options{.largestComponent = o->largest, .minComponentTriangles = o->minComponent,
                                     .smoothIterations = o->smooth, .gpu = gpu};

@@ -5,7 +5,6 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/gl/context.h"
 #include "core/progress.h"
 
 namespace isoatlas::app {
@@ -17,7 +16,7 @@ std::array<int, 2> parseSize(const std::string& text) {
   return {int(v[0]), int(v[1])};
 }
 
-Ball parseBall(const std::string& text, const std::string& option, double defaultRadius) {
+pipeline::Ball parseBall(const std::string& text, const std::string& option, double defaultRadius) {
   const std::vector<double> numbers = parseNumbers(text, option, "X,Y,Z or X,Y,Z,R");
   if (numbers.size() != 3 && numbers.size() != 4) throw Error(option + " " + text + ": expected X,Y,Z or X,Y,Z,R");
   const double radius = numbers.size() == 4 ? numbers[3] : defaultRadius;
@@ -25,38 +24,16 @@ Ball parseBall(const std::string& text, const std::string& option, double defaul
   return {{numbers[0], numbers[1], numbers[2]}, radius};
 }
 
-void requireInside(const Volume& v, const Vec3& p, const std::string& what) {
-  for (int a = 0; a < 3; ++a)
-    if (p[a] < 0 || p[a] > double(v.dims[a] - 1))
-      throw Error(what + " (" + std::to_string(p.x) + ", " + std::to_string(p.y) + ", " + std::to_string(p.z) +
-                  ") lies outside the volume, whose voxel indices run 0.." + std::to_string(v.dims[0] - 1) + ", 0.." +
-                  std::to_string(v.dims[1] - 1) + ", 0.." + std::to_string(v.dims[2] - 1));
-}
-
-gl::Context& Gpu::needGl() {
-  if (!context) context = gl::Context::headless();
-  if (!context->isCurrent()) context->makeCurrent();
-  return *context;
-}
-
-Gpu chooseBackend(const std::string& choice) {
-  Gpu gpu;
-  if (choice == "cpu") return gpu;
-  if (choice != "gpu" && choice != "auto") throw Error("--backend " + choice + ": expected gpu, cpu or auto");
-  try {
-    const gl::Info& info = gpu.needGl().info();
-    if (choice == "auto" && info.software()) {
-      logInfo("no GPU: using the CPU backend (--backend gpu runs the GPU path on " + info.renderer + ")");
-      return gpu;
-    }
-    gpu.backend = levelset::Backend::Gpu;
-    gpu.renderer = info.renderer;
-    return gpu;
-  } catch (const Error& e) {
-    if (choice == "gpu") throw Error(std::string(e.what()) + "; --backend cpu runs without a GPU", ErrorKind::Failure);
-    logInfo(std::string("no OpenGL 4.5: using the CPU backend (") + e.what() + ")");
-    return gpu;
-  }
+void addEditStepOptions(CLI::App& sub, const std::shared_ptr<std::vector<pipeline::EditStep>>& steps) {
+  const std::string shapes =
+      "SHAPE in world coordinates: sphere:X,Y,Z,R  box:X0,Y0,Z0,X1,Y1,Z1  capsule:X0,Y0,Z0,X1,Y1,Z1,R  torus:X,Y,Z,R,r  mesh:FILE";
+  // Callbacks as each option is parsed, so unions and subtractions keep the command line's order.
+  sub.add_option_function<std::string>("--union", [steps](const std::string& s) { steps->push_back({levelset::dvt::Op::Union, s}); },
+                                       "add a " + shapes + "; repeatable")
+      ->trigger_on_parse();
+  sub.add_option_function<std::string>("--subtract", [steps](const std::string& s) { steps->push_back({levelset::dvt::Op::Subtract, s}); },
+                                       "carve a SHAPE out; repeatable, applied in order with --union")
+      ->trigger_on_parse();
 }
 
 }  // namespace isoatlas::app

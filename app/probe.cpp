@@ -19,8 +19,8 @@ void addProbeCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--radius", *radius, "radius in voxels")->capture_default_str();
   bindAction(*sub, [volume, at, radius](nlohmann::json& r) {
     const Volume v = readVolume(*volume);
-    const Ball ball = parseBall(*at, "--at", *radius);
-    requireInside(v, ball.centre, "--at");
+    const pipeline::Ball ball = parseBall(*at, "--at", *radius);
+    pipeline::requireInside(v, ball.centre, "--at");
     const levelset::ProbeResult p = levelset::probeSphere(v, ball.centre, ball.radius);
     r["mean"] = p.mean;
     r["std"] = p.std;

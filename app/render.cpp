@@ -7,9 +7,9 @@
 #include <optional>
 
 #include "app/command.h"
-#include "app/segmentation_views.h"
+#include "pipeline/segmentation_views.h"
 #include "levelset/dvt/dvt_file.h"
-#include "viewer/app/orbit.h"
+#include "viewer/orbit.h"
 #include "viewer/dvt_render.h"
 #include "app/options.h"
 #include "atlas/reconstruct.h"
@@ -137,7 +137,7 @@ int render(const RenderOptions& o, nlohmann::json& r) {
     require(o.cpuLevel <= top, "--cpu-level must lie between 0 and " + std::to_string(top) + " for " + path + " (charts of " +
                                    std::to_string(models.back().chartSize) + " texels)");
   }
-  Gpu gpu;  // the process's one context
+  pipeline::Gpu gpu;  // the process's one context
   gpu.needGl();
   std::vector<const atlas::Model*> pointers;
   for (const atlas::Model& m : models) pointers.push_back(&m);
@@ -192,7 +192,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("render", "draw a model headless (CPU level, then GPU tessellation of its atlas), or a volume and "
                                            "its segmentation as the view window shows them, to PNG");
   auto o = std::make_shared<RenderOptions>();
-  auto seg = std::make_shared<SegmentationViewRequest>();
+  auto seg = std::make_shared<pipeline::SegmentationViewRequest>();
   sub->add_option("model", o->models, "the .isoatlas model (several with --scene: placed in turn), a volume, or a volume tree (.dvt)")
       ->required();
   sub->add_option("--segmentation", seg->segmentation, "a volume: its segmentation (mask or phi, the volume's grid), drawn as the window does");
@@ -227,7 +227,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
       require(seg->view.empty() || seg->view == "raycast" || seg->view == "cubes", "--view " + seg->view + ": expected raycast or cubes for a tree");
       const levelset::dvt::VolumeTree tree = levelset::dvt::readDvt(o->models.front());
       const auto [width, height] = parseSize(o->size);
-      Gpu gpu;
+      pipeline::Gpu gpu;
       gpu.needGl();
       const viewer::Camera camera = o->camera.empty() ? viewer::Orbit{}.camera(viewer::insideBounds(tree), width, height)
                                                       : parseCamera(o->camera, width, height);
@@ -240,13 +240,13 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
     if (!endsWith(o->models.front(), ".isoatlas")) {  // a volume: the window's segmentation views
       require(o->models.size() == 1, "render draws one volume");
       require(o->output.ends_with(".png"), o->output + ": -o writes a .png");
-      SegmentationViewRequest request = *seg;
+      pipeline::SegmentationViewRequest request = *seg;
       request.volume = o->models.front();
       if (!at->empty()) request.at = parsePoint(*at, "--at");
       const auto [width, height] = parseSize(o->size);
       request.width = width, request.height = height;
       if (!o->camera.empty()) request.camera = parseCamera(o->camera, width, height);
-      writePng(o->output, renderSegmentationView(request, r));
+      writePng(o->output, pipeline::renderSegmentationView(request, r));
       r["images"] = {o->output};
       return 0;
     }

@@ -6,10 +6,10 @@
 #include <optional>
 
 #include "app/command.h"
-#include "app/model_building.h"
+#include "pipeline/model_building.h"
 #include "app/options.h"
-#include "app/segmentation.h"
-#include "app/volume_editing.h"
+#include "pipeline/segmentation.h"
+#include "pipeline/volume_editing.h"
 #include "levelset/dvt/volume_solid.h"
 #include "viewer/dvt_render.h"
 #include "levelset/level_set.h"
@@ -49,29 +49,29 @@ struct RunOptions {
   double target = 0, width = 1, alpha = 0.8;
   std::string backend = "auto";
   int iterations = 3000;  // the demo converges in under a thousand
-  ModelRequest model;
+  pipeline::ModelRequest model;
   int chart = 33;
   std::string levels = "even";  // the levels run measures: "even" (0, 2, ..., the whole chart) or eval's form
-  std::shared_ptr<std::vector<EditStep>> edits = std::make_shared<std::vector<EditStep>>();
+  std::shared_ptr<std::vector<pipeline::EditStep>> edits = std::make_shared<std::vector<pipeline::EditStep>>();
 };
 
 // A view-window script (docs/view-script.md) doing what run did, seen in the window: the same seeds,
 // parameters and steps (the same solver: the same segmentation), the same edits as brushes, then the
 // model built.
 void writeViewSession(const std::string& path, const std::string& input, const Volume& volume, const levelset::SpeedParams& params,
-                      const std::vector<Ball>& seeds, int iterations, const std::vector<EditStep>& edits) {
+                      const std::vector<pipeline::Ball>& seeds, int iterations, const std::vector<pipeline::EditStep>& edits) {
   std::ofstream out(path);
   out.precision(7);  // floats as they were given; world positions to well under a micrometre
   out << "# isoatlas run's segmentation and edits in the window: isoatlas view --script " << path << "\n"
       << "open " << std::filesystem::absolute(input).string() << "\nset t " << params.target << "\nset eps " << params.width
       << "\nset alpha " << params.alpha << "\n";
   const double mmPerVoxel = std::cbrt(volume.spacing.x * volume.spacing.y * volume.spacing.z);  // as the window's radii
-  for (const Ball& b : seeds) {
+  for (const pipeline::Ball& b : seeds) {
     const Vec3 w = volume.indexToWorld(b.centre);
     out << "seed " << w.x << "," << w.y << "," << w.z << "," << b.radius * mmPerVoxel << "\n";
   }
   out << "run " << iterations << "\n";
-  for (const EditStep& e : edits)
+  for (const pipeline::EditStep& e : edits)
     out << (e.shape.starts_with("mesh:") ? "# (a mesh edit, not a brush) " : "") << "brush "
         << (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") << e.shape << "\n";
   out << "build\n";
@@ -200,16 +200,16 @@ void addRunCommand(CLI::App& app, int& exitCode) {
     if (options->levels == "even") {
       for (int l = 0; l <= topLevel; l += 2) levels.push_back(l);
     } else {
-      levels = parseLevels(options->levels, topLevel);
+      levels = pipeline::parseLevels(options->levels, topLevel);
     }
     const std::filesystem::path dir(*outDir);
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     require(!ec, *outDir + ": cannot create the output folder: " + ec.message());
 
-    stepSolids(*options->edits);  // bad shapes are reported before any work
+    pipeline::stepSolids(*options->edits);  // bad shapes are reported before any work
     // The process's one GL context: the solver, the extraction from its pages and the renders share it.
-    Gpu gpu = chooseBackend(options->backend);
+    pipeline::Gpu gpu = pipeline::chooseBackend(options->backend);
     std::vector<Stage> stages;
     Products products{dir, {}};
     logInfo("run: reading " + *input);
@@ -225,23 +225,23 @@ void addRunCommand(CLI::App& app, int& exitCode) {
 
     // Segment: the demo's seeds and parameters when the input is the default volume; otherwise the
     // user's (--seed, --target, --width, --alpha).
-    std::vector<Ball> seeds;
+    std::vector<pipeline::Ball> seeds;
     for (const std::string& s : options->seeds) seeds.push_back(parseBall(s, "--seed", kDemoSeedRadius));
     levelset::SpeedParams params{float(options->target), float(options->width), float(options->alpha)};
-    EditRequest edits{.steps = *options->edits};
+    pipeline::EditRequest edits{.steps = *options->edits};
     if (seeds.empty() && isDemoVolume(*input, volume)) {
       for (const Vec3& seed : kDemoSeeds) seeds.push_back({seed, kDemoSeedRadius});
       params = kDemoParams;
       if (edits.steps.empty()) edits.steps.push_back({levelset::dvt::Op::Subtract, kDemoEdit});
     }
-    const auto editSolids = stepSolids(edits.steps);
+    const auto editSolids = pipeline::stepSolids(edits.steps);
     std::optional<Mesh> surface;
     if (seeds.empty()) {
       stages.push_back({"segment", "skipped", "no --seed given (and the input is not the demo volume)"});
       logInfo("run: skipping segment: give --seed X,Y,Z[,R] --target T --width EPS");
     } else {
-      for (const Ball& b : seeds) requireInside(volume, b.centre, "--seed");
-      const Segmentation s = segmentVolume(volume, {.params = params,
+      for (const pipeline::Ball& b : seeds) pipeline::requireInside(volume, b.centre, "--seed");
+      const pipeline::Segmentation s = pipeline::segmentVolume(volume, {.params = params,
                                                     .seeds = seeds,
                                                     .backend = gpu.backend,
                                                     .renderer = gpu.renderer,
@@ -268,16 +268,16 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       } else {
         // Edit: the level set's phi, read from its pages, in a dynamic volume tree; the shapes
         // applied; then marching cubes over the edited tree's distances.
-        EditedTree edited = treeOfLevelSet(*s.levelSet, edits, gpu);
-        applySteps(edited, edits, editSolids);
+        pipeline::EditedTree edited = pipeline::treeOfLevelSet(*s.levelSet, edits, gpu);
+        pipeline::applySteps(edited, edits, editSolids);
         const levelset::dvt::VolumeTree tree = edited.tree->tree();
         writeVolume(products.add("mask_edited.nii.gz", "the segmentation after the edits: uint8, 1 inside"), levelset::dvt::sampleMask(tree));
         viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(tree), 800, 600, {1, 0.3, -0.3})};
         writePng(products.add("edited_tree.png", "the edited segmentation, ray cast straight from the volume tree", true),
-                 renderEditedTree(edited, tree, view, gpu));
+                 pipeline::renderEditedTree(edited, tree, view, gpu));
         r["edit"] = edited.figures(tree);
         std::string what;
-        for (const EditStep& e : edits.steps) what += std::string(what.empty() ? "" : ", ") + (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") + e.shape;
+        for (const pipeline::EditStep& e : edits.steps) what += std::string(what.empty() ? "" : ", ") + (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") + e.shape;
         r["edit"]["edits"] = what;
         stages.push_back({"edit", "done", what + ": " + std::to_string(tree.nodeCount()) + " nodes on the " + edited.backend +
                                               ": mask_edited.nii.gz, edited_tree.png"});
@@ -307,18 +307,18 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       stages.push_back({"build multiresolution model", "skipped", "no surface (nothing was segmented)"});
     } else {
       // The multiresolution model of the surface: base mesh, atlas, accuracy per level.
-      ModelRequest request = options->model;
+      pipeline::ModelRequest request = options->model;
       request.chartSize = std::uint32_t(options->chart);
       nlohmann::json& m = r["model"];
-      const atlas::Model model = buildModel(*surface, request, m);
-      writeModelFiles(model, products.add("model.isoatlas", "the multiresolution model: base mesh and atlas of charts (isoatlas eval, render)"),
+      const atlas::Model model = pipeline::buildModel(*surface, request, m);
+      pipeline::writeModelFiles(model, products.add("model.isoatlas", "the multiresolution model: base mesh and atlas of charts (isoatlas eval, render)"),
                       "", m);
       writePng(products.add("position_atlas.png", "the atlas's positions as colours (x, y, z over the surface's box)", true),
                atlas::positionPreview(model.atlas));
       writePng(products.add("normal_atlas.png", "the atlas's normals as colours", true), atlas::normalPreview(model.atlas));
       const std::vector<atlas::LevelFigures> figures =
           atlas::evaluateLevels(model.base, model.atlas, *surface, levels, request.hausdorffFacePoints);
-      m["levels"] = levelFiguresJson(figures);
+      m["levels"] = pipeline::levelFiguresJson(figures);
       writePng(products.add("psnr_per_level.png", "the model's accuracy per level: PSNR against the surface (CGAL: from the largest distance, and dashed from the RMS)", true),
                atlas::psnrPlot({{"model", figures}}));
       const int shown = std::min(4, topLevel);
@@ -336,7 +336,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
         // The demo engraves a word on the left hemisphere's lateral surface (fine detail, the paper's Fig. 10).
         const Box box = boundingBox(surface->positions);
         const Vec3 size = box.max - box.min;
-        StampRequest engrave{.text = "isoatlas",
+        pipeline::StampRequest engrave{.text = "isoatlas",
                              .at = {box.min.x, box.min.y + 0.55 * size.y, box.min.z + 0.6 * size.z},
                              .radius = 0.2 * size.y,
                              .depth = 1.5,
@@ -346,12 +346,12 @@ void addRunCommand(CLI::App& app, int& exitCode) {
         } else try {
           atlas::Model engraved = model;
           nlohmann::json& e = r["engrave"];
-          const atlas::StampStats stamped = stampModel(engraved, engrave, e);
-          writeModelFiles(engraved,
+          const atlas::StampStats stamped = pipeline::stampModel(engraved, engrave, e);
+          pipeline::writeModelFiles(engraved,
                           products.add("model_engraved.isoatlas", "the model with \"isoatlas\" engraved in detail charts (isoatlas edit-detail)"),
                           "", e);
           writePng(products.add("engraved.png", "the engraved word at the model's finest level, close up", true),
-                   closeUp(engraved, stamped, engrave.radius));
+                   pipeline::closeUp(engraved, stamped, engrave.radius));
           stages.push_back({"engrave a word (fine detail)", "done",
                             std::to_string(stamped.detailTiles) + " tiles given detail charts: model_engraved.isoatlas"});
         } catch (const Error& error) {  // the model stands without it

@@ -2,7 +2,7 @@
 
 #include "app/command.h"
 #include "app/options.h"
-#include "app/segmentation.h"
+#include "pipeline/segmentation.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/volume_io.h"
@@ -41,10 +41,10 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
     const levelset::SpeedParams params{float(o->target), float(o->width), float(o->alpha)};
     levelset::validateParams(params);
     const Volume volume = readVolume(o->volume);
-    std::vector<Ball> seeds;
+    std::vector<pipeline::Ball> seeds;
     for (const std::string& s : o->seeds) {
       seeds.push_back(parseBall(s, "--seed", 3));
-      requireInside(volume, seeds.back().centre, "--seed " + s);
+      pipeline::requireInside(volume, seeds.back().centre, "--seed " + s);
     }
     Volume seedMask;
     if (!o->seedMask.empty()) {
@@ -52,8 +52,8 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
       require(seedMask.dims == volume.dims, o->seedMask + ": its dimensions differ from " + o->volume + "'s");
     }
 
-    const Gpu gpu = chooseBackend(o->backend);  // before the level set: its context outlives it
-    const Segmentation s = segmentVolume(volume, {.params = params,
+    const pipeline::Gpu gpu = pipeline::chooseBackend(o->backend);  // before the level set: its context outlives it
+    const pipeline::Segmentation s = pipeline::segmentVolume(volume, {.params = params,
                                                   .seeds = seeds,
                                                   .seedMask = o->seedMask.empty() ? nullptr : &seedMask,
                                                   .backend = gpu.backend,

@@ -1,6 +1,6 @@
 // isoatlas view: the window (viewer/app/viewer_app.h), building models with `build`'s stage.
 #include "app/command.h"
-#include "app/model_building.h"
+#include "pipeline/model_building.h"
 #include "app/options.h"
 #include "viewer/app/viewer_app.h"
 
@@ -20,7 +20,7 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   // The model is built as `build` builds it (its defaults), on a worker thread.
   o->buildModel = [](const Mesh& surface) {
     nlohmann::json figures;
-    return buildModel(prepareModelInput(surface), ModelRequest{}, figures);
+    return pipeline::buildModel(pipeline::prepareModelInput(surface), pipeline::ModelRequest{}, figures);
   };
   bindAction(*sub, [o, size](nlohmann::json& r) {
     const auto [width, height] = parseSize(*size);

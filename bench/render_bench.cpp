@@ -16,7 +16,7 @@
 #include <functional>
 #include <filesystem>
 
-#include "app/model_building.h"
+#include "pipeline/model_building.h"
 #include "atlas/hausdorff.h"
 #include "bench/bench_util.h"
 #include "core/gl/context.h"
@@ -178,9 +178,9 @@ int main(int argc, char** argv) {
   const std::string data = argc > 1 ? argv[1] : "data", name = argc > 2 ? argv[2] : "bunny00";
   const auto context = gl::Context::headless();
   device = context->info().renderer + " (" + bench::machineName() + ")";
-  const Mesh dense = app::prepareModelInput(readMesh(data + "/meshes/" + name + ".off"));
+  const Mesh dense = pipeline::prepareModelInput(readMesh(data + "/meshes/" + name + ".off"));
   nlohmann::json figures;
-  const atlas::Model model = app::buildModel(dense, {.hausdorff = false}, figures);
+  const atlas::Model model = pipeline::buildModel(dense, {.hausdorff = false}, figures);
   const bool gpu = std::getenv("ISOATLAS_BENCH_GPU") && std::string(std::getenv("ISOATLAS_BENCH_GPU")) == "1";
   speed(name, model, gpu ? 10 : 4);
   accuracy(name, model, dense);

@@ -9,7 +9,7 @@
 #include <optional>
 #include <string>
 
-#include "app/options.h"
+#include "pipeline/gpu.h"
 #include "core/mesh.h"
 #include "core/progress.h"
 #include "core/volume.h"
@@ -51,7 +51,7 @@ py::dict toDict(const nlohmann::json& json);
 // The process's backend and GL context, made on the first GPU call and kept (one per process, as
 // the command makes one): "gpu", "cpu" or "auto"; auto without a GPU warns (RuntimeWarning) that it
 // runs on the CPU, unless the caller only wants the context (renders).
-app::Gpu& gpuFor(const std::string& backend, bool warnOnFallback = true);
+pipeline::Gpu& gpuFor(const std::string& backend, bool warnOnFallback = true);
 
 // While alive: core/progress's updates go to `callback(task, fraction)` with the GIL held, and a
 // pending Ctrl-C stops the work there (KeyboardInterrupt propagates out of the stage).

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "app/model_building.h"
+#include "pipeline/model_building.h"
 #include "atlas/model_file.h"
 #include "atlas/evaluate_levels.h"
 #include "atlas/reconstruct.h"
@@ -69,15 +69,15 @@ void bindModels(py::module_& m) {
 
   m.def("build", [](const py::object& vertices, const py::object& triangles, double baseRatio, std::uint32_t chartSize, bool hausdorff,
                     const py::object& progress) {
-        app::ModelRequest request{.baseRatio = baseRatio, .chartSize = chartSize, .hausdorff = hausdorff};
-        app::checkModelRequest(request);
-        const Mesh dense = app::prepareModelInput(toMesh(vertices, triangles));
+        pipeline::ModelRequest request{.baseRatio = baseRatio, .chartSize = chartSize, .hausdorff = hausdorff};
+        pipeline::checkModelRequest(request);
+        const Mesh dense = pipeline::prepareModelInput(toMesh(vertices, triangles));
         PyModel p;
         nlohmann::json figures;
         {
           ProgressToPython report(progress);
           py::gil_scoped_release release;
-          p.model = app::buildModel(dense, request, figures);
+          p.model = pipeline::buildModel(dense, request, figures);
         }
         p.figures = toDict(figures);
         return p;
@@ -94,16 +94,16 @@ void bindModels(py::module_& m) {
 
   m.def("eval", [](const PyModel& p, const py::object& vertices, const py::object& triangles, const std::string& levels, std::size_t samples,
                    const py::object& progress) {
-        const Mesh dense = app::prepareModelInput(toMesh(vertices, triangles));
+        const Mesh dense = pipeline::prepareModelInput(toMesh(vertices, triangles));
         const int top = atlas::maxLevel(p.model.atlas);
-        const std::vector<int> wanted = app::parseLevels(levels.empty() ? "0-" + std::to_string(top) : levels, top);
+        const std::vector<int> wanted = pipeline::parseLevels(levels.empty() ? "0-" + std::to_string(top) : levels, top);
         std::vector<atlas::LevelFigures> figures;
         {
           ProgressToPython report(progress);
           py::gil_scoped_release release;
           figures = atlas::evaluateLevels(p.model.base, p.model.atlas, dense, wanted, samples);
         }
-        return toDict(nlohmann::json{{"levels", app::levelFiguresJson(figures)}})["levels"];
+        return toDict(nlohmann::json{{"levels", pipeline::levelFiguresJson(figures)}})["levels"];
       }, py::arg("model"), py::arg("vertices"), py::arg("triangles"), py::arg("levels") = "", py::arg("samples") = atlas::kHausdorffFacePoints,
       py::arg("progress") = py::none(),
       "per level (isoatlas eval): level, vertices, triangles, hausdorff, psnr_db, rms, psnr_rms_db, closed, manifold against the dense mesh; "

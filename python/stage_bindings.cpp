@@ -6,9 +6,10 @@
 
 #include <optional>
 
-#include "app/options.h"
-#include "app/segmentation.h"
-#include "app/volume_editing.h"
+#include "pipeline/gpu.h"
+#include "pipeline/seed_ball.h"
+#include "pipeline/segmentation.h"
+#include "pipeline/volume_editing.h"
 #include "levelset/dvt/volume_solid.h"
 #include "core/error.h"
 #include "core/progress.h"
@@ -19,26 +20,26 @@
 namespace isoatlas::python {
 namespace {
 
-std::vector<app::Ball> seedBalls(const std::vector<std::vector<double>>& seeds, const Volume& v) {
-  std::vector<app::Ball> balls;
+std::vector<pipeline::Ball> seedBalls(const std::vector<std::vector<double>>& seeds, const Volume& v) {
+  std::vector<pipeline::Ball> balls;
   for (const auto& s : seeds) {
     require(s.size() == 3 || s.size() == 4, "seeds: each is (x, y, z) or (x, y, z, radius) in voxel indices");
     balls.push_back({{s[0], s[1], s[2]}, s.size() == 4 ? s[3] : 3.0});
     require(balls.back().radius > 0, "seeds: a radius must be > 0");
-    app::requireInside(v, balls.back().centre, "seeds");
+    pipeline::requireInside(v, balls.back().centre, "seeds");
   }
   return balls;
 }
 
 }  // namespace
 
-app::Gpu& gpuFor(const std::string& backend, bool warnOnFallback) {
+pipeline::Gpu& gpuFor(const std::string& backend, bool warnOnFallback) {
   require(backend == "gpu" || backend == "cpu" || backend == "auto", "backend=" + backend + ": expected gpu, cpu or auto");
-  static app::Gpu cpu;  // no context
-  static std::optional<app::Gpu> gl;  // the first gpu or auto choice decides, later ones share it
+  static pipeline::Gpu cpu;  // no context
+  static std::optional<pipeline::Gpu> gl;  // the first gpu or auto choice decides, later ones share it
   if (backend == "cpu") return cpu;
   if (!gl) {
-    gl.emplace(app::chooseBackend(backend));
+    gl.emplace(pipeline::chooseBackend(backend));
     // As the command says it on stderr: auto on a machine whose only GL is a software rasteriser.
     if (warnOnFallback && gl->backend == levelset::Backend::Cpu && PyErr_WarnEx(PyExc_RuntimeWarning, "no GPU: using the CPU backend", 1) != 0)
       throw py::error_already_set();
@@ -91,7 +92,7 @@ void bindStages(py::module_& m) {
            py::arg("affine") = py::none())
       .def("add_sphere", [](PyLevelSet& p, const std::vector<double>& centre, double radius, bool add) {
              require(centre.size() == 3, "add_sphere: centre is (x, y, z) in voxel indices");
-             app::requireInside(*p.source, {centre[0], centre[1], centre[2]}, "add_sphere: centre");
+             pipeline::requireInside(*p.source, {centre[0], centre[1], centre[2]}, "add_sphere: centre");
              p.levelSet->addSphere({centre[0], centre[1], centre[2]}, radius, add);
            }, py::arg("centre"), py::arg("radius") = 3.0, py::arg("add") = true, "a ball (voxel indices, radius in voxels) in or out")
       .def("set_params", [](PyLevelSet& p, std::optional<double> target, std::optional<double> width, std::optional<double> alpha) {
@@ -131,7 +132,7 @@ void bindStages(py::module_& m) {
         const VolumeArgument argument(volume, affine, "probe");
         const Volume& v = argument.get();
         require(at.size() == 3, "probe: at is (x, y, z) in voxel indices");
-        app::requireInside(v, {at[0], at[1], at[2]}, "probe: at");
+        pipeline::requireInside(v, {at[0], at[1], at[2]}, "probe: at");
         const levelset::ProbeResult p = levelset::probeSphere(v, {at[0], at[1], at[2]}, radius);
         py::dict d;
         d["mean"] = p.mean, d["std"] = p.std, d["voxels"] = p.voxels;
@@ -147,14 +148,14 @@ void bindStages(py::module_& m) {
         const levelset::SpeedParams params{float(target), float(width), float(alpha)};
         levelset::validateParams(params);
         require(iterations > 0, "iterations must be > 0");
-        const std::vector<app::Ball> balls = seedBalls(seeds, v);
+        const std::vector<pipeline::Ball> balls = seedBalls(seeds, v);
         require(!balls.empty(), "segment: give at least one seed");
-        app::Gpu& gpu = gpuFor(backend);
-        app::Segmentation s;
+        pipeline::Gpu& gpu = gpuFor(backend);
+        pipeline::Segmentation s;
         {
           ProgressToPython report(progress);
           py::gil_scoped_release release;
-          s = app::segmentVolume(v, {.params = params, .seeds = balls, .backend = gpu.backend, .renderer = gpu.renderer,
+          s = pipeline::segmentVolume(v, {.params = params, .seeds = balls, .backend = gpu.backend, .renderer = gpu.renderer,
                                      .maxIterations = iterations, .untilConverged = converge, .readPhi = true});
         }
         // Arrays sharing the Volumes' voxels (the Volumes kept alive as their owners).
@@ -165,24 +166,24 @@ void bindStages(py::module_& m) {
 
   m.def("edit", [](const py::object& volume, const std::vector<std::pair<std::string, std::string>>& steps, std::optional<std::uint32_t> depth,
                    const std::string& backend, const py::object& affine) {
-        app::EditRequest request{.depth = depth};
+        pipeline::EditRequest request{.depth = depth};
         for (const auto& [op, shape] : steps) {
           require(op == "union" || op == "subtract", "edit: each step is (\"union\" or \"subtract\", SHAPE), not " + op);
           request.steps.push_back({op == "union" ? levelset::dvt::Op::Union : levelset::dvt::Op::Subtract, shape});
         }
         Volume segmentation = toVolume(volume, affine, "edit");
-        app::EditInput input;
+        pipeline::EditInput input;
         {
           py::gil_scoped_release release;
-          input = app::editInputOf(std::move(segmentation), request);
-          app::checkEditBudget(input, request);  // before any GL work, as the command does
+          input = pipeline::editInputOf(std::move(segmentation), request);
+          pipeline::checkEditBudget(input, request);  // before any GL work, as the command does
         }
-        app::Gpu& gpu = gpuFor(backend);
+        pipeline::Gpu& gpu = gpuFor(backend);
         Volume mask;
         nlohmann::json figures;
         {
           py::gil_scoped_release release;
-          const app::EditedTree edited = app::applyEdits(input, request, gpu);
+          const pipeline::EditedTree edited = pipeline::applyEdits(input, request, gpu);
           const levelset::dvt::VolumeTree tree = edited.tree->tree();
           figures = edited.figures(tree);
           mask = levelset::dvt::sampleMask(tree);

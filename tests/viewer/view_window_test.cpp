@@ -16,7 +16,7 @@
 #include "tests/test_util.h"
 #include "tests/viewer/head_phantom.h"
 #include "tests/viewer/test_models.h"
-#include "viewer/app/orbit.h"
+#include "viewer/orbit.h"
 #include "viewer/scene.h"
 #include "viewer/slice_render.h"
 #include "atlas/model_file.h"

@@ -28,7 +28,7 @@
 #include "levelset/dvt/dvt_file.h"
 #include "viewer/app/brush_edit.h"
 #include "viewer/app/image_panel.h"
-#include "viewer/app/orbit.h"
+#include "viewer/orbit.h"
 #include "viewer/app/segmentation_session.h"
 #include "viewer/app/view_script.h"
 #include "viewer/dvt_render.h"

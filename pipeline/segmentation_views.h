@@ -11,7 +11,7 @@
 #include "core/image.h"
 #include "viewer/camera.h"
 
-namespace isoatlas::app {
+namespace isoatlas::pipeline {
 
 struct SegmentationViewRequest {
   std::string volume, segmentation;  // the scan; a mask or phi volume in its grid (may be empty)
@@ -27,4 +27,4 @@ struct SegmentationViewRequest {
 // Reads and checks everything before any GL work; adds view, inside_voxels and size to `figures`.
 Image renderSegmentationView(const SegmentationViewRequest& request, nlohmann::json& figures);
 
-}  // namespace isoatlas::app
+}  // namespace isoatlas::pipeline

@@ -1,14 +1,15 @@
-#include "app/segmentation_views.h"
+#include "pipeline/segmentation_views.h"
 
-#include "app/options.h"
+#include "pipeline/gpu.h"
+#include "pipeline/seed_ball.h"
 #include "core/error.h"
 #include "core/volume_io.h"
 #include "levelset/level_set.h"
-#include "viewer/app/orbit.h"
+#include "viewer/orbit.h"
 #include "viewer/slice_render.h"
 #include "viewer/volume_render.h"
 
-namespace isoatlas::app {
+namespace isoatlas::pipeline {
 
 Image renderSegmentationView(const SegmentationViewRequest& request, nlohmann::json& figures) {
   SegmentationViewRequest r = request;
@@ -60,4 +61,4 @@ Image renderSegmentationView(const SegmentationViewRequest& request, nlohmann::j
   return viewer::renderVolume(volume, levelSet, view);
 }
 
-}  // namespace isoatlas::app
+}  // namespace isoatlas::pipeline

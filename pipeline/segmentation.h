@@ -8,10 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "app/options.h"
+#include "pipeline/gpu.h"
+#include "pipeline/seed_ball.h"
 #include "levelset/level_set.h"
 
-namespace isoatlas::app {
+namespace isoatlas::pipeline {
 
 struct SegmentationRequest {
   levelset::SpeedParams params;
@@ -40,4 +41,4 @@ struct Segmentation {
 
 Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& request);
 
-}  // namespace isoatlas::app
+}  // namespace isoatlas::pipeline

@@ -2,7 +2,6 @@
 // union and subtract steps (brushes or meshes) applied in order on the chosen backend, collapsed at
 // the end, and the result as a mask in the input's geometry, a mesh (through extract/) or a tree.
 #pragma once
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <memory>
@@ -10,22 +9,20 @@
 #include <string>
 #include <vector>
 
-#include "app/options.h"
+#include "pipeline/gpu.h"
 #include "core/volume.h"
 #include "core/mesh.h"
 #include "levelset/dvt/dynamic_volume_tree.h"
 #include "levelset/dvt/solid.h"
 #include "viewer/dvt_render.h"
 
-namespace isoatlas::app {
+namespace isoatlas::pipeline {
 
 struct EditStep {
   levelset::dvt::Op op = levelset::dvt::Op::Union;
   std::string shape;  // sphere:..., box:..., capsule:..., torus:..., mesh:FILE (levelset/dvt/solid.h)
 };
 
-// --union SHAPE and --subtract SHAPE on `sub`, each adding a step in command-line order.
-void addEditStepOptions(CLI::App& sub, const std::shared_ptr<std::vector<EditStep>>& steps);
 // The steps' solids: brushes parsed, meshes read (throws Error naming the shape or the file).
 std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>> stepSolids(const std::vector<EditStep>& steps);
 
@@ -78,4 +75,4 @@ void applySteps(EditedTree& edited, const EditRequest& request, const std::vecto
 // A picture of the edited tree: from the GPU tree's own buffers, else `streams` uploaded.
 Image renderEditedTree(const EditedTree& edited, const levelset::dvt::VolumeTree& streams, const viewer::DvtView& view, Gpu& gpu);
 
-}  // namespace isoatlas::app
+}  // namespace isoatlas::pipeline

@@ -1,4 +1,4 @@
-#include "app/model_building.h"
+#include "pipeline/model_building.h"
 
 #include <chrono>
 #include <filesystem>
@@ -6,14 +6,18 @@
 #include "atlas/atlas_previews.h"
 #include "atlas/hausdorff.h"
 #include "atlas/make_atlas.h"
+#include "atlas/reconstruct.h"
+#include "atlas/stamp_detail.h"
 #include "core/error.h"
 #include "core/image.h"
 #include "core/progress.h"
+#include "core/text.h"
 #include "multires/folded_dense_triangles.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
+#include "viewer/mesh_render.h"
 
-namespace isoatlas::app {
+namespace isoatlas::pipeline {
 
 Mesh prepareModelInput(Mesh mesh) {
   if (!mesh.allFacesHave(3)) {
@@ -130,4 +134,77 @@ void writeModelFiles(const atlas::Model& model, const std::string& path, const s
   }
 }
 
-}  // namespace isoatlas::app
+std::vector<int> parseLevels(const std::string& text, int maxLevel) {
+  std::vector<int> levels;
+  auto number = [&](const std::string& s) {
+    std::size_t used = 0;
+    int v = -1;
+    try {
+      v = std::stoi(s, &used);
+    } catch (const std::exception&) {
+    }
+    require(used == s.size() && v >= 0 && v <= maxLevel,
+            "--levels: '" + s + "' is not a level from 0 to " + std::to_string(maxLevel) + " (e.g. 0-" + std::to_string(maxLevel) + " or 0,4,8)");
+    return v;
+  };
+  std::size_t at = 0;
+  while (at <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', at), text.size());
+    const std::string item = text.substr(at, comma - at);
+    const std::size_t dash = item.find('-');
+    if (dash == std::string::npos) {
+      levels.push_back(number(item));
+    } else {
+      const int from = number(item.substr(0, dash)), to = number(item.substr(dash + 1));
+      require(from <= to, "--levels: the range '" + item + "' runs backwards");
+      for (int l = from; l <= to; ++l) levels.push_back(l);
+    }
+    at = comma + 1;
+  }
+  return levels;
+}
+
+nlohmann::json levelFiguresJson(const std::vector<atlas::LevelFigures>& levels) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& l : levels)
+    out.push_back({{"level", l.level}, {"vertices", l.vertices}, {"triangles", l.triangles}, {"hausdorff", l.hausdorff},
+                   {"psnr_db", l.psnrDb}, {"rms", l.rms}, {"psnr_rms_db", l.psnrRmsDb}, {"closed", l.closed},
+                   {"manifold", l.manifold}});
+  return out;
+}
+
+Image closeUp(const atlas::Model& model, const atlas::StampStats& stamp, double radius) {
+  const Mesh finest = atlas::reconstructLevel(model.base, model.atlas, atlas::maxLevel(model.atlas));
+  const Mesh near = selectFaces(finest, [&](std::size_t f) {
+    const auto c = finest.face(f);
+    return norm(finest.positions[c[0]] - stamp.centre) < 1.3 * radius;
+  });
+  const Vec3 worldUp = std::abs(stamp.normal.z) > 0.9 ? Vec3{0, 1, 0} : Vec3{0, 0, 1};
+  // selectFaces keeps the normals of the vertices it keeps: the atlas's, stamped.
+  return viewer::renderMesh(near, {.viewDirection = stamp.normal * -1, .up = worldUp});
+}
+
+atlas::StampStats stampModel(atlas::Model& model, const StampRequest& request, nlohmann::json& r) {
+  require(!request.image.empty() || !request.text.empty(), "give --stamp IMAGE.png or --text WORD");
+  require(request.image.empty() || request.text.empty(), "give --stamp or --text, not both");
+  atlas::Stamp stamp;
+  stamp.image = request.image.empty() ? renderText(request.text, 128, request.font) : readPng(request.image);
+  stamp.at = request.at;
+  stamp.radius = request.radius;
+  stamp.depth = request.depth;
+  stamp.detailSize = request.detailSize;
+  const atlas::StampStats s = atlas::stampDetail(model.base, model.atlas, stamp);
+  require(s.texelsChanged + s.detailTexelsChanged > 0, "the stamp reaches no part of the surface (its image is blank there?)");
+  r["centre"] = {s.centre.x, s.centre.y, s.centre.z};
+  r["normal"] = {s.normal.x, s.normal.y, s.normal.z};
+  r["detail_tiles"] = s.detailTiles;
+  r["texels_changed"] = s.texelsChanged;
+  r["detail_texels_changed"] = s.detailTexelsChanged;
+  r["detail_charts"] = model.atlas.details.size();
+  r["max_level"] = atlas::maxLevel(model.atlas);
+  logInfo("edit-detail: stamped " + std::to_string(s.detailTiles) + " tiles' detail charts and " + std::to_string(s.texelsChanged) +
+          " texels of their charts");
+  return s;
+}
+
+}  // namespace isoatlas::pipeline

@@ -14,7 +14,7 @@
 #include "core/mesh.h"
 #include "core/text.h"
 
-namespace isoatlas::app {
+namespace isoatlas::pipeline {
 
 struct ModelRequest {
   double baseRatio = 0.01;
@@ -64,4 +64,4 @@ atlas::StampStats stampModel(atlas::Model& model, const StampRequest& request, n
 // The stamped region at the model's finest level, seen along the stamp's normal.
 Image closeUp(const atlas::Model& model, const atlas::StampStats& stamp, double radius);
 
-}  // namespace isoatlas::app
+}  // namespace isoatlas::pipeline

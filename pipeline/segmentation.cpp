@@ -1,8 +1,8 @@
-#include "app/segmentation.h"
+#include "pipeline/segmentation.h"
 
 #include "core/progress.h"
 
-namespace isoatlas::app {
+namespace isoatlas::pipeline {
 
 Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& request) {
   Segmentation s;
@@ -38,4 +38,4 @@ nlohmann::json Segmentation::figures() const {
           {"physical_bytes_peak", levelSet->physicalBytesPeak()}};
 }
 
-}  // namespace isoatlas::app
+}  // namespace isoatlas::pipeline

@@ -1,4 +1,4 @@
-#include "app/volume_editing.h"
+#include "pipeline/volume_editing.h"
 
 #include <chrono>
 
@@ -15,7 +15,7 @@
 #include "levelset/dvt/volume_solid.h"
 #include "levelset/level_set.h"
 
-namespace isoatlas::app {
+namespace isoatlas::pipeline {
 namespace dvt = levelset::dvt;
 namespace {
 
@@ -75,18 +75,6 @@ nlohmann::json EditedTree::figures(const dvt::VolumeTree& t) const {
   return {{"nodes", t.nodeCount()}, {"leaves", t.leafCount()}, {"depth_max", t.maxDepth()}, {"depth", depth},
           {"seconds_write", secondsWrite}, {"seconds_collapse", secondsCollapse}, {"collapses", collapses}, {"bytes", tree->bytes()},
           {"backend", backend}, {"input_voxels", inputVoxels}, {"write_iterations", iterations}};
-}
-
-void addEditStepOptions(CLI::App& sub, const std::shared_ptr<std::vector<EditStep>>& steps) {
-  const std::string shapes =
-      "SHAPE in world coordinates: sphere:X,Y,Z,R  box:X0,Y0,Z0,X1,Y1,Z1  capsule:X0,Y0,Z0,X1,Y1,Z1,R  torus:X,Y,Z,R,r  mesh:FILE";
-  // Callbacks as each option is parsed, so unions and subtractions keep the command line's order.
-  sub.add_option_function<std::string>("--union", [steps](const std::string& s) { steps->push_back({dvt::Op::Union, s}); },
-                                       "add a " + shapes + "; repeatable")
-      ->trigger_on_parse();
-  sub.add_option_function<std::string>("--subtract", [steps](const std::string& s) { steps->push_back({dvt::Op::Subtract, s}); },
-                                       "carve a SHAPE out; repeatable, applied in order with --union")
-      ->trigger_on_parse();
 }
 
 std::vector<std::unique_ptr<dvt::DistanceSolid>> stepSolids(const std::vector<EditStep>& steps) {
@@ -180,4 +168,4 @@ Image renderEditedTree(const EditedTree& e, const dvt::VolumeTree& streams, cons
 }
 
 
-}  // namespace isoatlas::app
+}  // namespace isoatlas::pipeline

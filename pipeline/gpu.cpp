@@ -1,0 +1,34 @@
+#include "pipeline/gpu.h"
+
+#include "core/error.h"
+#include "core/progress.h"
+
+namespace isoatlas::pipeline {
+
+gl::Context& Gpu::needGl() {
+  if (!context) context = gl::Context::headless();
+  if (!context->isCurrent()) context->makeCurrent();
+  return *context;
+}
+
+Gpu chooseBackend(const std::string& choice) {
+  Gpu gpu;
+  if (choice == "cpu") return gpu;
+  if (choice != "gpu" && choice != "auto") throw Error("--backend " + choice + ": expected gpu, cpu or auto");
+  try {
+    const gl::Info& info = gpu.needGl().info();
+    if (choice == "auto" && info.software()) {
+      logInfo("no GPU: using the CPU backend (--backend gpu runs the GPU path on " + info.renderer + ")");
+      return gpu;
+    }
+    gpu.backend = levelset::Backend::Gpu;
+    gpu.renderer = info.renderer;
+    return gpu;
+  } catch (const Error& e) {
+    if (choice == "gpu") throw Error(std::string(e.what()) + "; --backend cpu runs without a GPU", ErrorKind::Failure);
+    logInfo(std::string("no OpenGL 4.5: using the CPU backend (") + e.what() + ")");
+    return gpu;
+  }
+}
+
+}  // namespace isoatlas::pipeline
