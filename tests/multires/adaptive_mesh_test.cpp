@@ -10,7 +10,6 @@
 #include "core/error.h"
 #include "core/mesh_topology.h"
 #include "multires/adaptive_mesh.h"
-#include "multires/mesh_distance.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
 #include "tests/multires/mesh_shapes.h"

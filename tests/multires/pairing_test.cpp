@@ -5,7 +5,6 @@
 #include <map>
 
 #include "core/mesh_topology.h"
-#include "multires/mesh_distance.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
 #include "tests/multires/mesh_shapes.h"
@@ -109,29 +108,6 @@ TEST(TrianglePairing, SplitVerticesLieOnTheDenseBoundary) {
     }
   }
   EXPECT_GT(splitVertices, 0u);
-}
-
-TEST(MeshDistance, ZeroToItselfAndTheOffsetToATranslatedCopy) {
-  const Mesh sphere = test::sphereMesh(8);
-  const Hausdorff self = hausdorffDistance(sphere, sphere);
-  EXPECT_LT(self.symmetric(), 1e-9);
-  Mesh moved = sphere;
-  for (Vec3& p : moved.positions) p = p + Vec3{0.3, 0, 0};
-  const Hausdorff h = hausdorffDistance(sphere, moved);
-  EXPECT_NEAR(h.symmetric(), 0.3, 0.3 * 0.03);
-  EXPECT_NEAR(h.aToB, h.bToA, 0.3 * 0.03);
-  EXPECT_NEAR(psnrDb(100, 1), 40, 1e-12);
-}
-
-TEST(MeshDistance, FarPointsAreMeasuredExactly) {
-  Mesh square;
-  square.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-  square.addFace({0, 1, 2});
-  square.addFace({0, 2, 3});
-  const TriangleGrid grid(square);
-  EXPECT_NEAR(grid.distance({0.5, 0.5, 7}), 7, 1e-12);
-  EXPECT_NEAR(grid.distance({4, 5, 0}), 5, 1e-12);  // to the corner (1, 1): (3, 4)
-  EXPECT_NEAR(grid.distance({0.25, 0.75, -0.5}), 0.5, 1e-12);
 }
 
 }  // namespace

@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "core/mesh_topology.h"
-#include "multires/mesh_distance.h"
+#include "atlas/hausdorff.h"
 #include "multires/stellar_simplify.h"
 #include "tests/multires/mesh_shapes.h"
 #include "tests/multires/parametrisation_checks.h"
@@ -199,10 +199,10 @@ TEST(StellarSimplify, ErrorBoundStopsEarly) {
   expectSameTopology(dense, b.triangleMesh());
   // The bound is on each weld's RMS distance to the planes it replaced: the dense surface stays that
   // close on average, where the unbounded run strays past it.
-  const Hausdorff boundedDistance = hausdorffDistance(dense, b.triangleMesh());
-  const Hausdorff looseDistance = hausdorffDistance(dense, a.triangleMesh());
-  EXPECT_LE(boundedDistance.meanAToB, 0.05);
-  EXPECT_GT(looseDistance.meanAToB, 0.05);
+  const atlas::Hausdorff boundedDistance = atlas::hausdorffDistance(dense, b.triangleMesh());
+  const atlas::Hausdorff looseDistance = atlas::hausdorffDistance(dense, a.triangleMesh());
+  EXPECT_LE(boundedDistance.rmsAToB, 0.05);
+  EXPECT_GT(looseDistance.rmsAToB, 0.05);
 }
 
 TEST(StellarSimplify, RejectsNonManifoldInputSayingWhere) {
