@@ -93,7 +93,7 @@ void addEditCommand(CLI::App& app, int& exitCode) {
     } else if (toMesh) {
       const Volume field = dvt::sampleField(tree, meshSamplingDepth(tree.frame, edited.depth));
       extract::ExtractStats stats;
-      const Mesh mesh = extract::extractSurface(field, {.iso = 0.0f, .gpu = gpu.backend == levelset::Backend::Gpu}, &stats);
+      const Mesh mesh = extract::extractSurface(field, {.iso = 0.0f, .backend = gpu.backend}, &stats);
       if (mesh.faceCount() == 0) throw Error(o->output + ": the edited volume is empty (no surface)", ErrorKind::Failure);
       writeMesh(o->output, mesh);
       r["mesh"] = meshFigures(mesh, stats);

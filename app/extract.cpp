@@ -45,7 +45,7 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
     const pipeline::Gpu backend = pipeline::chooseBackend(o->backend);
     const bool gpu = backend.backend == levelset::Backend::Gpu;
     extract::ExtractOptions options{.largestComponent = o->largest, .minComponentTriangles = o->minComponent,
-                                    .smoothIterations = o->smooth, .gpu = gpu};
+                                    .smoothIterations = o->smooth, .backend = backend.backend};
     if (o->iso) options.iso = float(*o->iso);
     extract::ExtractStats stats;
     const Mesh mesh = extract::extractSurface(v, options, &stats);

@@ -263,7 +263,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       if (edits.steps.empty()) {
         stages.push_back({"edit", "skipped", "no --union or --subtract given"});
         // Extract: marching cubes over the level set's active pages, read where the solver keeps them.
-        surface = extract::extractLevelSet(*s.levelSet, {.largestComponent = true, .gpu = s.backend == levelset::Backend::Gpu},
+        surface = extract::extractLevelSet(*s.levelSet, {.largestComponent = true, .backend = s.backend},
                                            &extractStats);
       } else {
         // Edit: the level set's phi, read from its pages, in a dynamic volume tree; the shapes
@@ -282,7 +282,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
         stages.push_back({"edit", "done", what + ": " + std::to_string(tree.nodeCount()) + " nodes on the " + edited.backend +
                                               ": mask_edited.nii.gz, edited_tree.png"});
         surface = extract::extractSurface(levelset::dvt::sampleField(tree, tree.frame.voxelDepth()),
-                                          {.iso = 0.0f, .largestComponent = true, .gpu = s.backend == levelset::Backend::Gpu}, &extractStats);
+                                          {.iso = 0.0f, .largestComponent = true, .backend = s.backend}, &extractStats);
       }
       writeMesh(products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), *surface);
       r["extract"] = meshFigures(*surface, extractStats);

@@ -112,10 +112,10 @@ void openVdbComparison(const std::string& data, const gl::Context* gpu) {
   // call, as in a session that extracts more than once.
   if (gpu) {
     const std::string device = deviceName(*gpu);
-    extract::extractSurface(phi, {.iso = 0.0f, .gpu = true});
+    extract::extractSurface(phi, {.iso = 0.0f, .backend = levelset::Backend::Gpu});
     std::size_t gpuTriangles = 0;
     const double gpuSeconds = bench::medianSeconds(7, [&] {
-      gpuTriangles = extract::extractSurface(phi, {.iso = 0.0f, .gpu = true}).faceCount();
+      gpuTriangles = extract::extractSurface(phi, {.iso = 0.0f, .backend = levelset::Backend::Gpu}).faceCount();
     });
     bench::report("extract", name + ", isoatlas gpu", "seconds", gpuSeconds, "isoatlas cpu path (TBB)", oursSeconds,
                   true, device);
@@ -133,7 +133,7 @@ void pagesAgainstDense(const Volume& ch2, levelset::Backend backend, const std::
   std::fprintf(stderr, "bench: ch2 white matter segmented on the %s in %d iterations (%s), %zu active pages\n",
                gpu ? "GPU" : "CPU", run.iterations, run.converged ? "converged" : "not converged",
                ls.pages().activePages().size());
-  const extract::ExtractOptions options{.gpu = gpu};
+  const extract::ExtractOptions options{.backend = backend};
   extract::ExtractStats pagesStats, denseStats;
   std::size_t pagesTriangles = 0, denseTriangles = 0;
   auto fromPages = [&] { pagesTriangles = extract::extractLevelSet(ls, options, &pagesStats).faceCount(); };

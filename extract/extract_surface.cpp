@@ -6,7 +6,6 @@
 #include <set>
 
 #include "core/error.h"
-#include "extract/gpu_marching_cubes.h"
 #include "extract/marching_cubes.h"
 #include "extract/mesh_filters.h"
 #include "levelset/level_set.h"
@@ -53,15 +52,13 @@ void toWorld(Mesh& mesh, const Volume& v) {
       std::swap(mesh.faceVertices[mesh.faceOffsets[f] + 1], mesh.faceVertices[mesh.faceOffsets[f] + 2]);
 }
 
-using VisitBlock = std::function<bool(std::int64_t, std::int64_t, std::int64_t)>;
-
 // Marching cubes on the GPU or the CPU over the visited blocks, then what every extraction does
 // after it: components, world coordinates, smoothing, figures. `field` says where the values came
 // from ("dense" or "pages") in s.path.
-Mesh march(const Grid& grid, bool gpu, const char* field, const VisitBlock& visit, const Volume& geometry,
+Mesh march(const Grid& grid, levelset::Backend backend, const char* field, const VisitBlock& visit, const Volume& geometry,
            const ExtractOptions& o, ExtractStats& s, std::chrono::steady_clock::time_point start) {
-  s.path = std::string(gpu ? "gpu " : "cpu ") + field;
-  MarchingResult result = gpu ? marchingCubesGpu(grid, s.iso, kBlock, visit) : marchingCubes(grid, s.iso, kBlock, visit);
+  s.path = std::string(backend == levelset::Backend::Gpu ? "gpu " : "cpu ") + field;
+  MarchingResult result = marchingCubes(backend, grid, s.iso, kBlock, visit);
   s.cellsVisited = result.cellsVisited;
   s.gpuBytes = result.gpuBytes;
   s.cellsTotal = (geometry.dims[0] + 1) * (geometry.dims[1] + 1) * (geometry.dims[2] + 1);
@@ -134,7 +131,7 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
       }
     return inside > 0 && (inside < corners || border);
   };
-  return march(grid, o.gpu, "dense", visit, volume, o, s, start);
+  return march(grid, o.backend, "dense", visit, volume, o, s, start);
 }
 
 namespace {
@@ -166,12 +163,13 @@ Mesh extractLevelSet(const levelset::LevelSet& ls, const ExtractOptions& o, Extr
   ExtractStats local;
   ExtractStats& s = stats ? *stats : local;
   s.iso = o.iso.value_or(0.0f);
-  const bool gpu = o.gpu && ls.phiPoolTexture() != 0;
+  // The GPU reads the pool where a GPU level set keeps it; a CPU level set's pool is on the host.
+  const bool gpu = o.backend == levelset::Backend::Gpu && ls.phiPoolTexture() != 0;
   Grid grid{ls.pages().dims()};
   grid.paged.pages = &ls.pages();
-  if (gpu) grid.paged.texture = ls.phiPoolTexture();
+  if (gpu) grid.pagedTexture = ls.phiPoolTexture();
   else grid.paged.pool = ls.phiPoolOnHost();
-  return march(grid, gpu, "pages", activeBlocks(ls.pages()), ls.geometry(), o, s, start);
+  return march(grid, gpu ? levelset::Backend::Gpu : levelset::Backend::Cpu, "pages", activeBlocks(ls.pages()), ls.geometry(), o, s, start);
 }
 
 Mesh extractLevelSet(const levelset::LevelSet& ls, const Volume& phi, const ExtractOptions& o, ExtractStats* stats) {
@@ -182,7 +180,7 @@ Mesh extractLevelSet(const levelset::LevelSet& ls, const Volume& phi, const Extr
   ExtractStats& s = stats ? *stats : local;
   s.iso = o.iso.value_or(0.0f);
   const Grid grid{phi.dims, reinterpret_cast<const float*>(phi.data.data())};
-  return march(grid, o.gpu, "dense", activeBlocks(ls.pages()), phi, o, s, start);
+  return march(grid, o.backend, "dense", activeBlocks(ls.pages()), phi, o, s, start);
 }
 
 }  // namespace isoatlas::extract

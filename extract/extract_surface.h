@@ -13,10 +13,7 @@
 
 #include "core/mesh.h"
 #include "core/volume.h"
-
-namespace isoatlas::levelset {
-class LevelSet;
-}
+#include "levelset/level_set.h"
 
 namespace isoatlas::extract {
 
@@ -25,7 +22,7 @@ struct ExtractOptions {
   bool largestComponent = false;
   std::int64_t minComponentTriangles = 0;
   int smoothIterations = 0;        // Taubin (lambda 0.5, mu -0.53)
-  bool gpu = false;                // marching cubes in compute shaders (gpu_marching_cubes.h)
+  levelset::Backend backend = levelset::Backend::Cpu;  // Gpu: marching cubes in compute shaders
 };
 
 struct ExtractStats {
@@ -40,7 +37,7 @@ struct ExtractStats {
 
 Mesh extractSurface(const Volume& volume, const ExtractOptions& options, ExtractStats* stats = nullptr);
 // From the level set's pages, where its backend keeps them, with no dense phi on the host or the
-// GPU: on the GPU (options.gpu and a GPU level set) the shaders read the solver's pool texture in the
+// GPU: on the GPU (the Gpu backend and a GPU level set) the shaders read the solver's pool texture in the
 // current GL context; otherwise the CPU reads the pool on the host (the GPU's read back once).
 Mesh extractLevelSet(const levelset::LevelSet& levelSet, const ExtractOptions& options, ExtractStats* stats = nullptr);
 // The same from a dense phi (levelSet.phi()), over the same blocks: the reference the paged path is

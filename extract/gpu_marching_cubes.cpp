@@ -1,5 +1,7 @@
 #include "extract/gpu_marching_cubes.h"
 
+#include "extract/case_table.h"
+
 #include <optional>
 #include <algorithm>
 
@@ -70,7 +72,7 @@ BlockStorage blockStorage(const std::array<std::int64_t, 3>& d, int blockSize,
 MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
                                 const std::function<bool(std::int64_t, std::int64_t, std::int64_t)>& visitBlock) {
   require(blockSize == 8, "the GPU extraction works in blocks of 8^3 cells");
-  const bool paged = grid.paged.texture != 0;
+  const bool paged = grid.pagedTexture != 0;
   require(paged || grid.values, "marchingCubesGpu: the grid has neither values nor a GPU page pool");
   gl::Context& ctx = gl::Context::current();
   const auto d = grid.dims;
@@ -100,7 +102,7 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   // The field: the dense values, or the page table through which the shaders read the pool.
   gl::Buffer field;
   std::optional<levelset::PagedPhiGpu> pagedPhi;
-  if (paged) pagedPhi.emplace(*grid.paged.pages, grid.paged.texture);
+  if (paged) pagedPhi.emplace(*grid.paged.pages, grid.pagedTexture);
   else field = gl::Buffer(grid.voxels() * sizeof(float), grid.values);
   const PackedCaseTable& table = packedCaseTable();
   gl::Buffer blockBuffer = gl::Buffer::of(storage.blocks), slotBuffer = gl::Buffer::of(storage.slots);

@@ -1,5 +1,6 @@
 // marchingCubes: the isosurface {f = iso} of a scalar field on a grid, as a closed, 2-manifold,
-// consistently oriented triangle mesh.
+// consistently oriented triangle mesh, on the CPU (cpu_marching_cubes.h, TBB) or the GPU
+// (gpu_marching_cubes.h, GL 4.5 compute), which give the same mesh.
 //   Each cell's surface is traced from its faces: on every face the crossing points are paired into
 //   segments by a rule that depends on that face alone (on an ambiguous face the two inside corners
 //   are kept apart), so the two cells sharing a face always agree; the segments chain into polygons,
@@ -17,27 +18,27 @@
 #include <vector>
 
 #include "core/mesh.h"
-#include "levelset/page_manager.h"
+#include "levelset/level_set.h"
+#include "levelset/paged_phi_cpu.h"
 
 namespace isoatlas::extract {
 
-// phi where a level set's pages hold it: its pool (rows of poolPagesX * P texels), each voxel found
-// through the page table (inactive pages read the static inside/outside slots).
-struct PagedPhi {
-  const levelset::PageManager* pages = nullptr;
-  const float* pool = nullptr;  // on the host: what the CPU path reads
-  unsigned texture = 0;         // on the GPU (r32f, in the current GL context): what the GPU path reads
-};
-
-// A scalar field on dims grid points, x fastest: dense `values`, or `paged` (no dense copy anywhere).
+// A scalar field on dims grid points, x fastest: dense `values`, or a level set's pages (no dense
+// copy anywhere): on the host for the CPU path, its pool texture (r32f, in the current GL context)
+// for the GPU path.
 struct Grid {
   std::array<std::int64_t, 3> dims;
   const float* values = nullptr;
-  PagedPhi paged = {};
+  levelset::PagedPhiCpu paged = {};  // paged.pages also gives the GPU path its page table
+  unsigned pagedTexture = 0;
   std::size_t voxels() const { return std::size_t(dims[0]) * std::size_t(dims[1]) * std::size_t(dims[2]); }
-  float at(std::int64_t x, std::int64_t y, std::int64_t z) const;
+  float at(std::int64_t x, std::int64_t y, std::int64_t z) const {
+    return values ? values[std::size_t((z * dims[1] + y) * dims[0] + x)] : paged.at(x, y, z);
+  }
   // Row (y, z): dims[0] values, copied into `scratch` when paged.
-  const float* row(std::int64_t y, std::int64_t z, std::vector<float>& scratch) const;
+  const float* row(std::int64_t y, std::int64_t z, std::vector<float>& scratch) const {
+    return values ? values + std::size_t((z * dims[1] + y) * dims[0]) : paged.row(y, z, dims[0], scratch);
+  }
 };
 
 struct MarchingResult {
@@ -56,10 +57,13 @@ inline BlockCells blockCells(std::int64_t b, int blockSize, std::int64_t points)
   return {b * blockSize - 1, std::min(b * blockSize + blockSize - 2, points - 1)};
 }
 
+using VisitBlock = std::function<bool(std::int64_t bx, std::int64_t by, std::int64_t bz)>;
+
 // Cells are the cubes between grid points, from (-1,-1,-1) to dims-1 (the padding included).
 // `visitBlock`, when given, says which blocks of blockSize^3 cells can hold surface (e.g. those
 // touching an active page of a level set); others are skipped. Blocks are indexed from cell -1.
-MarchingResult marchingCubes(const Grid& grid, float iso, int blockSize = 8,
-                             const std::function<bool(std::int64_t bx, std::int64_t by, std::int64_t bz)>& visitBlock = {});
+// On the GPU backend it runs in the current GL context (gl::Context::current(), checked).
+MarchingResult marchingCubes(levelset::Backend backend, const Grid& grid, float iso, int blockSize = 8,
+                             const VisitBlock& visitBlock = {});
 
 }  // namespace isoatlas::extract

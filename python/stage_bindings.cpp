@@ -196,8 +196,7 @@ void bindStages(py::module_& m) {
   m.def("extract", [](const py::object& volume, std::optional<double> iso, bool largest, const std::string& backend, const py::object& affine) {
         const VolumeArgument argument(volume, affine, "extract");
         const Volume& v = argument.get();
-        const bool gpu = gpuFor(backend).backend == levelset::Backend::Gpu;
-        extract::ExtractOptions options{.largestComponent = largest, .gpu = gpu};
+        extract::ExtractOptions options{.largestComponent = largest, .backend = gpuFor(backend).backend};
         if (iso) options.iso = float(*iso);
         Mesh mesh;
         {

@@ -11,7 +11,7 @@
 #include "core/error.h"
 #include "core/mesh_topology.h"
 #include "extract/extract_surface.h"
-#include "extract/gpu_marching_cubes.h"
+#include "extract/cpu_marching_cubes.h"
 #include "extract/marching_cubes.h"
 #include "levelset/level_set.h"
 #include "tests/gl_context.h"
@@ -104,7 +104,7 @@ TEST(MarchingCubes, EveryCasePatternClosesAcrossNeighbours) {
   for (int trial = 0; trial < 20000; ++trial) {
     std::vector<float> values(27);
     for (float& x : values) x = in(rng) ? 1.0f : -1.0f;
-    const MarchingResult r = marchingCubes({{3, 3, 3}, values.data()}, 0.0f);
+    const MarchingResult r = marchingCubesCpu({{3, 3, 3}, values.data()}, 0.0f);
     if (r.mesh.faceCount() == 0) continue;
     const MeshTopology t = analyzeTopology(r.mesh);
     ASSERT_TRUE(t.closed && t.manifold && t.oriented) << "trial " << trial << ": " << t.firstProblem;
@@ -230,7 +230,7 @@ TEST(MarchingCubesGpu, GivesTheCpuMesh) {
   });
   ExtractStats cpuStats, gpuStats;
   const Mesh cpu = extractSurface(torus, {.iso = 0.0f}, &cpuStats);
-  const Mesh gpu = extractSurface(torus, {.iso = 0.0f, .gpu = true}, &gpuStats);
+  const Mesh gpu = extractSurface(torus, {.iso = 0.0f, .backend = levelset::Backend::Gpu}, &gpuStats);
   expectSameMesh(cpu, gpu);
   EXPECT_EQ(cpuStats.cellsVisited, gpuStats.cellsVisited);
   expectClosedManifold(gpu, 1);
@@ -239,7 +239,7 @@ TEST(MarchingCubesGpu, GivesTheCpuMesh) {
   std::uniform_int_distribution<int> value(-2, 2);
   for (int trial = 0; trial < 6; ++trial) {
     const Volume v = test::fieldVolume({13, 11, 9}, [&](double, double, double) { return value(rng); });
-    expectSameMesh(extractSurface(v, {.iso = 0.0f}), extractSurface(v, {.iso = 0.0f, .gpu = true}));
+    expectSameMesh(extractSurface(v, {.iso = 0.0f}), extractSurface(v, {.iso = 0.0f, .backend = levelset::Backend::Gpu}));
   }
 }
 
@@ -259,11 +259,11 @@ TEST(MarchingCubesGpu, GivesTheCpuMeshWhenBlocksAreSkipped) {
   std::vector<char> visit(std::size_t(nx * ny * nz));
   for (char& v : visit) v = rng() % 5 < 2;
   auto scattered = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) { return visit[std::size_t((bz * ny + by) * nx + bx)] != 0; };
-  const MarchingResult cpu = marchingCubes(grid, 0.0f, 8, scattered);
-  const MarchingResult all = marchingCubes(grid, 0.0f, 8);
+  const MarchingResult cpu = marchingCubes(levelset::Backend::Cpu, grid, 0.0f, 8, scattered);
+  const MarchingResult all = marchingCubesCpu(grid, 0.0f, 8);
   ASSERT_GT(cpu.mesh.faceCount(), all.mesh.faceCount() / 5);
   ASSERT_LT(cpu.mesh.faceCount(), all.mesh.faceCount() * 4 / 5);
-  const MarchingResult gpu = marchingCubesGpu(grid, 0.0f, 8, scattered);
+  const MarchingResult gpu = marchingCubes(levelset::Backend::Gpu, grid, 0.0f, 8, scattered);
   expectSameMesh(cpu.mesh, gpu.mesh);
   EXPECT_EQ(cpu.cellsVisited, gpu.cellsVisited);
   EXPECT_LT(cpu.cellsVisited, all.cellsVisited);
@@ -321,11 +321,11 @@ TEST(ExtractLevelSet, PagesGiveTheDensePhisMeshOnBothBackends) {
         const Mesh onCpu = extractLevelSet(*ls, {}, &cpuPages);
         EXPECT_EQ(cpuPages.path, "cpu pages");
         expectIdenticalMesh(onCpu, truth);
-        const Mesh onGpu = extractLevelSet(*ls, {.gpu = true}, &gpuPages);
+        const Mesh onGpu = extractLevelSet(*ls, {.backend = levelset::Backend::Gpu}, &gpuPages);
         EXPECT_EQ(gpuPages.path, backend == levelset::Backend::Gpu ? "gpu pages" : "cpu pages");
         expectSameMesh(onGpu, truth);
         if (backend == levelset::Backend::Gpu) {
-          const Mesh dense = extractLevelSet(*ls, phi, {.gpu = true}, &gpuDense);
+          const Mesh dense = extractLevelSet(*ls, phi, {.backend = levelset::Backend::Gpu}, &gpuDense);
           expectIdenticalMesh(onGpu, dense);
         }
       }
@@ -348,8 +348,8 @@ TEST(ExtractLevelSet, GpuMemoryFollowsTheSurfaceNotTheGrid) {
     levelset::LevelSet ls(image, {100, 40, 0.8f}, {.backend = levelset::Backend::Gpu});
     ls.addSphere({20, 22, 12}, 3);
     ls.run({.maxIterations = 150});
-    meshes[big] = extractLevelSet(ls, {.gpu = true}, &pages[big]);
-    extractLevelSet(ls, ls.phi(), {.gpu = true}, &dense[big]);
+    meshes[big] = extractLevelSet(ls, {.backend = levelset::Backend::Gpu}, &pages[big]);
+    extractLevelSet(ls, ls.phi(), {.backend = levelset::Backend::Gpu}, &dense[big]);
     voxels[big] = image.voxelCount();
   }
   expectIdenticalMesh(meshes[0], meshes[1]);

@@ -25,7 +25,7 @@ TEST(OneContext, SolverExtractionFromItsPagesAndRender) {
   ls.addSphere({20, 17, 12}, 3);
   ls.run({.maxIterations = 150});
   extract::ExtractStats stats;
-  const Mesh surface = extract::extractLevelSet(ls, {.gpu = true}, &stats);
+  const Mesh surface = extract::extractLevelSet(ls, {.backend = levelset::Backend::Gpu}, &stats);
   EXPECT_EQ(stats.path, "gpu pages");
   const MeshTopology t = analyzeTopology(surface);
   EXPECT_TRUE(t.closed && t.manifold);
@@ -38,7 +38,7 @@ TEST(OneContext, SolverExtractionFromItsPagesAndRender) {
   // Again: every program is cached, and the solver still steps after the extraction and the render
   // changed the context's bindings.
   const int compiled = ctx.programsCompiled();
-  const Mesh again = extract::extractLevelSet(ls, {.gpu = true});
+  const Mesh again = extract::extractLevelSet(ls, {.backend = levelset::Backend::Gpu});
   viewer::renderMesh(again, {.width = 64, .height = 48});
   ls.step();
   EXPECT_EQ(ctx.programsCompiled(), compiled);

@@ -275,7 +275,7 @@ public:
     require(!job_, "build: a model is being built already");
     SegmentationSession& s = *seg().session;
     require(s.activePages() > 0, "build: the segmentation is empty (seed it first)");
-    Mesh surface = extract::extractLevelSet(s.levelSet(), {.largestComponent = true, .gpu = backend_ == levelset::Backend::Gpu});
+    Mesh surface = extract::extractLevelSet(s.levelSet(), {.largestComponent = true, .backend = backend_});
     require(surface.faceCount() > 0, "build: the segmentation has no surface");
     job_ = std::make_unique<ModelJob>(std::move(surface), options_.buildModel);
     status_ = "building the model";
@@ -571,7 +571,7 @@ Image Viewer::surfacePicture(int width, int height) {
     std::fill(blank.pixels.begin(), blank.pixels.end(), std::uint8_t(255));
     return blank;
   }
-  const Mesh surface = extract::extractLevelSet(session.levelSet(), {.gpu = backend_ == levelset::Backend::Gpu});
+  const Mesh surface = extract::extractLevelSet(session.levelSet(), {.backend = backend_});
   return renderMesh(surface, o);
 }
 
