@@ -3,9 +3,11 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <optional>
 
 #include "app/command.h"
+#include "pipeline/demo.h"
 #include "pipeline/model_building.h"
 #include "app/options.h"
 #include "pipeline/segmentation.h"
@@ -28,21 +30,7 @@
 namespace isoatlas::app {
 namespace {
 
-// The embedded default: Colin27's T1 MRI, whose white matter the demo segments from one seed in the
-// centrum semiovale of each hemisphere. White matter reads about 110 there (isoatlas probe
-// data/volumes/ch2.nii.gz --at 64,115,101 --radius 4), grey matter about 75.
-constexpr const char* kDefaultVolume = "data/volumes/ch2.nii.gz";
-// The demo's seeds apply to Colin27's T1 however its path is written: the file's name and its grid.
-bool isDemoVolume(const std::string& path, const Volume& v) {
-  return std::filesystem::path(path).filename() == std::filesystem::path(kDefaultVolume).filename() &&
-         v.dims == std::array<std::int64_t, 3>{181, 217, 181} && v.spacing.x == 1 && v.spacing.y == 1 && v.spacing.z == 1;
-}
-const levelset::SpeedParams kDemoParams{112, 14, 0.8f};
-const Vec3 kDemoSeeds[] = {{64, 115, 101}, {116, 115, 101}};
-constexpr double kDemoSeedRadius = 4;
-// The demo's edit of the segmentation: a ball carved out of the left hemisphere's white matter from
-// its side, where the renders from the left see the crater.
-const char* const kDemoEdit = "sphere:-50,5,25,20";
+using pipeline::kDemoSeedRadius;
 
 struct RunOptions {
   std::vector<std::string> seeds;
@@ -80,6 +68,7 @@ void writeViewSession(const std::string& path, const std::string& input, const V
 
 struct Stage {
   std::string name, status, detail;  // status: "done" or "skipped"
+  double seconds = 0;
 };
 
 // The files run writes into its folder, each named with what it holds; pictures are also shown.
@@ -142,17 +131,198 @@ std::string renderModelViews(const atlas::Model& model, Products& products, nloh
          std::to_string(turns) + " turntable frames: render_*.png, turntable_*.png";
 }
 
+// One run: its input, the process's GL context, what it wrote and the stages it went through (each
+// with its seconds), and the report they fill.
+struct RunJob {
+  std::string input;
+  Volume volume;
+  pipeline::Gpu gpu;
+  Products products;
+  std::vector<Stage> stages;
+  nlohmann::json& report;
+
+  // Runs one stage, timed; `work` returns its detail line.
+  void stage(const std::string& name, const std::function<std::string()>& work) {
+    const auto start = std::chrono::steady_clock::now();
+    std::string detail = work();
+    stages.push_back({name, "done", std::move(detail), std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
+  }
+  void skipped(const std::string& name, const std::string& why) { stages.push_back({name, "skipped", why}); }
+};
+
+// The segmentation's seeds and parameters: the user's (--seed, --target, --width, --alpha), or the
+// demo's when the input is the demo volume and no seed is given (then the demo's edit too, unless
+// the user gave edits).
+struct SegmentationSetup {
+  std::vector<pipeline::Ball> seeds;
+  levelset::SpeedParams params;
+  pipeline::EditRequest edits;
+};
+SegmentationSetup segmentationSetup(const RunOptions& options, const RunJob& job) {
+  SegmentationSetup s{{}, {float(options.target), float(options.width), float(options.alpha)}, {.steps = *options.edits}};
+  for (const std::string& text : options.seeds) s.seeds.push_back(parseBall(text, "--seed", kDemoSeedRadius));
+  if (s.seeds.empty() && pipeline::isDemoVolume(job.input, job.volume)) {
+    for (const Vec3& seed : pipeline::kDemoSeeds) s.seeds.push_back({seed, kDemoSeedRadius});
+    s.params = pipeline::kDemoParams;
+    if (s.edits.steps.empty()) s.edits.steps.push_back({levelset::dvt::Op::Subtract, pipeline::kDemoEdit});
+  }
+  return s;
+}
+
+pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup, int iterations) {
+  for (const pipeline::Ball& b : setup.seeds) pipeline::requireInside(job.volume, b.centre, "--seed");
+  std::optional<pipeline::Segmentation> result;
+  job.stage("segment", [&] {
+    result = pipeline::segmentVolume(job.volume, {.params = setup.params,
+                                                  .seeds = setup.seeds,
+                                                  .backend = job.gpu.backend,
+                                                  .renderer = job.gpu.renderer,
+                                                  .maxIterations = iterations,
+                                                  .label = "run: segment",
+                                                  .readPhi = true});
+    const pipeline::Segmentation& s = *result;
+    writeVolume(job.products.add("mask.nii.gz", "the segmentation: uint8, 1 inside, on the input's grid"), s.mask);
+    writeVolume(job.products.add("phi.nii.gz", "the level set phi: float, > 0 inside, in voxels"), s.phi);
+    job.report["segment"] = s.figures();
+    job.report["segment"].update({{"target", setup.params.target}, {"width", setup.params.width}, {"alpha", setup.params.alpha}});
+    writeViewSession(job.products.add("view-session.txt", "this segmentation and its edits replayed in the window: isoatlas view --script "
+                                                          "view-session.txt (docs/view-script.md)"),
+                     job.input, job.volume, setup.params, setup.seeds, s.stats.iterations, setup.edits.steps);
+    return std::to_string(s.insideVoxels) + " voxels in " + std::to_string(s.stats.iterations) + " iterations (" +
+           (s.stats.converged ? "converged" : "not converged") + "): mask.nii.gz, phi.nii.gz";
+  });
+  return std::move(*result);
+}
+
+// The edits on a volume tree of the level set's phi (read from its pages), then marching cubes over
+// the edited tree's distances; without edits, marching cubes over the level set's active pages, read
+// where the solver keeps them. The surface keeps its largest component.
+Mesh editAndExtractStages(RunJob& job, const pipeline::Segmentation& s, const pipeline::EditRequest& edits,
+                          const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids) {
+  extract::ExtractStats extractStats;
+  Mesh surface;
+  if (edits.steps.empty()) {
+    job.skipped("edit", "no --union or --subtract given");
+    job.stage("extract", [&] {
+      surface = extract::extractLevelSet(*s.levelSet, {.largestComponent = true, .backend = s.backend}, &extractStats);
+      return std::string();
+    });
+  } else {
+    std::optional<levelset::dvt::VolumeTree> tree;
+    job.stage("edit", [&] {
+      pipeline::EditedTree edited = pipeline::treeOfLevelSet(*s.levelSet, edits, job.gpu);
+      pipeline::applySteps(edited, edits, solids);
+      tree = edited.tree->tree();
+      writeVolume(job.products.add("mask_edited.nii.gz", "the segmentation after the edits: uint8, 1 inside"), levelset::dvt::sampleMask(*tree));
+      const viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(*tree), 800, 600, {1, 0.3, -0.3})};
+      writePng(job.products.add("edited_tree.png", "the edited segmentation, ray cast straight from the volume tree", true),
+               pipeline::renderEditedTree(edited, *tree, view, job.gpu));
+      job.report["edit"] = edited.figures(*tree);
+      std::string what;
+      for (const pipeline::EditStep& e : edits.steps)
+        what += std::string(what.empty() ? "" : ", ") + (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") + e.shape;
+      job.report["edit"]["edits"] = what;
+      return what + ": " + std::to_string(tree->nodeCount()) + " nodes on the " + edited.backend + ": mask_edited.nii.gz, edited_tree.png";
+    });
+    job.stage("extract", [&] {
+      surface = extract::extractSurface(levelset::dvt::sampleField(*tree, tree->frame.voxelDepth()),
+                                        {.iso = 0.0f, .largestComponent = true, .backend = s.backend}, &extractStats);
+      return std::string();
+    });
+  }
+  Stage& extracted = job.stages.back();
+  writeMesh(job.products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), surface);
+  const nlohmann::json& figures = job.report["extract"] = meshFigures(surface, extractStats);
+  extracted.detail = std::to_string(surface.faceCount()) + " triangles, genus " + std::to_string(figures["genus"].get<long long>()) +
+                     ", " + (figures["closed"].get<bool>() ? "closed" : "NOT closed") + ": surface.ply";
+  return surface;
+}
+
+// The surface seen from the left (RAS -x) and from above, as a reader of an atlas would look, and the
+// segmentation over the input through the first seed (so the slices cut the structure).
+void renderSurfaceViews(RunJob& job, const Mesh& surface, const pipeline::Segmentation& s, const Vec3& firstSeed) {
+  job.gpu.needGl();
+  writePng(job.products.add("surface_left.png", "the extracted surface seen from the left", true),
+           viewer::renderMesh(surface, {.viewDirection = {1, 0, 0}}));
+  writePng(job.products.add("surface_top.png", "the extracted surface seen from above (anterior up)", true),
+           viewer::renderMesh(surface, {.viewDirection = {0, 0, -1}, .up = {0, 1, 0}}));
+  viewer::SliceOptions overlay;
+  overlay.mask = &s.mask;
+  writePng(job.products.add("segmentation_slices.png", "the segmentation over the input, through the first seed", true),
+           viewer::renderSlices(job.volume, job.volume.indexToWorld(firstSeed), overlay));
+}
+
+// The multiresolution model of the surface (base mesh, atlas), its previews and its accuracy per level.
+atlas::Model modelStage(RunJob& job, const Mesh& surface, pipeline::ModelRequest request, const std::vector<int>& levels) {
+  std::optional<atlas::Model> model;
+  job.stage("build multiresolution model", [&] {
+    nlohmann::json& m = job.report["model"];
+    model = pipeline::buildModel(surface, request, m);
+    pipeline::writeModelFiles(*model, job.products.add("model.isoatlas", "the multiresolution model: base mesh and atlas of charts (isoatlas eval, render)"),
+                              "", m);
+    writePng(job.products.add("position_atlas.png", "the atlas's positions as colours (x, y, z over the surface's box)", true),
+             atlas::positionPreview(model->atlas));
+    writePng(job.products.add("normal_atlas.png", "the atlas's normals as colours", true), atlas::normalPreview(model->atlas));
+    const auto evalStart = std::chrono::steady_clock::now();
+    const std::vector<atlas::LevelFigures> figures = atlas::evaluateLevels(model->base, model->atlas, surface, levels, request.hausdorffFacePoints);
+    m["seconds_eval"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - evalStart).count();
+    m["levels"] = pipeline::levelFiguresJson(figures);
+    writePng(job.products.add("psnr_per_level.png", "the model's accuracy per level: PSNR against the surface (CGAL: from the largest distance, and dashed from the RMS)", true),
+             atlas::psnrPlot({{"model", figures}}));
+    const int shown = std::min(4, atlas::maxLevel(request.chartSize));
+    writePng(job.products.add("model_level" + std::to_string(shown) + "_left.png",
+                              "the model at level " + std::to_string(shown) + " seen from the left (atlas normals)", true),
+             viewer::renderMesh(atlas::reconstructLevel(model->base, model->atlas, shown), {.viewDirection = {1, 0, 0}}));
+    return std::to_string(model->base.vertexCount()) + " base vertices, " + std::to_string(model->atlas.layout.charts) + " charts (" +
+           std::to_string(int(model->atlas.layout.efficiency() * 100)) + " % of the atlas), PSNR " + std::to_string(figures.back().psnrDb) +
+           " dB at level " + std::to_string(figures.back().level) + ": model.isoatlas";
+  });
+  return std::move(*model);
+}
+
+// The demo engraves a word on the left hemisphere's lateral surface (fine detail, the paper's Fig. 10).
+// The model stands without it: a failure is a skipped stage.
+void engraveStage(RunJob& job, const atlas::Model& model, const Mesh& surface) {
+  const Box box = boundingBox(surface.positions);
+  const pipeline::DemoEngraving place = pipeline::demoEngraving(box.min, box.max);
+  const pipeline::StampRequest engrave{.text = "isoatlas", .at = place.at, .radius = place.radius, .depth = 1.5,
+                                       .detailSize = std::min(multires::kMaxChartSize, 4 * (model.chartSize - 1) + 1)};
+  const std::string name = "engrave a word (fine detail)";
+  if (engrave.detailSize <= model.chartSize) return job.skipped(name, "the charts are already the finest (--chart 129)");
+  try {
+    job.stage(name, [&] {
+      atlas::Model engraved = model;
+      nlohmann::json& e = job.report["engrave"];
+      const atlas::StampStats stamped = pipeline::stampModel(engraved, engrave, e);
+      pipeline::writeModelFiles(engraved, job.products.add("model_engraved.isoatlas", "the model with \"isoatlas\" engraved in detail charts (isoatlas edit-detail)"),
+                                "", e);
+      writePng(job.products.add("engraved.png", "the engraved word at the model's finest level, close up", true),
+               pipeline::closeUp(engraved, stamped, engrave.radius));
+      return std::to_string(stamped.detailTiles) + " tiles given detail charts: model_engraved.isoatlas";
+    });
+  } catch (const Error& error) {
+    job.skipped(name, error.what());
+    logInfo(std::string("run: skipping the engraving: ") + error.what());
+  }
+}
+
+// index.html: the stages with their seconds, the products, the pictures.
 void writeIndexHtml(const std::filesystem::path& dir, const std::string& input, const std::vector<Stage>& stages,
-                    const Products& products) {
+                    const Products& products, double seconds) {
   std::ofstream html(dir / "index.html");
   html << "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>isoatlas run</title>\n"
        << "<style>body{font-family:sans-serif;max-width:1000px;margin:2em auto}td,th{padding:4px 10px;text-align:left}"
        << ".skipped{color:#999}img{max-width:100%}</style></head><body>\n"
        << "<h1>isoatlas run</h1>\n<p>Input: <code>" << input << "</code></p>\n<table>\n"
-       << "<tr><th>stage</th><th>status</th><th>detail</th></tr>\n";
-  for (const Stage& s : stages)
-    html << "<tr class=\"" << s.status << "\"><td>" << s.name << "</td><td>" << s.status << "</td><td>" << s.detail
-         << "</td></tr>\n";
+       << "<tr><th>stage</th><th>status</th><th>seconds</th><th>detail</th></tr>\n";
+  char time[32];
+  for (const Stage& s : stages) {
+    std::snprintf(time, sizeof time, "%.2f", s.seconds);
+    html << "<tr class=\"" << s.status << "\"><td>" << s.name << "</td><td>" << s.status << "</td><td>"
+         << (s.status == "done" ? time : "") << "</td><td>" << s.detail << "</td></tr>\n";
+  }
+  std::snprintf(time, sizeof time, "%.2f", seconds);
+  html << "<tr><td><b>total</b></td><td></td><td><b>" << time << "</b></td><td></td></tr>\n";
   html << "</table>\n<h2>Products</h2>\n<ul>\n";
   for (const auto& p : products.all) html << "<li><a href=\"" << p.file << "\">" << p.file << "</a>: " << p.what << "</li>\n";
   html << "</ul>\n";
@@ -164,11 +334,84 @@ void writeIndexHtml(const std::filesystem::path& dir, const std::string& input, 
   if (!html) throw Error((dir / "index.html").string() + ": could not write", ErrorKind::Failure);
 }
 
+// The levels the model's accuracy is measured at: "even" (0, 2, ..., the whole chart) or eval's form.
+std::vector<int> runLevels(const std::string& text, int topLevel) {
+  if (text != "even") return pipeline::parseLevels(text, topLevel);
+  std::vector<int> levels;
+  for (int l = 0; l <= topLevel; l += 2) levels.push_back(l);
+  return levels;
+}
+
+void checkRunOptions(const RunOptions& o) {
+  require(o.iterations > 0, "--iterations must be > 0");
+  require(o.model.baseRatio > 0 && o.model.baseRatio <= 1, "--base-ratio must be in (0, 1]");
+  require(o.model.hausdorffFacePoints >= 1000, "--samples must be at least 1000");
+  require(o.chart > 0 && multires::isChartSize(std::uint32_t(o.chart)),
+          "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
+  pipeline::stepSolids(*o.edits);  // bad shapes are reported before any work
+}
+
+// The whole job, stage by stage; a stage that cannot run is named as skipped.
+void runJob(const std::string& input, const std::string& outDir, const RunOptions& options, nlohmann::json& r) {
+  const auto start = std::chrono::steady_clock::now();
+  checkRunOptions(options);
+  const std::vector<int> levels = runLevels(options.levels, atlas::maxLevel(std::uint32_t(options.chart)));
+  const std::filesystem::path dir(outDir);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  require(!ec, outDir + ": cannot create the output folder: " + ec.message());
+
+  // The process's one GL context: the solver, the extraction from its pages and the renders share it.
+  RunJob job{input, {}, pipeline::chooseBackend(options.backend), {dir, {}}, {}, r};
+  job.stage("read", [&] {
+    logInfo("run: reading " + input);
+    job.volume = readVolume(input);
+    r["input"] = {{"file", input}, {"dims", {job.volume.dims[0], job.volume.dims[1], job.volume.dims[2]}},
+                  {"spacing", {job.volume.spacing.x, job.volume.spacing.y, job.volume.spacing.z}}};
+    return std::to_string(job.volume.dims[0]) + " x " + std::to_string(job.volume.dims[1]) + " x " +
+           std::to_string(job.volume.dims[2]) + " " + scalarTypeName(job.volume.type);
+  });
+  job.stage("render input slices", [&] {
+    writePng(job.products.add("input_slices.png", "the input: axial, coronal and sagittal slices through its centre", true),
+             viewer::renderSlices(job.volume, viewer::volumeCentre(job.volume)));
+    return std::string("input_slices.png");
+  });
+
+  const SegmentationSetup setup = segmentationSetup(options, job);
+  const auto solids = pipeline::stepSolids(setup.edits.steps);
+  if (setup.seeds.empty()) {
+    job.skipped("segment", "no --seed given (and the input is not the demo volume)");
+    logInfo("run: skipping segment: give --seed X,Y,Z[,R] --target T --width EPS");
+    job.skipped("build multiresolution model", "no surface (nothing was segmented)");
+  } else {
+    const pipeline::Segmentation s = segmentStage(job, setup, options.iterations);
+    const Mesh surface = editAndExtractStages(job, s, setup.edits, solids);
+    renderSurfaceViews(job, surface, s, setup.seeds.front().centre);
+    pipeline::ModelRequest request = options.model;
+    request.chartSize = std::uint32_t(options.chart);
+    const atlas::Model model = modelStage(job, surface, request, levels);
+    job.gpu.needGl();
+    job.stage("render model (tessellation)", [&] { return renderModelViews(model, job.products, r["render"]); });
+    if (pipeline::isDemoVolume(input, job.volume)) engraveStage(job, model, surface);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r["stages"] = nlohmann::json::array();
+  for (const Stage& s : job.stages)
+    r["stages"].push_back({{"name", s.name}, {"status", s.status}, {"detail", s.detail}, {"seconds", s.seconds}});
+  r["gl_contexts"] = gl::Context::made();
+  r["seconds"] = seconds;
+  r["products"] = nlohmann::json::array();
+  for (const auto& p : job.products.all) r["products"].push_back({{"file", p.file}, {"what", p.what}});
+  writeJsonFile((dir / "report.json").string(), r);
+  writeIndexHtml(dir, input, job.stages, job.products, seconds);
+  logInfo("run: wrote " + (dir / "index.html").string());
+}
+
 }  // namespace
 
 void addRunCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("run", "the whole job on a volume: segment, extract, build, render (stages not built yet are skipped)");
-  auto input = std::make_shared<std::string>(kDefaultVolume);
+  auto input = std::make_shared<std::string>(pipeline::kDemoVolume);
   auto outDir = std::make_shared<std::string>("out/demo");
   auto options = std::make_shared<RunOptions>();
   sub->add_option("volume", *input, "input volume")->capture_default_str();
@@ -189,186 +432,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--levels", options->levels, "levels whose accuracy the model's report gives: even, 0-10, 0,4,10")
       ->capture_default_str();
   bindAction(*sub, [input, outDir, options](nlohmann::json& r) {
-    const auto start = std::chrono::steady_clock::now();
-    require(options->iterations > 0, "--iterations must be > 0");
-    require(options->model.baseRatio > 0 && options->model.baseRatio <= 1, "--base-ratio must be in (0, 1]");
-    require(options->model.hausdorffFacePoints >= 1000, "--samples must be at least 1000");
-    require(options->chart > 0 && multires::isChartSize(std::uint32_t(options->chart)),
-            "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
-    const int topLevel = atlas::maxLevel(std::uint32_t(options->chart));
-    std::vector<int> levels;
-    if (options->levels == "even") {
-      for (int l = 0; l <= topLevel; l += 2) levels.push_back(l);
-    } else {
-      levels = pipeline::parseLevels(options->levels, topLevel);
-    }
-    const std::filesystem::path dir(*outDir);
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    require(!ec, *outDir + ": cannot create the output folder: " + ec.message());
-
-    pipeline::stepSolids(*options->edits);  // bad shapes are reported before any work
-    // The process's one GL context: the solver, the extraction from its pages and the renders share it.
-    pipeline::Gpu gpu = pipeline::chooseBackend(options->backend);
-    std::vector<Stage> stages;
-    Products products{dir, {}};
-    logInfo("run: reading " + *input);
-    const Volume volume = readVolume(*input);
-    stages.push_back({"read", "done", std::to_string(volume.dims[0]) + " x " + std::to_string(volume.dims[1]) + " x " +
-                                          std::to_string(volume.dims[2]) + " " + scalarTypeName(volume.type)});
-    r["input"] = {{"file", *input}, {"dims", {volume.dims[0], volume.dims[1], volume.dims[2]}},
-                  {"spacing", {volume.spacing.x, volume.spacing.y, volume.spacing.z}}};
-
-    writePng(products.add("input_slices.png", "the input: axial, coronal and sagittal slices through its centre", true),
-             viewer::renderSlices(volume, viewer::volumeCentre(volume)));
-    stages.push_back({"render input slices", "done", "input_slices.png"});
-
-    // Segment: the demo's seeds and parameters when the input is the default volume; otherwise the
-    // user's (--seed, --target, --width, --alpha).
-    std::vector<pipeline::Ball> seeds;
-    for (const std::string& s : options->seeds) seeds.push_back(parseBall(s, "--seed", kDemoSeedRadius));
-    levelset::SpeedParams params{float(options->target), float(options->width), float(options->alpha)};
-    pipeline::EditRequest edits{.steps = *options->edits};
-    if (seeds.empty() && isDemoVolume(*input, volume)) {
-      for (const Vec3& seed : kDemoSeeds) seeds.push_back({seed, kDemoSeedRadius});
-      params = kDemoParams;
-      if (edits.steps.empty()) edits.steps.push_back({levelset::dvt::Op::Subtract, kDemoEdit});
-    }
-    const auto editSolids = pipeline::stepSolids(edits.steps);
-    std::optional<Mesh> surface;
-    if (seeds.empty()) {
-      stages.push_back({"segment", "skipped", "no --seed given (and the input is not the demo volume)"});
-      logInfo("run: skipping segment: give --seed X,Y,Z[,R] --target T --width EPS");
-    } else {
-      for (const pipeline::Ball& b : seeds) pipeline::requireInside(volume, b.centre, "--seed");
-      const pipeline::Segmentation s = pipeline::segmentVolume(volume, {.params = params,
-                                                    .seeds = seeds,
-                                                    .backend = gpu.backend,
-                                                    .renderer = gpu.renderer,
-                                                    .maxIterations = options->iterations,
-                                                    .label = "run: segment",
-                                                    .readPhi = true});
-      writeVolume(products.add("mask.nii.gz", "the segmentation: uint8, 1 inside, on the input's grid"), s.mask);
-      writeVolume(products.add("phi.nii.gz", "the level set phi: float, > 0 inside, in voxels"), s.phi);
-      r["segment"] = s.figures();
-      r["segment"].update({{"target", params.target}, {"width", params.width}, {"alpha", params.alpha}});
-      stages.push_back({"segment", "done",
-                        std::to_string(s.insideVoxels) + " voxels in " + std::to_string(s.stats.iterations) +
-                            " iterations (" + (s.stats.converged ? "converged" : "not converged") +
-                            "): mask.nii.gz, phi.nii.gz"});
-      writeViewSession(products.add("view-session.txt", "this segmentation and its edits replayed in the window: isoatlas view --script "
-                                                        "view-session.txt (docs/view-script.md)"),
-                       *input, volume, params, seeds, s.stats.iterations, edits.steps);
-      extract::ExtractStats extractStats;
-      if (edits.steps.empty()) {
-        stages.push_back({"edit", "skipped", "no --union or --subtract given"});
-        // Extract: marching cubes over the level set's active pages, read where the solver keeps them.
-        surface = extract::extractLevelSet(*s.levelSet, {.largestComponent = true, .backend = s.backend},
-                                           &extractStats);
-      } else {
-        // Edit: the level set's phi, read from its pages, in a dynamic volume tree; the shapes
-        // applied; then marching cubes over the edited tree's distances.
-        pipeline::EditedTree edited = pipeline::treeOfLevelSet(*s.levelSet, edits, gpu);
-        pipeline::applySteps(edited, edits, editSolids);
-        const levelset::dvt::VolumeTree tree = edited.tree->tree();
-        writeVolume(products.add("mask_edited.nii.gz", "the segmentation after the edits: uint8, 1 inside"), levelset::dvt::sampleMask(tree));
-        viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(tree), 800, 600, {1, 0.3, -0.3})};
-        writePng(products.add("edited_tree.png", "the edited segmentation, ray cast straight from the volume tree", true),
-                 pipeline::renderEditedTree(edited, tree, view, gpu));
-        r["edit"] = edited.figures(tree);
-        std::string what;
-        for (const pipeline::EditStep& e : edits.steps) what += std::string(what.empty() ? "" : ", ") + (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") + e.shape;
-        r["edit"]["edits"] = what;
-        stages.push_back({"edit", "done", what + ": " + std::to_string(tree.nodeCount()) + " nodes on the " + edited.backend +
-                                              ": mask_edited.nii.gz, edited_tree.png"});
-        surface = extract::extractSurface(levelset::dvt::sampleField(tree, tree.frame.voxelDepth()),
-                                          {.iso = 0.0f, .largestComponent = true, .backend = s.backend}, &extractStats);
-      }
-      writeMesh(products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), *surface);
-      r["extract"] = meshFigures(*surface, extractStats);
-      stages.push_back({"extract", "done",
-                        std::to_string(surface->faceCount()) + " triangles, genus " +
-                            std::to_string(r["extract"]["genus"].get<long long>()) + ", " +
-                            (r["extract"]["closed"].get<bool>() ? "closed" : "NOT closed") + ": surface.ply"});
-      // Seen from the left (RAS -x) and from above, as a reader of an atlas would look.
-      gpu.needGl();
-      writePng(products.add("surface_left.png", "the extracted surface seen from the left", true),
-               viewer::renderMesh(*surface, {.viewDirection = {1, 0, 0}}));
-      writePng(products.add("surface_top.png", "the extracted surface seen from above (anterior up)", true),
-               viewer::renderMesh(*surface, {.viewDirection = {0, 0, -1}, .up = {0, 1, 0}}));
-      viewer::SliceOptions overlay;
-      overlay.mask = &s.mask;
-      // Through the first seed, so the slices cut the structure.
-      writePng(products.add("segmentation_slices.png", "the segmentation over the input, through the first seed", true),
-               viewer::renderSlices(volume, volume.indexToWorld(seeds.front().centre), overlay));
-    }
-
-    if (!surface) {
-      stages.push_back({"build multiresolution model", "skipped", "no surface (nothing was segmented)"});
-    } else {
-      // The multiresolution model of the surface: base mesh, atlas, accuracy per level.
-      pipeline::ModelRequest request = options->model;
-      request.chartSize = std::uint32_t(options->chart);
-      nlohmann::json& m = r["model"];
-      const atlas::Model model = pipeline::buildModel(*surface, request, m);
-      pipeline::writeModelFiles(model, products.add("model.isoatlas", "the multiresolution model: base mesh and atlas of charts (isoatlas eval, render)"),
-                      "", m);
-      writePng(products.add("position_atlas.png", "the atlas's positions as colours (x, y, z over the surface's box)", true),
-               atlas::positionPreview(model.atlas));
-      writePng(products.add("normal_atlas.png", "the atlas's normals as colours", true), atlas::normalPreview(model.atlas));
-      const std::vector<atlas::LevelFigures> figures =
-          atlas::evaluateLevels(model.base, model.atlas, *surface, levels, request.hausdorffFacePoints);
-      m["levels"] = pipeline::levelFiguresJson(figures);
-      writePng(products.add("psnr_per_level.png", "the model's accuracy per level: PSNR against the surface (CGAL: from the largest distance, and dashed from the RMS)", true),
-               atlas::psnrPlot({{"model", figures}}));
-      const int shown = std::min(4, topLevel);
-      writePng(products.add("model_level" + std::to_string(shown) + "_left.png",
-                            "the model at level " + std::to_string(shown) + " seen from the left (atlas normals)", true),
-               viewer::renderMesh(atlas::reconstructLevel(model.base, model.atlas, shown), {.viewDirection = {1, 0, 0}}));
-      stages.push_back({"build multiresolution model", "done",
-                        std::to_string(model.base.vertexCount()) + " base vertices, " + std::to_string(model.atlas.layout.charts) +
-                            " charts (" + std::to_string(int(model.atlas.layout.efficiency() * 100)) + " % of the atlas), PSNR " +
-                            std::to_string(figures.back().psnrDb) + " dB at level " + std::to_string(figures.back().level) +
-                            ": model.isoatlas"});
-      gpu.needGl();
-      stages.push_back({"render model (tessellation)", "done", renderModelViews(model, products, r["render"])});
-      if (isDemoVolume(*input, volume)) {
-        // The demo engraves a word on the left hemisphere's lateral surface (fine detail, the paper's Fig. 10).
-        const Box box = boundingBox(surface->positions);
-        const Vec3 size = box.max - box.min;
-        pipeline::StampRequest engrave{.text = "isoatlas",
-                             .at = {box.min.x, box.min.y + 0.55 * size.y, box.min.z + 0.6 * size.z},
-                             .radius = 0.2 * size.y,
-                             .depth = 1.5,
-                             .detailSize = std::min(multires::kMaxChartSize, 4 * (request.chartSize - 1) + 1)};
-        if (engrave.detailSize <= request.chartSize) {
-          stages.push_back({"engrave a word (fine detail)", "skipped", "the charts are already the finest (--chart 129)"});
-        } else try {
-          atlas::Model engraved = model;
-          nlohmann::json& e = r["engrave"];
-          const atlas::StampStats stamped = pipeline::stampModel(engraved, engrave, e);
-          pipeline::writeModelFiles(engraved,
-                          products.add("model_engraved.isoatlas", "the model with \"isoatlas\" engraved in detail charts (isoatlas edit-detail)"),
-                          "", e);
-          writePng(products.add("engraved.png", "the engraved word at the model's finest level, close up", true),
-                   pipeline::closeUp(engraved, stamped, engrave.radius));
-          stages.push_back({"engrave a word (fine detail)", "done",
-                            std::to_string(stamped.detailTiles) + " tiles given detail charts: model_engraved.isoatlas"});
-        } catch (const Error& error) {  // the model stands without it
-          stages.push_back({"engrave a word (fine detail)", "skipped", error.what()});
-          logInfo(std::string("run: skipping the engraving: ") + error.what());
-        }
-      }
-    }
-    r["stages"] = nlohmann::json::array();
-    for (const Stage& s : stages) r["stages"].push_back({{"name", s.name}, {"status", s.status}, {"detail", s.detail}});
-    r["gl_contexts"] = gl::Context::made();
-    r["seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    r["products"] = nlohmann::json::array();
-    for (const auto& p : products.all) r["products"].push_back({{"file", p.file}, {"what", p.what}});
-    writeJsonFile((dir / "report.json").string(), r);
-    writeIndexHtml(dir, *input, stages, products);
-    logInfo("run: wrote " + (dir / "index.html").string());
+    runJob(*input, *outDir, *options, r);
     return 0;
   }, exitCode);
 }

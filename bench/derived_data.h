@@ -10,6 +10,7 @@
 #include "core/volume_io.h"
 #include "extract/extract_surface.h"
 #include "levelset/level_set.h"
+#include "pipeline/demo.h"
 
 namespace isoatlas::bench {
 
@@ -18,7 +19,7 @@ inline Volume ch2betterWhiteMatterPhi(const std::string& data) {
   if (!std::filesystem::exists(phiPath)) {
     std::fprintf(stderr, "bench: segmenting ch2better's white matter once (kept in %s)\n", phiPath.c_str());
     const Volume v = readVolume(data + "/volumes/ch2better.nii.gz");
-    levelset::LevelSet ls(v, {112, 14, 0.8f});
+    levelset::LevelSet ls(v, pipeline::kDemoParams);
     ls.addSphere({98, 194, 199}, 8);  // the demo's seeds, mapped through world coordinates
     ls.addSphere({202, 194, 199}, 8);
     ls.run({.maxIterations = 4000});
@@ -34,8 +35,8 @@ inline Mesh ch2WhiteMatterSurface(const std::string& data) {
   const std::string path = data + "/derived/ch2_white_matter.ply";
   if (!std::filesystem::exists(path)) {
     std::fprintf(stderr, "bench: segmenting ch2's white matter once (kept in %s)\n", path.c_str());
-    levelset::LevelSet ls(readVolume(data + "/volumes/ch2.nii.gz"), {112, 14, 0.8f});
-    for (const Vec3& seed : {Vec3{64, 115, 101}, Vec3{116, 115, 101}}) ls.addSphere(seed, 4);
+    levelset::LevelSet ls(readVolume(data + "/volumes/ch2.nii.gz"), pipeline::kDemoParams);
+    for (const Vec3& seed : pipeline::kDemoSeeds) ls.addSphere(seed, pipeline::kDemoSeedRadius);
     ls.run({.maxIterations = 3000});
     std::filesystem::create_directories(data + "/derived");
     writeMesh(path, extract::extractLevelSet(ls, {.largestComponent = true}));

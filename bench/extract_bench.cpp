@@ -24,6 +24,7 @@
 #include "core/gl/context.h"
 #include "core/volume_io.h"
 #include "extract/extract_surface.h"
+#include "pipeline/demo.h"
 #include "levelset/level_set.h"
 
 // Host heap in use and its peak, counted by every operator new of this program.
@@ -127,8 +128,8 @@ void openVdbComparison(const std::string& data, const gl::Context* gpu) {
 // Pages against the dense phi on one backend's level set of ch2's white matter.
 void pagesAgainstDense(const Volume& ch2, levelset::Backend backend, const std::string& device) {
   const bool gpu = backend == levelset::Backend::Gpu;
-  levelset::LevelSet ls(ch2, {112, 14, 0.8f}, {.backend = backend});
-  for (const Vec3& seed : {Vec3{64, 115, 101}, Vec3{116, 115, 101}}) ls.addSphere(seed, 4);  // the demo's
+  levelset::LevelSet ls(ch2, pipeline::kDemoParams, {.backend = backend});
+  for (const Vec3& seed : pipeline::kDemoSeeds) ls.addSphere(seed, pipeline::kDemoSeedRadius);
   const levelset::RunStats run = ls.run({.maxIterations = 3000});
   std::fprintf(stderr, "bench: ch2 white matter segmented on the %s in %d iterations (%s), %zu active pages\n",
                gpu ? "GPU" : "CPU", run.iterations, run.converged ? "converged" : "not converged",

@@ -157,8 +157,17 @@ TEST(Cli, RunWritesItsProductsAndNamesSkippedStages) {
   EXPECT_TRUE(std::filesystem::exists(dir / "out/input_slices.png"));
   const auto report = nlohmann::json::parse(test::readBytes(dir / "out/report.json"));
   bool sawSkipped = false;
-  for (const auto& s : report["stages"]) sawSkipped |= s["status"] == "skipped";
+  double stageSeconds = 0;
+  for (const auto& s : report["stages"]) {
+    sawSkipped |= s["status"] == "skipped";
+    ASSERT_TRUE(s.contains("seconds")) << s["name"];
+    EXPECT_GE(s["seconds"].get<double>(), 0) << s["name"];
+    stageSeconds += s["seconds"].get<double>();
+  }
   EXPECT_TRUE(sawSkipped);
+  // Each stage's seconds are its own: together no more than the run's.
+  EXPECT_LE(stageSeconds, report["seconds"].get<double>());
+  EXPECT_NE(test::readBytes(dir / "out/index.html").find("<th>seconds</th>"), std::string::npos);
   EXPECT_NE(r.err.find("skipping"), std::string::npos);
 }
 
