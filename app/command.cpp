@@ -4,16 +4,14 @@
 #include <fstream>
 #include <memory>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/progress.h"
 
 namespace isoatlas::app {
 
 void writeJsonFile(const std::string& path, const nlohmann::json& json) {
-  std::ofstream out(path);
-  if (!out) throw Error(path + ": cannot write the report");
-  out << json.dump(2) << "\n";
-  if (!out) throw Error(path + ": could not finish writing the report", ErrorKind::Failure);
+  writeFileAtomically(path, json.dump(2) + "\n");
 }
 
 void bindAction(CLI::App& sub, const Action& action, int& exitCode) {

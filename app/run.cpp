@@ -2,7 +2,7 @@
 // folder. Stages that are not built yet are skipped and named as skipped; nothing is faked.
 #include <chrono>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
 #include <functional>
 #include <optional>
 
@@ -15,6 +15,7 @@
 #include "levelset/dvt/volume_solid.h"
 #include "viewer/dvt_render.h"
 #include "levelset/level_set.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/image.h"
 #include "atlas/atlas_previews.h"
@@ -48,7 +49,7 @@ struct RunOptions {
 // model built.
 void writeViewSession(const std::string& path, const std::string& input, const Volume& volume, const levelset::SpeedParams& params,
                       const std::vector<pipeline::Ball>& seeds, int iterations, const std::vector<pipeline::EditStep>& edits) {
-  std::ofstream out(path);
+  std::ostringstream out;
   out.precision(7);  // floats as they were given; world positions to well under a micrometre
   out << "# isoatlas run's segmentation and edits in the window: isoatlas view --script " << path << "\n"
       << "open " << std::filesystem::absolute(input).string() << "\nset t " << params.target << "\nset eps " << params.width
@@ -63,7 +64,7 @@ void writeViewSession(const std::string& path, const std::string& input, const V
     out << (e.shape.starts_with("mesh:") ? "# (a mesh edit, not a brush) " : "") << "brush "
         << (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") << e.shape << "\n";
   out << "build\n";
-  require(bool(out), path + ": cannot write");
+  writeFileAtomically(path, out.str());
 }
 
 struct Stage {
@@ -309,7 +310,7 @@ void engraveStage(RunJob& job, const atlas::Model& model, const Mesh& surface) {
 // index.html: the stages with their seconds, the products, the pictures.
 void writeIndexHtml(const std::filesystem::path& dir, const std::string& input, const std::vector<Stage>& stages,
                     const Products& products, double seconds) {
-  std::ofstream html(dir / "index.html");
+  std::ostringstream html;
   html << "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>isoatlas run</title>\n"
        << "<style>body{font-family:sans-serif;max-width:1000px;margin:2em auto}td,th{padding:4px 10px;text-align:left}"
        << ".skipped{color:#999}img{max-width:100%}</style></head><body>\n"
@@ -331,7 +332,7 @@ void writeIndexHtml(const std::filesystem::path& dir, const std::string& input, 
       html << "<figure><img src=\"" << p.file << "\" alt=\"" << p.what << "\"><figcaption>" << p.what
            << "</figcaption></figure>\n";
   html << "<p>Figures: <a href=\"report.json\">report.json</a></p>\n</body></html>\n";
-  if (!html) throw Error((dir / "index.html").string() + ": could not write", ErrorKind::Failure);
+  writeFileAtomically((dir / "index.html").string(), html.str());
 }
 
 // The levels the model's accuracy is measured at: "even" (0, 2, ..., the whole chart) or eval's form.

@@ -3,6 +3,7 @@
 #include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 namespace isoatlas {
@@ -10,9 +11,10 @@ namespace isoatlas {
 void writePng(const std::string& path, const Image& image) {
   require(image.width > 0 && image.height > 0 && image.pixels.size() == std::size_t(image.width) * image.height * image.channels,
           path + ": image has no pixels or inconsistent size");
-  if (!stbi_write_png(path.c_str(), image.width, image.height, image.channels, image.pixels.data(),
-                      image.width * image.channels))
-    throw Error(path + ": could not write PNG", ErrorKind::Failure);
+  writeAtomically(path, [&](const std::string& to) {
+    if (!stbi_write_png(to.c_str(), image.width, image.height, image.channels, image.pixels.data(), image.width * image.channels))
+      throw Error(path + ": could not write PNG", ErrorKind::Failure);
+  });
 }
 
 Image readPng(const std::string& path) {

@@ -1,5 +1,7 @@
 #include "core/mesh_io.h"
 
+#include "core/atomic_file.h"
+
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/exporter/BaseExporter.hh>
@@ -248,8 +250,9 @@ void writeMesh(const std::string& path, const Mesh& mesh, MeshWriteOptions optio
   IO::Options opt;
   if (options.binary && endsWith(path, ".ply")) opt += IO::Options::Binary;
   if (options.normals && exporter.has_vertex_normals()) opt += IO::Options::VertexNormal;
-  if (!IO::IOManager().write(path, exporter, opt, 9))
-    throw Error(path + ": could not write the mesh", ErrorKind::Failure);
+  writeAtomically(path, [&](const std::string& to) {
+    if (!IO::IOManager().write(to, exporter, opt, 9)) throw Error(path + ": could not write the mesh", ErrorKind::Failure);
+  });
 }
 
 void requireManifold(const Mesh& mesh, const std::string& where) {

@@ -3,8 +3,11 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <iterator>
+
+#include "core/atomic_file.h"
 
 namespace isoatlas {
 namespace {
@@ -22,7 +25,7 @@ std::uint32_t crc(const char* data, std::size_t size) {
 }  // namespace
 
 SectionedFileWriter::SectionedFileWriter(const std::string& path, const char magic[8], std::uint32_t version)
-    : path_(path), out_(path, std::ios::binary | std::ios::trunc) {
+    : path_(path), temporary_(temporaryPathFor(path)), out_(temporary_, std::ios::binary | std::ios::trunc) {
   if (!out_) throw Error(path + ": cannot open for writing");
   SectionWriter header;
   header.bytes.assign(magic, 8);
@@ -39,8 +42,17 @@ void SectionedFileWriter::section(const char tag[4], const SectionWriter& payloa
   out_.write(payload.bytes.data(), std::streamsize(payload.bytes.size()));
 }
 
+SectionedFileWriter::~SectionedFileWriter() {
+  if (finished_) return;
+  out_.close();
+  std::remove(temporary_.c_str());
+}
+
 void SectionedFileWriter::finish() {
-  if (!out_.flush()) throw Error(path_ + ": write failed (disk full?)", ErrorKind::Failure);
+  out_.close();
+  if (!out_) throw Error(path_ + ": write failed (disk full?)", ErrorKind::Failure);
+  finished_ = true;
+  replaceWith(temporary_, path_);
 }
 
 SectionedFile readSectionedFile(const std::string& path, const char magic[8], const std::string& what) {

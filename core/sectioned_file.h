@@ -34,16 +34,22 @@ public:
   std::string bytes;
 };
 
-// Opens `path` for writing and writes the magic and version; then section() appends sections.
+// Writes the magic and version, then section() appends sections, under a temporary name beside `path`
+// (core/atomic_file.h); finish() puts the whole file at `path`. Destroyed unfinished (an error while
+// writing), it removes the temporary and leaves `path` as it was.
 class SectionedFileWriter {
 public:
   SectionedFileWriter(const std::string& path, const char magic[8], std::uint32_t version);
+  ~SectionedFileWriter();
+  SectionedFileWriter(const SectionedFileWriter&) = delete;
+  SectionedFileWriter& operator=(const SectionedFileWriter&) = delete;
   void section(const char tag[4], const SectionWriter& payload);
-  void finish();  // flushes; throws Error (Failure) when the data did not reach the file
+  void finish();  // flushes and renames; throws Error (Failure) when the data did not reach the file
 
 private:
-  std::string path_;
+  std::string path_, temporary_;
   std::ofstream out_;
+  bool finished_ = false;
 };
 
 // Reads one section's payload; every failure throws Error naming the file, the section and the byte.

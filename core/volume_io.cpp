@@ -1,5 +1,7 @@
 #include "core/volume_io.h"
 
+#include "core/atomic_file.h"
+
 #include <filesystem>
 
 #include "core/error.h"
@@ -37,11 +39,18 @@ Volume readVolume(const std::string& path) {
 void writeVolume(const std::string& path, const Volume& volume) {
   require(volume.data.size() == volume.voxelCount() * bytesPerVoxel(volume.type),
           path + ": volume data size does not match its dimensions");
-  switch (volumeFormatOf(path)) {
-    case VolumeFormat::Nifti: writeNifti(path, volume); break;
-    case VolumeFormat::Nrrd: writeNrrd(path, volume); break;
-    case VolumeFormat::Inr: writeInr(path, volume); break;
-  }
+  const VolumeFormat format = volumeFormatOf(path);
+  auto write = [&](const std::string& to) {
+    switch (format) {
+      case VolumeFormat::Nifti: writeNifti(to, volume); break;
+      case VolumeFormat::Nrrd: writeNrrd(to, volume); break;
+      case VolumeFormat::Inr: writeInr(to, volume); break;
+    }
+  };
+  // A detached header (NRRD's .nhdr, NIfTI's .hdr) names its data file after itself, so the pair is
+  // written where it stays.
+  if (endsWith(path, ".nhdr") || endsWith(path, ".hdr")) write(path);
+  else writeAtomically(path, write);
 }
 
 void setGeometryFromAffine(Volume& v, const Mat3& linear, const Vec3& origin, const std::string& where) {

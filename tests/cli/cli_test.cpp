@@ -3,7 +3,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
+#include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -145,6 +148,57 @@ TEST(Cli, InfoGlReportsOpenGL45OrLater) {
   EXPECT_EQ(report["gl_contexts"], 1);
   EXPECT_GE(report["max_tessellation_level"].get<int>(), 64);
   EXPECT_FALSE(report["renderer"].get<std::string>().empty());
+}
+
+// A build killed (SIGKILL) while it writes its model leaves the old model whole: every file is written
+// under a temporary name beside it and renamed only once complete (core/atomic_file.h).
+TEST(Cli, AKilledBuildLeavesTheOldModelWhole) {
+  const auto dir = test::scratchDir();
+  const std::string mesh = (dir / "torus.off").string(), model = (dir / "torus.isoatlas").string();
+  writeMesh(mesh, test::torusMesh(160, 64));
+  ASSERT_EQ(run("build " + mesh + " -o " + model + " -q --no-hausdorff").code, 0);
+  const std::string old = test::readBytes(model);
+  // A second build with larger charts (a model of some 13 MB), killed once its temporary holds data.
+  const pid_t pid = fork();
+  if (pid == 0) {
+    std::freopen("/dev/null", "w", stdout);
+    std::freopen("/dev/null", "w", stderr);
+    execl(ISOATLAS_EXE, ISOATLAS_EXE, "build", mesh.c_str(), "-o", model.c_str(), "-q", "--no-hausdorff", "--chart", "129",
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  ASSERT_GT(pid, 0);
+  // The temporary's size, or -1 while there is none.
+  auto partialBytes = [&]() -> std::intmax_t {
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+      if (e.path().filename().string().find(".partial.torus.isoatlas") != std::string::npos) {
+        const auto size = std::filesystem::file_size(e.path(), ec);
+        return ec ? 0 : std::intmax_t(size);
+      }
+    return -1;
+  };
+  bool killed = false, exited = false;
+  int status = 0;
+  while (!killed && !exited) {
+    if (partialBytes() > 0) killed = kill(pid, SIGKILL) == 0;
+    else exited = waitpid(pid, &status, WNOHANG) == pid;
+  }
+  if (killed) waitpid(pid, &status, 0);
+  ASSERT_TRUE(killed) << "the build ended before its model's temporary was seen";
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the build was not killed";
+  // Killed mid-write: the old model, byte for byte (or, had the rename won the race, the whole new one).
+  const std::string after = test::readBytes(model);
+  if (after == old) {
+    EXPECT_GT(partialBytes(), 0) << "killed with part of the new model written";
+  } else {
+    EXPECT_EQ(partialBytes(), -1) << "the model was replaced, yet its temporary is still there";
+    EXPECT_EQ(run("eval " + model + " --dense " + mesh + " --levels 0 --samples 2000 -q").code, 0) << "a torn model";
+  }
+  // A finished build replaces it whole.
+  ASSERT_EQ(run("build " + mesh + " -o " + model + " -q --no-hausdorff --chart 17").code, 0);
+  EXPECT_NE(test::readBytes(model), old);
+  EXPECT_EQ(run("eval " + model + " --dense " + mesh + " --levels 0 --samples 2000 -q").code, 0);
 }
 
 TEST(Cli, RunWritesItsProductsAndNamesSkippedStages) {

@@ -1,0 +1,54 @@
+#include "core/atomic_file.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+
+namespace isoatlas {
+
+std::string temporaryPathFor(const std::string& path) {
+  static std::atomic<unsigned> counter{0};  // unique per call: writes may run concurrently
+  const std::filesystem::path p(path);
+  std::string name(".");  // appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "." + string
+  name += std::to_string(::getpid());
+  name += '-';
+  name += std::to_string(counter++);
+  name += ".partial.";
+  name += p.filename().string();
+  return (p.parent_path() / name).string();
+}
+
+void replaceWith(const std::string& temporary, const std::string& path) {
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    std::remove(temporary.c_str());
+    throw Error(path + ": could not replace it with the finished file", ErrorKind::Failure);
+  }
+}
+
+void writeAtomically(const std::string& path, const std::function<void(const std::string& temporary)>& write) {
+  const std::string temporary = temporaryPathFor(path);
+  try {
+    write(temporary);
+  } catch (...) {
+    std::remove(temporary.c_str());
+    throw;
+  }
+  replaceWith(temporary, path);
+}
+
+void writeFileAtomically(const std::string& path, const std::string& bytes) {
+  writeAtomically(path, [&](const std::string& to) {
+    std::ofstream out(to, std::ios::binary);
+    if (!out) throw Error(path + ": cannot open for writing");
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    out.close();
+    if (!out) throw Error(path + ": could not finish writing (disk full?)", ErrorKind::Failure);
+  });
+}
+
+}  // namespace isoatlas

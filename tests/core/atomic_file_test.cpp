@@ -1,0 +1,90 @@
+// writeAtomically and the writers built on it: a file appears whole or not at all, and a write that
+// fails leaves the old file as it was and no temporary behind.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/image.h"
+#include "core/mesh_io.h"
+#include "core/sectioned_file.h"
+#include "core/volume_io.h"
+#include "tests/test_util.h"
+
+namespace isoatlas {
+namespace {
+
+std::size_t entries(const std::filesystem::path& dir) {
+  return std::size_t(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()));
+}
+
+TEST(AtomicFile, TheTemporaryKeepsTheNameSoTheExtensionStillChoosesTheFormat) {
+  const std::string t = temporaryPathFor("/some/dir/mask.nii.gz");
+  EXPECT_EQ(std::filesystem::path(t).parent_path(), "/some/dir");
+  EXPECT_TRUE(t.ends_with(".partial.mask.nii.gz")) << t;
+  EXPECT_NE(temporaryPathFor("/some/dir/mask.nii.gz"), t) << "each call its own name";
+}
+
+TEST(AtomicFile, AWholeWriteReplacesTheFileAndLeavesNoTemporary) {
+  const auto dir = test::scratchDir();
+  const auto path = (dir / "a.txt").string();
+  test::writeBytes(path, "old");
+  writeFileAtomically(path, "new contents");
+  EXPECT_EQ(test::readBytes(path), "new contents");
+  EXPECT_EQ(entries(dir), 1u);
+}
+
+TEST(AtomicFile, AFailedWriteLeavesTheOldFileAndNoTemporary) {
+  const auto dir = test::scratchDir();
+  const auto path = (dir / "a.txt").string();
+  test::writeBytes(path, "old");
+  EXPECT_THROW(writeAtomically(path,
+                               [](const std::string& temporary) {
+                                 test::writeBytes(temporary, "half");
+                                 throw Error("the writer failed half way");
+                               }),
+               Error);
+  EXPECT_EQ(test::readBytes(path), "old");
+  EXPECT_EQ(entries(dir), 1u);
+}
+
+TEST(AtomicFile, EveryWriterGoesThroughATemporary) {
+  // Each writer leaves only its file in the folder (its temporary renamed) and reads back.
+  const auto dir = test::scratchDir();
+  const Volume v = test::rampVolume(ScalarType::UInt8);
+  for (const char* name : {"v.nii.gz", "v.nrrd", "v.inr.gz"}) {
+    writeVolume((dir / name).string(), v);
+    EXPECT_EQ(readVolume((dir / name).string()).data, v.data) << name;
+  }
+  writeMesh((dir / "m.ply").string(), test::octahedron());
+  EXPECT_EQ(readMesh((dir / "m.ply").string()).faceCount(), 8u);
+  writePng((dir / "i.png").string(), Image(4, 3, 3));
+  EXPECT_EQ(readPng((dir / "i.png").string()).width, 4);
+  EXPECT_EQ(entries(dir), 5u) << "no temporaries left";
+}
+
+TEST(AtomicFile, AnUnfinishedSectionedFileLeavesTheOldOne) {
+  const auto dir = test::scratchDir();
+  const auto path = (dir / "f.bin").string();
+  test::writeBytes(path, "old");
+  const char magic[8] = {'T', 'E', 'S', 'T', 'F', 'I', 'L', 'E'};
+  {
+    SectionedFileWriter out(path, magic, 1);
+    SectionWriter payload;
+    payload.put(std::uint32_t(7));
+    out.section("DATA", payload);
+    // destroyed without finish(): an error while writing
+  }
+  EXPECT_EQ(test::readBytes(path), "old");
+  EXPECT_EQ(entries(dir), 1u);
+  {
+    SectionedFileWriter out(path, magic, 1);
+    out.finish();
+  }
+  EXPECT_EQ(test::readBytes(path).substr(0, 8), "TESTFILE");
+  EXPECT_EQ(entries(dir), 1u);
+}
+
+}  // namespace
+}  // namespace isoatlas
