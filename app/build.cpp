@@ -1,6 +1,8 @@
 // isoatlas build: the multiresolution model of a triangle mesh: stellar simplification with local
 // parametrisation, the triquad base mesh by max-weight matching, one geometry-image chart per tile
 // packed into an atlas, written as one .isoatlas file.
+#include <limits>
+
 #include "app/command.h"
 #include "pipeline/model_building.h"
 #include "core/error.h"
@@ -18,7 +20,8 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
   sub->add_option("mesh", *input, "a 2-manifold mesh (.off, .ply, .obj, .stl), closed or with boundaries")->required();
   sub->add_option("-o,--output", *output, "the model file (.isoatlas)");
   sub->add_option("--base-ratio", o->baseRatio, "base vertices as a fraction of the dense ones")->capture_default_str();
-  sub->add_option("--base-vertices", o->baseVertices, "base vertex count (instead of --base-ratio)");
+  sub->add_option("--base-vertices", o->baseVertices, "base vertex count (instead of --base-ratio), at least 4")
+      ->check(CLI::Range(std::size_t(4), std::numeric_limits<std::size_t>::max()));
   sub->add_option("--max-error", o->maxError, "never weld where the quadric RMS distance exceeds this (mm)");
   sub->add_option("--chart", *chart, "chart size in texels per side, 2^k + 1")->capture_default_str();
   sub->add_flag("--keep-dense", o->keepDense, "keep the dense mesh and its parametrisation in the model");

@@ -31,6 +31,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
     std::vector<std::pair<std::string, std::vector<atlas::LevelFigures>>> measured;
     for (std::size_t m = 0; m < models->size(); ++m) {
       const atlas::Model model = atlas::readModel((*models)[m]);
+      pipeline::requireDenseOf(model, denseMesh, "--dense " + *dense);
       const int top = atlas::maxLevel(model.atlas);
       const std::vector<int> levels = levelText->empty() ? pipeline::parseLevels("0-" + std::to_string(top), top) : pipeline::parseLevels(*levelText, top);
       if (m == 0) {

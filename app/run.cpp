@@ -159,10 +159,13 @@ struct SegmentationSetup {
   levelset::SpeedParams params;
   pipeline::EditRequest edits;
 };
-SegmentationSetup segmentationSetup(const RunOptions& options, const RunJob& job) {
+SegmentationSetup segmentationSetup(const RunOptions& options, const std::string& input, const Volume& volume) {
   SegmentationSetup s{{}, {float(options.target), float(options.width), float(options.alpha)}, {.steps = *options.edits}};
-  for (const std::string& text : options.seeds) s.seeds.push_back(parseBall(text, "--seed", kDemoSeedRadius));
-  if (s.seeds.empty() && pipeline::isDemoVolume(job.input, job.volume)) {
+  for (const std::string& text : options.seeds) {
+    s.seeds.push_back(parseBall(text, "--seed", kDemoSeedRadius));
+    pipeline::requireInside(volume, s.seeds.back().centre, "--seed " + text);
+  }
+  if (s.seeds.empty() && pipeline::isDemoVolume(input, volume)) {
     for (const Vec3& seed : pipeline::kDemoSeeds) s.seeds.push_back({seed, kDemoSeedRadius});
     s.params = pipeline::kDemoParams;
     if (s.edits.steps.empty()) s.edits.steps.push_back({levelset::dvt::Op::Subtract, pipeline::kDemoEdit});
@@ -171,7 +174,6 @@ SegmentationSetup segmentationSetup(const RunOptions& options, const RunJob& job
 }
 
 pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup, int iterations) {
-  for (const pipeline::Ball& b : setup.seeds) pipeline::requireInside(job.volume, b.centre, "--seed");
   std::optional<pipeline::Segmentation> result;
   job.stage("segment", [&] {
     result = pipeline::segmentVolume(job.volume, {.params = setup.params,
@@ -357,29 +359,30 @@ void runJob(const std::string& input, const std::string& outDir, const RunOption
   const auto start = std::chrono::steady_clock::now();
   checkRunOptions(options);
   const std::vector<int> levels = runLevels(options.levels, atlas::maxLevel(std::uint32_t(options.chart)));
+  // Bad input (the volume, a seed outside it, an edit's shape) is refused before anything is written.
+  Volume volume = readVolume(input);
+  const double secondsRead = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const SegmentationSetup setup = segmentationSetup(options, input, volume);
+  const auto solids = pipeline::stepSolids(setup.edits.steps);
   const std::filesystem::path dir(outDir);
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   require(!ec, outDir + ": cannot create the output folder: " + ec.message());
 
   // The process's one GL context: the solver, the extraction from its pages and the renders share it.
-  RunJob job{input, {}, pipeline::chooseBackend(options.backend), {dir, {}}, {}, r};
-  job.stage("read", [&] {
-    logInfo("run: reading " + input);
-    job.volume = readVolume(input);
-    r["input"] = {{"file", input}, {"dims", {job.volume.dims[0], job.volume.dims[1], job.volume.dims[2]}},
-                  {"spacing", {job.volume.spacing.x, job.volume.spacing.y, job.volume.spacing.z}}};
-    return std::to_string(job.volume.dims[0]) + " x " + std::to_string(job.volume.dims[1]) + " x " +
-           std::to_string(job.volume.dims[2]) + " " + scalarTypeName(job.volume.type);
-  });
+  RunJob job{input, std::move(volume), pipeline::chooseBackend(options.backend), {dir, {}}, {}, r};
+  const Volume& v = job.volume;
+  r["input"] = {{"file", input}, {"dims", {v.dims[0], v.dims[1], v.dims[2]}}, {"spacing", {v.spacing.x, v.spacing.y, v.spacing.z}}};
+  job.stages.push_back({"read", "done",
+                        std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " + std::to_string(v.dims[2]) + " " +
+                            scalarTypeName(v.type),
+                        secondsRead});
   job.stage("render input slices", [&] {
     writePng(job.products.add("input_slices.png", "the input: axial, coronal and sagittal slices through its centre", true),
              viewer::renderSlices(job.volume, viewer::volumeCentre(job.volume)));
     return std::string("input_slices.png");
   });
 
-  const SegmentationSetup setup = segmentationSetup(options, job);
-  const auto solids = pipeline::stepSolids(setup.edits.steps);
   if (setup.seeds.empty()) {
     job.skipped("segment", "no --seed given (and the input is not the demo volume)");
     logInfo("run: skipping segment: give --seed X,Y,Z[,R] --target T --width EPS");

@@ -2,6 +2,7 @@
 
 #include "app/command.h"
 #include "app/options.h"
+#include "levelset/page_manager.h"
 #include "pipeline/segmentation.h"
 #include "core/error.h"
 #include "core/progress.h"
@@ -38,6 +39,8 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
     if (!o->phi.empty()) volumeFormatOf(o->phi);
     require(o->iterations > 0, "--iterations must be > 0");
     require(!o->seeds.empty() || !o->seedMask.empty(), "give at least one --seed X,Y,Z[,R] or a --seed-mask");
+    require(levelset::isPageSize(o->page), "--page " + std::to_string(o->page) + ": a power of two from 4 to " +
+                                               std::to_string(levelset::kMaxPageSize));
     const levelset::SpeedParams params{float(o->target), float(o->width), float(o->alpha)};
     levelset::validateParams(params);
     const Volume volume = readVolume(o->volume);

@@ -8,7 +8,7 @@ namespace isoatlas::levelset {
 
 PageManager::PageManager(std::array<std::int64_t, 3> dims, int pageSize, std::int32_t initialSlots)
     : dims_(dims), pageSize_(pageSize) {
-  require(pageSize >= 4 && pageSize <= kMaxPageSize && (pageSize & (pageSize - 1)) == 0,
+  require(isPageSize(pageSize),
           "page size " + std::to_string(pageSize) + " must be a power of two from 4 to " + std::to_string(kMaxPageSize));
   for (int a = 0; a < 2; ++a) pages_[a] = (dims[a] + pageSize - 1) / pageSize;
   pages_[2] = dims[2];

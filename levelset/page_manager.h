@@ -17,6 +17,8 @@ namespace isoatlas::levelset {
 
 // Pages are P x P voxels, P a power of two from 4 to this (the CPU backend's fixed-size scratch).
 inline constexpr int kMaxPageSize = 32;
+// Page sizes the manager takes: powers of two from 4 to kMaxPageSize.
+inline bool isPageSize(int p) { return p >= 4 && p <= kMaxPageSize && (p & (p - 1)) == 0; }
 
 constexpr std::int32_t kOutsideSlot = 0, kInsideSlot = 1;
 

@@ -45,6 +45,8 @@ void checkModelRequest(const ModelRequest& request) {
 }
 
 atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann::json& r) {
+  require(request.baseVertices < dense.vertexCount(), "--base-vertices " + std::to_string(request.baseVertices) +
+                                                         ": the mesh has only " + std::to_string(dense.vertexCount()) + " vertices");
   multires::SimplifyOptions simplify{.vertexRatio = request.baseRatio, .targetVertices = request.baseVertices};
   if (request.maxError > 0) simplify.maxError = request.maxError;
   multires::SimplifyStats stats;
@@ -193,8 +195,13 @@ atlas::StampStats stampModel(atlas::Model& model, const StampRequest& request, n
   stamp.radius = request.radius;
   stamp.depth = request.depth;
   stamp.detailSize = request.detailSize;
-  const atlas::StampStats s = atlas::stampDetail(model.base, model.atlas, stamp);
+  atlas::Atlas stamped = model.atlas;  // the model changes only once the stamp is known to be sound
+  const atlas::StampStats s = atlas::stampDetail(model.base, stamped, stamp);
+  const double away = norm(s.centre - request.at);
+  require(away <= request.radius, "--at lies " + std::to_string(away) + " mm from the surface, farther than --radius " +
+                                      std::to_string(request.radius) + " (give a point at or near the surface)");
   require(s.texelsChanged + s.detailTexelsChanged > 0, "the stamp reaches no part of the surface (its image is blank there?)");
+  model.atlas = std::move(stamped);
   r["centre"] = {s.centre.x, s.centre.y, s.centre.z};
   r["normal"] = {s.normal.x, s.normal.y, s.normal.z};
   r["detail_tiles"] = s.detailTiles;
@@ -205,6 +212,19 @@ atlas::StampStats stampModel(atlas::Model& model, const StampRequest& request, n
   logInfo("edit-detail: stamped " + std::to_string(s.detailTiles) + " tiles' detail charts and " + std::to_string(s.texelsChanged) +
           " texels of their charts");
   return s;
+}
+
+void requireDenseOf(const atlas::Model& model, const Mesh& dense, const std::string& what) {
+  const multires::BaseMesh& b = model.base;
+  // Within float rounding: a mesh written as a float PLY (run's surface.ply) is still the same mesh.
+  const double tolerance = 1e-6 * boundingBox(dense.positions).diagonal();
+  for (std::size_t v = 0; v < b.vertexCount(); ++v) {
+    const std::int64_t d = b.denseVertex[v];
+    if (d < 0) continue;  // a vertex split in for the matching
+    require(std::size_t(d) < dense.vertexCount() && norm(dense.positions[std::size_t(d)] - b.positions[v]) <= tolerance,
+            what + ": not the mesh this model was built from (its base vertex " + std::to_string(v) + " is not that mesh's vertex " +
+                std::to_string(d) + ")");
+  }
 }
 
 }  // namespace isoatlas::pipeline

@@ -43,6 +43,11 @@ nlohmann::json atlasFigures(const atlas::Model& model);
 // `previewDir` unless empty); adds model_bytes to `figures`.
 void writeModelFiles(const atlas::Model& model, const std::string& path, const std::string& previewDir, nlohmann::json& figures);
 
+// Throws Error (bad input, naming `what`) unless `dense` is the mesh `model` was built from: each base
+// vertex that is a dense vertex sits where that vertex does (welds never move a vertex), to within
+// float rounding.
+void requireDenseOf(const atlas::Model& model, const Mesh& dense, const std::string& what);
+
 // Levels as eval and run take them: "0-10", "4" or "0,2,10", each within 0 .. maxLevel; throws
 // Error naming --levels otherwise.
 std::vector<int> parseLevels(const std::string& text, int maxLevel);

@@ -95,6 +95,7 @@ void bindModels(py::module_& m) {
   m.def("eval", [](const PyModel& p, const py::object& vertices, const py::object& triangles, const std::string& levels, std::size_t samples,
                    const py::object& progress) {
         const Mesh dense = pipeline::prepareModelInput(toMesh(vertices, triangles));
+        pipeline::requireDenseOf(p.model, dense, "eval: vertices, triangles");
         const int top = atlas::maxLevel(p.model.atlas);
         const std::vector<int> wanted = pipeline::parseLevels(levels.empty() ? "0-" + std::to_string(top) : levels, top);
         std::vector<atlas::LevelFigures> figures;

@@ -136,6 +136,72 @@ TEST(Cli, BadInputsExitTwoWithOneLine) {
   expectBadInput("info " + (dir / "truncated.nii.gz").string(), "truncated.nii.gz");
 }
 
+// Every subcommand's options with bad values (out of range, conflicting, a wrong extension, a missing,
+// damaged or foreign file): exit 2, one line naming the option or the file, and nothing written.
+TEST(Cli, EveryBadOptionExitsTwoNamingItAndWritesNothing) {
+  const auto dir = test::scratchDir();
+  const std::string d = dir.string() + "/";
+  writeMesh(d + "torus.off", test::torusMesh(24, 12));
+  writeMesh(d + "other.off", test::torusMesh(24, 12, 3, 1.5));  // the same vertex count, another shape
+  writeVolume(d + "v.nii.gz", test::rampVolume(ScalarType::UInt8, {20, 20, 20}));
+  ASSERT_EQ(run("build " + d + "torus.off -o " + d + "torus.isoatlas -q --no-hausdorff").code, 0);
+  test::writeBytes(d + "damaged.isoatlas", test::readBytes(d + "torus.isoatlas").substr(0, 100));
+  const std::filesystem::path out = dir / "out";
+  std::filesystem::create_directories(out);
+  const std::string o = out.string() + "/";
+  const std::string model = d + "torus.isoatlas ", vol = d + "v.nii.gz ", seg = "segment " + vol + "-T 100 -e 10 --seed 10,10,10 ";
+  const std::string stamp = "edit-detail " + model + "--text hi --radius 1 --depth 0.1 ";
+  const struct {
+    std::string args, phrase;
+  } cases[] = {
+      {"render " + model + "-o " + o + "r.png --cpu-error -1", "--cpu-error"},
+      {"render " + model + "-o " + o + "r.png --gpu-pixels -3", "--gpu-pixels"},
+      {"render " + model + "-o " + o + "r.png --cpu-error 2 --cpu-level 3", "--cpu-level excludes --cpu-error"},
+      {"render " + model + "-o " + o + "r.png --turntable -2", "--turntable"},
+      {"render " + model + "-o " + o + "r.png --frames 0", "--frames"},
+      {"render " + model + "-o " + o + "r.png --smooth 99", "--smooth"},
+      {"render " + d + "damaged.isoatlas -o " + o + "r.png", "damaged.isoatlas"},
+      {"render " + model + "-o " + o + "r.jpg", "r.jpg"},
+      {"render " + model + "--segmentation " + vol + "-o " + o + "r.png", "--segmentation"},
+      {"build " + d + "torus.off -o " + o + "m.isoatlas --base-only " + o + "base.ply", "base.ply"},
+      {"build " + d + "torus.off -o " + o + "m.isoatlas --max-error -1", "--max-error"},
+      {"build " + d + "torus.off -o " + o + "m.isoatlas --base-vertices 0", "--base-vertices"},
+      {"build " + d + "torus.off -o " + o + "m.isoatlas --base-vertices 100000000", "--base-vertices"},
+      {"build " + d + "torus.off -o " + o + "m.isoatlas --chart 30", "--chart"},
+      {"build " + d + "torus.off -o " + o + "m.txt", "m.txt"},
+      {"build " + d + "missing.off -o " + o + "m.isoatlas", "missing.off"},
+      {"edit " + vol + "-o " + o + "e.nii.gz --node-limit 0 --subtract sphere:0,0,0,3", "--node-limit"},
+      {"edit " + vol + "-o " + o + "e.nii.gz --collapse-every -1 --subtract sphere:0,0,0,3", "--collapse-every"},
+      {"edit " + vol + "-o " + o + "e.nii.gz --backend quantum --subtract sphere:0,0,0,3", "--backend"},
+      {"edit " + vol + "-o " + o + "e.nii.gz --render " + o + "x.jpg --subtract sphere:0,0,0,3", "x.jpg"},
+      {"edit " + vol + "-o " + o + "e.nii.gz --subtract blob:1,2", "blob:1,2"},
+      {stamp + "--stamp " + d + "s.png --at 4,0,0 -o " + o + "d.isoatlas", "not both"},
+      {stamp + "--at 100,100,100 -o " + o + "d.isoatlas", "--at"},
+      {stamp + "--at 4,0,0 -o " + o + "d.ply", "d.ply"},
+      {"eval " + model + "--dense " + d + "torus.off --samples 10", "--samples"},
+      {"eval " + model + "--dense " + d + "torus.off --levels 4-2", "--levels"},
+      {"eval " + model + "--dense " + d + "other.off", "other.off"},
+      {"eval " + d + "damaged.isoatlas --dense " + d + "torus.off", "damaged.isoatlas"},
+      {"eval " + model + "--dense " + d + "torus.off --out-mesh-level 99 " + o + "l.ply", "--out-mesh-level"},
+      {seg + "-o " + o + "m.txt", "m.txt"},
+      {seg + "-o " + o + "m.nii.gz --alpha 2", "alpha"},
+      {seg + "-o " + o + "m.nii.gz --page 5", "--page"},
+      {"segment " + vol + "-T 100 -e 10 --seed 100,0,0 -o " + o + "m.nii.gz", "--seed"},
+      {"segment " + vol + "-T 100 -e -1 --seed 10,10,10 -o " + o + "m.nii.gz", "eps"},
+      {"extract " + vol + "-o " + o + "s.txt", "s.txt"},
+      {"extract " + vol + "-o " + o + "s.ply --smooth -1", "--smooth"},
+      {"probe " + vol + "--at 100,100,100", "--at"},
+      {"run " + vol + "-o " + o + "run --chart 30", "--chart"},
+      {"run " + vol + "-o " + o + "run --seed 100,0,0 -T 100 -e 10", "--seed"},
+  };
+  for (const auto& c : cases) {
+    expectBadInput(c.args, c.phrase);
+    EXPECT_TRUE(std::filesystem::is_empty(out)) << "left output behind: " << c.args;
+    std::filesystem::remove_all(out);
+    std::filesystem::create_directories(out);
+  }
+}
+
 TEST(Cli, InfoGlReportsOpenGL45OrLater) {
   const auto dir = test::scratchDir();
   const Result r = run("info --gl --report " + (dir / "gl.json").string());

@@ -202,6 +202,30 @@ def test_build_equals_the_command_and_renders(tmp_path):
         isoatlas.build(vertices, np.array([[0, 1, len(vertices)]]))
 
 
+def test_bad_models_and_meshes_raise_as_the_command_refuses_them(tmp_path):
+    _, surface = command_surface(tmp_path)
+    path = str(tmp_path / "m.isoatlas")
+    cli("build", surface, "--chart", "9", "--base-ratio", "0.05", "-o", path)
+    with open(path, "rb") as f:
+        good = f.read()
+    with pytest.raises(FileNotFoundError):
+        isoatlas.load_model(str(tmp_path / "missing.isoatlas"))
+    with open(tmp_path / "cut.isoatlas", "wb") as f:
+        f.write(good[:100])
+    with pytest.raises(ValueError, match="cut.isoatlas.*truncated"):
+        isoatlas.load_model(str(tmp_path / "cut.isoatlas"))
+    with open(tmp_path / "v1.isoatlas", "wb") as f:
+        f.write(good[:8] + (1).to_bytes(4, "little") + good[12:])  # a version this isoatlas no longer reads
+    with pytest.raises(ValueError, match="build the model again"):
+        isoatlas.load_model(str(tmp_path / "v1.isoatlas"))
+    model = isoatlas.load_model(path)
+    with pytest.raises(ValueError, match="level 99 is outside"):
+        model.mesh_at_level(99)
+    vertices, triangles = read_off(surface)
+    with pytest.raises(ValueError, match="not the mesh this model was built from"):
+        isoatlas.eval(model, vertices.astype(np.float32).astype(np.float64) * 1.1, triangles, levels="0")
+
+
 def test_write_png_writes_a_png_and_refuses_other_shapes(tmp_path):
     image = np.zeros((5, 7, 3), dtype=np.uint8)
     image[1, 2] = (255, 128, 3)
