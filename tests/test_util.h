@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -28,6 +29,14 @@ inline void writeBytes(const std::filesystem::path& path, const std::string& byt
 inline std::string readBytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// A golden file pins a format: `written` (what the writer makes of the golden's known contents) must
+// equal the file byte for byte. ISOATLAS_WRITE_GOLDEN=1 writes the file instead: a format change is
+// then a deliberate change of the committed file, with a version bump.
+inline void expectGolden(const std::filesystem::path& golden, const std::string& written) {
+  if (std::getenv("ISOATLAS_WRITE_GOLDEN")) writeBytes(golden, written);
+  EXPECT_TRUE(readBytes(golden) == written) << golden << " differs from what the writer makes of its contents";
 }
 
 // A float volume whose voxel (x, y, z) holds f(x, y, z), unit spacing at the origin.

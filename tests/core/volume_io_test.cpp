@@ -273,5 +273,25 @@ TEST(VolumeBadInput, ByteLimitIsCheckedBeforeAllocation) {
   EXPECT_NO_THROW(readVolume((dir / "v.nii").string()));
 }
 
+// The committed mask pins the NIfTI writer: its voxels, grid and geometry, and the writer's bytes.
+TEST(VolumeIo, GoldenMaskPinsTheNiftiFormat) {
+  Volume mask = Volume::zeros({7, 5, 4}, ScalarType::UInt8);
+  for (std::int64_t z = 0; z < 4; ++z)
+    for (std::int64_t y = 0; y < 5; ++y)
+      for (std::int64_t x = 0; x < 7; ++x) mask.setValue(mask.index(x, y, z), (x * 3 + y * 5 + z * 7) % 4 == 0 ? 1 : 0);
+  mask.spacing = {0.8, 0.9, 1.1};
+  mask.origin = {-3, 2, 5};
+  const std::string golden = std::string(ISOATLAS_SOURCE_DIR) + "/tests/core/fixtures/golden_mask.nii.gz";
+  const auto dir = test::scratchDir();
+  writeVolume((dir / "mask.nii.gz").string(), mask);
+  test::expectGolden(golden, test::readBytes(dir / "mask.nii.gz"));
+  const Volume back = readVolume(golden);
+  EXPECT_EQ(back.type, ScalarType::UInt8);
+  EXPECT_EQ(back.dims, mask.dims);
+  EXPECT_EQ(back.data, mask.data);
+  EXPECT_NEAR(back.spacing.y, 0.9, 1e-6);
+  EXPECT_NEAR(back.origin.z, 5, 1e-6);
+}
+
 }  // namespace
 }  // namespace isoatlas

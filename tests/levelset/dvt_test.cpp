@@ -253,6 +253,20 @@ TEST(Dvt, FileKeepsTheSourceGrid) {
   EXPECT_THROW(readDvt((dir / "wide.dvt").string(), false), Error);
 }
 
+// The committed tree pins the .dvt format: what it holds, and the writer's bytes for it.
+TEST(Dvt, GoldenTreePinsTheFormat) {
+  const std::string golden = std::string(ISOATLAS_SOURCE_DIR) + "/tests/levelset/fixtures/golden_tree.dvt";
+  const VolumeTree tree = readDvt(golden);
+  EXPECT_EQ(tree.nodeCount(), 171u);
+  EXPECT_EQ(tree.leafCount(), 86u);
+  EXPECT_EQ(tree.frame.grid(), (std::array<std::int64_t, 3>{181, 217, 181}));
+  const Volume mask = sampleMask(tree);
+  EXPECT_EQ(std::count(mask.data.begin(), mask.data.end(), std::byte{1}), 1769472);
+  const auto dir = test::scratchDir();
+  writeDvt((dir / "t.dvt").string(), tree);
+  test::expectGolden(golden, test::readBytes(dir / "t.dvt"));
+}
+
 // The rasteriser holds a write's voxels within a budget: the exact count fits, one fewer is refused,
 // and a depth whose voxels no budget holds is refused from the coarse levels, at once.
 TEST(Dvt, RasteriserKeepsToItsVoxelBudget) {
