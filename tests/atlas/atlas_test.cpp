@@ -19,6 +19,7 @@
 #include "multires/triangle_pairing.h"
 #include "tests/atlas/atlas_checks.h"
 #include "tests/multires/mesh_shapes.h"
+#include "tests/thread_count.h"
 
 namespace isoatlas::atlas {
 namespace {
@@ -306,6 +307,23 @@ TEST(Hausdorff, KnownDistancesBothWays) {
   Mesh broken = a;
   broken.positions[3].y = std::nan("");
   EXPECT_THROW(hausdorffDistance(a, broken, 1000), Error);
+}
+
+// Simplification, matching and charting give the same model whatever the thread count (1, 2 or 8).
+TEST(Atlas, TheSameModelOnOneTwoOrEightThreads) {
+  const Mesh dense = test::tripleTorusMesh();
+  auto model = [&] {
+    multires::BaseMesh base = multires::simplifyStellar(dense, {.vertexRatio = 0.02});
+    multires::pairTriangles(base, dense);
+    const Atlas atlas = makeAtlas(dense, base, 9);
+    return std::make_pair(base.positions, atlas.positions);
+  };
+  const auto one = test::onThreads(1, model);
+  for (const int threads : {2, 8}) {
+    const auto other = test::onThreads(threads, model);
+    EXPECT_TRUE(other.first == one.first) << "base vertices on " << threads << " threads";
+    EXPECT_TRUE(other.second == one.second) << "atlas texels on " << threads << " threads";
+  }
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "levelset/level_set.h"
 #include "tests/gl_context.h"
 #include "tests/test_util.h"
+#include "tests/thread_count.h"
 
 namespace isoatlas::extract {
 namespace {
@@ -357,6 +358,21 @@ TEST(ExtractLevelSet, GpuMemoryFollowsTheSurfaceNotTheGrid) {
   EXPECT_GT(double(dense[1].gpuBytes) - double(dense[0].gpuBytes), 4 * grownVoxels) << "a dense phi's growth at least";
   EXPECT_LT(double(pages[1].gpuBytes) - double(pages[0].gpuBytes), 0.05 * grownVoxels)
       << "from the pages: only the tables grow (" << pages[0].gpuBytes << " -> " << pages[1].gpuBytes << " bytes)";
+}
+
+// The CPU marching cubes' mesh does not depend on the thread count (1, 2 or 8 threads).
+TEST(MarchingCubes, TheCpuMeshIsTheSameOnOneTwoOrEightThreads) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> value(-1, 1);
+  const Volume v = test::fieldVolume({40, 33, 29}, [&](double, double, double) { return value(rng); });
+  auto extract = [&] { return extractSurface(v, {.iso = 0.0f}); };
+  EXPECT_EQ(test::onThreads(8, [] { return tbb::this_task_arena::max_concurrency(); }), 8) << "8 threads even on 2 cores";
+  const Mesh one = test::onThreads(1, extract);
+  for (const int threads : {2, 8}) {
+    const Mesh m = test::onThreads(threads, extract);
+    EXPECT_TRUE(m.positions == one.positions) << threads << " threads";
+    EXPECT_TRUE(m.faceVertices == one.faceVertices) << threads << " threads";
+  }
 }
 
 }  // namespace

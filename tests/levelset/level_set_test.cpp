@@ -12,6 +12,7 @@
 #include "levelset/level_set.h"
 #include "levelset/probe.h"
 #include "tests/gl_context.h"
+#include "tests/thread_count.h"
 
 namespace isoatlas::levelset {
 namespace {
@@ -354,6 +355,21 @@ TEST(Probe, MeanAndSpreadOfAKnownBall) {
   EXPECT_NEAR(r.std, 12, 2);
   EXPECT_THROW(probeSphere(p.image, {-5, 0, 0}, 2), Error);
   EXPECT_THROW(probeSphere(p.image, {5, 5, 5}, 0), Error);
+}
+
+// The CPU solver's result does not depend on the thread count (1, 2 or 8 threads on any machine).
+TEST(LevelSet, TheCpuSolverGivesTheSameLevelSetOnOneTwoOrEightThreads) {
+  const Phantom p = torusPhantom();
+  auto segment = [&] {
+    LevelSet ls(p.image, {100, 30, 0.7f});
+    ls.addSphere(p.seedA, 3);
+    ls.addSphere(p.seedB, 3);
+    ls.run({.maxIterations = 120});
+    return ls.phi().data;
+  };
+  const auto one = test::onThreads(1, segment);
+  EXPECT_TRUE(test::onThreads(2, segment) == one);
+  EXPECT_TRUE(test::onThreads(8, segment) == one);
 }
 
 }  // namespace
