@@ -23,6 +23,13 @@ void bindAction(CLI::App& sub, const Action& action, int& exitCode) {
     nlohmann::json report;
     report["command"] = sub.get_name();
     try {
+      // Every output file must land in a folder that exists: known before any work is done. (run's
+      // --output is a folder it makes.)
+      for (const char* name : {"--output", "--report", "--phi", "--render", "--plot", "--base-only"}) {
+        const CLI::Option* option = sub.get_option_no_throw(name);
+        if (!option || option->count() == 0 || (sub.get_name() == "run" && std::string(name) == "--output")) continue;
+        for (const std::string& value : option->results()) requireOutputFolder(value);
+      }
       exitCode = action(report);
       if (!common->report.empty()) writeJsonFile(common->report, report);
     } catch (const Error& e) {

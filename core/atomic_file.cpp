@@ -30,10 +30,24 @@ void replaceWith(const std::string& temporary, const std::string& path) {
   }
 }
 
+void requireOutputFolder(const std::string& path) {
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  require(folder.empty() || std::filesystem::is_directory(folder, ec), path + ": its folder does not exist");
+}
+
 void writeAtomically(const std::string& path, const std::function<void(const std::string& temporary)>& write) {
+  requireOutputFolder(path);
   const std::string temporary = temporaryPathFor(path);
   try {
     write(temporary);
+  } catch (const Error& e) {
+    std::remove(temporary.c_str());
+    // The user named `path`, not our temporary: say that name.
+    std::string message = e.what();
+    for (std::size_t at = message.find(temporary); at != std::string::npos; at = message.find(temporary, at + path.size()))
+      message.replace(at, temporary.size(), path);
+    throw Error(message, e.kind());
   } catch (...) {
     std::remove(temporary.c_str());
     throw;

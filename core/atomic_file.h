@@ -12,6 +12,10 @@ namespace isoatlas {
 
 void writeAtomically(const std::string& path, const std::function<void(const std::string& temporary)>& write);
 
+// Throws Error (bad input) naming `path` unless its folder exists: commands check their outputs with it
+// before any work, and writeAtomically before it writes.
+void requireOutputFolder(const std::string& path);
+
 // `bytes` as the whole of `path` (text or binary), through writeAtomically.
 void writeFileAtomically(const std::string& path, const std::string& bytes);
 

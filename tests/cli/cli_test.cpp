@@ -191,6 +191,7 @@ TEST(Cli, EveryBadOptionExitsTwoNamingItAndWritesNothing) {
       {"extract " + vol + "-o " + o + "s.txt", "s.txt"},
       {"extract " + vol + "-o " + o + "s.ply --smooth -1", "--smooth"},
       {"probe " + vol + "--at 100,100,100", "--at"},
+      {"extract " + vol + "-o " + o + "no-such-folder/s.ply", "no-such-folder/s.ply: its folder does not exist"},
       {"run " + vol + "-o " + o + "run --chart 30", "--chart"},
       {"run " + vol + "-o " + o + "run --seed 100,0,0 -T 100 -e 10", "--seed"},
   };

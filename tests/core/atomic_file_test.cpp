@@ -64,6 +64,19 @@ TEST(AtomicFile, EveryWriterGoesThroughATemporary) {
   EXPECT_EQ(entries(dir), 5u) << "no temporaries left";
 }
 
+TEST(AtomicFile, AWriterThatCannotWriteNamesThePathNotTheTemporary) {
+  const std::string path = (test::scratchDir() / "no-such-folder" / "v.nii.gz").string();
+  try {
+    writeVolume(path, test::rampVolume(ScalarType::UInt8));
+    ADD_FAILURE() << "wrote into a missing folder";
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_EQ(message.find(".partial."), std::string::npos) << message;
+    EXPECT_NE(message.find("folder does not exist"), std::string::npos) << message;
+  }
+}
+
 TEST(AtomicFile, AnUnfinishedSectionedFileLeavesTheOldOne) {
   const auto dir = test::scratchDir();
   const auto path = (dir / "f.bin").string();
