@@ -1,17 +1,22 @@
 // libFuzzer target for one file reader, chosen at build time by FUZZ_EXT (".nii", ".nrrd", ".inr",
 // ".off", ".isoatlas", ".dvt", ...). The input is written to a file with that extension and read back; an isoatlas::Error
-// is the expected way to fail, anything else (a crash, a sanitizer report, a hang) is a bug.
+// is the expected way to fail, anything else (a crash, a sanitizer report, a hang) is a bug. What a
+// reader accepts is then used as a user would use it, so that damage the parser lets through is
+// reached too: a model is reconstructed at its lowest levels, a tree is sampled into a mask.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <string>
 
 #include "atlas/model_file.h"
+#include "atlas/reconstruct.h"
 #include "core/error.h"
 #include "core/mesh_io.h"
 #include "core/volume_io.h"
 #include "levelset/dvt/dvt_file.h"
+#include "levelset/dvt/volume_solid.h"
 
 namespace {
 const std::string& scratchPath() {
@@ -41,9 +46,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   try {
     if (scratchPath().ends_with(".isoatlas")) {
-      isoatlas::atlas::readModel(scratchPath(), {.checksums = false});  // so damaged payloads reach the parsers
+      // Without checksums, so damaged payloads reach the parsers and what they let through.
+      const isoatlas::atlas::Model model = isoatlas::atlas::readModel(scratchPath(), {.checksums = false});
+      for (int level = 0; level <= std::min(2, isoatlas::atlas::maxLevel(model.atlas)); ++level)
+        isoatlas::atlas::reconstructLevel(model.base, model.atlas, level);
     } else if (scratchPath().ends_with(".dvt")) {
-      isoatlas::levelset::dvt::readDvt(scratchPath(), false);
+      const isoatlas::levelset::dvt::VolumeTree tree = isoatlas::levelset::dvt::readDvt(scratchPath(), false);
+      // Its mask, when small enough to sample quickly (a real file's grid can be 256^3).
+      const auto grid = tree.frame.grid();
+      if (grid[0] * grid[1] * grid[2] <= (std::int64_t(1) << 21)) isoatlas::levelset::dvt::sampleMask(tree);
     } else if (isoatlas::isMeshPath(scratchPath())) {
       const isoatlas::Mesh m = isoatlas::readMesh(scratchPath());
       isoatlas::requireManifold(m, scratchPath());
