@@ -152,6 +152,35 @@ def test_long_calls_release_the_gil_and_report_progress():
     assert fractions and fractions[-1] == 1.0 and fractions == sorted(fractions)
 
 
+def test_two_threads_segment_extract_and_build_as_one_does():
+    """Calls from two threads at once (on the CPU backend; the GIL is released while they work) give
+    what one thread gets: no shared state between them but the progress observer and the GL context."""
+    data, affine = phantom()
+
+    def pipeline():
+        mask = isoatlas.segment(data, seeds=[(18, 20, 15, 3)], target=100, width=30, iterations=200, backend="cpu",
+                                affine=affine)[0]
+        vertices, triangles = isoatlas.extract(mask, backend="cpu", affine=affine)[:2]
+        model = isoatlas.build(vertices, triangles, base_ratio=0.05, chart_size=9, hausdorff=False)
+        return mask, model.mesh_at_level(2)
+
+    serial_mask, (serial_vertices, serial_triangles) = pipeline()
+    results = [None, None]
+
+    def run(k):
+        results[k] = pipeline()
+
+    threads = [threading.Thread(target=run, args=(k,)) for k in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for mask, (vertices, triangles) in results:
+        np.testing.assert_array_equal(mask, serial_mask)
+        np.testing.assert_array_equal(vertices, serial_vertices)
+        np.testing.assert_array_equal(triangles, serial_triangles)
+
+
 def test_a_steered_level_set_is_the_segmentation(tmp_path):
     data, affine = phantom()
     mask, phi, _ = isoatlas.segment(data, seeds=[(18, 20, 15, 3)], target=100, width=30, alpha=0.6, iterations=40, backend="cpu",
