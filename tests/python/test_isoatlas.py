@@ -7,6 +7,7 @@ import signal
 import subprocess
 import sys
 import threading
+import time
 
 import nibabel as nib
 import numpy as np
@@ -134,21 +135,31 @@ def test_segment_and_extract_equal_the_command(tmp_path):
 
 def test_long_calls_release_the_gil_and_report_progress():
     data, affine = phantom()
-    fractions = []
     result = {}
 
+    # Without a progress callback, which would hand the interpreter time of its own: only a released
+    # GIL lets this thread spin in the middle of the call (the interpreter's own switching covers its
+    # start and end).
     def run():
+        result["start"] = time.perf_counter()
         result["mask"] = isoatlas.segment(data, seeds=[(18, 20, 15, 3)], target=100, width=30, iterations=400, backend="cpu",
-                                          affine=affine, progress=lambda task, f: fractions.append(f))[0]
+                                          affine=affine)[0]
+        result["end"] = time.perf_counter()
 
     worker = threading.Thread(target=run)
-    spins = 0
+    spins = []
     worker.start()
     while worker.is_alive():
-        spins += 1  # Python code running beside the solver: it holds no GIL while it steps
+        spins.append(time.perf_counter())
     worker.join()
     assert "mask" in result
-    assert spins > 1000
+    start, end = result["start"], result["end"]
+    middle = [t for t in spins if start + 0.2 * (end - start) < t < end - 0.2 * (end - start)]
+    assert len(middle) > 1000, "the solver held the GIL"
+
+    fractions = []
+    isoatlas.segment(data, seeds=[(18, 20, 15, 3)], target=100, width=30, iterations=400, backend="cpu", affine=affine,
+                     progress=lambda task, f: fractions.append(f))
     assert fractions and fractions[-1] == 1.0 and fractions == sorted(fractions)
 
 
