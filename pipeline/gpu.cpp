@@ -13,11 +13,11 @@ gl::Context& Gpu::needGl() {
 
 Gpu chooseBackend(const std::string& choice) {
   Gpu gpu;
+  levelset::requireBackendChoice(choice);
   if (choice == "cpu") return gpu;
-  if (choice != "gpu" && choice != "auto") throw Error("--backend " + choice + ": expected gpu, cpu or auto");
   try {
     const gl::Info& info = gpu.needGl().info();
-    if (choice == "auto" && info.software()) {
+    if (levelset::backendFor(choice, info.software()) == levelset::Backend::Cpu) {
       logInfo("no GPU: using the CPU backend (--backend gpu runs the GPU path on " + info.renderer + ")");
       return gpu;
     }

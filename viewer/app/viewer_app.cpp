@@ -160,9 +160,7 @@ void requireDisplay() {
 }
 
 levelset::Backend chooseSolver(const std::string& choice, const gl::Context& context) {
-  require(choice == "gpu" || choice == "cpu" || choice == "auto", "--backend " + choice + ": expected gpu, cpu or auto");
-  if (choice == "auto") return context.info().software() ? levelset::Backend::Cpu : levelset::Backend::Gpu;
-  return choice == "gpu" ? levelset::Backend::Gpu : levelset::Backend::Cpu;
+  return levelset::backendFor(choice, context.info().software());
 }
 
 std::string formatPoint(const Vec3& p) {
