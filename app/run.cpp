@@ -202,16 +202,10 @@ pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup,
 // where the solver keeps them. The surface keeps its largest component.
 Mesh editAndExtractStages(RunJob& job, const pipeline::Segmentation& s, const pipeline::EditRequest& edits,
                           const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids) {
-  extract::ExtractStats extractStats;
-  Mesh surface;
+  std::optional<levelset::dvt::VolumeTree> tree;
   if (edits.steps.empty()) {
     job.skipped("edit", "no --union or --subtract given");
-    job.stage("extract", [&] {
-      surface = extract::extractLevelSet(*s.levelSet, {.largestComponent = true, .backend = s.backend}, &extractStats);
-      return std::string();
-    });
   } else {
-    std::optional<levelset::dvt::VolumeTree> tree;
     job.stage("edit", [&] {
       pipeline::EditedTree edited = pipeline::treeOfLevelSet(*s.levelSet, edits, job.gpu);
       pipeline::applySteps(edited, edits, solids);
@@ -227,17 +221,18 @@ Mesh editAndExtractStages(RunJob& job, const pipeline::Segmentation& s, const pi
       job.report["edit"]["edits"] = what;
       return what + ": " + std::to_string(tree->nodeCount()) + " nodes on the " + edited.backend + ": mask_edited.nii.gz, edited_tree.png";
     });
-    job.stage("extract", [&] {
-      surface = extract::extractSurface(levelset::dvt::sampleField(*tree, tree->frame.voxelDepth()),
-                                        {.iso = 0.0f, .largestComponent = true, .backend = s.backend}, &extractStats);
-      return std::string();
-    });
   }
-  Stage& extracted = job.stages.back();
-  writeMesh(job.products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), surface);
-  const nlohmann::json& figures = job.report["extract"] = meshFigures(surface, extractStats);
-  extracted.detail = std::to_string(surface.faceCount()) + " triangles, genus " + std::to_string(figures["genus"].get<long long>()) +
-                     ", " + (figures["closed"].get<bool>() ? "closed" : "NOT closed") + ": surface.ply";
+  Mesh surface;
+  job.stage("extract", [&] {
+    extract::ExtractStats stats;
+    const extract::ExtractOptions options{.iso = 0.0f, .largestComponent = true, .backend = s.backend};
+    surface = tree ? extract::extractSurface(levelset::dvt::sampleField(*tree, tree->frame.voxelDepth()), options, &stats)
+                   : extract::extractLevelSet(*s.levelSet, options, &stats);
+    writeMesh(job.products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), surface);
+    const nlohmann::json& figures = job.report["extract"] = meshFigures(surface, stats);
+    return std::to_string(surface.faceCount()) + " triangles, genus " + std::to_string(figures["genus"].get<long long>()) + ", " +
+           (figures["closed"].get<bool>() ? "closed" : "NOT closed") + ": surface.ply";
+  });
   return surface;
 }
 

@@ -195,13 +195,11 @@ atlas::StampStats stampModel(atlas::Model& model, const StampRequest& request, n
   stamp.radius = request.radius;
   stamp.depth = request.depth;
   stamp.detailSize = request.detailSize;
-  atlas::Atlas stamped = model.atlas;  // the model changes only once the stamp is known to be sound
-  const atlas::StampStats s = atlas::stampDetail(model.base, stamped, stamp);
+  const atlas::StampStats s = atlas::stampDetail(model.base, model.atlas, stamp);
   const double away = norm(s.centre - request.at);
   require(away <= request.radius, "--at lies " + std::to_string(away) + " mm from the surface, farther than --radius " +
                                       std::to_string(request.radius) + " (give a point at or near the surface)");
   require(s.texelsChanged + s.detailTexelsChanged > 0, "the stamp reaches no part of the surface (its image is blank there?)");
-  model.atlas = std::move(stamped);
   r["centre"] = {s.centre.x, s.centre.y, s.centre.z};
   r["normal"] = {s.normal.x, s.normal.y, s.normal.z};
   r["detail_tiles"] = s.detailTiles;

@@ -64,7 +64,9 @@ struct StampRequest {
   std::uint32_t detailSize = 129;
 };
 // Stamps the model; adds centre, normal, detail_tiles, texels_changed, detail_texels_changed,
-// detail_charts and max_level to `figures`. Throws Error(BadInput) when the stamp reaches nothing.
+// detail_charts and max_level to `figures`. Throws Error(BadInput) when the stamp reaches nothing or
+// `at` lies farther than `radius` from the surface; the model may then be stamped already, so a caller
+// that goes on without the stamp stamps a copy (run does; edit-detail writes nothing on an error).
 atlas::StampStats stampModel(atlas::Model& model, const StampRequest& request, nlohmann::json& figures);
 // The stamped region at the model's finest level, seen along the stamp's normal.
 Image closeUp(const atlas::Model& model, const atlas::StampStats& stamp, double radius);
