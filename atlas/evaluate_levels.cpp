@@ -5,6 +5,8 @@
 #include "core/plot.h"
 #include "core/progress.h"
 
+#include <tbb/parallel_invoke.h>
+
 namespace isoatlas::atlas {
 
 std::vector<LevelFigures> evaluateLevels(const multires::BaseMesh& base, const Atlas& atlas, const Mesh& dense,
@@ -15,8 +17,9 @@ std::vector<LevelFigures> evaluateLevels(const multires::BaseMesh& base, const A
   Progress progress("eval: levels", levels.size(), "levels");
   for (const int level : levels) {
     const Mesh mesh = reconstructLevel(base, atlas, level);
-    const MeshTopology topology = analyzeTopology(mesh);
-    const Hausdorff h = fromDense.to(mesh);
+    MeshTopology topology;
+    Hausdorff h;
+    tbb::parallel_invoke([&] { topology = analyzeTopology(mesh); }, [&] { h = fromDense.to(mesh); });
     out.push_back({level, mesh.vertexCount(), mesh.faceCount(), h.symmetric(), psnrDb(diagonal, h.symmetric()), h.rms(),
                    psnrDb(diagonal, h.rms()), topology.closed, topology.manifold});
     progress.update(out.size());
