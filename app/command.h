@@ -6,8 +6,6 @@
 
 #include <functional>
 
-#include "core/mesh.h"
-#include "extract/extract_surface.h"
 #include <string>
 
 namespace isoatlas::app {
@@ -25,9 +23,6 @@ using Action = std::function<int(nlohmann::json& report)>;
 void bindAction(CLI::App& sub, const Action& action, int& exitCode);
 
 void writeJsonFile(const std::string& path, const nlohmann::json& json);
-
-// vertices, triangles, components, closed, manifold, euler, genus, seconds, cells_visited, ...
-nlohmann::json meshFigures(const Mesh& mesh, const extract::ExtractStats& stats);
 
 void addInfoCommand(CLI::App& app, int& exitCode);
 void addRunCommand(CLI::App& app, int& exitCode);

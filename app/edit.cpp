@@ -2,12 +2,12 @@
 #include <algorithm>
 
 #include "app/command.h"
+#include "pipeline/surface_figures.h"
 #include "app/options.h"
 #include "pipeline/volume_editing.h"
 #include "core/error.h"
 #include "core/gz_file.h"
 #include "core/mesh_io.h"
-#include "core/mesh_topology.h"
 #include "core/progress.h"
 #include "core/volume_io.h"
 #include "extract/extract_surface.h"
@@ -96,7 +96,7 @@ void addEditCommand(CLI::App& app, int& exitCode) {
       const Mesh mesh = extract::extractSurface(field, {.iso = 0.0f, .backend = gpu.backend}, &stats);
       if (mesh.faceCount() == 0) throw Error(o->output + ": the edited volume is empty (no surface)", ErrorKind::Failure);
       writeMesh(o->output, mesh);
-      r["mesh"] = meshFigures(mesh, stats);
+      r["mesh"] = pipeline::surfaceFigures(mesh, &stats);
     } else {
       writeVolume(o->output, dvt::sampleMask(tree));
     }

@@ -4,10 +4,10 @@
 #include "core/error.h"
 #include "core/gz_file.h"
 #include "core/mesh_io.h"
-#include "core/mesh_topology.h"
 #include "core/progress.h"
 #include "core/volume_io.h"
 #include "extract/extract_surface.h"
+#include "pipeline/surface_figures.h"
 
 namespace isoatlas::app {
 
@@ -18,15 +18,6 @@ struct ExtractCommandOptions {
   std::int64_t minComponent = 0;
   int smooth = 0;
 };
-
-// The figures every extraction reports (also used by isoatlas run).
-nlohmann::json meshFigures(const Mesh& mesh, const extract::ExtractStats& stats) {
-  const MeshTopology t = analyzeTopology(mesh);
-  return {{"vertices", mesh.vertexCount()}, {"triangles", mesh.faceCount()}, {"components", t.components},
-          {"closed", t.closed}, {"manifold", t.manifold}, {"euler", t.euler}, {"genus", t.genus},
-          {"seconds", stats.seconds}, {"cells_visited", stats.cellsVisited}, {"cells_total", stats.cellsTotal},
-          {"iso", stats.iso}, {"binary_input", stats.binaryInput}, {"path", stats.path}, {"gpu_bytes", stats.gpuBytes}};
-}
 
 void addExtractCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("extract", "closed, manifold marching cubes over a level set, mask or scalar volume");
@@ -53,7 +44,7 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
       throw Error(o->input + ": no surface at iso " + std::to_string(stats.iso) + " (every voxel is on one side)",
                   ErrorKind::Failure);
     writeMesh(o->output, mesh);
-    r.update(meshFigures(mesh, stats));
+    r.update(pipeline::surfaceFigures(mesh, &stats));
     r["backend"] = gpu ? "gpu" : "cpu";
     r["renderer"] = backend.renderer;
     r["gl_contexts"] = gl::Context::made();

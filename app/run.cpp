@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "app/command.h"
+#include "pipeline/surface_figures.h"
 #include "pipeline/demo.h"
 #include "pipeline/model_building.h"
 #include "app/options.h"
@@ -229,7 +230,7 @@ Mesh editAndExtractStages(RunJob& job, const pipeline::Segmentation& s, const pi
     surface = tree ? extract::extractSurface(levelset::dvt::sampleField(*tree, tree->frame.voxelDepth()), options, &stats)
                    : extract::extractLevelSet(*s.levelSet, options, &stats);
     writeMesh(job.products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), surface);
-    const nlohmann::json& figures = job.report["extract"] = meshFigures(surface, stats);
+    const nlohmann::json& figures = job.report["extract"] = pipeline::surfaceFigures(surface, &stats);
     return std::to_string(surface.faceCount()) + " triangles, genus " + std::to_string(figures["genus"].get<long long>()) + ", " +
            (figures["closed"].get<bool>() ? "closed" : "NOT closed") + ": surface.ply";
   });

@@ -92,18 +92,31 @@ std::vector<std::array<std::uint32_t, 3>> triangleNeighbours(std::span<const std
 
 std::vector<Vec3> vertexNormals(const Mesh& m) {
   std::vector<Vec3> n(m.vertexCount(), Vec3{0, 0, 0});
-  for (std::size_t f = 0; f < m.faceCount(); ++f) {
-    const auto face = m.face(f);
-    for (std::size_t i = 1; i + 1 < face.size(); ++i) {
-      const Vec3 c = cross(m.positions[face[i]] - m.positions[face[0]], m.positions[face[i + 1]] - m.positions[face[0]]);
-      for (std::uint32_t v : {face[0], face[i], face[i + 1]}) n[v] = n[v] + c;
-    }
-  }
+  forEachFanTriangle(m, [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    const Vec3 twiceArea = cross(m.positions[b] - m.positions[a], m.positions[c] - m.positions[a]);
+    for (const std::uint32_t v : {a, b, c}) n[v] = n[v] + twiceArea;
+  });
   for (Vec3& v : n) {
     const double len = norm(v);
     if (len > 0) v = v * (1 / len);
   }
   return n;
+}
+
+Mesh fanTriangulated(const Mesh& mesh) {
+  Mesh out;
+  out.positions = mesh.positions;
+  out.normals = mesh.normals;
+  forEachFanTriangle(mesh, [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) { out.addFace({a, b, c}); });
+  return out;
+}
+
+double surfaceArea(const Mesh& m) {
+  double twice = 0;
+  forEachFanTriangle(m, [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    twice += norm(cross(m.positions[b] - m.positions[a], m.positions[c] - m.positions[a]));
+  });
+  return twice / 2;
 }
 
 Mesh weldIdenticalPositions(const Mesh& mesh) {

@@ -75,6 +75,21 @@ VertexAdjacency vertexAdjacency(const Mesh& mesh);
 inline constexpr std::uint32_t kNoTriangle = ~0u;
 std::vector<std::array<std::uint32_t, 3>> triangleNeighbours(std::span<const std::array<std::uint32_t, 3>> triangles);
 
+// Calls triangle(a, b, c) for each triangle of each face taken as a fan around its first corner.
+template <class Triangle>
+void forEachFanTriangle(const Mesh& mesh, const Triangle& triangle) {
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+    const auto face = mesh.face(f);
+    for (std::size_t i = 1; i + 1 < face.size(); ++i) triangle(face[0], face[i], face[i + 1]);
+  }
+}
+
+// The mesh with each face split as a fan around its first corner (positions and normals kept).
+Mesh fanTriangulated(const Mesh& mesh);
+
+// The total area of the faces (polygons as fans), in the positions' units squared.
+double surfaceArea(const Mesh& mesh);
+
 // Per-vertex normals: the area-weighted sum of the faces' normals (polygons as fans), normalised;
 // zero where every face around the vertex is flat.
 std::vector<Vec3> vertexNormals(const Mesh& mesh);

@@ -21,12 +21,7 @@ namespace isoatlas::pipeline {
 
 Mesh prepareModelInput(Mesh mesh) {
   if (!mesh.allFacesHave(3)) {
-    Mesh triangles;
-    triangles.positions = mesh.positions;
-    for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
-      const auto c = mesh.face(f);
-      for (std::size_t i = 1; i + 1 < c.size(); ++i) triangles.addFace({c[0], c[i], c[i + 1]});
-    }
+    Mesh triangles = fanTriangulated(mesh);
     logInfo("build: " + std::to_string(mesh.faceCount()) + " polygons split into " +
             std::to_string(triangles.faceCount()) + " triangles");
     mesh = std::move(triangles);

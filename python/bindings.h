@@ -21,6 +21,7 @@ namespace py = pybind11;
 void bindVolumes(py::module_& m);
 void bindStages(py::module_& m);
 void bindModels(py::module_& m);
+void bindMeshes(py::module_& m);
 
 // A volume from what Python code holds: an isoatlas.Volume, a numpy array (any layout, a scalar type
 // the readers take) with its 4x4 affine (identity when None), or anything with `dataobj` and
@@ -46,6 +47,10 @@ py::array affineOf(const Volume& volume);
 
 // (vertices N x 3 float64, faces M x corners int64) of a mesh whose faces all have `corners` corners.
 py::tuple meshArrays(const Mesh& mesh, std::size_t corners = 3);
+// A triangle mesh from (N x 3 positions, M x 3 vertex indices); Error naming the bad row otherwise.
+Mesh toMesh(const py::object& vertices, const py::object& triangles);
+// FileNotFoundError (Python's own, as open() raises it) unless `path` exists.
+void requireFile(const std::string& path);
 // A report as a Python dict.
 py::dict toDict(const nlohmann::json& json);
 // The process's backend and GL context, made on the first GPU call and kept (one per process, as

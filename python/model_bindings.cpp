@@ -19,26 +19,6 @@
 namespace isoatlas::python {
 namespace {
 
-Mesh toMesh(const py::object& vertices, const py::object& triangles) {
-  const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
-  const auto t = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(triangles);
-  require(v && v.ndim() == 2 && v.shape(1) == 3, "vertices: an N x 3 array of positions");
-  require(t && t.ndim() == 2 && t.shape(1) == 3, "triangles: an M x 3 array of vertex indices");
-  Mesh mesh;
-  const auto vv = v.unchecked<2>();
-  for (py::ssize_t i = 0; i < v.shape(0); ++i) {
-    mesh.positions.push_back({vv(i, 0), vv(i, 1), vv(i, 2)});
-    require(std::isfinite(vv(i, 0)) && std::isfinite(vv(i, 1)) && std::isfinite(vv(i, 2)), "vertices: row " + std::to_string(i) + " is not finite");
-  }
-  const auto tt = t.unchecked<2>();
-  for (py::ssize_t f = 0; f < t.shape(0); ++f) {
-    for (int k = 0; k < 3; ++k)
-      require(tt(f, k) >= 0 && tt(f, k) < v.shape(0), "triangles: row " + std::to_string(f) + " names a vertex that is not there");
-    mesh.addFace({std::uint32_t(tt(f, 0)), std::uint32_t(tt(f, 1)), std::uint32_t(tt(f, 2))});
-  }
-  return mesh;
-}
-
 struct PyModel {
   atlas::Model model;
   py::dict figures;
@@ -85,10 +65,7 @@ void bindModels(py::module_& m) {
       py::arg("progress") = py::none(), "the multiresolution model of a closed triangle mesh (isoatlas build)");
 
   m.def("load_model", [](const std::string& path) {
-        if (!std::filesystem::exists(path)) {
-          PyErr_SetString(PyExc_FileNotFoundError, (path + ": no such file").c_str());
-          throw py::error_already_set();
-        }
+        requireFile(path);
         return PyModel{atlas::readModel(path), {}};
       }, py::arg("path"));
 
@@ -104,7 +81,8 @@ void bindModels(py::module_& m) {
           py::gil_scoped_release release;
           figures = atlas::evaluateLevels(p.model.base, p.model.atlas, dense, wanted, samples);
         }
-        return toDict(nlohmann::json{{"levels", pipeline::levelFiguresJson(figures)}})["levels"];
+        // A list that owns its items (an accessor into a temporary dict would outlive the dict).
+        return py::list(toDict(nlohmann::json{{"levels", pipeline::levelFiguresJson(figures)}})["levels"]);
       }, py::arg("model"), py::arg("vertices"), py::arg("triangles"), py::arg("levels") = "", py::arg("samples") = atlas::kHausdorffFacePoints,
       py::arg("progress") = py::none(),
       "per level (isoatlas eval): level, vertices, triangles, hausdorff, psnr_db, rms, psnr_rms_db, closed, manifold against the dense mesh; "

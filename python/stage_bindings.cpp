@@ -49,21 +49,6 @@ pipeline::Gpu& gpuFor(const std::string& backend, bool warnOnFallback) {
 
 py::dict toDict(const nlohmann::json& j) { return py::module_::import("json").attr("loads")(j.dump()); }
 
-py::tuple meshArrays(const Mesh& mesh, std::size_t corners) {
-  py::array_t<double> vertices({py::ssize_t(mesh.vertexCount()), py::ssize_t(3)});
-  auto v = vertices.mutable_unchecked<2>();
-  for (std::size_t i = 0; i < mesh.vertexCount(); ++i)
-    for (int a = 0; a < 3; ++a) v(py::ssize_t(i), a) = mesh.positions[i][a];
-  py::array_t<std::int64_t> faces({py::ssize_t(mesh.faceCount()), py::ssize_t(corners)});
-  auto f = faces.mutable_unchecked<2>();
-  for (std::size_t n = 0; n < mesh.faceCount(); ++n) {
-    const auto c = mesh.face(n);
-    require(c.size() == corners, "a face of " + std::to_string(c.size()) + " corners among faces of " + std::to_string(corners));
-    for (std::size_t k = 0; k < corners; ++k) f(py::ssize_t(n), py::ssize_t(k)) = c[k];
-  }
-  return py::make_tuple(vertices, faces);
-}
-
 namespace {
 
 // A level set steered from Python, with the scan it reads (kept here: the solver holds it by reference).

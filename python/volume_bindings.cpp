@@ -116,10 +116,7 @@ void bindVolumes(py::module_& m) {
                " " + scalarTypeName(v.type) + ">";
       });
   m.def("read_volume", [](const std::string& path) {
-        if (!std::filesystem::exists(path)) {
-          PyErr_SetString(PyExc_FileNotFoundError, (path + ": no such file").c_str());
-          throw py::error_already_set();
-        }
+        requireFile(path);
         return readVolume(path);
       }, py::arg("path"), "NIfTI (.nii, .nii.gz), NRRD (.nrrd, .nhdr) or INR (.inr, .inr.gz)");
   m.def("write_volume", [](const std::string& path, const py::object& volume, const py::object& affine) {

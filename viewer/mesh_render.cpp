@@ -19,14 +19,12 @@ Image renderMesh(const Mesh& mesh, const MeshRenderOptions& o) {
   // Triangles as flat arrays of floats: position and normal per corner.
   const std::vector<Vec3> normals = mesh.normals.size() == mesh.vertexCount() ? mesh.normals : vertexNormals(mesh);
   std::vector<float> vertices;
-  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
-    const auto face = mesh.face(f);
-    for (std::size_t i = 1; i + 1 < face.size(); ++i)
-      for (std::uint32_t v : {face[0], face[i], face[i + 1]}) {
-        const Vec3 &p = mesh.positions[v], &n = normals[v];
-        vertices.insert(vertices.end(), {float(p.x), float(p.y), float(p.z), float(n.x), float(n.y), float(n.z)});
-      }
-  }
+  forEachFanTriangle(mesh, [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    for (const std::uint32_t v : {a, b, c}) {
+      const Vec3 &p = mesh.positions[v], &n = normals[v];
+      vertices.insert(vertices.end(), {float(p.x), float(p.y), float(p.z), float(n.x), float(n.y), float(n.z)});
+    }
+  });
   gl::Buffer buffer = gl::Buffer::of(vertices);
   gl::VertexArray vao;
   glVertexArrayVertexBuffer(vao.id(), 0, buffer.id(), 0, 6 * sizeof(float));

@@ -15,7 +15,8 @@ Bad input raises ValueError with the command's message (a missing file FileNotFo
 calls release the GIL, report progress to ``progress(task, fraction)`` and stop on Ctrl-C.
 ``isoatlas.eval`` is left out of ``__all__`` so that ``from isoatlas import *`` keeps Python's eval.
 """
-from ._isoatlas import LevelSet, Model, Volume, build, edit, eval, extract, load_model, probe, read_volume, render, segment, write_png, write_volume
+from ._isoatlas import (LevelSet, Model, Volume, build, edit, eval, extract, load_model, probe, read_mesh, read_volume, render, segment,
+                        set_quiet, surface_figures, write_mesh, write_png, write_volume)
 
-__all__ = ["Volume", "read_volume", "write_volume", "probe", "segment", "LevelSet", "extract", "build", "Model", "load_model", "edit",
-           "render", "write_png"]
+__all__ = ["Volume", "read_volume", "write_volume", "probe", "segment", "LevelSet", "extract", "read_mesh", "write_mesh", "surface_figures",
+           "build", "Model", "load_model", "edit", "render", "write_png", "set_quiet"]
