@@ -25,16 +25,18 @@ class CMakeBuild(build_ext):
         target = os.path.dirname(os.path.abspath(self.get_ext_fullpath(ext.name)))
         os.makedirs(target, exist_ok=True)
         made = os.path.join(build, "python", "isoatlas")
-        for name in os.listdir(made):
-            shutil.copy2(os.path.join(made, name), os.path.join(target, name))
+        for name in os.listdir(made):  # the extension and __init__.py; the subpackages come as packages
+            if os.path.isfile(os.path.join(made, name)):
+                shutil.copy2(os.path.join(made, name), os.path.join(target, name))
 
 
 setup(
     name="isoatlas",
     version="0.1.0",
     description="Segment a scan, edit it, extract and model its surface at any level of detail",
-    packages=["isoatlas"],
-    package_dir={"isoatlas": "python/isoatlas"},
+    packages=["isoatlas", "isoatlas.cohort"],
+    package_dir={"isoatlas": "python/isoatlas", "isoatlas.cohort": "python/isoatlas/cohort"},
+    entry_points={"console_scripts": ["isoatlas-cohort = isoatlas.cohort.__main__:main"]},
     ext_modules=[Extension("isoatlas._isoatlas", sources=[])],
     cmdclass={"build_ext": CMakeBuild},
     python_requires=">=3.11",

@@ -20,4 +20,8 @@ mask, phi, report = isoatlas.segment(data, seeds=[(12, 12, 12, 3)], target=100, 
 assert report["iterations"] == 30 and mask[12, 12, 12] == 1 and mask[1, 1, 1] == 0
 print("pip install: isoatlas imported from", isoatlas.__file__)
 PY
+# The cohort runner's console script and module entry point, installed with the module.
+"$work/venv/bin/isoatlas-cohort" --help | grep -q -- "--scheduler"
+"$work/venv/bin/python" -m isoatlas.cohort --help | grep -q -- "--scheduler"
+echo "pip install: isoatlas-cohort answers --help"
 rm -rf "$source_dir/isoatlas.egg-info"

@@ -1,0 +1,273 @@
+"""isoatlas-cohort on a local Dask cluster of 2 worker processes over 6 small phantoms: failures become
+rows with the command's messages, good subjects equal the command's results, a re-run does no work,
+a changed row redoes only itself, a killed worker's subject is run elsewhere, Ctrl-C then resume."""
+import csv
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import nibabel as nib
+import numpy as np
+import psutil
+import pytest
+
+from isoatlas.cohort import main as cohort_main
+
+EXE = os.environ["ISOATLAS_EXE"]
+SPACING = 1.5
+ORIGIN = np.array([-30.0, -30.0, -30.0])
+CONFIG = {"target": 100, "width": 30, "chart_size": 9, "samples": 20000, "thumbnail": [64, 64], "backend": "cpu"}
+GOOD = ["ball", "big-ball", "torus", "carved"]
+
+
+def write_phantom(path, shape, inside):
+    """A bright shape (100) on a dark ground (20) with noise, 1.5 mm voxels from ORIGIN."""
+    x, y, z = np.meshgrid(*[ORIGIN[a] + SPACING * np.arange(shape[a]) for a in range(3)], indexing="ij")
+    rng = np.random.default_rng(len(path))
+    data = np.where(inside(x, y, z), 100, 20) + rng.normal(0, 3, shape)
+    affine = np.diag([SPACING, SPACING, SPACING, 1.0])
+    affine[:3, 3] = ORIGIN
+    nib.save(nib.Nifti1Image(data.astype(np.int16), affine), path)
+
+
+def make_study(folder, size=40):
+    """Six subjects: four good (two balls, a torus, a ball with a bite carved out), a damaged file, a
+    seed outside its volume. Returns the manifest's path."""
+    os.makedirs(folder, exist_ok=True)
+    shape = (size, size, size)
+    write_phantom(os.path.join(folder, "ball.nii.gz"), shape, lambda x, y, z: x**2 + y**2 + z**2 < 12**2)
+    write_phantom(os.path.join(folder, "big-ball.nii.gz"), shape, lambda x, y, z: x**2 + y**2 + z**2 < 18**2)
+    write_phantom(os.path.join(folder, "torus.nii.gz"), shape,
+                  lambda x, y, z: (np.sqrt(x**2 + y**2) - 15) ** 2 + z**2 < 6**2)
+    with open(os.path.join(folder, "damaged.nii.gz"), "wb") as f:
+        f.write(b"\x1f\x8b\x08\x00 not a volume")
+    rows = [("ball", "ball.nii.gz", "0,0,0,4.5", ""),
+            ("big-ball", "big-ball.nii.gz", "0,0,0,4.5;6,0,0,3", ""),
+            ("torus", "torus.nii.gz", "15,0,0,3", ""),
+            ("carved", "big-ball.nii.gz", "0,0,0,4.5", "subtract sphere:18,0,0,8"),
+            ("damaged", "damaged.nii.gz", "0,0,0,4.5", ""),
+            ("outside", "ball.nii.gz", "500,0,0,4.5", "")]
+    manifest = os.path.join(folder, "manifest.csv")
+    with open(manifest, "w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow(["id", "volume", "seeds", "edits"])
+        writer.writerows(rows)
+    with open(os.path.join(folder, "cohort.json"), "w") as f:
+        json.dump(CONFIG, f)
+    return manifest
+
+
+class Cohort:
+    """isoatlas-cohort as a process, its stderr lines collected as they come."""
+
+    def __init__(self, manifest, out, *extra):
+        folder = os.path.dirname(manifest)
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", "isoatlas.cohort", manifest, "--out", out, "--workers", "2", "--config",
+             os.path.join(folder, "cohort.json"), *extra], stderr=subprocess.PIPE, text=True, start_new_session=True)
+        self.lines = []
+        self.reader = threading.Thread(target=lambda: self.lines.extend(self.process.stderr), daemon=True)
+        self.reader.start()
+
+    def wait_for(self, text, timeout=120):
+        deadline = time.monotonic() + timeout
+        while not any(text in line for line in self.lines):
+            assert self.process.poll() is None, "".join(self.lines)
+            assert time.monotonic() < deadline, "".join(self.lines)
+            time.sleep(0.02)
+
+    def finish(self, timeout=300):
+        code = self.process.wait(timeout=timeout)
+        self.reader.join(timeout=10)
+        return code, "".join(self.lines)
+
+
+def table(out):
+    with open(os.path.join(out, "cohort.csv")) as f:
+        return {row["id"]: row for row in csv.DictReader(f)}
+
+
+def files_of(out):
+    """Every file under `out` with its bytes' hash and modification time."""
+    found = {}
+    for root, _, names in os.walk(out):
+        for name in names:
+            path = os.path.join(root, name)
+            with open(path, "rb") as f:
+                found[os.path.relpath(path, out)] = (hash(f.read()), os.stat(path).st_mtime_ns)
+    return found
+
+
+@pytest.fixture(scope="module")
+def study(tmp_path_factory):
+    """The study run once: (manifest, out, exit code, stderr)."""
+    folder = str(tmp_path_factory.mktemp("study"))
+    manifest = make_study(folder)
+    out = os.path.join(folder, "out")
+    code, log = Cohort(manifest, out).finish()
+    return manifest, out, code, log
+
+
+def test_failures_are_rows_with_the_commands_messages_and_the_rest_go_on(study):
+    manifest, out, code, log = study
+    rows = table(out)
+    assert code == 2, log  # two subjects failed
+    assert list(rows) == GOOD + ["damaged", "outside"]
+    assert rows["damaged"]["status"] == "failed" and "not a readable NIfTI" in rows["damaged"]["error"]
+    assert rows["outside"]["status"] == "failed" and "outside the volume" in rows["outside"]["error"]
+    assert "500" in rows["outside"]["error"]  # names the seed in world mm
+    for name in GOOD:
+        r = rows[name]
+        assert r["status"] == "done" and r["error"] == "", r
+        assert r["converged"] == "True" and int(r["iterations"]) > 0
+        assert int(r["components"]) == 1
+        assert int(r["genus"]) == (1 if name == "torus" else 0), r
+        assert float(r["psnr_top_db"]) > float(r["psnr_level0_db"]) > 10
+        assert int(r["model_bytes"]) == os.path.getsize(os.path.join(out, name, "model.isoatlas"))
+        assert r["worker"].startswith("tcp://")
+        for product in ("mask.nii.gz", "surface.ply", "model.isoatlas", "thumbnail.png", "report.json"):
+            assert os.path.isfile(os.path.join(out, name, product)), (name, product)
+        assert float(r["seconds_total"]) >= float(r["seconds_segment"]) > 0
+    # Volumes against the analytic shapes (the voxel count times 1.5^3 mm^3), areas against the spheres'.
+    assert float(rows["ball"]["volume_mm3"]) == pytest.approx(4 / 3 * np.pi * 12**3, rel=0.1)
+    assert float(rows["big-ball"]["volume_mm3"]) == pytest.approx(4 / 3 * np.pi * 18**3, rel=0.1)
+    assert float(rows["ball"]["area_mm2"]) == pytest.approx(4 * np.pi * 12**2, rel=0.15)
+    assert float(rows["carved"]["volume_mm3"]) < float(rows["big-ball"]["volume_mm3"]) * 0.97
+    assert os.path.isfile(os.path.join(out, "carved", "mask_edited.nii.gz"))
+    page = open(os.path.join(out, "index.html")).read()
+    assert all(f"{name}/thumbnail.png" in page for name in GOOD) and "2 failed" in page
+    assert os.path.isfile(os.path.join(out, "volumes.png"))
+    assert not [f for f in files_of(out) if ".partial." in f]
+    for name in GOOD:  # one log line per stage per subject
+        for stage in ("segment", "extract", "build", "eval", "render"):
+            assert f"cohort: {name}: {stage} " in log, (name, stage)
+
+
+def test_a_subjects_mask_equals_the_commands_voxel_for_voxel(study, tmp_path):
+    manifest, out, _, _ = study
+    volume = os.path.join(os.path.dirname(manifest), "big-ball.nii.gz")
+    mask = str(tmp_path / "mask.nii.gz")
+    # The manifest's world seeds (0,0,0,4.5) and (6,0,0,3) in voxel indices: (30 - 0) / 1.5 = 20, radius 3 and 2.
+    subprocess.run([EXE, "segment", volume, "--seed", "20,20,20,3", "--seed", "24,20,20,2", "-T", "100", "-e", "30", "-a", "0.5",
+                    "-n", "1000", "--converge", "--backend", "cpu", "-o", mask, "-q"], check=True)
+    ours = np.asanyarray(nib.load(os.path.join(out, "big-ball", "mask.nii.gz")).dataobj)
+    theirs = np.asanyarray(nib.load(mask).dataobj)
+    assert ours.shape == theirs.shape and ours.sum() > 1000
+    assert np.array_equal(ours, theirs)
+
+
+def test_a_rerun_does_no_work_and_touches_nothing(study):
+    manifest, out, _, _ = study
+    before = files_of(out)
+    code, log = Cohort(manifest, out).finish()
+    assert code == 2, log
+    assert "6 of 6 subjects already settled" in log
+    assert "segment" not in log.replace("segment,", "")
+    assert files_of(out) == before
+
+
+def test_a_changed_row_redoes_only_that_subject(study):
+    manifest, out, _, _ = study
+    before = files_of(out)
+    text = open(manifest).read()
+    with open(manifest, "w") as f:
+        f.write(text.replace("torus.nii.gz,\"15,0,0,3\"", "torus.nii.gz,\"15,0,0,4\""))
+    try:
+        code, log = Cohort(manifest, out).finish()
+    finally:
+        with open(manifest, "w") as f:
+            f.write(text)
+    assert code == 2, log
+    assert "5 of 6 subjects already settled" in log and "cohort: torus: segment" in log
+    after = files_of(out)
+    changed = {path for path in after if after[path] != before.get(path)}
+    assert changed and all(path.startswith("torus/") or path in ("cohort.csv", "index.html") for path in changed), changed
+    assert table(out)["torus"]["status"] == "done"
+
+
+def worker_pids(process):
+    """The Dask worker processes the command started (its children spawned by multiprocessing)."""
+    return [p.pid for p in psutil.Process(process.pid).children(recursive=True)
+            if any("spawn_main" in part for part in p.cmdline())]
+
+
+def test_a_killed_worker_s_subject_is_run_elsewhere(tmp_path):
+    manifest = make_study(str(tmp_path / "study"), size=56)
+    out = str(tmp_path / "out")
+    run = Cohort(manifest, out, "--stages", "segment,extract,build,eval")
+    run.wait_for(": segment ")  # both workers busy: four good subjects queued on two
+    pids = worker_pids(run.process)
+    assert len(pids) >= 2
+    os.kill(pids[0], signal.SIGKILL)
+    code, log = run.finish()
+    rows = table(out)
+    assert code == 2, log
+    assert all(rows[name]["status"] == "done" for name in GOOD), rows
+    assert not [f for f in files_of(out) if ".partial." in f]
+
+
+def test_ctrl_c_stops_cleanly_and_the_next_run_goes_on(tmp_path):
+    manifest = make_study(str(tmp_path / "study"))
+    out = str(tmp_path / "out")
+    run = Cohort(manifest, out)
+    run.wait_for(": render ")  # one subject done
+    os.killpg(run.process.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the whole process group
+    code, log = run.finish(timeout=60)
+    assert code == 130, log
+    assert "run the same command again" in log
+    rows = table(out)
+    finished = [name for name, r in rows.items() if r["status"] == "done"]
+    assert finished and any(r["status"] == "not run" for r in rows.values()), rows
+    before = files_of(out)
+    code, log = Cohort(manifest, out).finish()
+    assert code == 2, log
+    rows = table(out)
+    assert all(rows[name]["status"] == "done" for name in GOOD)
+    for name in finished:  # what was done before is kept as it was
+        assert f"cohort: {name}: segment" not in log
+        assert files_of(out)[f"{name}/report.json"] == before[f"{name}/report.json"]
+
+
+@pytest.mark.parametrize("manifest_text, config, extra, message", [
+    ("id,volume\na,x.nii.gz\n", CONFIG, [], "needs a column 'seeds'"),
+    ("id,volume,seeds,colour\na,x.nii.gz,\"0,0,0,1\",red\n", CONFIG, [], "unknown column 'colour'"),
+    ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\na,y.nii.gz,\"0,0,0,1\"\n", CONFIG, [], "'a' is given twice"),
+    ("id,volume,seeds\na/b,x.nii.gz,\"0,0,0,1\"\n", CONFIG, [], "is not a folder name"),
+    ("id,volume,seeds\na,x.nii.gz,\"0,0,0\"\n", CONFIG, [], "line 2, seeds: each seed is x,y,z,r"),
+    ("id,volume,seeds\na,x.nii.gz,\"0,0,0,-1\"\n", CONFIG, [], "with r > 0"),
+    ("id,volume,seeds,target\na,x.nii.gz,\"0,0,0,1\",bright\n", CONFIG, [], "line 2, target: not a number"),
+    ("id,volume,seeds,edits\na,x.nii.gz,\"0,0,0,1\",\"carve sphere:0,0,0,1\"\n", CONFIG, [], "'union SHAPE' or 'subtract SHAPE'"),
+    ("id,volume,seeds,backend\na,x.nii.gz,\"0,0,0,1\",tpu\n", CONFIG, [], "backend: gpu, cpu or auto"),
+    ("id,volume,seeds\n", CONFIG, [], "has no subjects"),
+    ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"colour": 1}, [], "unknown setting 'colour'"),
+    ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"chart_size": 10}, [], "'chart_size' must be 2^k + 1"),
+    ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"iterations": 0}, [], "'iterations' must be a positive number"),
+    ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--stages", "build"], "--stages: build needs extract"),
+    ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--stages", "segment,mesh"], "unknown stage 'mesh'"),
+    ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--workers", "0"], "--workers must be >= 1"),
+])
+def test_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path, capsys, manifest_text, config, extra, message):
+    manifest, settings, out = tmp_path / "m.csv", tmp_path / "c.json", tmp_path / "out"
+    manifest.write_text(manifest_text)
+    settings.write_text(json.dumps(config))
+    assert cohort_main([str(manifest), "--out", str(out), "--config", str(settings), *extra]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("isoatlas-cohort: error: ") and message in err, err
+    assert not out.exists()
+
+
+def test_missing_manifest_and_config_are_named(tmp_path, capsys):
+    assert cohort_main([str(tmp_path / "none.csv"), "--out", str(tmp_path / "out")]) == 2
+    assert "none.csv: no such file (the manifest)" in capsys.readouterr().err
+    (tmp_path / "m.csv").write_text("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n")
+    assert cohort_main([str(tmp_path / "m.csv"), "--out", str(tmp_path / "out"), "--config", str(tmp_path / "none.json")]) == 2
+    assert "none.json: no such file (--config)" in capsys.readouterr().err
+
+
+def test_the_console_script_module_answers_help():
+    result = subprocess.run([sys.executable, "-m", "isoatlas.cohort", "--help"], capture_output=True, text=True)
+    assert result.returncode == 0 and "--scheduler" in result.stdout
