@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "core/mesh.h"
-#include "levelset/level_set.h"
+#include "levelset/backend.h"
 #include "levelset/paged_phi_cpu.h"
 
 namespace isoatlas::extract {

@@ -11,15 +11,6 @@
 
 namespace isoatlas::levelset {
 
-void requireBackendChoice(const std::string& choice) {
-  require(choice == "gpu" || choice == "cpu" || choice == "auto", "--backend " + choice + ": expected gpu, cpu or auto");
-}
-
-Backend backendFor(const std::string& choice, bool softwareGl) {
-  requireBackendChoice(choice);
-  return choice == "gpu" || (choice == "auto" && !softwareGl) ? Backend::Gpu : Backend::Cpu;
-}
-
 void validateParams(const SpeedParams& p) {
   require(std::isfinite(p.target), "target T must be a finite number");
   require(std::isfinite(p.width) && p.width > 0, "width eps must be > 0 (got " + std::to_string(p.width) + ")");

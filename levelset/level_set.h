@@ -10,12 +10,11 @@
 #include <string>
 
 #include "core/volume.h"
+#include "levelset/backend.h"
 #include "levelset/page_manager.h"
 #include "levelset/solver_backend.h"
 
 namespace isoatlas::levelset {
-
-enum class Backend { Cpu, Gpu };
 
 struct LevelSetOptions {
   Backend backend = Backend::Cpu;
@@ -93,12 +92,6 @@ private:
 
 // Checks T, eps and alpha; throws Error (bad input) naming the value.
 void validateParams(const SpeedParams& params);
-
-// The backend that --backend's "gpu", "cpu" or "auto" names, the GL at hand being a software
-// rasteriser or not: auto takes the GPU unless its GL is software (llvmpipe). Throws Error (bad
-// input) for another word. The command, the Python module and the window all choose by it.
-Backend backendFor(const std::string& choice, bool softwareGl);
-void requireBackendChoice(const std::string& choice);
 
 // A mask voxel from phi: 1 inside (phi > 0), 0 outside.
 inline std::uint8_t maskValue(float phi) { return phi > 0 ? 1 : 0; }

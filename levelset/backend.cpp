@@ -1,0 +1,16 @@
+#include "levelset/backend.h"
+
+#include "core/error.h"
+
+namespace isoatlas::levelset {
+
+void requireBackendChoice(const std::string& choice) {
+  require(choice == "gpu" || choice == "cpu" || choice == "auto", "--backend " + choice + ": expected gpu, cpu or auto");
+}
+
+Backend backendFor(const std::string& choice, bool softwareGl) {
+  requireBackendChoice(choice);
+  return choice == "gpu" || (choice == "auto" && !softwareGl) ? Backend::Gpu : Backend::Cpu;
+}
+
+}  // namespace isoatlas::levelset
