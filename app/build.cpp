@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "app/command.h"
+#include "app/options.h"
 #include "pipeline/model_building.h"
 #include "core/error.h"
 #include "core/mesh_io.h"
@@ -18,7 +19,7 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
   auto chart = std::make_shared<int>(int(o->chartSize));
   auto noHausdorff = std::make_shared<bool>(false);
   sub->add_option("mesh", *input, "a 2-manifold mesh (.off, .ply, .obj, .stl), closed or with boundaries")->required();
-  sub->add_option("-o,--output", *output, "the model file (.isoatlas)");
+  sub->add_option("-o,--output", *output, "the model file (.isoatlas)")->check(outputFile());
   sub->add_option("--base-ratio", o->baseRatio, "base vertices as a fraction of the dense ones")->capture_default_str();
   sub->add_option("--base-vertices", o->baseVertices, "base vertex count (instead of --base-ratio), at least 4")
       ->check(CLI::Range(std::size_t(4), std::numeric_limits<std::size_t>::max()));
@@ -26,7 +27,7 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--chart", *chart, "chart size in texels per side, 2^k + 1")->capture_default_str();
   sub->add_flag("--keep-dense", o->keepDense, "keep the dense mesh and its parametrisation in the model");
   sub->add_option("--previews", *previews, "write position_atlas.png and normal_atlas.png into this folder");
-  sub->add_option("--base-only", *baseOnly, "also write the triquad base mesh as an OBJ of quads");
+  sub->add_option("--base-only", *baseOnly, "also write the triquad base mesh as an OBJ of quads")->check(outputFile());
   sub->add_flag("--no-hausdorff", *noHausdorff, "skip measuring the base mesh's Hausdorff distance");
   bindAction(*sub, [=](nlohmann::json& r) {
     require(!output->empty() || !baseOnly->empty(), "build: give -o MODEL.isoatlas, --base-only BASE.obj, or both");

@@ -1,5 +1,7 @@
 #include "app/command.h"
 
+#include "app/options.h"
+
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -16,20 +18,13 @@ void writeJsonFile(const std::string& path, const nlohmann::json& json) {
 
 void bindAction(CLI::App& sub, const Action& action, int& exitCode) {
   auto common = std::make_shared<CommonOptions>();
-  sub.add_option("--report", common->report, "write the figures of this run as JSON");
+  sub.add_option("--report", common->report, "write the figures of this run as JSON")->check(outputFile());
   sub.add_flag("--quiet,-q", common->quiet, "no progress or informational lines on stderr");
   sub.callback([&sub, action, common, &exitCode] {
     Progress::setQuiet(common->quiet);
     nlohmann::json report;
     report["command"] = sub.get_name();
     try {
-      // Every output file must land in a folder that exists: known before any work is done. (run's
-      // --output is a folder it makes.)
-      for (const char* name : {"--output", "--report", "--phi", "--render", "--plot", "--base-only"}) {
-        const CLI::Option* option = sub.get_option_no_throw(name);
-        if (!option || option->count() == 0 || (sub.get_name() == "run" && std::string(name) == "--output")) continue;
-        for (const std::string& value : option->results()) requireOutputFolder(value);
-      }
       exitCode = action(report);
       if (!common->report.empty()) writeJsonFile(common->report, report);
     } catch (const Error& e) {

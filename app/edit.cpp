@@ -60,11 +60,11 @@ void addEditCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--collapse-every", o->collapseEvery, "also collapse after every K writes (the input's conversion is the first; the tree is collapsed at the end anyway)");
   sub->add_option("--node-limit", o->nodeLimit, "most nodes the tree may grow to")->capture_default_str();
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
-  sub->add_option("--render", o->render, "also draw the edited tree to this PNG");
+  sub->add_option("--render", o->render, "also draw the edited tree to this PNG")->check(outputFile());
   sub->add_option("--render-mode", o->renderMode, "raycast (rays through the tree, sub-voxel surface) or cubes (one per inside leaf)")
       ->capture_default_str();
   sub->add_option("--size", o->size, "the picture's width,height")->delimiter(',')->expected(2)->capture_default_str();
-  sub->add_option("-o,--output", o->output, "a mask (.nii.gz, the input's geometry), a mesh (.ply/.off/.obj) or a tree (.dvt)")->required();
+  sub->add_option("-o,--output", o->output, "a mask (.nii.gz, the input's geometry), a mesh (.ply/.off/.obj) or a tree (.dvt)")->required()->check(outputFile());
   bindAction(*sub, [o](nlohmann::json& r) {
     const bool toTree = endsWith(o->output, ".dvt"), toMesh = isMeshPath(o->output) && !endsWith(o->output, ".stl");
     require(toTree || toMesh || isVolumePath(o->output), o->output + ": write a mask (.nii.gz, .nrrd, ...), a mesh (.ply, .off, .obj) or a tree (.dvt)");

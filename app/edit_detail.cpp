@@ -28,8 +28,8 @@ void addEditDetailCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--depth", request->depth, "how deep the ink is pressed (mm; negative raises it)")->required();
   sub->add_option("--detail", request->detailSize, "texels per side of the detail charts, 2^k + 1 above the chart size")
       ->capture_default_str();
-  sub->add_option("-o,--output", *output, "the stamped model (.isoatlas)")->required();
-  sub->add_option("--render", *render, "a close-up of the stamp at the finest level, as a PNG");
+  sub->add_option("-o,--output", *output, "the stamped model (.isoatlas)")->required()->check(outputFile());
+  sub->add_option("--render", *render, "a close-up of the stamp at the finest level, as a PNG")->check(outputFile());
   bindAction(*sub, [=](nlohmann::json& r) {
     require(output->ends_with(".isoatlas"), *output + ": the stamped model must end in .isoatlas");
     require(render->empty() || render->ends_with(".png"), *render + ": --render writes a .png");

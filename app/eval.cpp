@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "app/command.h"
+#include "app/options.h"
 #include "pipeline/model_building.h"
 #include "atlas/evaluate_levels.h"
 #include "atlas/reconstruct.h"
@@ -22,7 +23,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--levels", *levelText, "levels to measure: 0-10, 4, or 0,4,10 (default: every level)");
   sub->add_option("--out-mesh-level", *outMesh, "write the first model's mesh at level L to FILE (.ply, .obj, .off, .stl)")
       ->type_name("L FILE");
-  sub->add_option("--plot", *plot, "PSNR against level for every model, as a PNG");
+  sub->add_option("--plot", *plot, "PSNR against level for every model, as a PNG")->check(outputFile());
   sub->add_option("--samples", *samples, "Hausdorff face samples per mesh")->capture_default_str();
   bindAction(*sub, [=](nlohmann::json& r) {
     require(plot->empty() || plot->ends_with(".png"), *plot + ": --plot writes a .png");

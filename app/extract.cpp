@@ -28,7 +28,7 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--min-component", o->minComponent, "drop components of fewer triangles than this");
   sub->add_option("--smooth", o->smooth, "Taubin smoothing iterations")->capture_default_str();
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
-  sub->add_option("-o,--output", o->output, "output mesh (.ply, .off or .obj)")->required();
+  sub->add_option("-o,--output", o->output, "output mesh (.ply, .off or .obj)")->required()->check(outputFile());
   bindAction(*sub, [o](nlohmann::json& r) {
     require(isMeshPath(o->output) && !endsWith(o->output, ".stl"), o->output + ": write the mesh as .ply, .off or .obj");
     require(o->smooth >= 0, "--smooth must be >= 0");

@@ -1,5 +1,7 @@
 #include "app/options.h"
 
+#include "core/atomic_file.h"
+
 #include <cmath>
 #include <sstream>
 #include <vector>
@@ -22,6 +24,19 @@ pipeline::Ball parseBall(const std::string& text, const std::string& option, dou
   const double radius = numbers.size() == 4 ? numbers[3] : defaultRadius;
   if (radius <= 0) throw Error(option + " " + text + ": the radius must be > 0");
   return {{numbers[0], numbers[1], numbers[2]}, radius};
+}
+
+CLI::Validator outputFile() {
+  return CLI::Validator(
+      [](std::string& path) {
+        try {
+          requireOutputFolder(path);
+        } catch (const Error& e) {
+          return std::string(e.what());
+        }
+        return std::string();
+      },
+      "FILE");
 }
 
 void addEditStepOptions(CLI::App& sub, const std::shared_ptr<std::vector<pipeline::EditStep>>& steps) {

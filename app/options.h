@@ -1,4 +1,4 @@
-// Parsing helpers shared by subcommands: balls "X,Y,Z[,R]", sizes "W,H" and the edit steps.
+// Parsing helpers shared by subcommands: balls "X,Y,Z[,R]", sizes "W,H", output files and the edit steps.
 #pragma once
 #include <CLI/CLI.hpp>
 
@@ -19,6 +19,10 @@ namespace isoatlas::app {
 pipeline::Ball parseBall(const std::string& text, const std::string& option, double defaultRadius);
 // "W,H": whole pixels from 1 to 8192; throws Error naming --size otherwise.
 std::array<int, 2> parseSize(const std::string& text);
+// An option that names a file to write: its folder must exist, known while parsing, before any work
+// (exit 2, naming the option and the file). Folders an option makes (run's --output) take none.
+CLI::Validator outputFile();
+
 // --union SHAPE and --subtract SHAPE on `sub`, each adding a step in command-line order.
 void addEditStepOptions(CLI::App& sub, const std::shared_ptr<std::vector<pipeline::EditStep>>& steps);
 

@@ -218,8 +218,8 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--smooth", o->smooth, "smooth mode: the base mesh as a Catmull-Clark cage, OpenSubdiv's limit surface at "
                                         "tessellation level T with the atlas's detail along its normal");
   sub->add_flag("--limit-only", o->limitOnly, "with --smooth: OpenSubdiv's limit surface alone, no detail");
-  sub->add_option("-o,--output", o->output, "the image (.png)")->required();
-  sub->add_option("--capture", o->capture, "the triangles the GPU made (transform feedback), welded, world mm (.ply, .obj, .off, .stl)");
+  sub->add_option("-o,--output", o->output, "the image (.png)")->required()->check(outputFile());
+  sub->add_option("--capture", o->capture, "the triangles the GPU made (transform feedback), welded, world mm (.ply, .obj, .off, .stl)")->check(outputFile());
   bindAction(*sub, [o, seg, at](nlohmann::json& r) {
     if (endsWith(o->models.front(), ".dvt")) {  // a volume tree, as the window's tree view draws it
       require(o->models.size() == 1, "render draws one tree");

@@ -32,8 +32,8 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
   sub->add_flag("--converge", o->converge, "stop early once the front stops moving");
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
   sub->add_option("--page", o->page, "page size in voxels (a power of two, 4..32)")->capture_default_str();
-  sub->add_option("-o,--output", o->output, "output mask (uint8, 1 inside), e.g. mask.nii.gz")->required();
-  sub->add_option("--phi", o->phi, "also write the level set phi (float, > 0 inside, voxel units)");
+  sub->add_option("-o,--output", o->output, "output mask (uint8, 1 inside), e.g. mask.nii.gz")->required()->check(outputFile());
+  sub->add_option("--phi", o->phi, "also write the level set phi (float, > 0 inside, voxel units)")->check(outputFile());
   bindAction(*sub, [o](nlohmann::json& r) {
     volumeFormatOf(o->output);  // throws for a name that is no volume format, before any work
     if (!o->phi.empty()) volumeFormatOf(o->phi);
