@@ -1,8 +1,24 @@
 // The `isoatlas` Python module's native part (python/isoatlas/__init__.py is the rest). Errors:
 // isoatlas::Error of bad input becomes ValueError with the CLI's message, of failed work RuntimeError.
+#include <tbb/global_control.h>
+
+#include <memory>
+
 #include "core/error.h"
 #include "core/progress.h"
 #include "python/bindings.h"
+
+namespace {
+
+// The process's cap on the library's threads (TBB's), kept while the process lives; none: every core.
+void setThreads(int threads) {
+  static std::unique_ptr<tbb::global_control> cap;
+  isoatlas::require(threads >= 0, "set_threads: a thread count >= 0 (0: every core)");
+  cap.reset();
+  if (threads > 0) cap = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+}
+
+}  // namespace
 
 PYBIND11_MODULE(_isoatlas, m) {
   namespace py = pybind11;
@@ -16,6 +32,9 @@ PYBIND11_MODULE(_isoatlas, m) {
   });
   m.def("set_quiet", &isoatlas::Progress::setQuiet, py::arg("quiet") = true,
         "no progress or log lines of the library's own on stderr (errors still raise): the cohort's workers report per stage instead");
+  m.def("set_threads", &setThreads, py::arg("threads"),
+        "at most this many threads for the library's parallel work in this process (0: every core); the cohort's workers "
+        "take one each, so that N workers share N cores");
   isoatlas::python::bindVolumes(m);
   isoatlas::python::bindStages(m);
   isoatlas::python::bindModels(m);

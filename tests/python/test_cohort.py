@@ -271,3 +271,42 @@ def test_missing_manifest_and_config_are_named(tmp_path, capsys):
 def test_the_console_script_module_answers_help():
     result = subprocess.run([sys.executable, "-m", "isoatlas.cohort", "--help"], capture_output=True, text=True)
     assert result.returncode == 0 and "--scheduler" in result.stdout
+
+
+def test_an_existing_scheduler_runs_the_cohort(tmp_path):
+    """dask-scheduler and dask-worker started as docs/cohort.md starts them, then --scheduler."""
+    manifest = make_study(str(tmp_path / "study"))
+    info = str(tmp_path / "scheduler.json")
+    started = [subprocess.Popen(["dask-scheduler", "--port", "0", "--no-dashboard", "--scheduler-file", info],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        deadline = time.monotonic() + 60
+        while not os.path.isfile(info):
+            assert time.monotonic() < deadline and started[0].poll() is None
+            time.sleep(0.1)
+        time.sleep(0.2)  # written whole
+        with open(info) as f:
+            address = json.load(f)["address"]
+        started.append(subprocess.Popen(["dask-worker", address, "--nworkers", "2", "--nthreads", "1", "--no-dashboard"],
+                                        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        out = str(tmp_path / "out")
+        run = subprocess.run([sys.executable, "-m", "isoatlas.cohort", manifest, "--out", out, "--scheduler", address, "--config",
+                              os.path.join(os.path.dirname(manifest), "cohort.json"), "--stages", "segment,extract"],
+                             capture_output=True, text=True, timeout=300)
+        rows = table(out)
+        assert run.returncode == 2, run.stderr
+        assert all(rows[name]["status"] == "done" for name in GOOD) and rows["damaged"]["status"] == "failed"
+        assert os.path.isfile(os.path.join(out, "torus", "surface.ply"))
+        assert not os.path.exists(os.path.join(out, "torus", "model.isoatlas"))  # only the stages asked for
+    finally:
+        for process in reversed(started):
+            process.terminate()
+            process.wait(timeout=30)
+
+
+def test_no_scheduler_at_the_address_is_one_line(tmp_path, capsys):
+    manifest = make_study(str(tmp_path / "study"))
+    assert cohort_main([manifest, "--out", str(tmp_path / "out"), "--scheduler", "tcp://127.0.0.1:9"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--scheduler tcp://127.0.0.1:9: no Dask scheduler answers there" in err, err
+    assert not (tmp_path / "out").exists()

@@ -35,6 +35,7 @@ DEFAULTS = {
     "samples": 200000,     # eval --samples
     "thumbnail": [256, 256],
     "allowed_failures": 2,  # worker deaths one subject may cause before it is given up
+    "threads_per_worker": 1,  # the library's threads in each worker (0: every core)
 }
 
 COLUMNS = ("id", "volume", "seeds", "target", "width", "alpha", "edits", "backend")
@@ -90,8 +91,9 @@ def _check_config(c, where):
             raise InputError(f"{where}: '{key}' must be a positive number")
     for key in ("iterations", "chart_size", "samples", "base_ratio"):
         positive(key, int if key != "base_ratio" else (int, float))
-    if not isinstance(c["allowed_failures"], int) or c["allowed_failures"] < 0:
-        raise InputError(f"{where}: 'allowed_failures' must be a whole number >= 0")
+    for key in ("allowed_failures", "threads_per_worker"):
+        if not isinstance(c[key], int) or isinstance(c[key], bool) or c[key] < 0:
+            raise InputError(f"{where}: '{key}' must be a whole number >= 0")
     if c["chart_size"] < 3 or (c["chart_size"] - 1) & (c["chart_size"] - 2):
         raise InputError(f"{where}: 'chart_size' must be 2^k + 1 (5, 9, 17, 33, ...)")
     thumbnail = c["thumbnail"]

@@ -53,7 +53,7 @@ def _client(workers, scheduler, allowed_failures):
 
     if scheduler:
         try:
-            return Client(scheduler, timeout="20s"), None
+            return Client(scheduler, timeout="10s"), None
         except (OSError, TimeoutError) as e:
             raise InputError(f"--scheduler {scheduler}: no Dask scheduler answers there ({e})") from None
     dask.config.set({"distributed.scheduler.allowed-failures": allowed_failures})
@@ -76,7 +76,6 @@ def run_cohort(manifest, out_dir, workers=None, scheduler=None, stages="segment,
         raise InputError("--workers must be >= 1")
     if os.path.exists(out_dir) and not os.path.isdir(out_dir):
         raise InputError(f"--out {out_dir}: a file is there, not a folder")
-    os.makedirs(out_dir, exist_ok=True)
     progress = _Progress(len(subjects), quiet)
 
     reports, todo, digests = {}, [], {}
@@ -102,6 +101,7 @@ def run_cohort(manifest, out_dir, workers=None, scheduler=None, stages="segment,
                 reports[s.id] = earlier
     rows = [row_of(reports[s.id]) if s.id in reports else {"id": s.id, "status": "not run", "error": "stopped before it ran"}
             for s in subjects]
+    os.makedirs(out_dir, exist_ok=True)  # only now: a scheduler that does not answer leaves nothing behind
     write_table(out_dir, rows)
     write_index(out_dir, rows)
     return rows, stopped

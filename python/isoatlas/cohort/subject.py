@@ -12,6 +12,7 @@ import os
 import socket
 import sys
 import time
+import warnings
 
 import numpy as np
 
@@ -187,6 +188,7 @@ def run_subject(subject, config, stages, out_dir, digest):
     worker = _worker()
     if worker:
         isoatlas.set_quiet(True)  # the stage lines go to the client instead
+        isoatlas.set_threads(config["threads_per_worker"])  # N workers on N cores, not N times N threads
     report = {"id": subject.id, "hash": digest, "stages": stages, "seconds": {}, "figures": {},
               "worker": worker.address if worker else f"{socket.gethostname()}:{os.getpid()}"}
     work = _Stages(subject, config, folder, report["figures"])
@@ -194,9 +196,11 @@ def run_subject(subject, config, stages, out_dir, digest):
     try:
         for stage in stages:
             t = time.perf_counter()
-            detail = getattr(work, stage)()
+            with warnings.catch_warnings(record=True) as said:  # "no GPU: using the CPU backend": into the stage's line
+                warnings.simplefilter("always")
+                detail = getattr(work, stage)()
             report["seconds"][stage] = time.perf_counter() - t
-            _log(subject.id, stage, report["seconds"][stage], detail)
+            _log(subject.id, stage, report["seconds"][stage], "; ".join([detail, *sorted({str(w.message) for w in said})]))
         report["status"] = "done"
     except (ValueError, FileNotFoundError) as e:  # the module's bad input: the command's message
         report.update(status="failed", error=str(e), bad_input=True)
