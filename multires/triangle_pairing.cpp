@@ -36,17 +36,13 @@ double orthogonality(const Vec3& p, const Vec3& s, const Vec3& q, const Vec3& r)
   return 1 - (cornerCos(p, s, r) + cornerCos(s, q, p) + cornerCos(q, r, s) + cornerCos(r, p, q)) / 4;
 }
 
-}  // namespace
+using Neighbours = std::vector<std::array<std::uint32_t, 3>>;
 
-PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
-  const auto start = std::chrono::steady_clock::now();
-  PairingStats stats;
+// The maximum-weight matching of the dual graph: per triangle its mate, or kNone. A bonus larger
+// than any sum of qualities makes the matching a largest one first.
+std::vector<std::uint32_t> bestMatching(const BaseMesh& base, const Neighbours& across) {
   const std::uint32_t n = std::uint32_t(base.triangleCount());
-  std::vector<std::array<std::uint32_t, 3>> across = base.triangleNeighbours();
-
-  std::vector<std::uint32_t> degree = vertexDegrees(base, across);
-
-  // Weights: a bonus larger than any sum of qualities makes the matching a largest one first.
+  const std::vector<std::uint32_t> degree = vertexDegrees(base, across);
   const std::int64_t bonus = 1001 * std::int64_t(n + 1);
   std::vector<WeightedEdge> edges;
   for (std::uint32_t t = 0; t < n; ++t)
@@ -65,110 +61,145 @@ PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
   const std::vector<std::int64_t> matched = maxWeightMatching(n, edges);
   std::vector<std::uint32_t> mate(n);
   for (std::uint32_t t = 0; t < n; ++t) mate[t] = matched[t] < 0 ? kNone : std::uint32_t(matched[t]);
+  return mate;
+}
 
-  // Leftovers: shift the matching along an alternating path to a triangle with a boundary edge, and
-  // split that edge; the halves keep their place in the parametrisation's history (their frames).
-  require(base.history && base.historyFrames.size() == n, "pairing: the base mesh has no parametrisation history");
-  std::vector<std::uint32_t> parent, via, visited;  // the search's tree, reset where it went
-  std::vector<std::vector<std::uint32_t>> densePoints;  // per base triangle, filled on the first split
+// A triangle with a boundary edge, and that edge's first corner.
+struct BoundaryCorner {
+  std::uint32_t triangle;
+  int corner;
+};
 
+// Frees a triangle with a boundary edge in place of the leftover t0: breadth-first over the triangles
+// reachable from t0 by alternating paths (a free edge, then a matched one), re-pairing along the
+// path to the first with a boundary edge. `parent`, `via` and `visited` are the search's tree, kept
+// between calls and reset only where it went.
+BoundaryCorner shiftToBoundary(std::uint32_t t0, const Neighbours& across, std::vector<std::uint32_t>& mate,
+                               std::vector<std::uint32_t>& parent, std::vector<std::uint32_t>& via, std::vector<std::uint32_t>& visited) {
+  for (const std::uint32_t t : visited) parent[t] = via[t] = kNone;
+  parent.resize(across.size(), kNone), via.resize(across.size(), kNone);
+  visited.assign(1, t0);
+  std::queue<std::uint32_t> queue;
+  queue.push(t0);
+  parent[t0] = t0;
+  BoundaryCorner goal{kNone, -1};
+  while (!queue.empty() && goal.triangle == kNone) {
+    const std::uint32_t a = queue.front();
+    queue.pop();
+    for (int i = 0; i < 3; ++i)
+      if (across[a][i] == kNone) goal = {a, i};
+    if (goal.triangle != kNone) break;
+    for (int i = 0; i < 3; ++i) {
+      const std::uint32_t b = across[a][i];
+      if (b == mate[a] || mate[b] == kNone || parent[mate[b]] != kNone) continue;
+      parent[mate[b]] = a, via[mate[b]] = b;
+      visited.push_back(mate[b]);
+      queue.push(mate[b]);
+    }
+  }
+  if (goal.triangle == kNone)
+    throw Error("pairing: a leftover triangle reaches no boundary (is the base mesh manifold?)", ErrorKind::Failure);
+  for (std::uint32_t c = goal.triangle; c != t0;) {  // re-pair along the path; the goal ends free
+    const std::uint32_t a = parent[c], b = via[c];
+    mate[a] = b, mate[b] = a;
+    c = a;
+  }
+  mate[goal.triangle] = kNone;
+  return goal;
+}
+
+// Splits the free goal's boundary edge (p, q) at its middle s, sampled from the dense surface
+// through the parametrisation's history: goal = (p, s, r), a new triangle (s, q, r), the two a tile.
+// The halves keep their place in the history (their frames), and the dense points mapped into the
+// goal move to the half they lie in (densePoints: per base triangle, the dense vertices in it).
+void splitBoundaryEdge(BaseMesh& base, const Mesh& dense, BoundaryCorner goal, Neighbours& across, std::vector<std::uint32_t>& mate,
+                       std::vector<std::vector<std::uint32_t>>& densePoints) {
+  const std::uint32_t g = goal.triangle;
+  const int k = goal.corner;
+  auto& tri = base.triangles[g];
+  const std::uint32_t p = tri[k], q = tri[(k + 1) % 3], r = tri[(k + 2) % 3];
+  const HistoryFrame f = base.historyFrames[g];
+  const auto& fp = f.corner[k];
+  const auto& fq = f.corner[(k + 1) % 3];
+  const auto& fr = f.corner[(k + 2) % 3];
+  const std::array<double, 3> fs{(fp[0] + fq[0]) / 2, (fp[1] + fq[1]) / 2, (fp[2] + fq[2]) / 2};
+  const std::uint32_t s = std::uint32_t(base.positions.size());
+  base.positions.push_back(densePosition(dense, base.history->toDense(f.version, fs)));
+  base.denseVertex.push_back(-1);
+  const std::uint32_t added = std::uint32_t(base.triangles.size());
+  base.triangles[g] = {p, s, r};
+  base.triangles.push_back({s, q, r});
+  // Neighbours: goal (p, s, r) and added (s, q, r) meet at (s, r); the one across (q, r) now
+  // borders added.
+  const std::uint32_t acrossQR = across[g][(k + 1) % 3], acrossRP = across[g][(k + 2) % 3];
+  across[g] = {kNone, added, acrossRP};
+  across.push_back({kNone, acrossQR, g});
+  if (acrossQR != kNone)
+    for (std::uint32_t& t : across[acrossQR])
+      if (t == g) t = added;
+  base.historyFrames[g] = {f.version, {fp, fs, fr}};
+  base.historyFrames.push_back({f.version, {fs, fq, fr}});
+  mate[g] = added;
+  mate.push_back(g);
+  densePoints.emplace_back();
+  std::vector<std::uint32_t> stay;
+  for (const std::uint32_t d : densePoints[g]) {
+    auto& b = base.denseBary[d];
+    const double wp = b[k], wq = b[(k + 1) % 3], wr = b[(k + 2) % 3];
+    if (wp >= wq) {
+      b = {wp - wq, 2 * wq, wr};
+      stay.push_back(d);
+    } else {
+      b = {2 * wp, wq - wp, wr};
+      base.denseTriangle[d] = added;
+      densePoints[added].push_back(d);
+    }
+  }
+  densePoints[g] = std::move(stay);
+}
+
+// base.tiles from the mates, and the tiling's figures.
+void makeTiles(BaseMesh& base, const Neighbours& across, const std::vector<std::uint32_t>& mate, PairingStats& stats) {
+  base.tiles.clear();
+  for (std::uint32_t t = 0; t < base.triangleCount(); ++t) {
+    if (mate[t] == kNone) throw Error("pairing: a triangle was left unpaired", ErrorKind::Failure);
+    if (mate[t] > t) base.tiles.push_back({t, mate[t]});
+  }
+  // Zero-weight tiles: the shared edge has an end of degree 3.
+  const std::vector<std::uint32_t> degree = vertexDegrees(base, across);
+  double orthoSum = 0;
+  for (std::uint32_t i = 0; i < base.tiles.size(); ++i) {
+    const BaseMesh::TileCorners c = base.tileCorners(i);
+    orthoSum += orthogonality(base.positions[c.p], base.positions[c.s], base.positions[c.q], base.positions[c.r]);
+    stats.zeroWeightTiles += degree[c.p] == 3 || degree[c.q] == 3;
+  }
+  stats.tiles = base.tiles.size();
+  stats.meanOrthogonality = stats.tiles ? orthoSum / double(stats.tiles) : 0;
+}
+
+}  // namespace
+
+PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
+  const auto start = std::chrono::steady_clock::now();
+  PairingStats stats;
+  Neighbours across = base.triangleNeighbours();
+  std::vector<std::uint32_t> mate = bestMatching(base, across);
+
+  // Leftovers: shift the matching to a triangle with a boundary edge, and split that edge.
+  require(base.history && base.historyFrames.size() == base.triangleCount(), "pairing: the base mesh has no parametrisation history");
+  std::vector<std::uint32_t> parent, via, visited;
+  std::vector<std::vector<std::uint32_t>> densePoints;  // filled on the first split
   for (std::uint32_t t0 = 0; t0 < base.triangleCount(); ++t0) {
     if (mate[t0] != kNone) continue;
     if (densePoints.empty()) {
       densePoints.assign(base.triangleCount(), {});
       for (std::uint32_t d = 0; d < base.denseTriangle.size(); ++d) densePoints[base.denseTriangle[d]].push_back(d);
     }
-    // Breadth-first over triangles reachable by alternating paths (a free edge, then a matched one).
-    for (const std::uint32_t t : visited) parent[t] = via[t] = kNone;
-    parent.resize(base.triangleCount(), kNone), via.resize(base.triangleCount(), kNone);
-    visited.assign(1, t0);
-    std::queue<std::uint32_t> queue;
-    queue.push(t0);
-    parent[t0] = t0;
-    std::uint32_t goal = kNone;
-    int goalCorner = -1;
-    while (!queue.empty() && goal == kNone) {
-      const std::uint32_t a = queue.front();
-      queue.pop();
-      for (int i = 0; i < 3; ++i)
-        if (across[a][i] == kNone) goal = a, goalCorner = i;
-      if (goal != kNone) break;
-      for (int i = 0; i < 3; ++i) {
-        const std::uint32_t b = across[a][i];
-        if (b == mate[a] || mate[b] == kNone || parent[mate[b]] != kNone) continue;
-        parent[mate[b]] = a, via[mate[b]] = b;
-        visited.push_back(mate[b]);
-        queue.push(mate[b]);
-      }
-    }
-    if (goal == kNone)
-      throw Error("pairing: a leftover triangle reaches no boundary (is the base mesh manifold?)", ErrorKind::Failure);
-    for (std::uint32_t c = goal; c != t0;) {  // re-pair along the path; the goal ends free
-      const std::uint32_t a = parent[c], b = via[c];
-      mate[a] = b, mate[b] = a;
-      c = a;
-    }
-    mate[goal] = kNone;
-
-    // Split the goal's boundary edge (p, q) at s: goal = (p, s, r), new = (s, q, r), a tile.
-    auto& tri = base.triangles[goal];
-    const std::uint32_t p = tri[goalCorner], q = tri[(goalCorner + 1) % 3], r = tri[(goalCorner + 2) % 3];
-    const HistoryFrame f = base.historyFrames[goal];
-    const auto& fp = f.corner[goalCorner];
-    const auto& fq = f.corner[(goalCorner + 1) % 3];
-    const auto& fr = f.corner[(goalCorner + 2) % 3];
-    const std::array<double, 3> fs{(fp[0] + fq[0]) / 2, (fp[1] + fq[1]) / 2, (fp[2] + fq[2]) / 2};
-    const std::uint32_t s = std::uint32_t(base.positions.size());
-    base.positions.push_back(densePosition(dense, base.history->toDense(f.version, fs)));
-    base.denseVertex.push_back(-1);
-    const std::uint32_t added = std::uint32_t(base.triangles.size());
-    base.triangles[goal] = {p, s, r};
-    base.triangles.push_back({s, q, r});
-    // Neighbours: goal (p, s, r) and added (s, q, r) meet at (s, r); the one across (q, r) now
-    // borders added.
-    const std::uint32_t acrossQR = across[goal][(goalCorner + 1) % 3], acrossRP = across[goal][(goalCorner + 2) % 3];
-    across[goal] = {kNone, added, acrossRP};
-    across.push_back({kNone, acrossQR, goal});
-    if (acrossQR != kNone)
-      for (std::uint32_t& t : across[acrossQR])
-        if (t == goal) t = added;
-    base.historyFrames[goal] = {f.version, {fp, fs, fr}};
-    base.historyFrames.push_back({f.version, {fs, fq, fr}});
-    mate[goal] = added;
-    mate.push_back(goal);
-    densePoints.emplace_back();
-    std::vector<std::uint32_t> stay;
-    for (const std::uint32_t d : densePoints[goal]) {
-      auto& b = base.denseBary[d];
-      const double wp = b[goalCorner], wq = b[(goalCorner + 1) % 3], wr = b[(goalCorner + 2) % 3];
-      if (wp >= wq) {
-        b = {wp - wq, 2 * wq, wr};
-        stay.push_back(d);
-      } else {
-        b = {2 * wp, wq - wp, wr};
-        base.denseTriangle[d] = added;
-        densePoints[added].push_back(d);
-      }
-    }
-    densePoints[goal] = std::move(stay);
+    splitBoundaryEdge(base, dense, shiftToBoundary(t0, across, mate, parent, via, visited), across, mate, densePoints);
     ++stats.splits;
   }
 
-  base.tiles.clear();
-  for (std::uint32_t t = 0; t < base.triangleCount(); ++t) {
-    if (mate[t] == kNone) throw Error("pairing: a triangle was left unpaired", ErrorKind::Failure);
-    if (mate[t] > t) base.tiles.push_back({t, mate[t]});
-  }
-  // Figures of the final tiling; zero-weight tiles: the shared edge has an end of degree 3.
-  const std::vector<std::uint32_t> finalDegree = vertexDegrees(base, across);
-  double orthoSum = 0;
-  for (std::uint32_t i = 0; i < base.tiles.size(); ++i) {
-    const BaseMesh::TileCorners c = base.tileCorners(i);
-    orthoSum += orthogonality(base.positions[c.p], base.positions[c.s], base.positions[c.q], base.positions[c.r]);
-    stats.zeroWeightTiles += finalDegree[c.p] == 3 || finalDegree[c.q] == 3;
-  }
-  stats.tiles = base.tiles.size();
-  stats.meanOrthogonality = stats.tiles ? orthoSum / double(stats.tiles) : 0;
+  makeTiles(base, across, mate, stats);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return stats;
 }
