@@ -310,3 +310,18 @@ def test_no_scheduler_at_the_address_is_one_line(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--scheduler tcp://127.0.0.1:9: no Dask scheduler answers there" in err, err
     assert not (tmp_path / "out").exists()
+
+
+def test_a_segmentation_still_moving_at_its_cap_fails_its_subject(tmp_path):
+    """Run in this process (no cluster): a cap of 5 iterations leaves the ball growing."""
+    from isoatlas.cohort import manifest as manifests, subject
+
+    path = make_study(str(tmp_path / "study"))
+    config = dict(manifests.DEFAULTS, **CONFIG, iterations=5)
+    ball = manifests.read_manifest(path, config)[0]
+    report = subject.run_subject(ball, config, ["segment", "extract"], str(tmp_path / "out"), "hash")
+    assert report["status"] == "failed" and not report["bad_input"], report
+    assert "still moved after 5 iterations" in report["error"] and report["figures"]["iterations"] == 5
+    assert not os.path.exists(tmp_path / "out" / "ball" / "mask.nii.gz")  # nothing of a failed stage
+    with open(tmp_path / "out" / "ball" / "report.json") as f:
+        assert json.load(f)["status"] == "failed"

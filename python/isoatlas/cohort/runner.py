@@ -131,8 +131,8 @@ def _run_on_dask(todo, settings, stages, out_dir, digests, reports, progress, wo
                 try:
                     report = future.result()
                 except KilledWorker:
-                    report = _gave_up(s, digests[s.id], f"its worker died {settings['allowed_failures'] + 1} times running it "
-                                                         "(out of memory?); the next run tries it again")
+                    report = _gave_up(s, digests[s.id], "the workers running it died more often than allowed_failures allows "
+                                                         "(killed, or out of memory?); the next run tries it again")
                 except Exception as e:  # noqa: BLE001 - a task that could not even start (pickling, import)
                     report = _gave_up(s, digests[s.id], f"{type(e).__name__}: {e}")
                 reports[s.id] = report
