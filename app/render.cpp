@@ -16,12 +16,25 @@
 #include "core/error.h"
 #include "core/gz_file.h"
 #include "core/mesh_io.h"
+#include "core/mesh_topology.h"
 #include "core/progress.h"
 #include "viewer/scene.h"
 #include "viewer/smooth_render.h"
 
 namespace isoatlas::app {
 namespace {
+
+// What the GPU made, welded by exact position, as the crack tests see it: closed or not, edges of one
+// triangle, edges of three or more, and edges not run once each way (directedEdgeBalance). The atlas's
+// tessellation is closed on a closed model; the smooth mode's need not be, and the report says which.
+nlohmann::json captureFigures(const Mesh& captured) {
+  const MeshTopology t = analyzeTopology(captured);
+  std::size_t unbalanced = 0;
+  for (const auto& [edge, balance] : directedEdgeBalance(captured)) unbalanced += balance != 0;
+  return {{"captured_vertices", captured.vertexCount()}, {"captured_triangles", captured.faceCount()},
+          {"captured_closed", t.closed}, {"captured_boundary_edges", t.boundaryEdges},
+          {"captured_non_manifold_edges", t.nonManifoldEdges}, {"captured_unbalanced_edges", unbalanced}};
+}
 
 struct RenderOptions {
   std::vector<std::string> models;
@@ -171,8 +184,7 @@ int render(const RenderOptions& o, nlohmann::json& r) {
     const Mesh captured = weldIdenticalPositions(smooth ? smooth->capture(scene.offsets(), first, scene.bounds(), o.smooth, !o.limitOnly)
                                                         : renderer.capture(scene.items(), first, scene.bounds(), p.gpu));
     writeMesh(o.capture, captured);
-    r["captured_vertices"] = captured.vertexCount();
-    r["captured_triangles"] = captured.faceCount();
+    r.update(captureFigures(captured));
   }
   log.report(r);
   r["renderer"] = gpu.needGl().info().renderer;

@@ -699,6 +699,8 @@ TEST(Cli, RenderDrawsAModelWithoutCracksAndAGridOfThem) {
   const Mesh captured = readMesh(capture);
   EXPECT_EQ(captured.faceCount(), j["triangles"].get<std::size_t>());
   EXPECT_EQ(analyzeTopology(captured).boundaryEdges, 0u);
+  EXPECT_TRUE(j["captured_closed"].get<bool>());
+  EXPECT_EQ(j["captured_unbalanced_edges"], 0);
 
   const std::string frames = (dir / "spin.png").string(), grid = (dir / "g.json").string();
   ASSERT_EQ(run("render " + model + " --turntable 3 --size 64,48 -o " + frames).code, 0);
@@ -717,6 +719,21 @@ TEST(Cli, RenderDrawsAModelWithoutCracksAndAGridOfThem) {
   ASSERT_EQ(run("render " + model + " --smooth 2 --size 64,48 -o " + png + " --report " + smooth).code, 0);
   const std::size_t tiles = nlohmann::json::parse(test::readBytes(base))["patches"];  // level 0: a patch a tile
   EXPECT_EQ(nlohmann::json::parse(test::readBytes(smooth))["triangles"].get<std::size_t>(), 32 * tiles);
+  // Its capture's cracks are reported as they are (the smooth mode is not crack-free by construction):
+  // the figures must be those of the mesh written.
+  const std::string smoothCapture = (dir / "s.ply").string();
+  ASSERT_EQ(run("render " + model + " --smooth 2 --size 64,48 -o " + png + " --capture " + smoothCapture + " --report " + smooth).code, 0);
+  const auto sj = nlohmann::json::parse(test::readBytes(smooth));
+  const Mesh smoothMesh = readMesh(smoothCapture);
+  const MeshTopology st = analyzeTopology(smoothMesh);
+  std::size_t unbalanced = 0;
+  for (const auto& [edge, balance] : directedEdgeBalance(smoothMesh)) unbalanced += balance != 0;
+  EXPECT_EQ(sj["captured_triangles"], smoothMesh.faceCount());
+  EXPECT_EQ(sj["captured_closed"], st.closed);
+  EXPECT_EQ(sj["captured_boundary_edges"], st.boundaryEdges);
+  EXPECT_EQ(sj["captured_unbalanced_edges"], unbalanced);
+  std::printf("smooth mode capture of the torus at level 2: closed %d, %zu boundary edges, %zu unbalanced\n", int(st.closed),
+              st.boundaryEdges, unbalanced);
   expectBadInput("render " + model + " --limit-only -o " + png, "--limit-only goes with --smooth");
   expectBadInput("render " + model + " --camera 1,2 -o " + png, "--camera 1,2: expected EX,EY,EZ,TX,TY,TZ,FOV");
   expectBadInput("render " + model + " --scene grid:3x4 -o " + png, "expected grid:NxN");
