@@ -325,3 +325,20 @@ def test_a_segmentation_still_moving_at_its_cap_fails_its_subject(tmp_path):
     assert not os.path.exists(tmp_path / "out" / "ball" / "mask.nii.gz")  # nothing of a failed stage
     with open(tmp_path / "out" / "ball" / "report.json") as f:
         assert json.load(f)["status"] == "failed"
+
+
+def test_the_docs_example_reads_and_its_seeds_lie_in_every_brain():
+    """docs/cohort.md's manifest and config as written: three subjects whose world seeds fall inside
+    each brain's grid (its affine read by nibabel) and on white matter (T1 near the config's target)."""
+    from isoatlas.cohort import manifest as manifests
+
+    here = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "docs", "cohort")
+    config = manifests.read_config(os.path.join(here, "mni.json"))
+    subjects = manifests.read_manifest(os.path.join(here, "mni.csv"), config)
+    assert [s.id for s in subjects] == ["ch2", "ch2bet", "ch2better"]
+    for s in subjects:
+        image = nib.load(s.volume)  # data/volumes, from scripts/fetch-data
+        for x, y, z, r in s.seeds:
+            i, j, k = np.rint(np.linalg.solve(image.affine, [x, y, z, 1])[:3]).astype(int)
+            assert all(0 <= a < n for a, n in zip((i, j, k), image.shape)), (s.id, (x, y, z))
+            assert abs(float(image.dataobj[i, j, k]) - config["target"]) <= config["width"], (s.id, (x, y, z))
