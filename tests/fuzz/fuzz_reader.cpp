@@ -1,5 +1,5 @@
 // libFuzzer target for one file reader, chosen at build time by FUZZ_EXT (".nii", ".nrrd", ".inr",
-// ".off", ".isoatlas", ".dvt", ...). The input is written to a file with that extension and read back; an isoatlas::Error
+// ".off", ".isoatlas", ".dvt", ".view" for the window's scripts, ...). The input is written to a file with that extension and read back; an isoatlas::Error
 // is the expected way to fail, anything else (a crash, a sanitizer report, a hang) is a bug. What a
 // reader accepts is then used as a user would use it, so that damage the parser lets through is
 // reached too: a model is reconstructed at its lowest levels, a tree is sampled into a mask.
@@ -17,6 +17,9 @@
 #include "core/volume_io.h"
 #include "levelset/dvt/dvt_file.h"
 #include "levelset/dvt/volume_solid.h"
+#ifdef FUZZ_VIEW_SCRIPT
+#include "viewer/app/view_script.h"
+#endif
 
 namespace {
 const std::string& scratchPath() {
@@ -45,6 +48,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
   }
   try {
+#ifdef FUZZ_VIEW_SCRIPT
+    // Every line is checked before the window opens; what passes names its place for later errors.
+    for (const isoatlas::viewer::ViewAction& a : isoatlas::viewer::readViewScript(scratchPath())) (void)a.where();
+    return 0;
+#endif
     if (scratchPath().ends_with(".isoatlas")) {
       // Without checksums, so damaged payloads reach the parsers and what they let through.
       const isoatlas::atlas::Model model = isoatlas::atlas::readModel(scratchPath(), {.checksums = false});

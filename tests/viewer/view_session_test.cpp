@@ -230,7 +230,8 @@ TEST(ViewScript, ReadsEveryActionAndNamesTheLineOfABadOne) {
   for (const std::string bad : {"probe 0,0", "seed 0,0,0", "seed 0,0,0,-1", "set T 3", "run -2", "run 2.5", "brush union sphere:1,2",
                                 "brush add sphere:0,0,0,1", "screenshot s.jpg", "levels 2", "mode volume", "teleport 1,2,3",
                                 "open", "quit now", "clip y", "view3d slices", "stamp 1,2,3,4 word", "stamp 1,2,3,4,0 word",
-                                "stroke union 2", "stroke carve 2 1,2,3", "redo now", "paint union 2 1,2,3", "paint union 2 z 1,2,3", "stroke union 0 1,2,3", "stroke subtract 2 1,2"}) {
+                                "stroke union 2", "stroke carve 2 1,2,3", "redo now", "paint union 2 1,2,3", "paint union 2 z 1,2,3", "stroke union 0 1,2,3", "stroke subtract 2 1,2",
+                                "run 6e119", "frames 1000001", "levels 2 1e300"}) {  // the view-script fuzzer's find: no cast of a huge count
     SCOPED_TRACE(bad);
     try {
       readViewScript(writeScript(dir, "frames 1\n\n" + bad + "\n"));

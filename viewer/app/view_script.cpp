@@ -1,5 +1,6 @@
 #include "viewer/app/view_script.h"
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
@@ -30,7 +31,9 @@ ViewAction parseAction(const std::vector<std::string>& words, const std::string&
   };
   auto count = [&](const std::string& w, const char* what) {
     const auto n = parseNumbers(w, where + ": " + a.verb, what);
-    if (n.size() != 1 || n[0] < 0 || n[0] != double(long(n[0]))) throw Error(where + ": " + a.verb + " " + w + ": expected " + what);
+    // Whole and at most a million (compared before any cast: a huge value must not reach one).
+    if (n.size() != 1 || !(n[0] >= 0 && n[0] <= 1e6) || n[0] != std::floor(n[0]))
+      throw Error(where + ": " + a.verb + " " + w + ": expected " + what + " (at most 1000000)");
     return n[0];
   };
   const std::string& v = a.verb;
