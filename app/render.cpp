@@ -29,11 +29,9 @@ namespace {
 // tessellation is closed on a closed model; the smooth mode's need not be, and the report says which.
 nlohmann::json captureFigures(const Mesh& captured) {
   const MeshTopology t = analyzeTopology(captured);
-  std::size_t unbalanced = 0;
-  for (const auto& [edge, balance] : directedEdgeBalance(captured)) unbalanced += balance != 0;
   return {{"captured_vertices", captured.vertexCount()}, {"captured_triangles", captured.faceCount()},
           {"captured_closed", t.closed}, {"captured_boundary_edges", t.boundaryEdges},
-          {"captured_non_manifold_edges", t.nonManifoldEdges}, {"captured_unbalanced_edges", unbalanced}};
+          {"captured_non_manifold_edges", t.nonManifoldEdges}, {"captured_unbalanced_edges", unbalancedEdges(captured)}};
 }
 
 struct RenderOptions {

@@ -110,18 +110,19 @@ OneWay distances(std::vector<Point> points, const Tree& tree, const Point& start
 }  // namespace
 
 struct MeshDistances::State {
-  SurfaceMesh mesh;
   std::vector<Point> samples;
   std::size_t facePoints;
   Triangles triangles;
   Tree tree;
+  Point firstVertex;  // the first hint of queries into the tree
 };
 
 MeshDistances::MeshDistances(const Mesh& a, std::size_t facePoints) : state_(std::make_unique<State>()) {
-  state_->mesh = toSurfaceMesh(a, "first");
-  state_->samples = samplePoints(state_->mesh, facePoints);
+  const SurfaceMesh mesh = toSurfaceMesh(a, "first");  // for CGAL's sampler; the tree keeps triangles
+  state_->samples = samplePoints(mesh, facePoints);
   state_->facePoints = facePoints;
-  state_->triangles = trianglesOf(state_->mesh);
+  state_->triangles = trianglesOf(mesh);
+  state_->firstVertex = mesh.point(*vertices(mesh).first);
   buildTree(state_->tree, state_->triangles);
 }
 
@@ -140,7 +141,7 @@ Hausdorff MeshDistances::to(const Mesh& b) const {
         aToB = distances(state_->samples, tree, mb.point(*vertices(mb).first));
       },
       [&] {
-        bToA = distances(samplePoints(mb, state_->facePoints), state_->tree, state_->mesh.point(*vertices(state_->mesh).first));
+        bToA = distances(samplePoints(mb, state_->facePoints), state_->tree, state_->firstVertex);
       });
   return {aToB.largest, bToA.largest, aToB.rms, bToA.rms};
 }

@@ -40,10 +40,9 @@ double median(std::vector<double> v) {
 
 // Edges matched by one running the other way, over all edges, after welding by exact position.
 double watertight(const Mesh& captured) {
-  const auto balance = directedEdgeBalance(weldIdenticalPositions(captured));
-  std::size_t matched = 0;
-  for (const auto& [edge, count] : balance) matched += count == 0;
-  return double(matched) / double(std::max<std::size_t>(balance.size(), 1));
+  const Mesh welded = weldIdenticalPositions(captured);
+  const std::size_t edges = directedEdgeBalance(welded).size();
+  return double(edges - unbalancedEdges(welded)) / double(std::max<std::size_t>(edges, 1));
 }
 
 // Median frame time (ms), median GPU time (ms) and triangles of five frames after a first one.

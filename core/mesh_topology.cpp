@@ -137,4 +137,10 @@ std::map<std::pair<std::uint32_t, std::uint32_t>, int> directedEdgeBalance(const
   return balance;
 }
 
+std::size_t unbalancedEdges(const Mesh& mesh) {
+  std::size_t count = 0;
+  for (const auto& [edge, balance] : directedEdgeBalance(mesh)) count += balance != 0;
+  return count;
+}
+
 }  // namespace isoatlas

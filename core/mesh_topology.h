@@ -37,5 +37,7 @@ MeshTopology analyzeTopology(const Mesh& mesh);
 // Counting directions rather than faces per edge stays exact where one position is two vertices
 // welded into one (several sheets meet there).
 std::map<std::pair<std::uint32_t, std::uint32_t>, int> directedEdgeBalance(const Mesh& mesh);
+// How many edges of directedEdgeBalance are not balanced (0: no crack).
+std::size_t unbalancedEdges(const Mesh& mesh);
 
 }  // namespace isoatlas
