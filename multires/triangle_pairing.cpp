@@ -13,18 +13,6 @@ namespace {
 
 constexpr std::uint32_t kNone = BaseMesh::kNoTriangle;
 
-// Edges per vertex: each halfedge counts for the vertex it leaves; a boundary edge, having one
-// halfedge, counts for both its ends.
-std::vector<std::uint32_t> vertexDegrees(const BaseMesh& base, const std::vector<std::array<std::uint32_t, 3>>& across) {
-  std::vector<std::uint32_t> degree(base.vertexCount(), 0);
-  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
-    for (int i = 0; i < 3; ++i) {
-      ++degree[base.triangles[t][i]];
-      if (across[t][i] == kNone) ++degree[base.triangles[t][(i + 1) % 3]];
-    }
-  return degree;
-}
-
 double cornerCos(const Vec3& at, const Vec3& a, const Vec3& b) {
   const Vec3 u = a - at, v = b - at;
   const double l = norm(u) * norm(v);
@@ -38,13 +26,55 @@ double orthogonality(const Vec3& p, const Vec3& s, const Vec3& q, const Vec3& r)
 
 using Neighbours = std::vector<std::array<std::uint32_t, 3>>;
 
+// Per base vertex: the fewest tiles it may lie in (3 inside, 2 on the boundary: fewer make a tile
+// corner of about 180 degrees, where a tile's two triangles would fold over its neighbour's), and
+// how many triangles lie around it.
+struct VertexRoom {
+  std::vector<std::uint8_t> fewestTiles;
+  std::vector<std::uint32_t> triangles;
+};
+VertexRoom vertexRoom(const BaseMesh& base, const Neighbours& across) {
+  VertexRoom room{std::vector<std::uint8_t>(base.vertexCount(), 3), std::vector<std::uint32_t>(base.vertexCount(), 0)};
+  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
+    for (int i = 0; i < 3; ++i) {
+      ++room.triangles[base.triangles[t][i]];
+      if (across[t][i] == kNone) room.fewestTiles[base.triangles[t][i]] = room.fewestTiles[base.triangles[t][(i + 1) % 3]] = 2;
+    }
+  return room;
+}
+
+// Per base vertex, the tiles it lies in when the triangles pair as `mate`: its triangles, less one
+// for each tile whose shared edge ends there.
+std::vector<std::uint32_t> tilesAround(const BaseMesh& base, const Neighbours& across, const std::vector<std::uint32_t>& mate,
+                                       const VertexRoom& room) {
+  std::vector<std::uint32_t> tiles = room.triangles;
+  for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
+    for (int i = 0; i < 3; ++i)
+      if (across[t][i] != kNone && across[t][i] == mate[t] && t < mate[t])
+        --tiles[base.triangles[t][i]], --tiles[base.triangles[t][(i + 1) % 3]];
+  return tiles;
+}
+
+// A pair the matching may take: triangles t and o across t's edge `edge`, the quad's quality.
+struct Candidate {
+  std::uint32_t t, o;
+  int edge;
+  std::int64_t quality;
+};
+
 // The maximum-weight matching of the dual graph: per triangle its mate, or kNone. A bonus larger
-// than any sum of qualities makes the matching a largest one first.
+// than any sum of the rest makes the matching a largest one first. Then pairs that would leave a
+// vertex in too few tiles (VertexRoom) are penalised, each weighing as much as the quality of 64
+// tiles: first those that do so alone (the spokes of a vertex of three triangles), then, round by
+// round, those the last matching used at a vertex left short (two tiles of four triangles).
 std::vector<std::uint32_t> bestMatching(const BaseMesh& base, const Neighbours& across) {
   const std::uint32_t n = std::uint32_t(base.triangleCount());
-  const std::vector<std::uint32_t> degree = vertexDegrees(base, across);
-  const std::int64_t bonus = 1001 * std::int64_t(n + 1);
-  std::vector<WeightedEdge> edges;
+  const VertexRoom room = vertexRoom(base, across);
+  constexpr std::int64_t kBestQuality = 1001; const std::int64_t kKeepsRoom = kBestQuality * (n + 1);
+  const std::int64_t bonus = (kKeepsRoom + kBestQuality) * std::int64_t(n + 1);
+  std::vector<Candidate> candidates;
+  std::vector<bool> penalised;
+  auto shortAlone = [&](std::uint32_t v) { return room.triangles[v] - 1 < room.fewestTiles[v]; };
   for (std::uint32_t t = 0; t < n; ++t)
     for (int i = 0; i < 3; ++i) {
       const std::uint32_t o = across[t][i];
@@ -54,13 +84,29 @@ std::vector<std::uint32_t> bestMatching(const BaseMesh& base, const Neighbours& 
       std::uint32_t s = kNone;
       for (const std::uint32_t v : base.triangles[o])
         if (v != p && v != q) s = v;
-      const bool degreeThree = degree[p] == 3 || degree[q] == 3;
       const double quality = orthogonality(base.positions[p], base.positions[s], base.positions[q], base.positions[r]);
-      edges.push_back({t, o, bonus + (degreeThree ? 0 : 1 + std::int64_t(std::lround(1000 * quality)))});
+      candidates.push_back({t, o, i, 1 + std::int64_t(std::lround(1000 * quality))});
+      penalised.push_back(shortAlone(p) || shortAlone(q));
     }
-  const std::vector<std::int64_t> matched = maxWeightMatching(n, edges);
   std::vector<std::uint32_t> mate(n);
-  for (std::uint32_t t = 0; t < n; ++t) mate[t] = matched[t] < 0 ? kNone : std::uint32_t(matched[t]);
+  constexpr int kRounds = 8;
+  for (int round = 0; round < kRounds; ++round) {
+    std::vector<WeightedEdge> edges;
+    for (std::size_t k = 0; k < candidates.size(); ++k)
+      edges.push_back({candidates[k].t, candidates[k].o, bonus + (penalised[k] ? 0 : kKeepsRoom) + candidates[k].quality});
+    const std::vector<std::int64_t> matched = maxWeightMatching(n, edges);
+    for (std::uint32_t t = 0; t < n; ++t) mate[t] = matched[t] < 0 ? kNone : std::uint32_t(matched[t]);
+    const std::vector<std::uint32_t> tiles = tilesAround(base, across, mate, room);
+    bool more = false;
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+      const Candidate& c = candidates[k];
+      if (penalised[k] || mate[c.t] != c.o) continue;
+      const auto& tri = base.triangles[c.t];
+      const std::uint32_t p = tri[c.edge], q = tri[(c.edge + 1) % 3];
+      if (tiles[p] < room.fewestTiles[p] || tiles[q] < room.fewestTiles[q]) penalised[k] = more = true;
+    }
+    if (!more) break;
+  }
   return mate;
 }
 
@@ -165,13 +211,13 @@ void makeTiles(BaseMesh& base, const Neighbours& across, const std::vector<std::
     if (mate[t] == kNone) throw Error("pairing: a triangle was left unpaired", ErrorKind::Failure);
     if (mate[t] > t) base.tiles.push_back({t, mate[t]});
   }
-  // Zero-weight tiles: the shared edge has an end of degree 3.
-  const std::vector<std::uint32_t> degree = vertexDegrees(base, across);
+  const VertexRoom room = vertexRoom(base, across);
+  const std::vector<std::uint32_t> tiles = tilesAround(base, across, mate, room);
+  for (std::uint32_t v = 0; v < base.vertexCount(); ++v) stats.shortVertices += tiles[v] < room.fewestTiles[v];
   double orthoSum = 0;
   for (std::uint32_t i = 0; i < base.tiles.size(); ++i) {
     const BaseMesh::TileCorners c = base.tileCorners(i);
     orthoSum += orthogonality(base.positions[c.p], base.positions[c.s], base.positions[c.q], base.positions[c.r]);
-    stats.zeroWeightTiles += degree[c.p] == 3 || degree[c.q] == 3;
   }
   stats.tiles = base.tiles.size();
   stats.meanOrthogonality = stats.tiles ? orthoSum / double(stats.tiles) : 0;

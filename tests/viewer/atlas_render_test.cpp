@@ -1,7 +1,8 @@
 // The tessellated atlas against its CPU twin and the crack-free invariant: with no GPU refinement
 // the GPU makes exactly the CPU's mesh (same vertices, same triangle count); with any CPU and GPU
-// levels and cameras, the captured triangles welded by position are closed and manifold on a closed
-// model, and only the model's own boundary stays open on one with holes; each added GPU halving
+// levels and cameras, the captured triangles welded by exact position are an oriented 2-manifold
+// (every directed edge once, with its twin; no triangle repeating a vertex), closed on a closed
+// model, and open only along the model's own boundary on one with holes; each added GPU halving
 // quadruples a base tile's triangles.
 #include <gtest/gtest.h>
 
@@ -115,18 +116,27 @@ std::set<std::array<float, 3>> openSideTexels(const atlas::Model& model) {
   return out;
 }
 
-// Captured triangles welded by position: every directed edge is matched by one running the other way
-// (a crack leaves an edge of one triangle only), except on the model's own boundary. Counting
-// directions (directedEdgeBalance) keeps this exact where the atlas holds one point twice (a gap it
-// filled with its nearest point).
-void expectNoBorderEdgesButTheModels(const Mesh& welded, const std::set<std::array<float, 3>>& boundary) {
+// Captured triangles welded by exact position are an oriented 2-manifold: no triangle names a
+// vertex twice, every directed edge is used by one triangle only (a fold uses one twice), and every
+// directed edge has its twin running back (a crack leaves one without), except on the model's own
+// boundary; so the capture is closed exactly where the model is.
+void expectOrientedManifold(const Mesh& welded, const std::set<std::array<float, 3>>& boundary) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+  for (std::size_t f = 0; f < welded.faceCount(); ++f) {
+    const auto c = welded.face(f);
+    ASSERT_TRUE(c[0] != c[1] && c[1] != c[2] && c[2] != c[0]) << "triangle " << f << " names a vertex twice";
+    for (int k = 0; k < 3; ++k) ++uses[{c[k], c[(k + 1) % 3]}];
+  }
   std::size_t open = 0;
-  for (const auto& [edge, count] : directedEdgeBalance(welded)) {
-    if (count == 0) continue;
+  for (const auto& [edge, count] : uses) {
+    const Vec3& a = welded.positions[edge.first];
+    const Vec3& b = welded.positions[edge.second];
+    ASSERT_EQ(count, 1) << "a fold: the edge from " << a.x << ", " << a.y << ", " << a.z << " to " << b.x << ", " << b.y << ", " << b.z
+                        << " is used " << count << " times the same way";
+    if (uses.count({edge.second, edge.first})) continue;
     ++open;
-    const bool onBoundary = boundary.count(asFloats(welded.positions[edge.first])) && boundary.count(asFloats(welded.positions[edge.second]));
-    ASSERT_TRUE(onBoundary) << "a crack: the edge from " << welded.positions[edge.first].x << ", " << welded.positions[edge.first].y << ", "
-                            << welded.positions[edge.first].z << " has no partner";
+    const bool onBoundary = boundary.count(asFloats(a)) && boundary.count(asFloats(b));
+    ASSERT_TRUE(onBoundary) << "a crack: the edge from " << a.x << ", " << a.y << ", " << a.z << " has no twin";
   }
   if (boundary.empty()) EXPECT_EQ(open, 0u);
   else EXPECT_GT(open, 0u);
@@ -150,7 +160,8 @@ void expectCrackFree(Scene& scene, int cases, unsigned seed) {
                  std::to_string(gpu.halvings) + " pixels " + std::to_string(gpu.pixels));
     multires::AdaptiveMesh cpuMesh = scene.lod.refined(cpu, c, {});
     const Mesh gpuMesh = weldIdenticalPositions(scene.capture(cpu, gpu, c, &cpuMesh));
-    expectNoBorderEdgesButTheModels(gpuMesh, boundary);
+    expectOrientedManifold(gpuMesh, boundary);
+    if (::testing::Test::HasFatalFailure()) return;
     // The GPU refines above the CPU: every CPU vertex is one of its vertices (on tiles with a detail
     // chart the GPU reads that chart, the CPU the coarser one).
     if (!scene.model.atlas.details.empty()) continue;
@@ -222,7 +233,7 @@ TEST(AtlasRender, AViewToTheNextBySplitsAndWelds) {
     scene.patches.update(scene.lod.patchesOf(mesh));
     const Mesh gpu = weldIdenticalPositions(AtlasRenderer().capture({{&scene.textures, &scene.patches, {}}}, c, scene.box,
                                                                     {GpuRefinement::Mode::Pixels, 0, 6}));
-    expectNoBorderEdgesButTheModels(gpu, boundary);
+    expectOrientedManifold(gpu, boundary);
   }
   EXPECT_GT(welds, 100u) << "views farther than the last coarsen the mesh";
 }
