@@ -25,6 +25,9 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
       ->check(CLI::Range(std::size_t(4), std::numeric_limits<std::size_t>::max()));
   sub->add_option("--max-error", o->maxError, "never weld where the quadric RMS distance exceeds this (mm)");
   sub->add_option("--chart", *chart, "chart size in texels per side, 2^k + 1")->capture_default_str();
+  sub->add_option("--relax-sweeps", o->relaxSweeps,
+                  "sweeps moving the texels over each tile to follow the surface's bending (0: a uniform grid per tile)")
+      ->capture_default_str();
   sub->add_flag("--keep-dense", o->keepDense, "keep the dense mesh and its parametrisation in the model");
   sub->add_option("--previews", *previews, "write position_atlas.png and normal_atlas.png into this folder");
   sub->add_option("--base-only", *baseOnly, "also write the triquad base mesh as an OBJ of quads")->check(outputFile());

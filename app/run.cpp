@@ -427,6 +427,9 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--base-ratio", options->model.baseRatio, "base vertices of the model as a fraction of the surface's")
       ->capture_default_str();
   sub->add_option("--chart", options->chart, "chart size of the model, 2^k + 1")->capture_default_str();
+  sub->add_option("--relax-sweeps", options->model.relaxSweeps,
+                  "sweeps moving the model's texels to follow the surface's bending (0: a uniform grid per tile)")
+      ->capture_default_str();
   sub->add_option("--samples", options->model.hausdorffFacePoints, "Hausdorff face samples per mesh for the model's accuracy")
       ->capture_default_str();
   sub->add_option("--levels", options->levels, "levels whose accuracy the model's report gives: even, 0-10, 0,4,10")

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <limits>
 
+#include "atlas/relax_chart.h"
 #include "atlas/tile_sides.h"
 #include "core/error.h"
 #include "core/progress.h"
@@ -18,35 +19,107 @@ struct Sample {
   Vec3 position, normal;
 };
 
-// Texel (i, j) of every chart: the dense surface at the chart point, through the parametrisation's
-// history (one-to-one and onto by construction). Counts the texels that some step of the way back
-// found outside its ring by more than rounding (gaps: sent to the nearest face), and the texels that land where another
-// texel of their chart does (folds: one place of the surface claimed twice), and the texel quads
-// whose corners, taken in chart order, turn against the surface's normal (where the map shears
-// hard, neighbouring texels land out of order even though the map is one-to-one).
-void sampleCharts(const Mesh& dense, const std::vector<Vec3>& normals, const multires::BaseMesh& base, Atlas& atlas,
-                  std::vector<std::uint8_t>& held, ChartStats& stats) {
+// flatCurvature (relax_chart.h) as a share of the dense surface's median curvature: low enough
+// that texels gather at creases, high enough that flat parts keep theirs.
+constexpr double kFlatCurvatureShare = 0.1;
+
+// The surface at chart point q of tile c, through the parametrisation's history, with its normal
+// interpolated from the dense mesh's vertex normals.
+struct ChartSurface {
+  const Mesh& dense;
+  const std::vector<Vec3>& normals;
+  const multires::BaseMesh& base;
+  multires::ParametrisationHistory::DensePoint point(std::uint32_t c, const multires::Vec2& q) const {
+    const auto [triangle, bary] = base.chartToTriangle(c, q.x, q.y);
+    return base.densePoint(triangle, bary);
+  }
+  Vec3 normal(const multires::ParametrisationHistory::DensePoint& point) const {
+    Vec3 normal;
+    const auto corners = dense.face(point.face);
+    for (int k = 0; k < 3; ++k) normal = normal + normals[corners[k]] * point.bary[k];
+    return normal;
+  }
+  SurfacePoint at(std::uint32_t c, const multires::Vec2& q) const {
+    const auto p = point(c, q);
+    const Vec3 n = normal(p);
+    const double length = norm(n);
+    return {multires::densePosition(dense, p), length > 0 ? n * (1 / length) : n};
+  }
+};
+
+// A typical bending of the dense surface: the median over its edges of |n_a - n_b| / |p_a - p_b|.
+double medianEdgeCurvature(const Mesh& dense, const std::vector<Vec3>& normals) {
+  std::vector<double> curvatures;
+  curvatures.reserve(dense.faceVertices.size());
+  for (std::size_t f = 0; f < dense.faceCount(); ++f) {
+    const auto c = dense.face(f);
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      const std::uint32_t a = c[k], b = c[(k + 1) % c.size()];
+      const double length = norm(dense.positions[b] - dense.positions[a]);
+      const double na = norm(normals[a]), nb = norm(normals[b]);
+      if (length > 0 && na > 0 && nb > 0) curvatures.push_back(norm(normals[b] * (1 / nb) - normals[a] * (1 / na)) / length);
+    }
+  }
+  if (curvatures.empty()) return 1;
+  std::nth_element(curvatures.begin(), curvatures.begin() + curvatures.size() / 2, curvatures.end());
+  return curvatures[curvatures.size() / 2];
+}
+
+// Per chart and side, the fractions along the side where its texels sit (relaxSide): computed once
+// per base edge, from its lower chart, and given reversed to the chart across.
+std::vector<std::array<std::vector<double>, 4>> sideFractions(const ChartSurface& surface, const AtlasLayout& layout,
+                                                              const ChartRelaxing& how) {
+  const std::uint32_t n = layout.chartSize;
+  const auto across = sidesAcross(surface.base);
+  std::vector<std::array<std::vector<double>, 4>> sides(layout.charts);
+  tbb::parallel_for(std::uint32_t(0), layout.charts, [&](std::uint32_t c) {
+    for (int s = 0; s < 4; ++s) {
+      const SideAcross other = across[c][s];
+      if (other.tile != kNoTile && other.tile < c) continue;
+      const std::vector<double> t = relaxSide(n, [&](double f) { return surface.at(c, sidePoint(s, f)); }, how);
+      if (other.tile != kNoTile) {
+        std::vector<double> back(n);
+        for (std::uint32_t m = 0; m < n; ++m) back[m] = 1 - t[n - 1 - m];
+        back.front() = 0, back.back() = 1;
+        sides[other.tile][other.side] = std::move(back);
+      }
+      sides[c][s] = t;
+    }
+  });
+  return sides;
+}
+
+// Texel (i, j) of every chart: the dense surface at its chart point (relaxChart), through the
+// parametrisation's history (one-to-one and onto by construction). Counts the texels that some step
+// of the way back found outside its ring by more than rounding (gaps: sent to the nearest face), and
+// the texels that land where another texel of their chart does (folds: one place of the surface
+// claimed twice), and the texel quads whose corners, taken in chart order, turn against the
+// surface's normal (where the map shears hard, neighbouring texels land out of order even though
+// the map is one-to-one).
+void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, Atlas& atlas, std::vector<std::uint8_t>& held,
+                  ChartStats& stats) {
   const std::uint32_t n = atlas.layout.chartSize;
-  std::atomic<std::uint64_t> folded{0}, gaps{0}, steps{0}, turned{0};
+  const auto sides = sideFractions(surface, atlas.layout, how);
+  std::atomic<std::uint64_t> folded{0}, gaps{0}, steps{0}, turned{0}, nonConvex{0};
   Progress progress("atlas: sampling charts", atlas.layout.charts, "charts");
-  constexpr std::uint32_t kChunk = 256;  // charts between progress updates (Progress is not thread-safe)
+  constexpr std::uint32_t kChunk = 64;  // charts between progress updates (Progress is not thread-safe)
   for (std::uint32_t first = 0; first < atlas.layout.charts; first += kChunk) {
   const std::uint32_t last = std::min(atlas.layout.charts, first + kChunk);
   tbb::parallel_for(first, last, [&](std::uint32_t c) {
     std::uint64_t gapsHere = 0, stepsHere = 0;
+    std::uint32_t nonConvexHere = 0;
+    const std::vector<multires::Vec2> chartPoints =
+        relaxChart(n, [&](const multires::Vec2& q) { return surface.at(c, q); }, sides[c], how, &nonConvexHere);
     std::vector<std::array<float, 3>> chart;
     std::vector<Vec3> positions, surfaceNormals;
     for (std::uint32_t j = 0; j < n; ++j)
       for (std::uint32_t i = 0; i < n; ++i) {
-        const auto [triangle, bary] = base.chartToTriangle(c, double(i) / (n - 1), double(j) / (n - 1));
-        const multires::ParametrisationHistory::DensePoint point = base.densePoint(triangle, bary);
+        const multires::ParametrisationHistory::DensePoint point = surface.point(c, chartPoints[j * n + i]);
         const bool gap = point.outside > multires::ParametrisationHistory::kGapWeight;
         gapsHere += gap;
         stepsHere += point.steps;
-        Vec3 normal;
-        const auto corners = dense.face(point.face);
-        for (int k = 0; k < 3; ++k) normal = normal + normals[corners[k]] * point.bary[k];
-        const Vec3 p = multires::densePosition(dense, point);
+        const Vec3 normal = surface.normal(point);
+        const Vec3 p = multires::densePosition(surface.dense, point);
         const std::size_t at = atlas.layout.texel(c, i, j);
         atlas.positions[at] = {float(p.x), float(p.y), float(p.z)};
         atlas.normals[at] = packNormal(normal);
@@ -69,6 +142,7 @@ void sampleCharts(const Mesh& dense, const std::vector<Vec3>& normals, const mul
     folded += foldedHere;
     gaps += gapsHere;
     steps += stepsHere;
+    nonConvex += nonConvexHere;
   });
   progress.update(last);
   }
@@ -76,6 +150,7 @@ void sampleCharts(const Mesh& dense, const std::vector<Vec3>& normals, const mul
   stats.foldedTexels = folded;
   stats.gapTexels = gaps;
   stats.turnedTexelQuads = turned;
+  stats.nonConvexChartQuads = nonConvex;
   stats.meanHistorySteps = double(steps) / double(std::max<std::uint64_t>(1, stats.texels));
 }
 
@@ -137,7 +212,7 @@ void averageSharedBorders(const multires::BaseMesh& base, const std::vector<std:
 
 }  // namespace
 
-Atlas makeAtlas(const Mesh& dense, const multires::BaseMesh& base, std::uint32_t chartSize, ChartStats* stats) {
+Atlas makeAtlas(const Mesh& dense, const multires::BaseMesh& base, std::uint32_t chartSize, ChartStats* stats, int relaxSweeps) {
   require(multires::isChartSize(chartSize), "atlas: chart size " + std::to_string(chartSize) + " is not 2^k + 1 between 3 and " +
                                                 std::to_string(multires::kMaxChartSize));
   require(!base.tiles.empty() && base.tiles.size() * 2 == base.triangleCount(),
@@ -154,7 +229,8 @@ Atlas makeAtlas(const Mesh& dense, const multires::BaseMesh& base, std::uint32_t
   s.texels = std::uint64_t(atlas.layout.charts) * chartSize * chartSize;
   std::vector<std::uint8_t> held(texels, 0);
   const std::vector<Vec3> normals = vertexNormals(dense);
-  sampleCharts(dense, normals, base, atlas, held, s);
+  const ChartRelaxing how{relaxSweeps, kFlatCurvatureShare * medianEdgeCurvature(dense, normals)};
+  sampleCharts({dense, normals, base}, how, atlas, held, s);
   // Samples of one point may differ by float rounding (a few ulps of the coordinates), no more.
   const Box box = boundingBox(base.positions);
   const double largest = std::max({std::abs(box.min.x), std::abs(box.min.y), std::abs(box.min.z), std::abs(box.max.x),

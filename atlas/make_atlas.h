@@ -2,6 +2,8 @@
 //   dense        the dense triangle mesh the base mesh parametrises
 //   base         the base mesh with its tiles (pairTriangles) and the parametrisation of `dense`
 //   chartSize    N, texels per chart side: 2^k + 1 (multires::isChartSize)
+//   relaxSweeps  how far the texels are moved over their tile to follow the surface's bending
+//                (relax_chart.h; 0: the tile's uniform grid, the paper's)
 // Every texel is the dense surface at its chart point through the parametrisation's history
 // (multires::ParametrisationHistory: exact, one-to-one and onto); normals interpolate the dense
 // mesh's area-weighted vertex normals. Then the shared borders: each base edge's N samples are
@@ -24,12 +26,15 @@ struct ChartStats {
   std::uint64_t foldedTexels = 0;  // landing exactly where another texel of their chart lands (a broken record would)
   std::uint64_t gapTexels = 0;     // found outside a step's ring by more than rounding, sent to the nearest face
   std::uint64_t turnedTexelQuads = 0;  // texel quads turning against the surface (a shear, not a fold)
+  std::uint64_t nonConvexChartQuads = 0;  // texel quads whose chart points are not strictly convex (0 expected)
   double meanHistorySteps = 0;     // the steps a texel walked back through the history
   std::uint64_t sharedSides = 0;   // tile sides averaged with a neighbour's
   std::uint64_t borderDisagreements = 0;  // shared samples from different sheets (one taken, not the mean)
   double seconds = 0;
 };
 
-Atlas makeAtlas(const Mesh& dense, const multires::BaseMesh& base, std::uint32_t chartSize, ChartStats* stats = nullptr);
+inline constexpr int kDefaultRelaxSweeps = 8;
+Atlas makeAtlas(const Mesh& dense, const multires::BaseMesh& base, std::uint32_t chartSize, ChartStats* stats = nullptr,
+                int relaxSweeps = kDefaultRelaxSweeps);
 
 }  // namespace isoatlas::atlas

@@ -27,6 +27,16 @@ inline std::array<std::uint32_t, 2> sideTexel(int side, std::uint32_t m, std::ui
   }
 }
 
+// The chart point at fraction t of side `side`, from its first base vertex to its second.
+inline multires::Vec2 sidePoint(int side, double t) {
+  switch (side) {
+    case 0: return {t, 0};
+    case 1: return {1, t};
+    case 2: return {1 - t, 1};
+    default: return {0, 1 - t};
+  }
+}
+
 // Per tile and side, the tile and side across the same base edge (run the other way), found
 // through the base triangles' neighbours; tile kNoTile on the mesh's boundary.
 inline constexpr std::uint32_t kNoTile = ~0u;

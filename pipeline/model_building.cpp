@@ -37,6 +37,7 @@ void checkModelRequest(const ModelRequest& request) {
   require(request.maxError >= 0, "--max-error must be positive");
   require(multires::isChartSize(request.chartSize),
           "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
+  require(request.relaxSweeps >= 0 && request.relaxSweeps <= 1000, "--relax-sweeps must be between 0 and 1000");
 }
 
 atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann::json& r) {
@@ -56,7 +57,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
           " edge splits for the matching, " + std::to_string(pairing.seconds) + " s");
   r["folded_dense_triangles"] = multires::countFoldedTriangles(dense, base);
   atlas::ChartStats charts;
-  model.atlas = atlas::makeAtlas(dense, base, request.chartSize, &charts);
+  model.atlas = atlas::makeAtlas(dense, base, request.chartSize, &charts, request.relaxSweeps);
   model.foldedTexels = charts.foldedTexels, model.gapTexels = charts.gapTexels;
   const atlas::AtlasLayout& layout = model.atlas.layout;
   logInfo("build: " + std::to_string(layout.charts) + " charts in a " + std::to_string(layout.width()) + " x " +
@@ -76,7 +77,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   r["history_bytes"] = stats.historyBytes;
   r["tiles"] = pairing.tiles;
   r["splits_for_matching"] = pairing.splits;
-  r["zero_weight_tiles"] = pairing.zeroWeightTiles;
+  r["vertices_in_too_few_tiles"] = pairing.shortVertices;
   r["mean_tile_orthogonality"] = pairing.meanOrthogonality;
   r["operators"] = {{"flips", stats.operators.flips}, {"face_welds", stats.operators.faceWelds},
                     {"edge_welds", stats.operators.edgeWelds}, {"boundary_welds", stats.operators.boundaryWelds}};
@@ -84,6 +85,8 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   r["border_disagreements"] = charts.borderDisagreements;
   r["mean_history_steps"] = charts.meanHistorySteps;
   r["turned_texel_quads"] = charts.turnedTexelQuads;
+  r["non_convex_chart_quads"] = charts.nonConvexChartQuads;
+  r["relax_sweeps"] = request.relaxSweeps;
   r["seconds_simplify"] = stats.seconds;
   r["seconds_match"] = pairing.seconds;
   r["seconds_chart"] = charts.seconds;

@@ -8,6 +8,7 @@
 
 #include "atlas/evaluate_levels.h"
 #include "atlas/hausdorff.h"
+#include "atlas/make_atlas.h"
 #include "atlas/model_file.h"
 #include "atlas/stamp_detail.h"
 #include "core/image.h"
@@ -21,12 +22,13 @@ struct ModelRequest {
   std::size_t baseVertices = 0;  // instead of baseRatio when set
   double maxError = 0;           // 0: unbounded
   std::uint32_t chartSize = 33;
+  int relaxSweeps = atlas::kDefaultRelaxSweeps;  // texels follow the surface's bending (0: uniform in each tile)
   bool keepDense = false;  // the model keeps the dense mesh and its parametrisation
   bool hausdorff = true;   // measure the base mesh against the dense one
   std::size_t hausdorffFacePoints = atlas::kHausdorffFacePoints;
 };
 
-// Throws Error naming the option (--base-ratio, --max-error, --chart) when the request is out of range.
+// Throws Error naming the option (--base-ratio, --max-error, --chart, --relax-sweeps) when the request is out of range.
 void checkModelRequest(const ModelRequest& request);
 // `dense`: a triangle mesh (prepareModelInput's). Fills `figures` with what each stage measured.
 atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann::json& figures);

@@ -1,0 +1,211 @@
+#include "atlas/relax_chart.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "multires/exact_orientation.h"
+
+namespace isoatlas::atlas {
+namespace {
+
+using multires::Vec2;
+
+// How much a spacing between two surface points counts: its length weighted by the bending over it.
+double spacingWeight(const SurfacePoint& a, const SurfacePoint& b, double flatCurvature) {
+  const double length = norm(b.position - a.position);
+  const double curvature = length > 0 ? norm(b.normal - a.normal) / length : 0;
+  return std::sqrt(curvature + flatCurvature);
+}
+
+// Whether the quad of texels (i, j) .. (i + 1, j + 1) turns counter-clockwise at all four corners.
+bool convexQuad(const std::vector<Vec2>& q, std::uint32_t n, std::uint32_t i, std::uint32_t j) {
+  const std::size_t k = std::size_t(j) * n + i;
+  const std::array<Vec2, 4> c = {q[k], q[k + 1], q[k + n + 1], q[k + n]};
+  for (int m = 0; m < 4; ++m)
+    if (multires::exactOrientation(c[m], c[(m + 1) % 4], c[(m + 2) % 4]) <= 0) return false;
+  return true;
+}
+
+// The convex quads around interior texel (i, j), one bit each.
+unsigned convexAround(const std::vector<Vec2>& q, std::uint32_t n, std::uint32_t i, std::uint32_t j) {
+  return unsigned(convexQuad(q, n, i - 1, j - 1)) | unsigned(convexQuad(q, n, i, j - 1)) << 1 |
+         unsigned(convexQuad(q, n, i - 1, j)) << 2 | unsigned(convexQuad(q, n, i, j)) << 3;
+}
+
+// The chart step that moves texel k's surface point towards `target`: the surface step written in
+// the grid's two directions at k (least squares), then taken into the chart the same way.
+bool chartStep(const std::vector<Vec2>& q, const std::vector<SurfacePoint>& p, std::uint32_t n, std::size_t k, const Vec3& target,
+               Vec2& step) {
+  const Vec3 a = p[k + 1].position - p[k - 1].position, b = p[k + n].position - p[k - n].position, d = target - p[k].position;
+  const double aa = dot(a, a), ab = dot(a, b), bb = dot(b, b);
+  const double det = aa * bb - ab * ab;
+  if (!(det > 1e-12 * aa * bb)) return false;
+  const double x = (bb * dot(a, d) - ab * dot(b, d)) / det, y = (aa * dot(b, d) - ab * dot(a, d)) / det;
+  step = (q[k + 1] - q[k - 1]) * x + (q[k + n] - q[k - n]) * y;
+  return true;
+}
+
+// The border texels of grid q (n a side) exactly at the sides' fractions.
+void setBorder(std::uint32_t n, const std::array<std::vector<double>, 4>& sides, std::vector<Vec2>& q) {
+  for (std::uint32_t m = 0; m < n; ++m) {
+    q[m] = {sides[0][m], 0};
+    q[std::size_t(m) * n + n - 1] = {1, sides[1][m]};
+    q[std::size_t(n - 1) * n + n - 1 - m] = {1 - sides[2][m], 1};
+    q[std::size_t(n - 1 - m) * n] = {0, 1 - sides[3][m]};
+  }
+}
+
+// The grid the sides span: the chart point where the line between the fractions of sides 0 and 2
+// at column i crosses the line between those of sides 3 and 1 at row j.
+std::vector<Vec2> gridBetweenSides(std::uint32_t n, const std::array<std::vector<double>, 4>& sides) {
+  std::vector<Vec2> q(std::size_t(n) * n);
+  for (std::uint32_t j = 0; j < n; ++j)
+    for (std::uint32_t i = 0; i < n; ++i) {
+      // Column i runs from (bottom, 0) to (top, 1); row j from (0, left) to (1, right).
+      const double bottom = sides[0][i], top = 1 - sides[2][n - 1 - i];
+      const double left = 1 - sides[3][n - 1 - j], right = sides[1][j];
+      // u = bottom + (top - bottom) v, v = left + (right - left) u.
+      const double du = top - bottom, dv = right - left;
+      const double u = (bottom + du * left) / (1 - du * dv);
+      q[std::size_t(j) * n + i] = {u, left + dv * u};
+    }
+  setBorder(n, sides, q);
+  return q;
+}
+
+// Texels on every stride-th line of a chart stay where the tile's uniform grid has them.
+std::uint32_t keptStride(std::uint32_t n, const ChartRelaxing& how) {
+  return how.keptSize >= n ? 1 : (n - 1) / (std::max<std::uint32_t>(how.keptSize, 2) - 1);
+}
+
+}  // namespace
+
+std::vector<double> relaxSide(std::uint32_t n, const std::function<SurfacePoint(double)>& surfaceAt, const ChartRelaxing& how) {
+  std::vector<double> t(n);
+  for (std::uint32_t m = 0; m < n; ++m) t[m] = double(m) / (n - 1);
+  const std::uint32_t stride = keptStride(n, how);
+  if (how.sweeps <= 0 || stride <= 1) return t;
+  // Equidistribution (de Boor) between the kept texels: place the texels at equal steps of the
+  // weighted length measured through the last placement, a few times over as the samples move.
+  constexpr int kRounds = 4;
+  std::vector<SurfacePoint> p(n);
+  std::vector<double> length(n);
+  for (int round = 0; round < kRounds; ++round) {
+    for (std::uint32_t m = 0; m < n; ++m) p[m] = surfaceAt(t[m]);
+    length[0] = 0;
+    for (std::uint32_t m = 1; m < n; ++m)
+      length[m] = length[m - 1] + norm(p[m].position - p[m - 1].position) * spacingWeight(p[m - 1], p[m], how.flatCurvature);
+
+    std::vector<double> next(n);
+    next[0] = 0, next[n - 1] = 1;
+    std::uint32_t seg = 0;
+    for (std::uint32_t m = 1; m + 1 < n; ++m) {
+      const std::uint32_t a = m / stride * stride, b = a + stride;
+      if (m == a) {
+        next[m] = t[m], seg = m;
+        continue;
+      }
+      const double want = length[a] + (length[b] - length[a]) * (m - a) / stride;
+      while (seg + 1 < b && length[seg + 1] < want) ++seg;
+      const double span = length[seg + 1] - length[seg];
+      next[m] = t[seg] + (t[seg + 1] - t[seg]) * (span > 0 ? std::clamp((want - length[seg]) / span, 0.0, 1.0) : 0);
+    }
+    // Fractions on a grid of 2^-32, so that 1 - t, the fraction from the side's other end (the chart
+    // across reads it so), is exact; strictly increasing.
+    constexpr double kGrid = 4294967296.0;
+    for (std::uint32_t m = 1; m + 1 < n; ++m) next[m] = std::max(std::round(next[m] * kGrid) / kGrid, next[m - 1] + 1 / kGrid);
+    if (next[n - 2] >= 1) break;
+    t = std::move(next);
+  }
+  return t;
+}
+
+namespace {
+
+// Sweeps of the weighted smoothing over the interior texels of grid q (n a side), p its surface.
+// With keepCoarse, the texels of the coarser grid (i and j even) stay.
+void smoothGrid(std::uint32_t n, const std::function<SurfacePoint(const Vec2&)>& surfaceAt, const ChartRelaxing& how, int sweeps,
+                bool keepCoarse, std::vector<Vec2>& q, std::vector<SurfacePoint>& p) {
+  for (int sweep = 0; sweep < sweeps; ++sweep)
+    for (std::uint32_t j = 1; j + 1 < n; ++j)
+      for (std::uint32_t i = 1; i + 1 < n; ++i) {
+        if (keepCoarse && i % 2 == 0 && j % 2 == 0) continue;
+        const std::size_t k = std::size_t(j) * n + i;
+        Vec3 target;
+        double weights = 0;
+        for (const std::size_t m : {k - 1, k + 1, k - n, k + n}) {
+          const double w = spacingWeight(p[k], p[m], how.flatCurvature);
+          target = target + p[m].position * w;
+          weights += w;
+        }
+        Vec2 step;
+        if (!chartStep(q, p, n, k, target * (1 / weights), step)) continue;
+        const Vec2 from = q[k];
+        const unsigned convexBefore = convexAround(q, n, i, j);
+        bool moved = false;
+        for (double scale = 0.5; scale > 0.05 && !moved; scale *= 0.5) {
+          q[k] = from + step * scale;
+          moved = (convexAround(q, n, i, j) & convexBefore) == convexBefore;
+        }
+        if (moved) p[k] = surfaceAt(q[k]);
+        else q[k] = from;
+      }
+}
+
+// Every other fraction of each side: the sides of a grid of (n + 1) / 2 a side.
+std::array<std::vector<double>, 4> coarserSides(const std::array<std::vector<double>, 4>& sides) {
+  std::array<std::vector<double>, 4> out;
+  for (int s = 0; s < 4; ++s)
+    for (std::size_t m = 0; m < sides[s].size(); m += 2) out[s].push_back(sides[s][m]);
+  return out;
+}
+
+// Grid q of n a side refined to 2n - 1 a side: new texels at the middles of its edges and quads
+// (convex quads stay convex), the border then set to `sides` exactly.
+std::vector<Vec2> finerGrid(std::uint32_t n, const std::vector<Vec2>& q, const std::array<std::vector<double>, 4>& sides) {
+  const std::uint32_t f = 2 * n - 1;
+  std::vector<Vec2> out(std::size_t(f) * f);
+  auto at = [&](std::uint32_t i, std::uint32_t j) { return q[std::size_t(j) * n + i]; };
+  for (std::uint32_t j = 0; j < f; ++j)
+    for (std::uint32_t i = 0; i < f; ++i) {
+      const std::uint32_t i0 = i / 2, j0 = j / 2, i1 = (i + 1) / 2, j1 = (j + 1) / 2;
+      out[std::size_t(j) * f + i] = (at(i0, j0) + at(i1, j0) + at(i0, j1) + at(i1, j1)) * 0.25;
+    }
+  setBorder(f, sides, out);
+  return out;
+}
+
+}  // namespace
+
+std::vector<Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(const Vec2&)>& surfaceAt,
+                             const std::array<std::vector<double>, 4>& sides, const ChartRelaxing& how, std::uint32_t* nonConvex) {
+  std::vector<Vec2> q;
+  if (how.sweeps > 0 && n >= 3) {
+    // Coarse to fine, as the model's levels take the texels: the kept grid stays uniform (its
+    // spacing is too coarse to see the bending), then each finer grid places only its new texels
+    // between the coarser ones, so that every level's texels are spread for that level.
+    std::vector<std::array<std::vector<double>, 4>> levels{sides};
+    std::vector<std::uint32_t> sizes{n};
+    while (sizes.back() > std::max<std::uint32_t>(how.keptSize, 3)) {
+      sizes.push_back((sizes.back() + 1) / 2);
+      levels.push_back(coarserSides(levels.back()));
+    }
+    q = gridBetweenSides(sizes.back(), levels.back());
+    for (std::size_t l = sizes.size() - 1; l-- > 0;) {
+      q = finerGrid(sizes[l + 1], q, levels[l]);
+      std::vector<SurfacePoint> p(q.size());
+      for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
+      smoothGrid(sizes[l], surfaceAt, how, how.sweeps, true, q, p);
+    }
+  } else {
+    q = gridBetweenSides(n, sides);
+  }
+  if (nonConvex) {
+    *nonConvex = 0;
+    for (std::uint32_t j = 0; j + 1 < n; ++j)
+      for (std::uint32_t i = 0; i + 1 < n; ++i) *nonConvex += !convexQuad(q, n, i, j);
+  }
+  return q;
+}
+
+}  // namespace isoatlas::atlas

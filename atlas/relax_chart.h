@@ -1,0 +1,54 @@
+// Where a chart's texels sit in its tile. Sampled at the tile's uniform grid, texels crowd where the
+// parametrisation squeezes the surface and thin out where it stretches it (around creases, along the
+// tile's diagonal where its two triangles meet), and the largest distance to the surface is set
+// there. These move them so that each texel spacing covers about as much of the surface's bending
+// (spacing ~ 1 / sqrt(curvature + flatCurvature) on the surface: the interpolation error of a
+// spacing h is about curvature * h^2, evened out), keeping the grid an embedding of the tile, so
+// the texels keep the parametrisation's one-to-one map.
+//
+// The curvature of a texel spacing is |n_a - n_b| / |p_a - p_b| between its texels (unit normals).
+// flatCurvature is the floor that keeps flat parts sampled (spacing there ~ 1/sqrt(flatCurvature)):
+// e.g. a typical curvature of the dense surface.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "core/vec.h"
+#include "multires/vec2.h"
+
+namespace isoatlas::atlas {
+
+struct SurfacePoint {
+  Vec3 position, normal;  // the normal of unit length
+};
+
+struct ChartRelaxing {
+  int sweeps = 0;             // 0: the tile's uniform grid
+  double flatCurvature = 1;   // per unit of length, > 0
+  std::uint32_t keptSize = 5;  // the texels of this coarser grid (2^k + 1) stay on the tile's uniform grid
+};
+
+// relaxSide: where n texels sit along one tile side, as fractions from its first end (0 and 1 at
+// the ends, strictly increasing), so that each spacing covers the same bending of the surface.
+//   surfaceAt  the surface at fraction t of the side
+// A side is shared by two charts: compute it once and give both the same fractions (one reversed).
+std::vector<double> relaxSide(std::uint32_t n, const std::function<SurfacePoint(double)>& surfaceAt, const ChartRelaxing& how);
+
+// relaxChart: the n x n chart points of a tile, texel (i, j) at j * n + i, in [0, 1]^2.
+//   surfaceAt  the surface at chart point (u, v), through the parametrisation
+//   sides      per side (tile_sides.h's order and direction), its n fractions (relaxSide); the
+//              border texels stay there, so neighbouring charts still sample their shared side alike
+// The interior starts from the grid the sides span (each texel on the straight lines between the
+// fractions of opposite sides), then each sweep moves every interior texel towards the mean of its
+// four neighbours on the surface, weighted by each spacing's sqrt(curvature + flatCurvature) (that
+// step taken into the chart through the grid's local derivative, halved), and takes a move only where
+// no quad around the texel stops being strictly convex and counter-clockwise in the chart (exact
+// predicates). Returns the points and, in nonConvex, how many quads are not strictly convex at the
+// end (0 unless the sides' grid started with some).
+std::vector<multires::Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(const multires::Vec2&)>& surfaceAt,
+                                       const std::array<std::vector<double>, 4>& sides, const ChartRelaxing& how,
+                                       std::uint32_t* nonConvex = nullptr);
+
+}  // namespace isoatlas::atlas

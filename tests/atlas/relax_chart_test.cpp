@@ -1,0 +1,150 @@
+// Texels placed over their tile against what the placement promises: a flat, evenly mapped tile
+// keeps its uniform grid; a side's fractions rise from 0 to 1, keep the coarse lattice, read the
+// same from both ends, and gather at a crease; a chart's grid stays strictly convex with its border
+// where the sides put it, evens out a stretched map and gathers at a crease; and on a model with
+// creases the finest level lies closer to the dense surface than the uniform grid's.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "atlas/hausdorff.h"
+#include "atlas/make_atlas.h"
+#include "atlas/reconstruct.h"
+#include "atlas/relax_chart.h"
+#include "multires/exact_orientation.h"
+#include "multires/stellar_simplify.h"
+#include "multires/triangle_pairing.h"
+
+namespace isoatlas::atlas {
+namespace {
+
+using multires::Vec2;
+constexpr std::uint32_t kN = 33;
+const ChartRelaxing kHow{.sweeps = 8, .flatCurvature = 0.1, .keptSize = 5};
+
+// A ridge along u = 0.3 (a crease of 90 degrees), its normals those of the two flanks.
+SurfacePoint ridge(const Vec2& q) {
+  const double side = q.x < 0.3 ? -1 : 1;
+  return {{q.x, q.y, -std::abs(q.x - 0.3)}, Vec3{side, 0, 1} * (1 / std::sqrt(2.0))};
+}
+
+std::array<std::vector<double>, 4> uniformSides() {
+  std::vector<double> t(kN);
+  for (std::uint32_t m = 0; m < kN; ++m) t[m] = double(m) / (kN - 1);
+  return {t, t, t, t};
+}
+
+TEST(RelaxChart, AFlatEvenMapKeepsTheUniformGrid) {
+  auto flat = [](const Vec2& q) { return SurfacePoint{{2 * q.x, 2 * q.y, 0}, {0, 0, 1}}; };
+  const auto side = relaxSide(kN, [&](double t) { return flat({t, 0}); }, kHow);
+  const auto q = relaxChart(kN, flat, {side, side, side, side}, kHow);
+  for (std::uint32_t j = 0; j < kN; ++j)
+    for (std::uint32_t i = 0; i < kN; ++i) {
+      EXPECT_NEAR(q[j * kN + i].x, double(i) / (kN - 1), 1e-9);
+      EXPECT_NEAR(q[j * kN + i].y, double(j) / (kN - 1), 1e-9);
+    }
+}
+
+TEST(RelaxChart, SideFractionsRiseKeepTheLatticeReadBothWaysAndGatherAtACrease) {
+  const auto t = relaxSide(kN, [](double f) { return ridge({f, 0.5}); }, kHow);
+  ASSERT_EQ(t.size(), kN);
+  EXPECT_EQ(t.front(), 0.0);
+  EXPECT_EQ(t.back(), 1.0);
+  for (std::uint32_t m = 1; m < kN; ++m) EXPECT_LT(t[m - 1], t[m]);
+  for (std::uint32_t m = 0; m < kN; m += 8) EXPECT_EQ(t[m], double(m) / (kN - 1)) << "the lattice of 5 stays";
+  for (const double f : t) EXPECT_EQ(1 - (1 - f), f) << "the chart across reads 1 - t exactly";
+  // The spacing at the crease (between the kept texels 8 and 16: 0.25 .. 0.5) against the spacing
+  // away from it in the same interval.
+  double atCrease = 1, away = 0;
+  for (std::uint32_t m = 8; m < 16; ++m) {
+    const double spacing = t[m + 1] - t[m];
+    if (t[m] <= 0.3 && t[m + 1] >= 0.3) atCrease = spacing;
+    else away = std::max(away, spacing);
+  }
+  EXPECT_LT(atCrease, away / 2);
+}
+
+// Per quad of the grid, whether it is strictly convex and counter-clockwise.
+std::size_t nonConvexQuads(const std::vector<Vec2>& q) {
+  std::size_t bad = 0;
+  for (std::uint32_t j = 0; j + 1 < kN; ++j)
+    for (std::uint32_t i = 0; i + 1 < kN; ++i) {
+      const std::size_t k = j * kN + i;
+      const Vec2 c[4] = {q[k], q[k + 1], q[k + kN + 1], q[k + kN]};
+      for (int m = 0; m < 4; ++m) bad += multires::exactOrientation(c[m], c[(m + 1) % 4], c[(m + 2) % 4]) <= 0;
+    }
+  return bad;
+}
+
+TEST(RelaxChart, AStretchedMapIsEvenedOutWithinConvexQuads) {
+  // u is squeezed near 0 and stretched near 1 on the surface.
+  auto stretched = [](const Vec2& q) { return SurfacePoint{{q.x * q.x * 4, q.y, 0}, {0, 0, 1}}; };
+  const auto sides = uniformSides();
+  std::uint32_t nonConvex = 99;
+  const auto q = relaxChart(kN, stretched, sides, kHow, &nonConvex);
+  EXPECT_EQ(nonConvex, 0u);
+  EXPECT_EQ(nonConvexQuads(q), 0u);
+  for (std::uint32_t m = 0; m < kN; ++m) {  // the border where the sides put it
+    EXPECT_EQ(q[m].x, sides[0][m]);
+    EXPECT_EQ(q[m].y, 0.0);
+    EXPECT_EQ(q[(kN - 1) * kN + m].y, 1.0);
+    EXPECT_EQ(q[m * kN].x, 0.0);
+    EXPECT_EQ(q[m * kN + kN - 1].x, 1.0);
+  }
+  // Along the middle row, between the kept texels 24 and 32: the surface spacings even out.
+  auto spread = [&](const std::vector<Vec2>& grid) {
+    double lo = 1e9, hi = 0;
+    for (std::uint32_t i = 24; i < 32; ++i) {
+      const double s = norm(stretched(grid[16 * kN + i + 1]).position - stretched(grid[16 * kN + i]).position);
+      lo = std::min(lo, s), hi = std::max(hi, s);
+    }
+    return hi / lo;
+  };
+  const auto uniform = relaxChart(kN, stretched, sides, {.sweeps = 0});
+  EXPECT_LT(spread(q), 1 + (spread(uniform) - 1) / 2);
+}
+
+TEST(RelaxChart, TexelsGatherAtACrease) {
+  const auto side = relaxSide(kN, [](double t) { return ridge({t, 0}); }, kHow);
+  const auto top = relaxSide(kN, [](double t) { return ridge({1 - t, 1}); }, kHow);
+  const auto q = relaxChart(kN, ridge, {side, uniformSides()[1], top, uniformSides()[3]}, kHow);
+  EXPECT_EQ(nonConvexQuads(q), 0u);
+  // On the middle row, the texel spacing across the crease is well below the row's widest.
+  double atCrease = 1, widest = 0;
+  for (std::uint32_t i = 0; i + 1 < kN; ++i) {
+    const double spacing = q[16 * kN + i + 1].x - q[16 * kN + i].x;
+    if (q[16 * kN + i].x <= 0.3 && q[16 * kN + i + 1].x >= 0.3) atCrease = spacing;
+    widest = std::max(widest, spacing);
+  }
+  EXPECT_LT(atCrease, widest / 2);
+}
+
+// A grid with a ridge: the finest level of the relaxed charts lies closer to the dense surface, by
+// CGAL's distance, than the tile's uniform grid does.
+TEST(RelaxChart, TheFinestLevelFollowsCreasesCloser) {
+  Mesh dense;
+  constexpr int w = 40, h = 30;
+  for (int j = 0; j <= h; ++j)
+    for (int i = 0; i <= w; ++i) dense.positions.push_back({double(i), double(j), -0.8 * std::abs(i - 17.5 + 0.3 * j)});
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const std::uint32_t a = std::uint32_t(j * (w + 1) + i), b = a + 1, c = a + w + 2, d = a + w + 1;
+      dense.addFace({a, b, c});
+      dense.addFace({a, c, d});
+    }
+  multires::BaseMesh base = multires::simplifyStellar(dense, {.vertexRatio = 0.02});
+  multires::pairTriangles(base, dense);
+  auto finestError = [&](int sweeps) {
+    ChartStats stats;
+    const Atlas atlas = makeAtlas(dense, base, 9, &stats, sweeps);
+    EXPECT_EQ(stats.nonConvexChartQuads, 0u);
+    EXPECT_EQ(stats.foldedTexels + stats.gapTexels + stats.borderDisagreements, 0u);
+    return hausdorffDistance(reconstructLevel(base, atlas, maxLevel(9u)), dense, 20000).symmetric();
+  };
+  const double uniform = finestError(0), relaxed = finestError(kDefaultRelaxSweeps);
+  EXPECT_LT(relaxed, uniform * 0.8) << "uniform " << uniform << ", relaxed " << relaxed;
+}
+
+}  // namespace
+}  // namespace isoatlas::atlas
