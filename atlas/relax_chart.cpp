@@ -191,11 +191,17 @@ std::vector<Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(c
       levels.push_back(coarserSides(levels.back()));
     }
     q = gridBetweenSides(sizes.back(), levels.back());
+    std::vector<SurfacePoint> p(q.size());
+    for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
     for (std::size_t l = sizes.size() - 1; l-- > 0;) {
-      q = finerGrid(sizes[l + 1], q, levels[l]);
-      std::vector<SurfacePoint> p(q.size());
-      for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
-      smoothGrid(sizes[l], surfaceAt, how, how.sweeps, true, q, p);
+      const std::uint32_t coarse = sizes[l + 1], fine = sizes[l];
+      q = finerGrid(coarse, q, levels[l]);
+      std::vector<SurfacePoint> finer(q.size());
+      for (std::uint32_t j = 0; j < fine; ++j)
+        for (std::uint32_t i = 0; i < fine; ++i)  // the coarser texels stay where they were measured
+          finer[std::size_t(j) * fine + i] = i % 2 == 0 && j % 2 == 0 ? p[std::size_t(j / 2) * coarse + i / 2] : surfaceAt(q[std::size_t(j) * fine + i]);
+      p = std::move(finer);
+      smoothGrid(fine, surfaceAt, how, std::max(1, how.sweeps >> (sizes.size() - 2 - l)), true, q, p);
     }
   } else {
     q = gridBetweenSides(n, sides);

@@ -25,7 +25,7 @@ struct SurfacePoint {
 };
 
 struct ChartRelaxing {
-  int sweeps = 0;             // 0: the tile's uniform grid
+  int sweeps = 0;             // on the grid of 9 a side, half as many on each finer one (at least 1); 0: the tile's uniform grid
   double flatCurvature = 1;   // per unit of length, > 0
   std::uint32_t keptSize = 5;  // the texels of this coarser grid (2^k + 1) stay on the tile's uniform grid
 };
@@ -40,8 +40,10 @@ std::vector<double> relaxSide(std::uint32_t n, const std::function<SurfacePoint(
 //   surfaceAt  the surface at chart point (u, v), through the parametrisation
 //   sides      per side (tile_sides.h's order and direction), its n fractions (relaxSide); the
 //              border texels stay there, so neighbouring charts still sample their shared side alike
-// The interior starts from the grid the sides span (each texel on the straight lines between the
-// fractions of opposite sides), then each sweep moves every interior texel towards the mean of its
+// Coarse to fine, as the model's levels take the texels: the texels of the grid of keptSize a side
+// stay where the sides' grid has them (each texel on the straight lines between the fractions of
+// opposite sides); each finer grid (9, 17, .. a side) starts its new texels at the middles of the
+// coarser grid's edges and quads, and each sweep moves every new texel towards the mean of its
 // four neighbours on the surface, weighted by each spacing's sqrt(curvature + flatCurvature) (that
 // step taken into the chart through the grid's local derivative, halved), and takes a move only where
 // no quad around the texel stops being strictly convex and counter-clockwise in the chart (exact
