@@ -1,8 +1,10 @@
 // Atlas: one N x N geometry-image chart per tile (positions and normals of the dense surface at
 // the texels of the tile's unit square), packed row by row into one image. Chart c's texel (i, j)
-// is the tile's chart point (u, v) = (i, j) / (N - 1): i runs from corner p towards s, j from p
-// towards r (BaseMesh::chartToTriangle). Positions are floats in world millimetres; normals unit
-// vectors stored as three signed 16-bit normalised integers (GL's RGB16_SNORM).
+// is a point of the tile's unit square near (i, j) / (N - 1), placed there by atlas/relax_chart.h
+// (exactly there with --relax-sweeps 0): i runs from corner p towards s, j from p towards r
+// (BaseMesh::chartToTriangle); the texels form a grid of convex quads over the square. Positions
+// are floats in world millimetres; normals unit vectors stored as three signed 16-bit normalised
+// integers (GL's RGB16_SNORM).
 #pragma once
 #include <algorithm>
 #include <array>

@@ -229,7 +229,9 @@ Atlas makeAtlas(const Mesh& dense, const multires::BaseMesh& base, std::uint32_t
   s.texels = std::uint64_t(atlas.layout.charts) * chartSize * chartSize;
   std::vector<std::uint8_t> held(texels, 0);
   const std::vector<Vec3> normals = vertexNormals(dense);
-  const ChartRelaxing how{relaxSweeps, kFlatCurvatureShare * medianEdgeCurvature(dense, normals)};
+  // Floored at a tenth of a sphere the size of the mesh, for meshes mostly flat (a box's median is 0).
+  const double flat = std::max(kFlatCurvatureShare * medianEdgeCurvature(dense, normals), 0.1 / boundingBox(dense.positions).diagonal());
+  const ChartRelaxing how{relaxSweeps, flat};
   sampleCharts({dense, normals, base}, how, atlas, held, s);
   // Samples of one point may differ by float rounding (a few ulps of the coordinates), no more.
   const Box box = boundingBox(base.positions);

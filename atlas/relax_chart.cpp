@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "atlas/tile_sides.h"
+#include "core/error.h"
 #include "multires/exact_orientation.h"
 
 namespace isoatlas::atlas {
@@ -47,12 +49,11 @@ bool chartStep(const std::vector<Vec2>& q, const std::vector<SurfacePoint>& p, s
 
 // The border texels of grid q (n a side) exactly at the sides' fractions.
 void setBorder(std::uint32_t n, const std::array<std::vector<double>, 4>& sides, std::vector<Vec2>& q) {
-  for (std::uint32_t m = 0; m < n; ++m) {
-    q[m] = {sides[0][m], 0};
-    q[std::size_t(m) * n + n - 1] = {1, sides[1][m]};
-    q[std::size_t(n - 1) * n + n - 1 - m] = {1 - sides[2][m], 1};
-    q[std::size_t(n - 1 - m) * n] = {0, 1 - sides[3][m]};
-  }
+  for (int s = 0; s < 4; ++s)
+    for (std::uint32_t m = 0; m < n; ++m) {
+      const auto ij = sideTexel(s, m, n);
+      q[std::size_t(ij[1]) * n + ij[0]] = sidePoint(s, sides[std::size_t(s)][m]);
+    }
 }
 
 // The grid the sides span: the chart point where the line between the fractions of sides 0 and 2
@@ -75,7 +76,8 @@ std::vector<Vec2> gridBetweenSides(std::uint32_t n, const std::array<std::vector
 
 // Texels on every stride-th line of a chart stay where the tile's uniform grid has them.
 std::uint32_t keptStride(std::uint32_t n, const ChartRelaxing& how) {
-  return how.keptSize >= n ? 1 : (n - 1) / (std::max<std::uint32_t>(how.keptSize, 2) - 1);
+  require(multires::isChartSize(n) && multires::isChartSize(how.keptSize), "relaxing a chart: sizes must be 2^k + 1");
+  return how.keptSize >= n ? 1 : (n - 1) / (how.keptSize - 1);
 }
 
 }  // namespace
@@ -105,16 +107,23 @@ std::vector<double> relaxSide(std::uint32_t n, const std::function<SurfacePoint(
         next[m] = t[m], seg = m;
         continue;
       }
+      if (!(length[b] > length[a])) {  // no length to share out: keep the uniform steps
+        next[m] = t[a] + (t[b] - t[a]) * (m - a) / stride;
+        continue;
+      }
       const double want = length[a] + (length[b] - length[a]) * (m - a) / stride;
       while (seg + 1 < b && length[seg + 1] < want) ++seg;
       const double span = length[seg + 1] - length[seg];
       next[m] = t[seg] + (t[seg + 1] - t[seg]) * (span > 0 ? std::clamp((want - length[seg]) / span, 0.0, 1.0) : 0);
     }
     // Fractions on a grid of 2^-32, so that 1 - t, the fraction from the side's other end (the chart
-    // across reads it so), is exact; strictly increasing.
+    // across reads it so), is exact; strictly increasing, the kept ones where they were.
     constexpr double kGrid = 4294967296.0;
-    for (std::uint32_t m = 1; m + 1 < n; ++m) next[m] = std::max(std::round(next[m] * kGrid) / kGrid, next[m - 1] + 1 / kGrid);
-    if (next[n - 2] >= 1) break;
+    for (std::uint32_t m = 1; m + 1 < n; ++m) {
+      const std::uint32_t b = m / stride * stride + stride;
+      if (m % stride == 0) continue;
+      next[m] = std::clamp(std::round(next[m] * kGrid) / kGrid, next[m - 1] + 1 / kGrid, next[b] - (b - m) / kGrid);
+    }
     t = std::move(next);
   }
   return t;
@@ -139,7 +148,7 @@ void smoothGrid(std::uint32_t n, const std::function<SurfacePoint(const Vec2&)>&
           weights += w;
         }
         Vec2 step;
-        if (!chartStep(q, p, n, k, target * (1 / weights), step)) continue;
+        if (!(weights > 0) || !chartStep(q, p, n, k, target * (1 / weights), step)) continue;
         const Vec2 from = q[k];
         const unsigned convexBefore = convexAround(q, n, i, j);
         bool moved = false;
@@ -160,22 +169,32 @@ std::array<std::vector<double>, 4> coarserSides(const std::array<std::vector<dou
   return out;
 }
 
-// Grid q of n a side refined to 2n - 1 a side: new texels at the middles of its edges and quads
-// (convex quads stay convex), the border then set to `sides` exactly.
-std::vector<Vec2> finerGrid(std::uint32_t n, const std::vector<Vec2>& q, const std::array<std::vector<double>, 4>& sides) {
+}  // namespace
+
+// Where segment a-b crosses segment c-d (they cross inside a convex quad whose opposite sides hold them).
+namespace {
+Vec2 crossing(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const double across = cross2(b - a, d - c);
+  return a + (b - a) * (cross2(c - a, d - c) / across);
+}
+}  // namespace
+
+std::vector<Vec2> refineChartGrid(std::uint32_t n, const std::vector<Vec2>& q, const std::array<std::vector<double>, 4>& sides) {
   const std::uint32_t f = 2 * n - 1;
   std::vector<Vec2> out(std::size_t(f) * f);
-  auto at = [&](std::uint32_t i, std::uint32_t j) { return q[std::size_t(j) * n + i]; };
-  for (std::uint32_t j = 0; j < f; ++j)
+  auto at = [&](std::uint32_t i, std::uint32_t j) -> Vec2& { return out[std::size_t(j) * f + i]; };
+  for (std::uint32_t j = 0; j < f; j += 2)
     for (std::uint32_t i = 0; i < f; ++i) {
-      const std::uint32_t i0 = i / 2, j0 = j / 2, i1 = (i + 1) / 2, j1 = (j + 1) / 2;
-      out[std::size_t(j) * f + i] = (at(i0, j0) + at(i1, j0) + at(i0, j1) + at(i1, j1)) * 0.25;
+      const Vec2 &a = q[std::size_t(j / 2) * n + i / 2], &b = q[std::size_t(j / 2) * n + (i + 1) / 2];
+      at(i, j) = i % 2 ? (a + b) * 0.5 : a;
     }
+  for (std::uint32_t j = 1; j < f; j += 2)
+    for (std::uint32_t i = 0; i < f; i += 2) at(i, j) = (at(i, j - 1) + at(i, j + 1)) * 0.5;
   setBorder(f, sides, out);
+  for (std::uint32_t j = 1; j < f; j += 2)
+    for (std::uint32_t i = 1; i < f; i += 2) at(i, j) = crossing(at(i - 1, j), at(i + 1, j), at(i, j - 1), at(i, j + 1));
   return out;
 }
-
-}  // namespace
 
 std::vector<Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(const Vec2&)>& surfaceAt,
                              const std::array<std::vector<double>, 4>& sides, const ChartRelaxing& how, std::uint32_t* nonConvex) {
@@ -195,7 +214,7 @@ std::vector<Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(c
     for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
     for (std::size_t l = sizes.size() - 1; l-- > 0;) {
       const std::uint32_t coarse = sizes[l + 1], fine = sizes[l];
-      q = finerGrid(coarse, q, levels[l]);
+      q = refineChartGrid(coarse, q, levels[l]);
       std::vector<SurfacePoint> finer(q.size());
       for (std::uint32_t j = 0; j < fine; ++j)
         for (std::uint32_t i = 0; i < fine; ++i)  // the coarser texels stay where they were measured

@@ -53,4 +53,12 @@ std::vector<multires::Vec2> relaxChart(std::uint32_t n, const std::function<Surf
                                        const std::array<std::vector<double>, 4>& sides, const ChartRelaxing& how,
                                        std::uint32_t* nonConvex = nullptr);
 
+// refineChartGrid: grid q (n a side, texel (i, j) at j * n + i) refined to 2n - 1 a side, as
+// relaxChart refines: the old texels at the even places, new ones at the middles of its edges (the
+// border's then at `sides`, of 2n - 1 fractions each), and in each quad where the lines between its
+// opposite new edge texels cross. A strictly convex quad splits into four strictly convex ones
+// (its corners' mean would not do where its sides' new texels were moved).
+std::vector<multires::Vec2> refineChartGrid(std::uint32_t n, const std::vector<multires::Vec2>& q,
+                                            const std::array<std::vector<double>, 4>& sides);
+
 }  // namespace isoatlas::atlas

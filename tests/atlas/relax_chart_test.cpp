@@ -12,6 +12,7 @@
 #include "atlas/make_atlas.h"
 #include "atlas/reconstruct.h"
 #include "atlas/relax_chart.h"
+#include "atlas/tile_sides.h"
 #include "multires/exact_orientation.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
@@ -53,7 +54,10 @@ TEST(RelaxChart, SideFractionsRiseKeepTheLatticeReadBothWaysAndGatherAtACrease) 
   EXPECT_EQ(t.back(), 1.0);
   for (std::uint32_t m = 1; m < kN; ++m) EXPECT_LT(t[m - 1], t[m]);
   for (std::uint32_t m = 0; m < kN; m += 8) EXPECT_EQ(t[m], double(m) / (kN - 1)) << "the lattice of 5 stays";
-  for (const double f : t) EXPECT_EQ(1 - (1 - f), f) << "the chart across reads 1 - t exactly";
+  for (const double f : t) {
+    const double steps = std::ldexp(f, 32);  // on the grid of 2^-32, so 1 - f is exact too
+    EXPECT_EQ(steps, std::floor(steps)) << f;
+  }
   // The spacing at the crease (between the kept texels 8 and 16: 0.25 .. 0.5) against the spacing
   // away from it in the same interval.
   double atCrease = 1, away = 0;
@@ -118,6 +122,55 @@ TEST(RelaxChart, TexelsGatherAtACrease) {
     widest = std::max(widest, spacing);
   }
   EXPECT_LT(atCrease, widest / 2);
+}
+
+// A crease cutting off a corner: the sides move their texels near the corner towards the crease,
+// and the grid relaxed between them stays strictly convex.
+TEST(RelaxChart, ACreaseAcrossACornerKeepsEveryQuadConvex) {
+  auto cornerRidge = [](const Vec2& q) {
+    const double d = (q.x + q.y - 0.2) / std::sqrt(2.0);
+    const Vec3 flank = d < 0 ? Vec3{-0.5, -0.5, 1} : Vec3{0.5, 0.5, 1};
+    return SurfacePoint{{q.x, q.y, -1.5 * std::abs(d)}, flank * (1 / norm(flank))};
+  };
+  std::array<std::vector<double>, 4> sides;
+  for (int s = 0; s < 4; ++s) sides[s] = relaxSide(kN, [&](double t) { return cornerRidge(sidePoint(s, t)); }, kHow);
+  for (const int s : {0, 3}) {  // the crease crosses sides 0 and 3 at 0.2 from the corner
+    const auto& t = sides[std::size_t(s)];
+    const double at = s == 0 ? 0.2 : 0.8;
+    const auto m = std::size_t(std::upper_bound(t.begin(), t.end(), at) - t.begin());
+    ASSERT_LT(t[m] - t[m - 1], 0.5 / (kN - 1)) << "side " << s << " gathers its texels at the crease";
+    const double nearCorner = s == 0 ? t[1] : 1 - t[kN - 2];  // the texel next to the corner (0, 0)
+    ASSERT_GT(nearCorner, 1.0 / (kN - 1)) << "side " << s << " moves its texels away from the corner";
+  }
+  std::uint32_t nonConvex = 99;
+  const auto q = relaxChart(kN, cornerRidge, sides, kHow, &nonConvex);
+  EXPECT_EQ(nonConvex, 0u);
+  EXPECT_EQ(nonConvexQuads(q), 0u);
+}
+
+// The reviewer's corner: a coarse grid of 3 whose centre moved towards the corner (0, 0), sides
+// whose new texels moved away from it; the refined grid is still strictly convex.
+TEST(RelaxChart, RefiningKeepsAConvexGridConvex) {
+  std::vector<Vec2> coarse;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) coarse.push_back({i / 2.0, j / 2.0});
+  coarse[4] = {0.3, 0.3};
+  const std::vector<double> even{0, 0.25, 0.5, 0.75, 1};
+  // Side 0's texel 1 at u = 0.45; side 3 (from (0, 1) down) puts texel (0, 1) at v = 1 - 0.55.
+  const std::array<std::vector<double>, 4> sides{std::vector<double>{0, 0.45, 0.5, 0.75, 1}, even, even,
+                                                 std::vector<double>{0, 0.25, 0.5, 0.55, 1}};
+  const std::vector<Vec2> fine = refineChartGrid(3, coarse, sides);
+  ASSERT_EQ(fine.size(), 25u);
+  EXPECT_EQ(fine[1].x, 0.45);
+  EXPECT_DOUBLE_EQ(fine[5].y, 0.45);
+  EXPECT_EQ(fine[12].x, 0.3) << "the old texels stay";
+  for (std::uint32_t j = 0; j + 1 < 5; ++j)
+    for (std::uint32_t i = 0; i + 1 < 5; ++i) {
+      const std::size_t k = j * 5 + i;
+      const Vec2 c[4] = {fine[k], fine[k + 1], fine[k + 6], fine[k + 5]};
+      for (int m = 0; m < 4; ++m)
+        EXPECT_GT(multires::exactOrientation(c[m], c[(m + 1) % 4], c[(m + 2) % 4]), 0) << "quad " << i << ", " << j;
+    }
 }
 
 // A grid with a ridge: the finest level of the relaxed charts lies closer to the dense surface, by

@@ -116,10 +116,11 @@ std::set<std::array<float, 3>> openSideTexels(const atlas::Model& model) {
   return out;
 }
 
-// Captured triangles welded by exact position are an oriented 2-manifold: no triangle names a
+// Captured triangles welded by exact position have oriented 2-manifold edges: no triangle names a
 // vertex twice, every directed edge is used by one triangle only (a fold uses one twice), and every
 // directed edge has its twin running back (a crack leaves one without), except on the model's own
-// boundary; so the capture is closed exactly where the model is.
+// boundary; so the capture is closed exactly where the model is. (Vertices where two fans touch are
+// not looked for: welding by position joins every texel a base vertex's charts share.)
 void expectOrientedManifold(const Mesh& welded, const std::set<std::array<float, 3>>& boundary) {
   std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
   for (std::size_t f = 0; f < welded.faceCount(); ++f) {
