@@ -343,10 +343,10 @@ std::vector<int> runLevels(const std::string& text, int topLevel) {
 
 void checkRunOptions(const RunOptions& o) {
   require(o.iterations > 0, "--iterations must be > 0");
-  require(o.model.baseRatio > 0 && o.model.baseRatio <= 1, "--base-ratio must be in (0, 1]");
   require(o.model.hausdorffFacePoints >= 1000, "--samples must be at least 1000");
-  require(o.chart > 0 && multires::isChartSize(std::uint32_t(o.chart)),
-          "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
+  pipeline::ModelRequest model = o.model;  // --base-ratio, --chart, --relax-sweeps: as build checks them
+  model.chartSize = o.chart > 0 ? std::uint32_t(o.chart) : 0;
+  pipeline::checkModelRequest(model);
   pipeline::stepSolids(*o.edits);  // bad shapes are reported before any work
 }
 

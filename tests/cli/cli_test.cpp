@@ -168,6 +168,7 @@ TEST(Cli, EveryBadOptionExitsTwoNamingItAndWritesNothing) {
       {"build " + d + "torus.off -o " + o + "m.isoatlas --base-vertices 0", "--base-vertices"},
       {"build " + d + "torus.off -o " + o + "m.isoatlas --base-vertices 100000000", "--base-vertices"},
       {"build " + d + "torus.off -o " + o + "m.isoatlas --chart 30", "--chart"},
+      {"build " + d + "torus.off -o " + o + "m.isoatlas --relax-sweeps -1", "--relax-sweeps"},
       {"build " + d + "torus.off -o " + o + "m.txt", "m.txt"},
       {"build " + d + "missing.off -o " + o + "m.isoatlas", "missing.off"},
       {"edit " + vol + "-o " + o + "e.nii.gz --node-limit 0 --subtract sphere:0,0,0,3", "--node-limit"},
@@ -193,6 +194,7 @@ TEST(Cli, EveryBadOptionExitsTwoNamingItAndWritesNothing) {
       {"probe " + vol + "--at 100,100,100", "--at"},
       {"extract " + vol + "-o " + o + "no-such-folder/s.ply", "no-such-folder/s.ply: its folder does not exist"},
       {"run " + vol + "-o " + o + "run --chart 30", "--chart"},
+      {"run " + vol + "-o " + o + "run --relax-sweeps 5000", "--relax-sweeps"},
       {"run " + vol + "-o " + o + "run --seed 100,0,0 -T 100 -e 10", "--seed"},
   };
   for (const auto& c : cases) {
