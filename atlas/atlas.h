@@ -45,8 +45,8 @@ inline Vec3 unpackNormal(const Normal16& n) {
 }
 
 // A finer chart of one tile, where fine detail was stamped (the paper's Fig. 10): size x size
-// texels (2^k + 1, finer than the atlas's charts), texel (i, j) at the tile's chart point
-// (i, j) / (size - 1), row-major. Its borders agree bit for bit with the detail charts across them;
+// texels (2^k + 1, finer than the atlas's charts), texel (i, j) at chart texel (i, j) (N - 1) /
+// (size - 1) (interpolated between the chart's texels, then stamped), row-major. Its borders agree bit for bit with the detail charts across them;
 // where a tile without one lies across, the border carries no detail (it lies on the coarse border).
 struct DetailChart {
   std::uint32_t tile = 0, size = 0;

@@ -56,28 +56,54 @@ void setBorder(std::uint32_t n, const std::array<std::vector<double>, 4>& sides,
     }
 }
 
-// The grid the sides span: the chart point where the line between the fractions of sides 0 and 2
-// at column i crosses the line between those of sides 3 and 1 at row j.
-std::vector<Vec2> gridBetweenSides(std::uint32_t n, const std::array<std::vector<double>, 4>& sides) {
-  std::vector<Vec2> q(std::size_t(n) * n);
-  for (std::uint32_t j = 0; j < n; ++j)
-    for (std::uint32_t i = 0; i < n; ++i) {
-      // Column i runs from (bottom, 0) to (top, 1); row j from (0, left) to (1, right).
-      const double bottom = sides[0][i], top = 1 - sides[2][n - 1 - i];
-      const double left = 1 - sides[3][n - 1 - j], right = sides[1][j];
-      // u = bottom + (top - bottom) v, v = left + (right - left) u.
-      const double du = top - bottom, dv = right - left;
-      const double u = (bottom + du * left) / (1 - du * dv);
-      q[std::size_t(j) * n + i] = {u, left + dv * u};
-    }
-  setBorder(n, sides, q);
-  return q;
-}
-
 // Texels on every stride-th line of a chart stay where the tile's uniform grid has them.
 std::uint32_t keptStride(std::uint32_t n, const ChartRelaxing& how) {
   require(multires::isChartSize(n) && multires::isChartSize(how.keptSize), "relaxing a chart: sizes must be 2^k + 1");
   return how.keptSize >= n ? 1 : (n - 1) / (how.keptSize - 1);
+}
+
+// Sweeps of the weighted smoothing over the new texels of grid q (n a side; p its surface): those
+// of the coarser grid it was refined from (i and j even) stay.
+void smoothNewTexels(std::uint32_t n, const std::function<SurfacePoint(const Vec2&)>& surfaceAt, const ChartRelaxing& how, int sweeps,
+                     std::vector<Vec2>& q, std::vector<SurfacePoint>& p) {
+  for (int sweep = 0; sweep < sweeps; ++sweep)
+    for (std::uint32_t j = 1; j + 1 < n; ++j)
+      for (std::uint32_t i = 1; i + 1 < n; ++i) {
+        if (i % 2 == 0 && j % 2 == 0) continue;
+        const std::size_t k = std::size_t(j) * n + i;
+        Vec3 target;
+        double weights = 0;
+        for (const std::size_t m : {k - 1, k + 1, k - n, k + n}) {
+          const double w = spacingWeight(p[k], p[m], how.flatCurvature);
+          target = target + p[m].position * w;
+          weights += w;
+        }
+        Vec2 step;
+        if (!(weights > 0) || !chartStep(q, p, n, k, target * (1 / weights), step)) continue;
+        const Vec2 from = q[k];
+        const unsigned convexBefore = convexAround(q, n, i, j);
+        bool moved = false;
+        for (double scale = 0.5; scale > 0.05 && !moved; scale *= 0.5) {
+          q[k] = from + step * scale;
+          moved = (convexAround(q, n, i, j) & convexBefore) == convexBefore;
+        }
+        if (moved) p[k] = surfaceAt(q[k]);
+        else q[k] = from;
+      }
+}
+
+// Every other fraction of each side: the sides of a grid of (n + 1) / 2 a side.
+std::array<std::vector<double>, 4> coarserSides(const std::array<std::vector<double>, 4>& sides) {
+  std::array<std::vector<double>, 4> out;
+  for (int s = 0; s < 4; ++s)
+    for (std::size_t m = 0; m < sides[s].size(); m += 2) out[s].push_back(sides[s][m]);
+  return out;
+}
+
+// Where segment a-b crosses segment c-d (they cross inside a convex quad whose opposite sides hold them).
+Vec2 crossing(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const double across = cross2(b - a, d - c);
+  return a + (b - a) * (cross2(c - a, d - c) / across);
 }
 
 }  // namespace
@@ -129,56 +155,6 @@ std::vector<double> relaxSide(std::uint32_t n, const std::function<SurfacePoint(
   return t;
 }
 
-namespace {
-
-// Sweeps of the weighted smoothing over the interior texels of grid q (n a side), p its surface.
-// With keepCoarse, the texels of the coarser grid (i and j even) stay.
-void smoothGrid(std::uint32_t n, const std::function<SurfacePoint(const Vec2&)>& surfaceAt, const ChartRelaxing& how, int sweeps,
-                bool keepCoarse, std::vector<Vec2>& q, std::vector<SurfacePoint>& p) {
-  for (int sweep = 0; sweep < sweeps; ++sweep)
-    for (std::uint32_t j = 1; j + 1 < n; ++j)
-      for (std::uint32_t i = 1; i + 1 < n; ++i) {
-        if (keepCoarse && i % 2 == 0 && j % 2 == 0) continue;
-        const std::size_t k = std::size_t(j) * n + i;
-        Vec3 target;
-        double weights = 0;
-        for (const std::size_t m : {k - 1, k + 1, k - n, k + n}) {
-          const double w = spacingWeight(p[k], p[m], how.flatCurvature);
-          target = target + p[m].position * w;
-          weights += w;
-        }
-        Vec2 step;
-        if (!(weights > 0) || !chartStep(q, p, n, k, target * (1 / weights), step)) continue;
-        const Vec2 from = q[k];
-        const unsigned convexBefore = convexAround(q, n, i, j);
-        bool moved = false;
-        for (double scale = 0.5; scale > 0.05 && !moved; scale *= 0.5) {
-          q[k] = from + step * scale;
-          moved = (convexAround(q, n, i, j) & convexBefore) == convexBefore;
-        }
-        if (moved) p[k] = surfaceAt(q[k]);
-        else q[k] = from;
-      }
-}
-
-// Every other fraction of each side: the sides of a grid of (n + 1) / 2 a side.
-std::array<std::vector<double>, 4> coarserSides(const std::array<std::vector<double>, 4>& sides) {
-  std::array<std::vector<double>, 4> out;
-  for (int s = 0; s < 4; ++s)
-    for (std::size_t m = 0; m < sides[s].size(); m += 2) out[s].push_back(sides[s][m]);
-  return out;
-}
-
-}  // namespace
-
-// Where segment a-b crosses segment c-d (they cross inside a convex quad whose opposite sides hold them).
-namespace {
-Vec2 crossing(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-  const double across = cross2(b - a, d - c);
-  return a + (b - a) * (cross2(c - a, d - c) / across);
-}
-}  // namespace
-
 std::vector<Vec2> refineChartGrid(std::uint32_t n, const std::vector<Vec2>& q, const std::array<std::vector<double>, 4>& sides) {
   const std::uint32_t f = 2 * n - 1;
   std::vector<Vec2> out(std::size_t(f) * f);
@@ -198,32 +174,34 @@ std::vector<Vec2> refineChartGrid(std::uint32_t n, const std::vector<Vec2>& q, c
 
 std::vector<Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(const Vec2&)>& surfaceAt,
                              const std::array<std::vector<double>, 4>& sides, const ChartRelaxing& how, std::uint32_t* nonConvex) {
-  std::vector<Vec2> q;
-  if (how.sweeps > 0 && n >= 3) {
-    // Coarse to fine, as the model's levels take the texels: the kept grid stays uniform (its
-    // spacing is too coarse to see the bending), then each finer grid places only its new texels
-    // between the coarser ones, so that every level's texels are spread for that level.
-    std::vector<std::array<std::vector<double>, 4>> levels{sides};
-    std::vector<std::uint32_t> sizes{n};
-    while (sizes.back() > std::max<std::uint32_t>(how.keptSize, 3)) {
-      sizes.push_back((sizes.back() + 1) / 2);
-      levels.push_back(coarserSides(levels.back()));
-    }
-    q = gridBetweenSides(sizes.back(), levels.back());
-    std::vector<SurfacePoint> p(q.size());
-    for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
-    for (std::size_t l = sizes.size() - 1; l-- > 0;) {
-      const std::uint32_t coarse = sizes[l + 1], fine = sizes[l];
-      q = refineChartGrid(coarse, q, levels[l]);
-      std::vector<SurfacePoint> finer(q.size());
-      for (std::uint32_t j = 0; j < fine; ++j)
-        for (std::uint32_t i = 0; i < fine; ++i)  // the coarser texels stay where they were measured
-          finer[std::size_t(j) * fine + i] = i % 2 == 0 && j % 2 == 0 ? p[std::size_t(j / 2) * coarse + i / 2] : surfaceAt(q[std::size_t(j) * fine + i]);
-      p = std::move(finer);
-      smoothGrid(fine, surfaceAt, how, std::max(1, how.sweeps >> (sizes.size() - 2 - l)), true, q, p);
-    }
-  } else {
-    q = gridBetweenSides(n, sides);
+  // Coarse to fine, as the model's levels take the texels. The sides' fractions of every grid from
+  // the tile's corners (2 a side) up to the chart's; the grids up to the kept one are only spanned by
+  // their sides (their spacing is too coarse to see the bending), each finer one places its new
+  // texels between the coarser ones, so that every level's texels are spread for that level.
+  const std::uint32_t stride = keptStride(n, how);
+  std::vector<std::array<std::vector<double>, 4>> levels{sides};
+  std::vector<std::uint32_t> sizes{n};
+  while (sizes.back() > 2) {
+    sizes.push_back((sizes.back() + 1) / 2);
+    levels.push_back(coarserSides(levels.back()));
+  }
+  std::vector<Vec2> q{{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+  std::vector<SurfacePoint> p;
+  for (std::size_t l = sizes.size() - 1; l-- > 0;) {
+    const std::uint32_t coarse = sizes[l + 1], fine = sizes[l];
+    q = refineChartGrid(coarse, q, levels[l]);
+    const bool relaxed = how.sweeps > 0 && stride > 1 && (n - 1) / (fine - 1) < stride;
+    if (!relaxed) continue;
+    std::vector<SurfacePoint> finer(q.size());
+    for (std::uint32_t j = 0; j < fine; ++j)
+      for (std::uint32_t i = 0; i < fine; ++i) {  // the coarser texels stay where they were measured
+        const bool measured = !p.empty() && i % 2 == 0 && j % 2 == 0;
+        finer[std::size_t(j) * fine + i] = measured ? p[std::size_t(j / 2) * coarse + i / 2] : surfaceAt(q[std::size_t(j) * fine + i]);
+      }
+    p = std::move(finer);
+    // 9 a side takes how.sweeps, each finer grid half as many, at least one.
+    const int finerThanNine = std::max(0, int(std::log2(double(fine - 1))) - 3);
+    smoothNewTexels(fine, surfaceAt, how, std::max(1, how.sweeps >> finerThanNine), q, p);
   }
   if (nonConvex) {
     *nonConvex = 0;

@@ -40,15 +40,15 @@ std::vector<double> relaxSide(std::uint32_t n, const std::function<SurfacePoint(
 //   surfaceAt  the surface at chart point (u, v), through the parametrisation
 //   sides      per side (tile_sides.h's order and direction), its n fractions (relaxSide); the
 //              border texels stay there, so neighbouring charts still sample their shared side alike
-// Coarse to fine, as the model's levels take the texels: the texels of the grid of keptSize a side
-// stay where the sides' grid has them (each texel on the straight lines between the fractions of
-// opposite sides); each finer grid (9, 17, .. a side) starts its new texels at the middles of the
-// coarser grid's edges and quads, and each sweep moves every new texel towards the mean of its
-// four neighbours on the surface, weighted by each spacing's sqrt(curvature + flatCurvature) (that
-// step taken into the chart through the grid's local derivative, halved), and takes a move only where
-// no quad around the texel stops being strictly convex and counter-clockwise in the chart (exact
-// predicates). Returns the points and, in nonConvex, how many quads are not strictly convex at the
-// end (0 unless the sides' grid started with some).
+// Coarse to fine, as the model's levels take the texels: from the tile's corners, each grid is
+// refined to the next (refineChartGrid), its border at the sides' fractions. Up to the grid of
+// keptSize a side that is all (with sweeps 0, up to the chart's: uniform sides give the tile's
+// uniform grid). On each finer grid (9, 17, .. a side) each sweep moves every new texel towards the
+// mean of its four neighbours on the surface, weighted by each spacing's sqrt(curvature +
+// flatCurvature) (that step taken into the chart through the grid's local derivative, halved), and
+// takes a move only where no quad around the texel stops being strictly convex and
+// counter-clockwise in the chart (exact predicates). Returns the points and, in nonConvex, how many
+// quads are not strictly convex at the end (0 whenever the sides rise from 0 to 1).
 std::vector<multires::Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(const multires::Vec2&)>& surfaceAt,
                                        const std::array<std::vector<double>, 4>& sides, const ChartRelaxing& how,
                                        std::uint32_t* nonConvex = nullptr);

@@ -62,16 +62,18 @@ struct Candidate {
   std::int64_t quality;
 };
 
-// The maximum-weight matching of the dual graph: per triangle its mate, or kNone. A bonus larger
-// than any sum of the rest makes the matching a largest one first. Then pairs that would leave a
-// vertex in too few tiles (VertexRoom) are penalised, each weighing as much as the quality of 64
-// tiles: first those that do so alone (the spokes of a vertex of three triangles), then, round by
-// round, those the last matching used at a vertex left short (two tiles of four triangles).
+// The maximum-weight matching of the dual graph: per triangle its mate, or kNone. Weights in three
+// tiers, each larger than any sum of the one below: a bonus, so that the matching is a largest one
+// first; then keepsRoom for each pair not penalised; then the quad's quality. Pairs that would leave
+// a vertex in too few tiles (VertexRoom) are penalised: first those that do so alone (the spokes of
+// a vertex of three triangles), then, round by round, those the last matching used at a vertex left
+// short (two tiles of four triangles). An edge weighs about 1000 n^2 (4e13 for n = 2e5 triangles),
+// far inside LEMON's 64-bit weights.
 std::vector<std::uint32_t> bestMatching(const BaseMesh& base, const Neighbours& across) {
   const std::uint32_t n = std::uint32_t(base.triangleCount());
   const VertexRoom room = vertexRoom(base, across);
-  constexpr std::int64_t kBestQuality = 1001; const std::int64_t kKeepsRoom = kBestQuality * (n + 1);
-  const std::int64_t bonus = (kKeepsRoom + kBestQuality) * std::int64_t(n + 1);
+  constexpr std::int64_t kBestQuality = 1001;
+  const std::int64_t keepsRoom = kBestQuality * (n + 1), bonus = (keepsRoom + kBestQuality) * std::int64_t(n + 1);
   std::vector<Candidate> candidates;
   std::vector<bool> penalised;
   auto shortAlone = [&](std::uint32_t v) { return room.triangles[v] - 1 < room.fewestTiles[v]; };
@@ -93,7 +95,7 @@ std::vector<std::uint32_t> bestMatching(const BaseMesh& base, const Neighbours& 
   for (int round = 0; round < kRounds; ++round) {
     std::vector<WeightedEdge> edges;
     for (std::size_t k = 0; k < candidates.size(); ++k)
-      edges.push_back({candidates[k].t, candidates[k].o, bonus + (penalised[k] ? 0 : kKeepsRoom) + candidates[k].quality});
+      edges.push_back({candidates[k].t, candidates[k].o, bonus + (penalised[k] ? 0 : keepsRoom) + candidates[k].quality});
     const std::vector<std::int64_t> matched = maxWeightMatching(n, edges);
     for (std::uint32_t t = 0; t < n; ++t) mate[t] = matched[t] < 0 ? kNone : std::uint32_t(matched[t]);
     const std::vector<std::uint32_t> tiles = tilesAround(base, across, mate, room);
