@@ -6,7 +6,6 @@
 // quadruples a base tile's triangles.
 #include <gtest/gtest.h>
 
-#include <map>
 #include <random>
 #include <set>
 
@@ -117,27 +116,21 @@ std::set<std::array<float, 3>> openSideTexels(const atlas::Model& model) {
 }
 
 // Captured triangles welded by exact position have oriented 2-manifold edges: no triangle names a
-// vertex twice, every directed edge is used by one triangle only (a fold uses one twice), and every
-// directed edge has its twin running back (a crack leaves one without), except on the model's own
-// boundary; so the capture is closed exactly where the model is. (Vertices where two fans touch are
-// not looked for: welding by position joins every texel a base vertex's charts share.)
+// vertex twice, no edge has three faces or two running the same way (a fold), and an edge with one
+// face (a crack) lies only on the model's own boundary; so the capture is closed exactly where the
+// model is.
 void expectOrientedManifold(const Mesh& welded, const std::set<std::array<float, 3>>& boundary) {
-  std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
-  for (std::size_t f = 0; f < welded.faceCount(); ++f) {
-    const auto c = welded.face(f);
-    ASSERT_TRUE(c[0] != c[1] && c[1] != c[2] && c[2] != c[0]) << "triangle " << f << " names a vertex twice";
-    for (int k = 0; k < 3; ++k) ++uses[{c[k], c[(k + 1) % 3]}];
-  }
+  const MeshTopology t = analyzeTopology(welded);
+  ASSERT_EQ(t.degenerateFaces, 0u) << t.firstProblem;
+  ASSERT_EQ(t.nonManifoldEdges, 0u) << t.firstProblem;
+  ASSERT_TRUE(t.oriented) << "a fold: two triangles run the same way along an edge";
   std::size_t open = 0;
-  for (const auto& [edge, count] : uses) {
-    const Vec3& a = welded.positions[edge.first];
-    const Vec3& b = welded.positions[edge.second];
-    ASSERT_EQ(count, 1) << "a fold: the edge from " << a.x << ", " << a.y << ", " << a.z << " to " << b.x << ", " << b.y << ", " << b.z
-                        << " is used " << count << " times the same way";
-    if (uses.count({edge.second, edge.first})) continue;
+  for (const auto& [edge, balance] : directedEdgeBalance(welded)) {
+    if (balance == 0) continue;
     ++open;
-    const bool onBoundary = boundary.count(asFloats(a)) && boundary.count(asFloats(b));
-    ASSERT_TRUE(onBoundary) << "a crack: the edge from " << a.x << ", " << a.y << ", " << a.z << " has no twin";
+    const Vec3 &a = welded.positions[edge.first], &b = welded.positions[edge.second];
+    ASSERT_TRUE(boundary.count(asFloats(a)) && boundary.count(asFloats(b)))
+        << "a crack: the edge from " << a.x << ", " << a.y << ", " << a.z << " to " << b.x << ", " << b.y << ", " << b.z << " has no twin";
   }
   if (boundary.empty()) EXPECT_EQ(open, 0u);
   else EXPECT_GT(open, 0u);
