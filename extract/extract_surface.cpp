@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/gl/stage_profile.h"
 #include "extract/marching_cubes.h"
 #include "extract/mesh_filters.h"
 #include "levelset/level_set.h"
@@ -58,14 +59,22 @@ void toWorld(Mesh& mesh, const Volume& v) {
 Mesh march(const Grid& grid, levelset::Backend backend, const char* field, const VisitBlock& visit, const Volume& geometry,
            const ExtractOptions& o, ExtractStats& s, std::chrono::steady_clock::time_point start) {
   s.path = std::string(backend == levelset::Backend::Gpu ? "gpu " : "cpu ") + field;
+  // ISOATLAS_GL_PROFILE=1: the GPU path's stages (marching cubes prints its own first); the CPU path
+  // has no GL context to finish, so none.
+  gl::StageProfile profile("extract gpu");
+  const bool gpu = backend == levelset::Backend::Gpu;
+  if (gpu) profile.stage("marching cubes");
   MarchingResult result = marchingCubes(backend, grid, s.iso, kBlock, visit);
   s.cellsVisited = result.cellsVisited;
   s.gpuBytes = result.gpuBytes;
   s.cellsTotal = (geometry.dims[0] + 1) * (geometry.dims[1] + 1) * (geometry.dims[2] + 1);
   Mesh mesh = std::move(result.mesh);
+  if (gpu) profile.stage("keep components (cpu)");
   s.componentsRemoved = keepComponents(mesh, o.largestComponent, o.minComponentTriangles);
+  if (gpu) profile.stage("to world, smooth (cpu)");
   toWorld(mesh, geometry);
   taubinSmooth(mesh, o.smoothIterations);
+  profile.end();
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return mesh;
 }

@@ -10,6 +10,7 @@
 #include "core/gl/program.h"
 #include "core/gl/resources.h"
 #include "core/gl/gpu_scan.h"
+#include "core/gl/stage_profile.h"
 #include "kExtractShaders.h"
 #include "levelset/paged_phi_gpu.h"
 
@@ -75,6 +76,8 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   const bool paged = grid.pagedTexture != 0;
   require(paged || grid.values, "marchingCubesGpu: the grid has neither values nor a GPU page pool");
   gl::Context& ctx = gl::Context::current();
+  gl::StageProfile profile("extract gpu: marching cubes");  // ISOATLAS_GL_PROFILE=1
+  profile.stage("choose blocks (cpu)");
   const auto d = grid.dims;
   const BlockStorage storage = blockStorage(d, blockSize, visitBlock);
   MarchingResult result;
@@ -89,6 +92,7 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
       36 * cells >= (std::uint64_t(1) << 32))
     throw Error("the surface is too large for the GPU extraction path; use --backend cpu", ErrorKind::Failure);
 
+  profile.stage("programs");
   gl::Defines defines{{"BLOCK_SIZE", std::to_string(blockSize)}};
   if (paged) defines.insert(defines.end(), {{"FIELD_PAGES", "1"}, {"PAGE_SIZE", std::to_string(grid.paged.pages->pageSize())}});
   // Ours and the level set's (paged_phi.glsl), in one table.
@@ -100,10 +104,12 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   gl::GpuScan scan(ctx);
 
   // The field: the dense values, or the page table through which the shaders read the pool.
+  profile.stage(paged ? "upload page table" : "upload phi");
   gl::Buffer field;
   std::optional<levelset::PagedPhiGpu> pagedPhi;
   if (paged) pagedPhi.emplace(*grid.paged.pages, grid.pagedTexture);
   else field = gl::Buffer(grid.voxels() * sizeof(float), grid.values);
+  profile.stage("upload tables, allocate and clear buffers");
   const PackedCaseTable& table = packedCaseTable();
   gl::Buffer blockBuffer = gl::Buffer::of(storage.blocks), slotBuffer = gl::Buffer::of(storage.slots);
   gl::Buffer caseIndex = gl::Buffer::of(table.index), polygons = gl::Buffer::of(table.polygons);
@@ -128,19 +134,25 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
     glUniform3i(p.uniform("blockGrid"), int(storage.grid[0]), int(storage.grid[1]), int(storage.grid[2]));
     if (pagedPhi) pagedPhi->setUniforms(p);
   };
+  profile.stage("classify cells");
   const auto [bx, by] = gl::dispatchGrid(std::uint64_t(storage.visited));
   common(classify);
   classify.dispatch(bx, by, 1, GL_SHADER_STORAGE_BARRIER_BIT);
 
+  profile.stage("count edges");
   const auto [px, py] = gl::dispatchGrid((points + 255) / 256);
   countEdges.use();
   glUniform1ui(countEdges.uniform("pointCount"), GLuint(points));
   countEdges.dispatch(px, py, 1, GL_SHADER_STORAGE_BARRIER_BIT);
 
+  profile.stage("scan cell triangles");
   const std::uint32_t triangleCount = scan.exclusive(cellTriangles, std::uint32_t(cells));
+  profile.stage("scan cell centres");
   const std::uint32_t centreCount = scan.exclusive(cellCentres, std::uint32_t(cells));
+  profile.stage("scan edge vertices");
   const std::uint32_t edgeVertexCount = scan.exclusive(edgeOffset, std::uint32_t(points));
 
+  profile.stage("emit vertices");
   gl::Buffer vertices(std::size_t(std::max<std::uint32_t>(edgeVertexCount, 1)) * sizeof(GpuVertex));
   gl::Buffer triangles(std::size_t(std::max<std::uint32_t>(triangleCount, 1)) * 12);
   bindAll();
@@ -149,12 +161,14 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   common(makeVertices);
   glUniform1ui(makeVertices.uniform("pointCount"), GLuint(points));
   makeVertices.dispatch(px, py, 1, GL_SHADER_STORAGE_BARRIER_BIT);
+  profile.stage("emit triangles");
   common(makeTriangles);
   glUniform1ui(makeTriangles.uniform("edgeVertexCount"), edgeVertexCount);
   makeTriangles.dispatch(bx, by, 1, GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
 
   // Read back: vertices as (grid point, t) made positions in double, as the CPU does; centres as
   // the mean of their ring, which every fan (centre, a, b) lists once as a.
+  profile.stage("read back mesh");
   const auto gpuVertices = vertices.read<GpuVertex>(edgeVertexCount);
   const auto corners = triangles.read<std::uint32_t>(std::size_t(triangleCount) * 3);
   std::uint32_t visitedCells = 0;
@@ -162,6 +176,7 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   result.cellsVisited = visitedCells;
   for (const gl::Buffer* b : bound) result.gpuBytes += b->bytes();
   for (const gl::Buffer* b : {&slotBuffer, &vertices, &triangles}) result.gpuBytes += b->bytes();
+  profile.stage("assemble mesh (cpu)");
   Mesh& mesh = result.mesh;
   mesh.positions.resize(std::size_t(edgeVertexCount) + centreCount, Vec3{0, 0, 0});
   for (std::uint32_t i = 0; i < edgeVertexCount; ++i) {

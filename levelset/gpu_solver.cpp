@@ -6,6 +6,7 @@
 #include "core/gl/context.h"
 #include "core/gl/program.h"
 #include "core/gl/resources.h"
+#include "core/gl/stage_profile.h"
 #include "kLevelsetShaders.h"
 #include "levelset/speed.h"
 
@@ -44,14 +45,18 @@ public:
       message_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/message.comp", defines);
       writePages_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/write_pages.comp", defines);
     }
+    profile_.stage("pages changed: grow pool");
     growPool(pm);
+    profile_.stage("pages changed: fill new pages");
     if (!filled.empty()) {
       std::vector<std::pair<Origin, float>> fills;
       for (const auto& [slot, value] : filled) fills.push_back({pm.slotOrigin(slot), value});
       fillPages(phi_[current_], fills);
     }
     const auto& active = pm.activePages();
+    profile_.stage("pages changed: upload source pages");
     uploadSourcePages(pm);
+    profile_.stage("pages changed: page table (cpu)");
     std::vector<PageEntry> entries(std::max<std::size_t>(active.size(), 1));
     for (std::size_t i = 0; i < active.size(); ++i) {
       PageEntry& e = entries[i];
@@ -69,13 +74,19 @@ public:
       pageTable_ = gl::Buffer(entries.size() * sizeof(PageEntry) * 2);
       messages_ = gl::Buffer((entries.size() * 2 + 3) / 4 * 4 + 16);
     }
+    profile_.stage("pages changed: upload page table");
     pageTable_.upload(entries.data(), entries.size() * sizeof(PageEntry));
+    profile_.end();
   }
 
   IterationResult iterate(const PageManager&, const SpeedParams& params) override {
     requireCurrent();
     IterationResult result;
+    // A call is an iteration with what follows it: the page manager's work ("outside these stages")
+    // and the pages it changed.
+    profile_.endCall();
     if (pageCount_ == 0) return result;
+    profile_.stage("clear counters and messages");
     const std::uint32_t zeros[4] = {0, 0, 0, 0};
     counters_.upload(zeros, sizeof zeros);
     messages_.fillZero();
@@ -84,6 +95,7 @@ public:
     messages_.bindBase(GL_SHADER_STORAGE_BUFFER, 2);
     const auto [groupsX, groupsY] = gl::dispatchGrid(std::uint64_t(pageCount_));
 
+    profile_.stage("speed");
     setCommon(*speed_);
     glUniform1f(speed_->uniform("target"), params.target);
     glUniform1f(speed_->uniform("width"), params.width);
@@ -93,6 +105,7 @@ public:
     glBindImageTexture(2, sourcePool_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     speed_->dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 
+    profile_.stage("update");
     setCommon(*update_);
     glUniform1f(update_->uniform("alpha"), params.alpha);
     glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
@@ -101,11 +114,13 @@ public:
     update_->dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
     current_ = 1 - current_;
 
+    profile_.stage("messages");
     setCommon(*message_);
     glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     message_->dispatch(groupsX, groupsY, 1, GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 
     // The only read back: 16 bytes of counters and one byte per active page.
+    profile_.stage("read back counters and messages");
     std::uint32_t counters[4];
     counters_.download(counters, sizeof counters);
     const std::size_t messageBytes = (std::size_t(pageCount_) + 3) / 4 * 4;
@@ -116,6 +131,7 @@ public:
     result.signChanges = std::int32_t(counters[1]);
     std::memcpy(&result.dt, &counters[2], 4);
     result.bytesReadBack = sizeof counters + messageBytes;
+    profile_.end();
     return result;
   }
 
@@ -281,6 +297,9 @@ private:
   std::vector<float> hostPool_;  // phiPoolOnHost's copy
   int current_ = 0, P_ = 0, poolWidth_ = 0, poolHeight_ = 0;
   std::int32_t pageCount_ = 0;
+  // ISOATLAS_GL_PROFILE=1: stage times, means over 100 iterations. Last: destroyed first, while the
+  // context is still current.
+  gl::StageProfile profile_{"level set gpu iteration", 100};
 };
 
 }  // namespace

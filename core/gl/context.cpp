@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/gl/stage_profile.h"
 #include "core/progress.h"
 
 namespace isoatlas::gl {
@@ -25,6 +26,7 @@ std::atomic<std::uint64_t> g_serials{0};
                                const void*) {
   if ((type == GL_DEBUG_TYPE_ERROR || severity == GL_DEBUG_SEVERITY_HIGH) && g_debugError.empty())
     g_debugError = message;
+  noteDriverMessage(type, message);  // ISOATLAS_GL_PROFILE=1 only
 }
 
 bool hasExtension(const char* list, const char* name) {
@@ -193,6 +195,9 @@ void Context::finishSetup(const std::string& platform) {
   glEnable(GL_DEBUG_OUTPUT);
   glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS);
   glDebugMessageCallback(onDebugMessage, nullptr);
+  enableDriverNotes(true);
+#else
+  enableDriverNotes(false);  // ISOATLAS_GL_PROFILE=1: the driver's notes (stage_profile.h); else nothing
 #endif
   if (info_.software()) logInfo("gl: no GPU found, running on " + info_.renderer + " (software; slow but exact)");
 }

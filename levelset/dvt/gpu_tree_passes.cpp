@@ -6,6 +6,7 @@
 #include "core/gl/gpu_scan.h"
 #include "core/gl/program.h"
 #include "core/gl/resources.h"
+#include "core/gl/stage_profile.h"
 #include "kDvtShaders.h"
 
 namespace isoatlas::levelset::dvt {
@@ -50,10 +51,12 @@ public:
   }
 
   VolumeTree download() const override {
+    profile_.stage("download tree");
     VolumeTree t;
     t.frame = frame_;
     t.pointers = pointers_.read<Pointer>(count_);
     t.cells = cells_.read<std::uint32_t>(2 * count_);
+    profile_.end();
     return t;
   }
 
@@ -66,60 +69,83 @@ public:
   }
 
   void setInput(std::vector<InputVoxel> input) override {
+    // A write starts here: a profiled call is a write with the collapse after it, and the caller's
+    // work up to the next write (rasterising the next brush) "outside these stages".
+    profile_.endCall();
+    collapsing_ = false;
+    profile_.stage("upload input");
     inputCount_ = input.size();
     if (input_.bytes() < std::max<std::size_t>(inputCount_, 1) * sizeof(InputVoxel)) {
       input_ = gl::Buffer(std::max<std::size_t>(inputCount_, 1) * sizeof(InputVoxel) * 5 / 4);
       hits_ = gl::Buffer(input_.bytes() / sizeof(InputVoxel) * 4);
     }
     if (inputCount_ > 0) input_.upload(input.data(), inputCount_ * sizeof(InputVoxel));
+    profile_.end();
   }
 
   std::uint64_t mark(Op op) override {
+    collapsing_ = false;
     clearMarks();
-    if (inputCount_ == 0) return 0;
+    if (inputCount_ == 0) {
+      profile_.end();
+      return 0;
+    }
     bindStreams();
     markInput_.use();
     op_ = op;
     glUniform1ui(markInput_.uniform("op"), std::uint32_t(op));
     glUniform1ui(markInput_.uniform("nodes"), std::uint32_t(count_));
-    const std::uint64_t marks = run(markInput_, inputCount_);
+    const std::uint64_t marks = run(markInput_, inputCount_, "mark");
     // The reduced subtrees' ranges summed before each node: > 0 below a reduced node (the plan
     // removes those whole). Signed sums in unsigned words come out right: every prefix is >= 0.
-    if (reduces_ > 0) scan_.exclusive(removals_, std::uint32_t(count_ + 1));
+    if (reduces_ > 0) {
+      profile_.stage("scan removals");
+      scan_.exclusive(removals_, std::uint32_t(count_ + 1));
+    }
+    profile_.end();
     return marks;
   }
 
   std::uint64_t markCollapse() override {
+    collapsing_ = true;
     clearMarks();
     inputCount_ = 0;  // no voxel expands anything in a collapse (setInput brings them back)
     bindStreams();
     markCollapse_.use();
-    return run(markCollapse_, count_);
+    const std::uint64_t marks = run(markCollapse_, count_, "collapse: mark");
+    profile_.end();
+    return marks;
   }
 
   Plan plan(bool allowExpand) override {
     bindStreams();
+    profile_.stage(collapsing_ ? "collapse: clear expansions" : "clear expansions");
     expansions_.fillZero();
     if (inputCount_ > 0) {
       runs_.use();
       setExpansionUniforms(runs_);
-      run(runs_, inputCount_);
+      run(runs_, inputCount_, "expansion runs");
     }
     const std::uint32_t zero = 0;  // remap[count]: the scan leaves the total there
     remap_.upload(&zero, 4, count_ * 4);
     plan_.use();
     glUniform1ui(plan_.uniform("allowExpand"), allowExpand);
     Plan p;
-    p.changes = run(plan_, count_);
+    p.changes = run(plan_, count_, collapsing_ ? "collapse: plan" : "plan");
+    profile_.stage(collapsing_ ? "collapse: scan remap" : "scan remap");
     p.nodes = scan_.exclusive(remap_, std::uint32_t(count_ + 1));
+    profile_.end();
     return p;
   }
 
   void restructure(const Plan& plan, bool allowExpand, std::uint64_t nodeLimit) override {
+    profile_.stage(collapsing_ ? "collapse: restructure" : "restructure");
     if (spareCapacity_ < plan.nodes) {
+      profile_.stage("allocate streams");
       spareCapacity_ = std::min<std::uint64_t>(std::max<std::uint64_t>(plan.nodes, 2 * spareCapacity_), std::max(nodeLimit, plan.nodes));
       spare_ = gl::Buffer(spareCapacity_ * sizeof(Pointer));
       spareCells_ = gl::Buffer(spareCapacity_ * 8);
+      profile_.stage(collapsing_ ? "collapse: restructure" : "restructure");
     }
     bindStreams();
     spare_.bindBase(GL_SHADER_STORAGE_BUFFER, 6);
@@ -134,11 +160,13 @@ public:
     std::swap(capacity_, spareCapacity_);
     count_ = plan.nodes;
     if (marks_.bytes() < capacity_ * 4) {
+      profile_.stage("allocate streams");
       marks_ = gl::Buffer(capacity_ * 4);
       remap_ = gl::Buffer((capacity_ + 1) * 4);
       removals_ = gl::Buffer((capacity_ + 1) * 4);
       expansions_ = gl::Buffer(capacity_ * 16);
     }
+    profile_.end();
   }
 
 private:
@@ -158,6 +186,7 @@ private:
     glUniform1fv(program.uniform("childScales"), GLsizei(scales_.size()), scales_.data());
   }
   void clearMarks() {
+    profile_.stage(collapsing_ ? "collapse: clear marks" : "clear marks");
     marks_.fillZero();
     remap_.fillZero();
     removals_.fillZero();
@@ -168,12 +197,14 @@ private:
     program.dispatch(gx, gy, 1, kBarrier);
   }
   // Runs `program` over `threads` threads with the counters zeroed; returns the first (the second,
-  // the reduce marks, is kept in reduces_).
-  std::uint64_t run(const gl::Program& program, std::uint64_t threads) {
+  // the reduce marks, is kept in reduces_). `stage`: its name for the profile.
+  std::uint64_t run(const gl::Program& program, std::uint64_t threads, const char* stage) {
+    profile_.stage(stage);
     const std::uint32_t zero[2] = {0, 0};
     counter_.upload(zero, 8);
     glUniform1ui(program.uniform("count"), std::uint32_t(threads));
     dispatch(program, threads);
+    profile_.stage("read back pass counter");
     std::uint32_t n[2] = {0, 0};
     counter_.download(n, 8);
     reduces_ = n[1];
@@ -187,6 +218,10 @@ private:
   Op op_ = Op::Union;  // the last mark's
   std::uint64_t count_ = 0, capacity_ = 0, spareCapacity_ = 0, inputCount_ = 0, reduces_ = 0;
   gl::Buffer pointers_, cells_, spare_, spareCells_, marks_, remap_, removals_, expansions_, input_, hits_, counter_;
+  bool collapsing_ = false;  // since markCollapse, until the next write's mark: names the stages
+  // ISOATLAS_GL_PROFILE=1: stage times per write (its collapse included), means over 20 writes.
+  // Last: destroyed first, while the context is still current.
+  mutable gl::StageProfile profile_{"dvt gpu write", 20};
 };
 
 }  // namespace

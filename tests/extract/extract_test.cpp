@@ -5,8 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
+#include <optional>
 #include <random>
+#include <string>
 
 #include "core/error.h"
 #include "core/mesh_topology.h"
@@ -242,6 +245,56 @@ TEST(MarchingCubesGpu, GivesTheCpuMesh) {
     const Volume v = test::fieldVolume({13, 11, 9}, [&](double, double, double) { return value(rng); });
     expectSameMesh(extractSurface(v, {.iso = 0.0f}), extractSurface(v, {.iso = 0.0f, .backend = levelset::Backend::Gpu}));
   }
+}
+
+// ISOATLAS_GL_PROFILE=1 prints the GPU extraction's stages to stderr and changes nothing else: the
+// mesh is the one made without it, vertex for vertex.
+TEST(MarchingCubesGpu, ProfileNamesItsStagesAndLeavesTheMeshAlone) {
+  test::glContext();
+  const Volume torus = test::fieldVolume({30, 28, 16}, [](double x, double y, double z) {
+    const double q = std::hypot(x - 14.6, y - 13.3) - 8;
+    return 4 - std::sqrt(q * q + (z - 7.6) * (z - 7.6));
+  });
+  const ExtractOptions gpu{.iso = 0.0f, .backend = levelset::Backend::Gpu};
+  struct Restore {  // the variable as it was, whatever happens below
+    std::optional<std::string> was;
+    ~Restore() {
+      if (was) setenv("ISOATLAS_GL_PROFILE", was->c_str(), 1);
+      else unsetenv("ISOATLAS_GL_PROFILE");
+    }
+  } restore{std::getenv("ISOATLAS_GL_PROFILE") ? std::optional<std::string>(std::getenv("ISOATLAS_GL_PROFILE")) : std::nullopt};
+
+  unsetenv("ISOATLAS_GL_PROFILE");
+  ::testing::internal::CaptureStderr();
+  const Mesh plain = extractSurface(torus, gpu);
+  const std::string quiet = ::testing::internal::GetCapturedStderr();
+  EXPECT_EQ(quiet.find("isoatlas gl profile"), std::string::npos) << quiet;
+
+  setenv("ISOATLAS_GL_PROFILE", "1", 1);
+  ::testing::internal::CaptureStderr();
+  const Mesh profiled = extractSurface(torus, gpu);
+  const std::string log = ::testing::internal::GetCapturedStderr();
+  for (const char* stage : {"choose blocks (cpu)", "programs", "upload phi", "upload tables, allocate and clear buffers",
+                            "classify cells", "count edges", "scan cell triangles", "scan cell centres",
+                            "scan edge vertices", "emit vertices", "emit triangles", "read back mesh",
+                            "assemble mesh (cpu)", "total"})
+    EXPECT_NE(log.find(std::string("isoatlas gl profile: extract gpu: marching cubes: ") + stage + ": "), std::string::npos)
+        << stage << " missing from:\n" << log;
+  for (const char* stage : {"marching cubes", "keep components (cpu)", "to world, smooth (cpu)", "total"})
+    EXPECT_NE(log.find(std::string("isoatlas gl profile: extract gpu: ") + stage + ": "), std::string::npos)
+        << stage << " missing from:\n" << log;
+  // The inner lines first (marching cubes ends before the outer call does), one line per stage.
+  EXPECT_LT(log.find("marching cubes: classify cells"), log.find("extract gpu: keep components"));
+  std::size_t lines = 0;
+  for (std::size_t at = log.find("marching cubes: classify cells: "); at != std::string::npos;
+       at = log.find("marching cubes: classify cells: ", at + 1))
+    ++lines;
+  EXPECT_EQ(lines, 1u);
+
+  ASSERT_GT(plain.faceCount(), 0u);
+  EXPECT_TRUE(plain.positions == profiled.positions);
+  EXPECT_TRUE(plain.faceVertices == profiled.faceVertices);
+  EXPECT_TRUE(plain.faceOffsets == profiled.faceOffsets);
 }
 
 // Skipped blocks cut the surface open; both paths must still agree on which vertices exist (an edge
