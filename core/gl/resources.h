@@ -71,6 +71,7 @@ public:
     return out;
   }
   void fillZero();
+  void fillZero(std::size_t bytes);  // the first `bytes` only (all of it if it is smaller)
   void bindBase(GLenum target, GLuint index) const { glBindBufferBase(target, index, id()); }
 
 private:

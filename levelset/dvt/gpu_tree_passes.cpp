@@ -120,7 +120,7 @@ public:
   Plan plan(bool allowExpand) override {
     bindStreams();
     profile_.stage(collapsing_ ? "collapse: clear expansions" : "clear expansions");
-    expansions_.fillZero();
+    expansions_.fillZero(count_ * 16);  // the nodes there are: a clear costs its bytes on a GPU
     if (inputCount_ > 0) {
       runs_.use();
       setExpansionUniforms(runs_);
@@ -187,9 +187,9 @@ private:
   }
   void clearMarks() {
     profile_.stage(collapsing_ ? "collapse: clear marks" : "clear marks");
-    marks_.fillZero();
-    remap_.fillZero();
-    removals_.fillZero();
+    marks_.fillZero(count_ * 4);
+    remap_.fillZero((count_ + 1) * 4);
+    removals_.fillZero((count_ + 1) * 4);
   }
   static void dispatch(const gl::Program& program, std::uint64_t threads) {
     if (threads == 0) return;
