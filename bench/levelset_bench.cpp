@@ -23,6 +23,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 #include "bench/bench_util.h"
 #include "core/gl/context.h"
@@ -82,6 +83,7 @@ struct Convergence {
   int iterations = 0;
   double seconds = 0;
   std::vector<char> result;
+  std::string device;  // the GL renderer the GPU solver ran on; empty for the CPU solvers
   // Returns true when the run may stop.
   bool snapshot(int iteration, double seconds, std::vector<char> mask) {
     if (!previous.empty() && dice(previous, mask) >= 0.999) {
@@ -180,6 +182,7 @@ Convergence runOurs(const Volume& v, const Case& c, levelset::Backend backend) {
   levelset::LevelSet ls(v, c.params, {.backend = backend});
   for (const auto& s : c.seeds) ls.addSphere({s[0], s[1], s[2]}, s[3]);
   Convergence conv;
+  if (context) conv.device = context->info().renderer;
   const auto start = Clock::now();
   for (int i = 1; i <= c.maxIterations; ++i) {
     ls.step();
@@ -250,7 +253,7 @@ int runOne(const std::string& solver, const Case& c, const std::string& data, co
   const nlohmann::json j{{"solver", solver}, {"case", c.name}, {"converged", conv.converged},
                          {"iterations", conv.iterations}, {"seconds", conv.seconds},
                          {"ms_per_iteration", conv.iterations ? 1000 * conv.seconds / conv.iterations : 0.0},
-                         {"peak_rss_mib", bench::peakRssMiB()}};
+                         {"peak_rss_mib", bench::peakRssMiB()}, {"device", conv.device}};
   std::printf("%s\n", j.dump().c_str());
   return 0;
 }
@@ -271,6 +274,13 @@ int main(int argc, char** argv) {
   const std::string self = std::filesystem::canonical("/proc/self/exe").string();
   std::vector<std::string> solvers = {"isoatlas-cpu", "itk-serial", "itk-parallel"};
   if (std::getenv("ISOATLAS_BENCH_GPU")) solvers.insert(solvers.begin() + 1, "isoatlas-gpu");
+  // ISOATLAS_BENCH_SOLVERS=a,b keeps only those (a GPU lease too short for ITK's serial filter, say).
+  if (const char* keep = std::getenv("ISOATLAS_BENCH_SOLVERS")) {
+    std::vector<std::string> kept;
+    std::istringstream list(keep);
+    for (std::string s; std::getline(list, s, ',');) kept.push_back(s);
+    std::erase_if(solvers, [&](const std::string& s) { return std::find(kept.begin(), kept.end(), s) == kept.end(); });
+  }
   for (const Case& c : kCases) {
     if (!only.empty() && std::find(only.begin(), only.end(), c.name) == only.end()) continue;
     std::map<std::string, nlohmann::json> figures;
@@ -293,21 +303,24 @@ int main(int argc, char** argv) {
     for (const std::string& ours : solvers) {
       if (ours.rfind("isoatlas", 0) != 0) continue;
       for (const std::string& peer : {std::string("itk-serial"), std::string("itk-parallel")}) {
+        if (!figures.count(peer)) continue;
         const std::string peerName =
             peer == "itk-serial" ? "ITK 5.2 ThresholdSegmentationLevelSet (serial)"
                                  : "ITK 5.2 ParallelSparseField (" +
                                        std::to_string(itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads()) + " threads)";
         const auto& a = figures[ours];
         const auto& b = figures[peer];
+        const std::string device = a["device"].get<std::string>().empty() ? ""
+                                   : a["device"].get<std::string>() + " (ITK on " + bench::machineName() + ")";
         const std::string tag = c.name + ", " + ours;
         const std::string unconverged = std::string(a["converged"] ? "" : " (isoatlas: capped, not converged)") +
                                         (b["converged"] ? "" : " (peer: capped, not converged; ratio a lower bound)");
-        bench::report("levelset", tag, "seconds to convergence" + unconverged, a["seconds"], peerName, b["seconds"]);
-        bench::report("levelset", tag, "ms per iteration", a["ms_per_iteration"], peerName, b["ms_per_iteration"]);
-        bench::report("levelset", tag, "iterations to convergence", a["iterations"], peerName, b["iterations"]);
-        bench::report("levelset", tag, "peak RSS MiB", a["peak_rss_mib"], peerName, b["peak_rss_mib"]);
+        bench::report("levelset", tag, "seconds to convergence" + unconverged, a["seconds"], peerName, b["seconds"], true, device);
+        bench::report("levelset", tag, "ms per iteration", a["ms_per_iteration"], peerName, b["ms_per_iteration"], true, device);
+        bench::report("levelset", tag, "iterations to convergence", a["iterations"], peerName, b["iterations"], true, device);
+        bench::report("levelset", tag, "peak RSS MiB", a["peak_rss_mib"], peerName, b["peak_rss_mib"], true, device);
         const double d = dice(maskOf(ours), maskOf(peer));
-        bench::report("levelset", tag, "Dice with the peer's result", d, peerName, 1.0, false);
+        bench::report("levelset", tag, "Dice with the peer's result", d, peerName, 1.0, false, device);
       }
     }
   }
