@@ -33,8 +33,8 @@ inline bool exactlyInTriangle(const Vec2& p, const Vec2& a, const Vec2& b, const
 
 // Which of `count` counter-clockwise triangles holds p by exact tests, tried from `hint` on, and p's
 // weights there: a corner whose opposite edge holds p exactly gets weight 0 exactly (so the point
-// stays on that edge in every later layout), the others are computed in floating point and
-// rounded onto the triangle. kNoTriangleHit when none holds p. corners(i) gives triangle i's corners.
+// is on that edge for the next step, which carries it along edges it keeps), the others are
+// computed in floating point and rounded onto the triangle. kNoTriangleHit when none holds p. corners(i) gives triangle i's corners.
 template <class Corners>
 TriangleHit locateExactly(const Vec2& p, std::size_t count, const Corners& corners, std::size_t hint = 0) {
   TriangleHit hit;

@@ -23,15 +23,53 @@ std::uint32_t ParametrisationHistory::adds(const std::array<std::uint8_t, 3>& co
   return denseFaces_ + std::uint32_t(made_.size() - 1);
 }
 
+namespace {
+
+// A point on an edge (or at a corner) of the face a step made, where a face the step replaced has
+// that edge too (the same two ring points): that face and the same weights on the same two corners,
+// carried over exactly. The faces on both sides of an edge then lead to the same dense point bit for
+// bit; placing the point in the layout and locating it again would round, and a thin face can turn
+// that rounding into a jump of its own size. -1 when the point is inside the face, or no replaced
+// face has its edge.
+template <class Face>
+int alongKeptEdge(const std::array<std::uint8_t, 3>& madeCorners, const std::array<double, 3>& bary, const Face* replaced,
+                  std::size_t count, std::array<double, 3>& carried) {
+  if (bary[0] != 0 && bary[1] != 0 && bary[2] != 0) return -1;
+  for (std::size_t r = 0; r < count; ++r) {
+    std::array<double, 3> w{0, 0, 0};
+    bool holds = true;
+    for (int k = 0; k < 3 && holds; ++k) {
+      if (bary[k] == 0) continue;
+      const auto* at = std::find(replaced[r].corners.begin(), replaced[r].corners.end(), madeCorners[k]);
+      holds = at != replaced[r].corners.end();
+      if (holds) w[std::size_t(at - replaced[r].corners.begin())] = bary[k];
+    }
+    if (holds) {
+      carried = w;
+      return int(r);
+    }
+  }
+  return -1;
+}
+
+}  // namespace
+
 ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t version, const Bary& bary) const {
   DensePoint out{version, bary, 0, 0};
   while (out.face >= denseFaces_) {
     const Face& made = made_[out.face - denseFaces_];
     const Step& step = steps_[made.version];
     const Vec2* layout = layout_.data() + step.layoutBegin;
+    const Face* replaced = replaced_.data() + step.replacedBegin;
+    Bary carried;
+    if (const int r = alongKeptEdge(made.corners, out.bary, replaced, step.replacedSize, carried); r >= 0) {
+      out.face = replaced[r].version;
+      out.bary = carried;
+      ++out.steps;
+      continue;
+    }
     const Vec2 p = layout[made.corners[0]] * out.bary[0] + layout[made.corners[1]] * out.bary[1] +
                    layout[made.corners[2]] * out.bary[2];
-    const Face* replaced = replaced_.data() + step.replacedBegin;
     auto corners = [&](std::size_t i) {
       const auto& c = replaced[i].corners;
       return std::array<Vec2, 3>{layout[c[0]], layout[c[1]], layout[c[2]]};

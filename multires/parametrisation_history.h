@@ -6,7 +6,10 @@
 // carried back to the dense mesh step by step: placed in the step's layout by its weights in the
 // face that step made, found by exact point location among the faces it replaced, and so on down to
 // a dense face. The map is therefore one-to-one and onto: no point is lost in a gap, none is claimed
-// twice, whatever the dense triangles look like drawn straight across the base mesh.
+// twice, whatever the dense triangles look like drawn straight across the base mesh. A point on an
+// edge that a step kept (or at one of its corners) is carried to the replaced face with that edge at
+// the same weights, never placed and located again: the faces on the two sides of an edge map it to
+// the same dense point bit for bit, so the charts on either side of a base edge agree on their border.
 //
 // Faces are named by versions: dense face f is version f; each step's new faces get new versions.
 // A version's weights refer to its corners in the order it was recorded with.

@@ -182,5 +182,27 @@ TEST(ParametrisationHistory, InvertsTheForwardMap) {
   expectHistoryInvertsTheForwardMap(test::gridMesh(30, 20, [](int i, int j) { return i >= 5 && i < 9 && j >= 5 && j < 9; }), 0.03);
 }
 
+// A point on an edge that a step kept keeps its weights there, whatever the faces look like in the
+// step's layout: here the face it replaced is so thin that its area rounds to zero (its exact
+// orientation is still positive), where placing the point and locating it again would give the
+// edge's midpoint. Both sides of a base edge then reach the same dense point (the atlas's borders).
+TEST(ParametrisationHistory, APointOnAKeptEdgeKeepsItsWeights) {
+  ParametrisationHistory history(2);
+  const Vec2 layout[] = {{0, 0}, {1e-200, 0}, {0, 1e-200}, {1e-200, 1e-200}};
+  history.beginStep(layout);
+  history.replaces(0, {0, 1, 2});
+  history.replaces(1, {1, 3, 2});
+  const std::uint32_t lower = history.adds({0, 1, 3}), upper = history.adds({0, 3, 2});
+  const ParametrisationHistory::DensePoint onBottom = history.toDense(lower, {0.75, 0.25, 0});
+  EXPECT_EQ(onBottom.face, 0u);
+  EXPECT_EQ(onBottom.bary, (ParametrisationHistory::Bary{0.75, 0.25, 0}));
+  const ParametrisationHistory::DensePoint onLeft = history.toDense(upper, {0.375, 0, 0.625});
+  EXPECT_EQ(onLeft.face, 0u);
+  EXPECT_EQ(onLeft.bary, (ParametrisationHistory::Bary{0.375, 0, 0.625}));
+  const ParametrisationHistory::DensePoint onRight = history.toDense(lower, {0, 0.125, 0.875});
+  EXPECT_EQ(onRight.face, 1u);
+  EXPECT_EQ(onRight.bary, (ParametrisationHistory::Bary{0.125, 0.875, 0}));
+}
+
 }  // namespace
 }  // namespace isoatlas::multires
