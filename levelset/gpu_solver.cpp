@@ -89,7 +89,8 @@ public:
     profile_.stage("clear counters and messages");
     const std::uint32_t zeros[4] = {0, 0, 0, 0};
     counters_.upload(zeros, sizeof zeros);
-    messages_.fillZero();
+    const std::size_t messageBytes = (std::size_t(pageCount_) + 3) / 4 * 4;  // a byte per active page
+    messages_.fillZero(messageBytes);
     pageTable_.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
     counters_.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
     messages_.bindBase(GL_SHADER_STORAGE_BUFFER, 2);
@@ -123,7 +124,6 @@ public:
     profile_.stage("read back counters and messages");
     std::uint32_t counters[4];
     counters_.download(counters, sizeof counters);
-    const std::size_t messageBytes = (std::size_t(pageCount_) + 3) / 4 * 4;
     result.messages.resize(messageBytes);
     messages_.download(result.messages.data(), messageBytes);
     result.messages.resize(std::size_t(pageCount_));

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/gl/context.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
@@ -58,18 +59,16 @@ void Buffer::download(void* data, std::size_t bytes, std::size_t offset) const {
   checkErrors("reading a GL buffer back");
 }
 
-// By words where the size allows: on an H100 a clear by bytes ran at a quarter of a clear by words
-// (and by four-word texels, the fastest there, at a sixth of bytes' speed on llvmpipe).
-void Buffer::fillZero() {
-  if (bytes_ % 4 == 0) glClearNamedBufferData(id(), GL_R32UI, GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-  else glClearNamedBufferData(id(), GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, nullptr);
-}
+// By words where the size allows: a clear by bytes is far slower on a real GPU (bench/RESULTS.md,
+// "On a real GPU").
+void Buffer::fillZero() { fillZero(bytes_); }
 
 void Buffer::fillZero(std::size_t bytes) {
-  if (bytes >= bytes_) return fillZero();
-  const std::size_t words = (bytes + 3) / 4 * 4;  // within bytes_ when bytes_ is a whole number of words
-  if (bytes_ % 4 == 0) glClearNamedBufferSubData(id(), GL_R32UI, 0, GLsizeiptr(words), GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
-  else glClearNamedBufferSubData(id(), GL_R8UI, 0, GLsizeiptr(bytes), GL_RED_INTEGER, GL_UNSIGNED_BYTE, nullptr);
+  bytes = std::min(bytes, bytes_);
+  if (bytes_ % 4 == 0)  // the bytes rounded up to words stay within the buffer
+    glClearNamedBufferSubData(id(), GL_R32UI, 0, GLsizeiptr((bytes + 3) / 4 * 4), GL_RED_INTEGER, GL_UNSIGNED_INT, nullptr);
+  else
+    glClearNamedBufferSubData(id(), GL_R8UI, 0, GLsizeiptr(bytes), GL_RED_INTEGER, GL_UNSIGNED_BYTE, nullptr);
 }
 
 Texture::Texture(GLenum target, int w, int h, int d) : target_(target), size_{w, h, d} {

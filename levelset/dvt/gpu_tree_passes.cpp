@@ -119,7 +119,7 @@ public:
 
   Plan plan(bool allowExpand) override {
     bindStreams();
-    profile_.stage(collapsing_ ? "collapse: clear expansions" : "clear expansions");
+    stage("clear expansions", "collapse: clear expansions");
     expansions_.fillZero(count_ * 16);  // the nodes there are: a clear costs its bytes on a GPU
     if (inputCount_ > 0) {
       runs_.use();
@@ -132,20 +132,20 @@ public:
     glUniform1ui(plan_.uniform("allowExpand"), allowExpand);
     Plan p;
     p.changes = run(plan_, count_, collapsing_ ? "collapse: plan" : "plan");
-    profile_.stage(collapsing_ ? "collapse: scan remap" : "scan remap");
+    stage("scan remap", "collapse: scan remap");
     p.nodes = scan_.exclusive(remap_, std::uint32_t(count_ + 1));
     profile_.end();
     return p;
   }
 
   void restructure(const Plan& plan, bool allowExpand, std::uint64_t nodeLimit) override {
-    profile_.stage(collapsing_ ? "collapse: restructure" : "restructure");
+    stage("restructure", "collapse: restructure");
     if (spareCapacity_ < plan.nodes) {
       profile_.stage("allocate streams");
       spareCapacity_ = std::min<std::uint64_t>(std::max<std::uint64_t>(plan.nodes, 2 * spareCapacity_), std::max(nodeLimit, plan.nodes));
       spare_ = gl::Buffer(spareCapacity_ * sizeof(Pointer));
       spareCells_ = gl::Buffer(spareCapacity_ * 8);
-      profile_.stage(collapsing_ ? "collapse: restructure" : "restructure");
+      stage("restructure", "collapse: restructure");
     }
     bindStreams();
     spare_.bindBase(GL_SHADER_STORAGE_BUFFER, 6);
@@ -185,8 +185,10 @@ private:
     glUniform1ui(program.uniform("op"), std::uint32_t(op_));
     glUniform1fv(program.uniform("childScales"), GLsizei(scales_.size()), scales_.data());
   }
+  // A profiled stage, named apart in a collapse.
+  void stage(const char* inWrite, const char* inCollapse) const { profile_.stage(collapsing_ ? inCollapse : inWrite); }
   void clearMarks() {
-    profile_.stage(collapsing_ ? "collapse: clear marks" : "clear marks");
+    stage("clear marks", "collapse: clear marks");
     marks_.fillZero(count_ * 4);
     remap_.fillZero((count_ + 1) * 4);
     removals_.fillZero((count_ + 1) * 4);
