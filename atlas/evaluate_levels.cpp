@@ -5,7 +5,6 @@
 #include "core/plot.h"
 #include "core/progress.h"
 
-#include <tbb/parallel_invoke.h>
 
 namespace isoatlas::atlas {
 
@@ -18,8 +17,7 @@ std::vector<LevelFigures> evaluateLevels(const multires::BaseMesh& base, const A
   for (const int level : levels) {
     const Mesh mesh = reconstructLevel(base, atlas, level);
     MeshTopology topology;
-    Hausdorff h;
-    tbb::parallel_invoke([&] { topology = analyzeTopology(mesh); }, [&] { h = fromDense.to(mesh); });
+    const Hausdorff h = fromDense.to(mesh, &topology);
     out.push_back({level, mesh.vertexCount(), mesh.faceCount(), h.symmetric(), psnrDb(diagonal, h.symmetric()), h.rms(),
                    psnrDb(diagonal, h.rms()), topology.closed, topology.manifold});
     progress.update(out.size());

@@ -2,7 +2,6 @@
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/boost/graph/property_maps.h>
 #include <CGAL/Polygon_mesh_processing/distance.h>
 #include <CGAL/Simple_cartesian.h>
@@ -12,8 +11,10 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "core/error.h"
 
@@ -24,47 +25,103 @@ using Kernel = CGAL::Simple_cartesian<double>;
 using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
-SurfaceMesh toSurfaceMesh(const Mesh& mesh, const char* which) {
-  require(mesh.faceCount() > 0 && mesh.allFacesHave(3), std::string("Hausdorff distance: the ") + which +
-                                                             " mesh must be a non-empty triangle mesh");
-  // CGAL's face sampler never returns on a non-finite area.
+using Point = Kernel::Point_3;
+using Triangles = std::vector<Kernel::Triangle_3>;
+
+// CGAL's AABB_triangle_primitive, but holding its triangle: building the tree compares and boxes
+// every primitive at every depth, and one that points into the triangles' array misses the cache
+// each time. The same datum and reference point (the first corner), so the same tree and answers.
+class HeldTriangle {
+public:
+  using Point = Kernel::Point_3;
+  using Datum = Kernel::Triangle_3;
+  using Id = Triangles::const_iterator;
+  using Datum_reference = const Datum&;
+  using Point_reference = const Point&;
+  HeldTriangle() = default;
+  explicit HeldTriangle(Id triangle) : datum_(*triangle), id_(triangle) {}
+  const Datum& datum() const { return datum_; }
+  Id id() const { return id_; }
+  const Point& reference_point() const { return datum_.vertex(0); }
+
+private:
+  Datum datum_;
+  Id id_;
+};
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, HeldTriangle>>;
+
+// Refuses what CGAL cannot measure: no faces, faces of other than three corners, a point that is
+// not finite (CGAL's face sampler never returns on a non-finite area), or only faces that name a
+// vertex twice (they cover nothing).
+void requireMeasurable(const Mesh& mesh, const char* which) {
+  const std::string the = std::string("Hausdorff distance: the ") + which + " mesh";
+  require(mesh.faceCount() > 0 && mesh.allFacesHave(3), the + " must be a non-empty triangle mesh");
   for (const Vec3& p : mesh.positions)
-    require(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z),
-            std::string("Hausdorff distance: the ") + which + " mesh has a vertex that is not a finite point");
-  SurfaceMesh out;
-  out.reserve(SurfaceMesh::size_type(mesh.vertexCount()), 0, SurfaceMesh::size_type(mesh.faceCount()));
-  for (const Vec3& p : mesh.positions) out.add_vertex({p.x, p.y, p.z});
-  // Surface_mesh takes only what forms a manifold: faces it refuses go in as a soup of their own
-  // vertices, so every triangle is still measured.
+    require(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z), the + " has a vertex that is not a finite point");
+  bool covers = false;
+  for (std::size_t f = 0; f < mesh.faceCount() && !covers; ++f) {
+    const auto c = mesh.face(f);
+    covers = c[0] != c[1] && c[1] != c[2] && c[0] != c[2];
+  }
+  require(covers, std::string("Hausdorff distance: every face of the ") + which + " mesh is degenerate");
+}
+
+// A mesh as CGAL's sampler reads it. Where Surface_mesh would take every face (an oriented
+// manifold), the positions and corner triples go to CGAL's soup sampler as they are: its samples
+// are then the Surface_mesh sampler's bit for bit (both read a face's corners from its first, weigh
+// faces by the same area and draw alike), without building the halfedges. Elsewhere a Surface_mesh
+// is built, and the faces it refuses go in as a soup of their own vertices, so every triangle is
+// still sampled.
+struct SampledSurface {
+  std::vector<Point> points;
+  std::vector<std::array<std::size_t, 3>> corners;  // the soup's faces, when no halfedges are wanted
+  std::optional<SurfaceMesh> halfedges;
+};
+
+SampledSurface sampledSurface(const Mesh& mesh, const MeshTopology& topology) {
+  SampledSurface out;
+  out.points.reserve(mesh.vertexCount());
+  for (const Vec3& p : mesh.positions) out.points.emplace_back(p.x, p.y, p.z);
+  if (topology.manifold && topology.oriented) {
+    out.corners.reserve(mesh.faceCount());
+    for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+      const auto c = mesh.face(f);
+      out.corners.push_back({c[0], c[1], c[2]});
+    }
+    return out;
+  }
+  SurfaceMesh& sm = out.halfedges.emplace();
+  sm.reserve(SurfaceMesh::size_type(mesh.vertexCount()), 0, SurfaceMesh::size_type(mesh.faceCount()));
+  for (const Point& p : out.points) sm.add_vertex(p);
   for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
     const auto c = mesh.face(f);
     const SurfaceMesh::Vertex_index v[3] = {SurfaceMesh::Vertex_index(c[0]), SurfaceMesh::Vertex_index(c[1]),
                                             SurfaceMesh::Vertex_index(c[2])};
-    if (out.add_face(v[0], v[1], v[2]) != SurfaceMesh::null_face()) continue;
+    if (sm.add_face(v[0], v[1], v[2]) != SurfaceMesh::null_face()) continue;
     if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;  // a degenerate face covers nothing
-    const auto a = out.add_vertex(out.point(v[0])), b = out.add_vertex(out.point(v[1])), d = out.add_vertex(out.point(v[2]));
-    out.add_face(a, b, d);
+    const auto a = sm.add_vertex(sm.point(v[0])), b = sm.add_vertex(sm.point(v[1])), d = sm.add_vertex(sm.point(v[2]));
+    sm.add_face(a, b, d);
   }
-  require(out.number_of_faces() > 0, std::string("Hausdorff distance: every face of the ") + which + " mesh is degenerate");
   return out;
 }
 
-using Point = Kernel::Point_3;
-using Triangles = std::vector<Kernel::Triangle_3>;
-using Primitive = CGAL::AABB_triangle_primitive<Kernel, Triangles::const_iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
-
-// The mesh's triangles by value, each with its corners in the order CGAL's face-graph primitive
-// reads them: a tree over them answers as a tree over the mesh would, without walking the
-// halfedges at every box it builds or triangle it measures.
-Triangles trianglesOf(const SurfaceMesh& mesh) {
-  const CGAL::Triangle_from_face_descriptor_map<SurfaceMesh, SurfaceMesh::Property_map<SurfaceMesh::Vertex_index, Point>> corners(
-      &mesh, mesh.points());
+// The mesh's triangles by value, in face order, each with its corners from the face's first, as
+// CGAL's face-graph primitive reads a Surface_mesh made of them (a refused face's soup copy keeps
+// its place): a tree over them answers as a tree over that mesh would, without the halfedges. A
+// face that names a vertex twice covers nothing and is left out.
+Triangles trianglesOf(const Mesh& mesh) {
   Triangles out;
-  out.reserve(mesh.number_of_faces());
-  for (const auto f : faces(mesh)) out.push_back(get(corners, f));
+  out.reserve(mesh.faceCount());
+  const auto at = [&](std::uint32_t v) { return Point(mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z); };
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+    const auto c = mesh.face(f);
+    if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) out.emplace_back(at(c[0]), at(c[1]), at(c[2]));
+  }
   return out;
 }
+
+// The first hint of queries into a mesh's tree: its first vertex, as CGAL's own distance takes it.
+Point firstVertex(const Mesh& mesh) { return {mesh.positions[0].x, mesh.positions[0].y, mesh.positions[0].z}; }
 
 // Every query here is given a hint (the last answer), so CGAL's search tree of hints, which it
 // would build over one point per triangle, is never wanted.
@@ -73,14 +130,16 @@ void buildTree(Tree& tree, const Triangles& triangles) {
   tree.rebuild(triangles.begin(), triangles.end());
 }
 
-// A mesh's samples as CGAL's approximate_Hausdorff_distance draws them: its vertices plus
+// A surface's samples as CGAL's approximate_Hausdorff_distance draws them: its vertices plus
 // `facePoints` random face points. CGAL 5.5 places the points inside each chosen face with its
 // default generator, whatever the seed given: seeded here too, so that a figure repeats.
-std::vector<Point> samplePoints(const SurfaceMesh& mesh, std::size_t facePoints) {
+std::vector<Point> samplePoints(const SampledSurface& surface, std::size_t facePoints) {
   CGAL::get_default_random() = CGAL::Random(0);
   std::vector<Point> points;
-  PMP::sample_triangle_mesh(mesh, std::back_inserter(points),
-                            CGAL::parameters::number_of_points_on_faces(facePoints).do_sample_edges(false).do_sample_vertices(true).random_seed(0));
+  const auto parameters =
+      CGAL::parameters::number_of_points_on_faces(facePoints).do_sample_edges(false).do_sample_vertices(true).random_seed(0);
+  if (surface.halfedges) PMP::sample_triangle_mesh(*surface.halfedges, std::back_inserter(points), parameters);
+  else PMP::sample_triangle_soup(surface.points, surface.corners, std::back_inserter(points), parameters);
   return points;
 }
 
@@ -118,31 +177,34 @@ struct MeshDistances::State {
 };
 
 MeshDistances::MeshDistances(const Mesh& a, std::size_t facePoints) : state_(std::make_unique<State>()) {
-  const SurfaceMesh mesh = toSurfaceMesh(a, "first");  // for CGAL's sampler; the tree keeps triangles
-  state_->samples = samplePoints(mesh, facePoints);
+  requireMeasurable(a, "first");
+  state_->samples = samplePoints(sampledSurface(a, analyzeTopology(a)), facePoints);
   state_->facePoints = facePoints;
-  state_->triangles = trianglesOf(mesh);
-  state_->firstVertex = mesh.point(*vertices(mesh).first);
+  state_->triangles = trianglesOf(a);
+  state_->firstVertex = firstVertex(a);
   buildTree(state_->tree, state_->triangles);
 }
 
 MeshDistances::~MeshDistances() = default;
 
-// The two ways apart: building b's tree takes one core, so b's samples are drawn and measured
-// against a's tree beside it.
-Hausdorff MeshDistances::to(const Mesh& b) const {
-  const SurfaceMesh mb = toSurfaceMesh(b, "second");
+// The two ways apart: building b's tree takes one core, so b's topology (whether its samples may be
+// drawn from a soup) and samples are made and measured against a's tree beside it.
+Hausdorff MeshDistances::to(const Mesh& b, MeshTopology* topologyOfB) const {
+  requireMeasurable(b, "second");
   OneWay aToB, bToA;
+  MeshTopology topology;
   tbb::parallel_invoke(
       [&] {
-        const Triangles triangles = trianglesOf(mb);
+        const Triangles triangles = trianglesOf(b);
         Tree tree;
         buildTree(tree, triangles);
-        aToB = distances(state_->samples, tree, mb.point(*vertices(mb).first));
+        aToB = distances(state_->samples, tree, firstVertex(b));
       },
       [&] {
-        bToA = distances(samplePoints(mb, state_->facePoints), state_->tree, state_->firstVertex);
+        topology = analyzeTopology(b);
+        bToA = distances(samplePoints(sampledSurface(b, topology), state_->facePoints), state_->tree, state_->firstVertex);
       });
+  if (topologyOfB) *topologyOfB = std::move(topology);
   return {aToB.largest, bToA.largest, aToB.rms, bToA.rms};
 }
 

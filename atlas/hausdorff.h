@@ -4,7 +4,9 @@
 // Hausdorff and PSNR figure isoatlas reports, so that its models and CGAL's simplifier are judged
 // alike): each mesh is sampled by CGAL's sample_triangle_mesh at its vertices plus `facePoints`
 // points spread at random (seed 0, so a figure repeats) over its faces in proportion to their
-// area, and each sample measured to the other surface by CGAL's AABB tree. The root mean square
+// area, and each sample measured to the other surface by CGAL's AABB tree. An oriented manifold is
+// sampled by CGAL's sample_triangle_soup instead, which draws the same points without the
+// halfedges (tests/atlas/cgal_reference_test.cpp holds both to CGAL's own figure). The root mean square
 // of the same distances is Multi-chart Geometry Images' measure. Keeps CGAL's headers in this one
 // translation unit.
 //   a, b        triangle meshes (faces of three corners; others refused)
@@ -15,6 +17,7 @@
 #include <memory>
 
 #include "core/mesh.h"
+#include "core/mesh_topology.h"
 
 namespace isoatlas::atlas {
 
@@ -34,7 +37,9 @@ class MeshDistances {
 public:
   MeshDistances(const Mesh& a, std::size_t facePoints = kHausdorffFacePoints);
   ~MeshDistances();
-  Hausdorff to(const Mesh& b) const;
+  // b's topology is analysed on the way (it tells whether CGAL may sample b as a soup of triangles,
+  // without building its halfedges): topologyOfB, when given, receives analyzeTopology(b).
+  Hausdorff to(const Mesh& b, MeshTopology* topologyOfB = nullptr) const;
 
 private:
   struct State;

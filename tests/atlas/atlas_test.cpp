@@ -307,6 +307,19 @@ TEST(Hausdorff, KnownDistancesBothWays) {
   Mesh broken = a;
   broken.positions[3].y = std::nan("");
   EXPECT_THROW(hausdorffDistance(a, broken, 1000), Error);
+  // A face Surface_mesh refuses (here a second copy of one, so that an edge has three faces) is
+  // still measured, from a copy of its corners: the surface is the same, and so is the distance.
+  Mesh twice = a;
+  const auto c = a.face(0);
+  twice.addFace({c[0], c[1], c[2]});
+  EXPECT_FALSE(analyzeTopology(twice).manifold);
+  EXPECT_LT(hausdorffDistance(a, twice, 1000).symmetric(), 1e-12);
+  EXPECT_LT(hausdorffDistance(twice, a, 1000).symmetric(), 1e-12);
+  // Only faces that name a vertex twice cover nothing: refused.
+  Mesh flat;
+  flat.positions = a.positions;
+  flat.addFace({0, 0, 1});
+  EXPECT_THROW(hausdorffDistance(a, flat, 1000), Error);
 }
 
 // Simplification, matching and charting give the same model whatever the thread count (1, 2 or 8).

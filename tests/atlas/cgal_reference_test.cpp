@@ -7,7 +7,11 @@
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
 
+#include <algorithm>
+#include <random>
+
 #include "atlas/hausdorff.h"
+#include "core/mesh_topology.h"
 #include "tests/multires/mesh_shapes.h"
 
 namespace isoatlas::atlas {
@@ -40,6 +44,34 @@ TEST(MeshDistances, AnswersAsCgalsApproximateHausdorffDistance) {
   EXPECT_EQ(h.aToB, cgalOneWay(sa, sb, 3000));
   EXPECT_EQ(h.bToA, cgalOneWay(sb, sa, 3000));
   EXPECT_GT(h.aToB, 1.0);
+}
+
+// An oriented manifold is sampled as a soup of triangles, without building its halfedges: the same
+// samples as CGAL's own sampler on the Surface_mesh, whatever order the faces come in and whichever
+// corner each starts from (Surface_mesh takes every face of an oriented manifold in any order).
+TEST(MeshDistances, ASoupOfAnOrientedManifoldAnswersAsItsSurfaceMesh) {
+  // b: a coarse torus, whose farthest points from the fine one lie inside its faces, where the
+  // random face points (not its vertices) find them.
+  const Mesh a = test::torusMesh(80, 40, 8, 3), coarse = test::torusMesh(12, 6, 8, 3);
+  std::vector<std::array<std::uint32_t, 3>> faces;
+  for (std::size_t f = 0; f < coarse.faceCount(); ++f) {
+    const auto c = coarse.face(f);
+    faces.push_back({c[f % 3], c[(f + 1) % 3], c[(f + 2) % 3]});  // the same face, from another corner
+  }
+  std::shuffle(faces.begin(), faces.end(), std::mt19937(7));
+  Mesh b;
+  b.positions = coarse.positions;
+  for (const auto& c : faces) b.addFace({c[0], c[1], c[2]});
+  const MeshTopology topology = analyzeTopology(b);
+  ASSERT_TRUE(topology.manifold && topology.oriented);
+  const SurfaceMesh sa = surfaceMesh(a), sb = surfaceMesh(b);
+  ASSERT_EQ(sb.number_of_faces(), b.faceCount());
+  MeshTopology reported;
+  const Hausdorff h = MeshDistances(a, 3000).to(b, &reported);
+  EXPECT_EQ(h.aToB, cgalOneWay(sa, sb, 3000));
+  EXPECT_EQ(h.bToA, cgalOneWay(sb, sa, 3000));
+  EXPECT_EQ(reported.genus, topology.genus);
+  EXPECT_TRUE(reported.oriented);
 }
 
 }  // namespace
