@@ -13,6 +13,10 @@ namespace isoatlas::multires {
 // The exact test alone (CGAL), for the cases the filter below cannot decide.
 int exactOrientationSlow(const Vec2& a, const Vec2& b, const Vec2& c);
 
+// p's barycentric weights in the counter-clockwise triangle (a, b, c), computed exactly (rationals)
+// and each rounded to double: for triangles too thin for the floating-point ones.
+std::array<double, 3> exactBarycentricSlow(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c);
+
 // +1 when (a, b, c) turns counter-clockwise, -1 clockwise, 0 when the three are collinear. The
 // floating-point determinant decides when it exceeds its rounding bound (Shewchuk's orient2d
 // filter), which is nearly always; the rest goes to CGAL.
@@ -31,6 +35,16 @@ inline bool exactlyInTriangle(const Vec2& p, const Vec2& a, const Vec2& b, const
   return exactOrientation(a, b, p) >= 0 && exactOrientation(b, c, p) >= 0 && exactOrientation(c, a, p) >= 0;
 }
 
+// p's barycentric weights in the counter-clockwise triangle (a, b, c): in floating point, unless the
+// triangle is so thin that its floating-point area keeps fewer than about 30 correct bits (or rounds
+// to zero, where barycentric2 would give the centroid); then exactly.
+inline std::array<double, 3> barycentricInTriangle(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {
+  const double left = (a.x - c.x) * (b.y - c.y), right = (a.y - c.y) * (b.x - c.x);
+  constexpr double kThinBound = 3.3306690738754716e-16 * 1e6;  // the orientation filter's bound, a million times
+  if (std::abs(left - right) > kThinBound * (std::abs(left) + std::abs(right))) return barycentric2(p, a, b, c);
+  return exactBarycentricSlow(p, a, b, c);
+}
+
 // Which of `count` counter-clockwise triangles holds p by exact tests, tried from `hint` on, and p's
 // weights there: a corner whose opposite edge holds p exactly gets weight 0 exactly (so the point
 // is on that edge for the next step, which carries it along edges it keeps), the others are
@@ -43,7 +57,7 @@ TriangleHit locateExactly(const Vec2& p, std::size_t count, const Corners& corne
     const std::array<Vec2, 3> c = corners(t);
     const int o[3] = {exactOrientation(c[1], c[2], p), exactOrientation(c[2], c[0], p), exactOrientation(c[0], c[1], p)};
     if (o[0] < 0 || o[1] < 0 || o[2] < 0) continue;
-    hit = {t, barycentric2(p, c[0], c[1], c[2]), true};
+    hit = {t, barycentricInTriangle(p, c[0], c[1], c[2]), true};
     for (int i = 0; i < 3; ++i)
       if (o[i] == 0) hit.bary[std::size_t(i)] = 0;
     clampToTriangle(hit.bary);

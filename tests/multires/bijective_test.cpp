@@ -76,6 +76,24 @@ TEST(ExactLocation, AgreesWithBruteForce) {
   EXPECT_GT(onEdges, 10) << "points on the spokes must be among those tested";
 }
 
+// A triangle thin enough that its floating-point area rounds to zero, though it is exactly positive:
+// a point inside gets its own weights (barycentric2 alone gives the centroid's thirds there).
+TEST(ExactLocation, WeightsInATriangleWhoseAreaRoundsToZero) {
+  // A sliver along the diagonal, its apex c a hair above the origin: c - a rounds to (1, 1).
+  const double height = 1e-20;
+  const Vec2 a{-1, -1}, b{1, 1}, c{0, height}, p{0, height / 4};
+  ASSERT_EQ(orient2(a, b, c), 0.0);
+  ASSERT_GT(exactOrientationSlow(a, b, c), 0);
+  ASSERT_TRUE(exactOrientationSlow(a, b, p) > 0 && exactOrientationSlow(b, c, p) > 0 && exactOrientationSlow(c, a, p) > 0);
+  const auto corners = [&](std::size_t) { return std::array<Vec2, 3>{a, b, c}; };
+  const TriangleHit hit = locateExactly(p, 1, corners);
+  ASSERT_EQ(hit.triangle, 0u);
+  // By hand: p's weight at c is its height over c's (a quarter); a and b share the rest.
+  EXPECT_NEAR(hit.bary[0], 0.375, 1e-12);
+  EXPECT_NEAR(hit.bary[1], 0.375, 1e-12);
+  EXPECT_NEAR(hit.bary[2], 0.25, 1e-12);
+}
+
 // A ring laid flat: k vertices at the given radii, evenly around the origin.
 std::vector<Vec2> ring(const std::vector<double>& radii) {
   std::vector<Vec2> plane;
