@@ -75,14 +75,15 @@ void readLayout(Reader& r, std::uint32_t chartSize, std::size_t tiles, AtlasLayo
 }
 
 // Version 3: per chart its box and N x N position codes, then N x N octahedral normals.
-void readQuantisedAtlas(Reader& r, std::uint32_t chartSize, const multires::BaseMesh& base, Atlas& atlas) {
+void readQuantisedAtlas(Reader& r, std::uint32_t chartSize, const multires::BaseMesh& base, Atlas& atlas,
+                        std::vector<QuantisedChart>& charts) {
   readLayout(r, chartSize, base.tiles.size(), atlas.layout);
   const std::uint64_t texels = std::uint64_t(chartSize) * chartSize;
   const std::uint64_t chartBytes = 24 + texels * 8;  // f32 x 6, then u16 x 3 and u8 x 2 a texel
   r.fits(atlas.layout.charts, chartBytes, "chart");
   if (atlas.layout.charts * chartBytes != r.left()) r.fail("the charts take " + std::to_string(atlas.layout.charts * chartBytes) +
                                                            " bytes, the section holds " + std::to_string(r.left()));
-  std::vector<QuantisedChart> charts(atlas.layout.charts);
+  charts.assign(atlas.layout.charts, {});
   for (QuantisedChart& q : charts) {
     for (float& x : q.lo) x = r.finite<float>();
     for (float& x : q.step)
@@ -219,8 +220,9 @@ double writeModel(const std::string& path, const Model& model) {
   SectionedFileWriter out(path, kMagic, kModelVersion);
 
   Writer head;
-  const std::vector<QuantisedChart> charts = quantiseAtlas(model.atlas);
-  const double quantisationError = largestQuantisationError(model.atlas, charts, b);
+  const bool keepCodes = decodesTo(model.codes, b, model.atlas);
+  const std::vector<QuantisedChart> charts = keepCodes ? model.codes : quantiseAtlas(model.atlas);
+  const double quantisationError = keepCodes ? model.quantisationError : largestQuantisationError(model.atlas, charts, b);
   head.put(model.chartSize), head.put(model.foldedTexels), head.put(model.gapTexels), head.put(quantisationError);
   out.section("HEAD", head);
 
@@ -319,7 +321,7 @@ Model readModel(const std::string& path, const ModelReadOptions& options) {
         if (r.get<std::uint8_t>() != 0) r.fail("a base vertex's level is not 0");
     } else if (tag == "ATLS") {
       after("HEAD"), after("BASE");
-      if (version >= 3) readQuantisedAtlas(r, model.chartSize, model.base, model.atlas);
+      if (version >= 3) readQuantisedAtlas(r, model.chartSize, model.base, model.atlas, model.codes);
       else readFloatAtlas(r, model.chartSize, model.base.tiles.size(), model.atlas);
     } else if (tag == "DETL") {
       after("HEAD"), after("BASE");

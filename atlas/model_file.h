@@ -30,6 +30,7 @@
 #include <string>
 
 #include "atlas/atlas.h"
+#include "atlas/quantised_atlas.h"
 #include "core/mesh.h"
 #include "multires/base_mesh.h"
 
@@ -44,6 +45,10 @@ struct Model {
   multires::BaseMesh base;  // its parametrisation (denseTriangle, denseBary) only with the dense mesh
   Atlas atlas;
   Mesh dense;  // empty unless kept
+  // The atlas's codes as a version-3 file held them (empty for a model built here): written back
+  // as they are, with the file's quantisation error, while the atlas is still what they decode to,
+  // so that a model read and saved keeps its bytes.
+  std::vector<QuantisedChart> codes;
 };
 
 // The halfedge attributes HALF stores: per base triangle and corner k, the halfedge from corner k

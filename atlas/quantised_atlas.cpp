@@ -118,4 +118,12 @@ double largestQuantisationError(const Atlas& atlas, const std::vector<QuantisedC
   return worst;
 }
 
+bool decodesTo(const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base, const Atlas& atlas) {
+  if (charts.empty() || charts.size() != atlas.layout.charts) return false;
+  Atlas decoded;
+  decoded.layout = atlas.layout;
+  dequantiseAtlas(charts, base, decoded);
+  return decoded.positions == atlas.positions && decoded.normals == atlas.normals;
+}
+
 }  // namespace isoatlas::atlas

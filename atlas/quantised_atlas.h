@@ -8,6 +8,9 @@
 //   dequantiseAtlas inputs: the charts, the base mesh (for the shared sides), the layout; output: the
 //                   atlas's positions and normals (details untouched)
 //   largestQuantisationError  how far (mm) the charts, decoded, lie from the atlas's own positions
+//   decodesTo       whether charts decode to exactly this atlas: a file's codes, as read, are then
+//                   written back as they are (quantising a decoded atlas again would move it: its
+//                   shared borders hold a neighbour's values, which can widen the chart's box)
 #pragma once
 #include <array>
 #include <cstdint>
@@ -30,5 +33,6 @@ Vec3 decodeOctahedral(const std::array<std::uint8_t, 2>& code);
 std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas);
 void dequantiseAtlas(const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base, Atlas& atlas);
 double largestQuantisationError(const Atlas& atlas, const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base);
+bool decodesTo(const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base, const Atlas& atlas);
 
 }  // namespace isoatlas::atlas
