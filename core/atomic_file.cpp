@@ -1,8 +1,10 @@
 #include "core/atomic_file.h"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -36,6 +38,30 @@ void requireOutputFolder(const std::string& path) {
   require(folder.empty() || std::filesystem::is_directory(folder, ec), path + ": its folder does not exist");
 }
 
+namespace {
+
+// Temporaries of `path` that a killed writer left beside it: ".<pid>-<n>.partial.<name>" whose process
+// is gone (a live one, ours or another's, may still be writing). Removed after a write of `path`
+// succeeds; a folder that cannot be read is left alone.
+void removeAbandonedTemporaries(const std::string& path) {
+  const std::filesystem::path p(path);
+  const std::string suffix = ".partial." + p.filename().string();
+  const std::filesystem::path folder = p.parent_path().empty() ? std::filesystem::path(".") : p.parent_path();
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() <= suffix.size() + 1 || name[0] != '.' || name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    const std::string id = name.substr(1, name.size() - suffix.size() - 1);  // "<pid>-<n>"
+    const std::size_t dash = id.find('-');
+    if (dash == 0 || dash == std::string::npos || id.find_first_not_of("0123456789-") != std::string::npos) continue;
+    const long pid = std::stol(id.substr(0, dash));
+    if (pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH) std::filesystem::remove(it->path(), ec), ec.clear();
+  }
+}
+
+}  // namespace
+
 void writeAtomically(const std::string& path, const std::function<void(const std::string& temporary)>& write) {
   requireOutputFolder(path);
   const std::string temporary = temporaryPathFor(path);
@@ -53,6 +79,7 @@ void writeAtomically(const std::string& path, const std::function<void(const std
     throw;
   }
   replaceWith(temporary, path);
+  removeAbandonedTemporaries(path);
 }
 
 void writeFileAtomically(const std::string& path, const std::string& bytes) {

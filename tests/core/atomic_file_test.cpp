@@ -2,6 +2,9 @@
 // fails leaves the old file as it was and no temporary behind.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <filesystem>
 
 #include "core/atomic_file.h"
@@ -33,6 +36,26 @@ TEST(AtomicFile, AWholeWriteReplacesTheFileAndLeavesNoTemporary) {
   writeFileAtomically(path, "new contents");
   EXPECT_EQ(test::readBytes(path), "new contents");
   EXPECT_EQ(entries(dir), 1u);
+}
+
+// What a killed writer left (a temporary of a process that is gone) goes with the next whole write of
+// that file; a live process's temporary, and another file's, stay.
+TEST(AtomicFile, AWholeWriteRemovesTheTemporariesOfWritersThatAreGone) {
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ASSERT_EQ(::waitpid(child, nullptr, 0), child);  // reaped: its pid names no process now
+  const auto dir = test::scratchDir();
+  const auto path = (dir / "a.txt").string();
+  const std::string gone = "." + std::to_string(child) + "-3.partial.a.txt";
+  const std::string live = "." + std::to_string(::getpid()) + "-9999.partial.a.txt";
+  const std::string other = "." + std::to_string(child) + "-3.partial.b.txt";
+  for (const std::string& name : {gone, live, other}) test::writeBytes((dir / name).string(), "half");
+  writeFileAtomically(path, "whole");
+  EXPECT_FALSE(std::filesystem::exists(dir / gone));
+  EXPECT_TRUE(std::filesystem::exists(dir / live));
+  EXPECT_TRUE(std::filesystem::exists(dir / other));
+  EXPECT_EQ(test::readBytes(path), "whole");
 }
 
 TEST(AtomicFile, AFailedWriteLeavesTheOldFileAndNoTemporary) {
