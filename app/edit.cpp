@@ -13,7 +13,7 @@
 #include "extract/extract_surface.h"
 #include "levelset/dvt/dvt_file.h"
 #include "levelset/dvt/gpu_tree_passes.h"
-#include "levelset/dvt/volume_solid.h"
+#include "levelset/solids/volume_solid.h"
 #include "viewer/dvt_render.h"
 
 namespace isoatlas::app {

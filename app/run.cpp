@@ -13,7 +13,7 @@
 #include "app/options.h"
 #include "pipeline/segmentation.h"
 #include "pipeline/volume_editing.h"
-#include "levelset/dvt/volume_solid.h"
+#include "levelset/solids/volume_solid.h"
 #include "viewer/dvt_render.h"
 #include "levelset/level_set.h"
 #include "core/atomic_file.h"

@@ -34,9 +34,9 @@
 #include "levelset/dvt/cpu_tree_passes.h"
 #include "levelset/dvt/dynamic_volume_tree.h"
 #include "levelset/dvt/gpu_tree_passes.h"
-#include "levelset/dvt/mesh_solid.h"
-#include "levelset/dvt/rasterise.h"
-#include "levelset/dvt/volume_solid.h"
+#include "levelset/solids/mesh_solid.h"
+#include "levelset/solids/rasterise.h"
+#include "levelset/solids/volume_solid.h"
 
 namespace isoatlas {
 namespace dvt = levelset::dvt;

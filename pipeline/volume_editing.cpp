@@ -10,9 +10,9 @@
 #include "levelset/dvt/cpu_tree_passes.h"
 #include "levelset/dvt/dvt_file.h"
 #include "levelset/dvt/gpu_tree_passes.h"
-#include "levelset/dvt/mesh_solid.h"
-#include "levelset/dvt/rasterise.h"
-#include "levelset/dvt/volume_solid.h"
+#include "levelset/solids/mesh_solid.h"
+#include "levelset/solids/rasterise.h"
+#include "levelset/solids/volume_solid.h"
 #include "levelset/level_set.h"
 
 namespace isoatlas::pipeline {

@@ -13,7 +13,7 @@
 #include "core/volume.h"
 #include "core/mesh.h"
 #include "levelset/dvt/dynamic_volume_tree.h"
-#include "levelset/dvt/solid.h"
+#include "levelset/solids/solid.h"
 #include "viewer/dvt_render.h"
 
 namespace isoatlas::pipeline {

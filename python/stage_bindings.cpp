@@ -10,7 +10,7 @@
 #include "pipeline/seed_ball.h"
 #include "pipeline/segmentation.h"
 #include "pipeline/volume_editing.h"
-#include "levelset/dvt/volume_solid.h"
+#include "levelset/solids/volume_solid.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "extract/extract_surface.h"

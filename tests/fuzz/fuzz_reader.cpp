@@ -16,7 +16,7 @@
 #include "core/mesh_io.h"
 #include "core/volume_io.h"
 #include "levelset/dvt/dvt_file.h"
-#include "levelset/dvt/volume_solid.h"
+#include "levelset/solids/volume_solid.h"
 #ifdef FUZZ_VIEW_SCRIPT
 #include "viewer/app/view_script.h"
 #endif

@@ -8,8 +8,8 @@
 #include <random>
 #include <array>
 
-#include "levelset/dvt/mesh_sign.h"
-#include "levelset/dvt/mesh_solid.h"
+#include "levelset/solids/mesh_sign.h"
+#include "levelset/solids/mesh_solid.h"
 
 namespace isoatlas::levelset::dvt {
 namespace {

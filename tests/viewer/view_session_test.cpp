@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "core/error.h"
-#include "levelset/dvt/solid.h"
+#include "levelset/solids/solid.h"
 #include "levelset/probe.h"
 #include "tests/test_util.h"
 #include "tests/viewer/head_phantom.h"

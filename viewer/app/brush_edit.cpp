@@ -6,8 +6,8 @@
 #include "core/error.h"
 #include "levelset/dvt/cpu_tree_passes.h"
 #include "levelset/dvt/gpu_tree_passes.h"
-#include "levelset/dvt/rasterise.h"
-#include "levelset/dvt/volume_solid.h"
+#include "levelset/solids/rasterise.h"
+#include "levelset/solids/volume_solid.h"
 
 namespace isoatlas::viewer {
 

@@ -19,7 +19,7 @@
 #include "core/gl/context.h"
 #include "core/volume.h"
 #include "levelset/dvt/dynamic_volume_tree.h"
-#include "levelset/dvt/solid.h"
+#include "levelset/solids/solid.h"
 #include "levelset/level_set.h"
 
 namespace isoatlas::viewer {

@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "core/numbers.h"
-#include "levelset/dvt/solid.h"
+#include "levelset/solids/solid.h"
 
 namespace isoatlas::viewer {
 namespace {

@@ -1,4 +1,4 @@
-#include "levelset/dvt/mesh_sign.h"
+#include "levelset/solids/mesh_sign.h"
 
 #include <algorithm>
 #include <cmath>

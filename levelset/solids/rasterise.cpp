@@ -1,4 +1,4 @@
-#include "levelset/dvt/rasterise.h"
+#include "levelset/solids/rasterise.h"
 
 #include <tbb/parallel_for.h>
 

@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "core/mesh.h"
-#include "levelset/dvt/solid.h"
+#include "levelset/solids/solid.h"
 
 namespace isoatlas::levelset::dvt {
 

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "core/volume.h"
-#include "levelset/dvt/solid.h"
+#include "levelset/solids/solid.h"
 
 namespace isoatlas::levelset {
 class LevelSet;

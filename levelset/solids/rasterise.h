@@ -8,7 +8,7 @@
 #pragma once
 #include <vector>
 
-#include "levelset/dvt/solid.h"
+#include "levelset/solids/solid.h"
 #include "levelset/dvt/tree_rules.h"
 
 namespace isoatlas::levelset::dvt {

@@ -1,5 +1,5 @@
 // The one file of levelset/dvt with CGAL's headers.
-#include "levelset/dvt/mesh_solid.h"
+#include "levelset/solids/mesh_solid.h"
 
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
@@ -13,7 +13,7 @@
 
 #include "core/error.h"
 #include "core/mesh_topology.h"
-#include "levelset/dvt/mesh_sign.h"
+#include "levelset/solids/mesh_sign.h"
 
 namespace isoatlas::levelset::dvt {
 namespace {

@@ -1,4 +1,4 @@
-#include "levelset/dvt/volume_solid.h"
+#include "levelset/solids/volume_solid.h"
 
 #include <tbb/parallel_for.h>
 

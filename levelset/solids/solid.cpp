@@ -1,4 +1,4 @@
-#include "levelset/dvt/solid.h"
+#include "levelset/solids/solid.h"
 
 #include <algorithm>
 #include <cmath>
