@@ -99,7 +99,8 @@ SampledSurface sampledSurface(const Mesh& mesh, const MeshTopology& topology) {
                                             SurfaceMesh::Vertex_index(c[2])};
     if (sm.add_face(v[0], v[1], v[2]) != SurfaceMesh::null_face()) continue;
     if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;  // a degenerate face covers nothing
-    const auto a = sm.add_vertex(sm.point(v[0])), b = sm.add_vertex(sm.point(v[1])), d = sm.add_vertex(sm.point(v[2]));
+    // From our own copy of the points: a reference into the mesh's would dangle once it grows.
+    const auto a = sm.add_vertex(out.points[c[0]]), b = sm.add_vertex(out.points[c[1]]), d = sm.add_vertex(out.points[c[2]]);
     sm.add_face(a, b, d);
   }
   return out;
