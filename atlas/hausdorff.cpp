@@ -15,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <span>
 
 #include "core/error.h"
 
@@ -50,6 +51,9 @@ private:
 };
 using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, HeldTriangle>>;
 
+// Whether a face names three different vertices; one that names a vertex twice covers nothing.
+bool namesThreeVertices(std::span<const std::uint32_t> c) { return c[0] != c[1] && c[1] != c[2] && c[0] != c[2]; }
+
 // Refuses what CGAL cannot measure: no faces, faces of other than three corners, a point that is
 // not finite (CGAL's face sampler never returns on a non-finite area), or only faces that name a
 // vertex twice (they cover nothing).
@@ -59,10 +63,7 @@ void requireMeasurable(const Mesh& mesh, const char* which) {
   for (const Vec3& p : mesh.positions)
     require(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z), the + " has a vertex that is not a finite point");
   bool covers = false;
-  for (std::size_t f = 0; f < mesh.faceCount() && !covers; ++f) {
-    const auto c = mesh.face(f);
-    covers = c[0] != c[1] && c[1] != c[2] && c[0] != c[2];
-  }
+  for (std::size_t f = 0; f < mesh.faceCount() && !covers; ++f) covers = namesThreeVertices(mesh.face(f));
   require(covers, std::string("Hausdorff distance: every face of the ") + which + " mesh is degenerate");
 }
 
@@ -98,7 +99,7 @@ SampledSurface sampledSurface(const Mesh& mesh, const MeshTopology& topology) {
     const SurfaceMesh::Vertex_index v[3] = {SurfaceMesh::Vertex_index(c[0]), SurfaceMesh::Vertex_index(c[1]),
                                             SurfaceMesh::Vertex_index(c[2])};
     if (sm.add_face(v[0], v[1], v[2]) != SurfaceMesh::null_face()) continue;
-    if (c[0] == c[1] || c[1] == c[2] || c[0] == c[2]) continue;  // a degenerate face covers nothing
+    if (!namesThreeVertices(c)) continue;
     // From our own copy of the points: a reference into the mesh's would dangle once it grows.
     const auto a = sm.add_vertex(out.points[c[0]]), b = sm.add_vertex(out.points[c[1]]), d = sm.add_vertex(out.points[c[2]]);
     sm.add_face(a, b, d);
@@ -116,7 +117,7 @@ Triangles trianglesOf(const Mesh& mesh) {
   const auto at = [&](std::uint32_t v) { return Point(mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z); };
   for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
     const auto c = mesh.face(f);
-    if (c[0] != c[1] && c[1] != c[2] && c[0] != c[2]) out.emplace_back(at(c[0]), at(c[1]), at(c[2]));
+    if (namesThreeVertices(c)) out.emplace_back(at(c[0]), at(c[1]), at(c[2]));
   }
   return out;
 }

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -52,11 +53,13 @@ void removeAbandonedTemporaries(const std::string& path) {
     const std::string name = it->path().filename().string();
     if (name.size() <= suffix.size() + 1 || name[0] != '.' || name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
       continue;
-    const std::string id = name.substr(1, name.size() - suffix.size() - 1);  // "<pid>-<n>"
-    const std::size_t dash = id.find('-');
-    if (dash == 0 || dash == std::string::npos || id.find_first_not_of("0123456789-") != std::string::npos) continue;
-    const long pid = std::stol(id.substr(0, dash));
-    if (pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH) std::filesystem::remove(it->path(), ec), ec.clear();
+    // "<pid>-<n>" between the dot and the suffix; anything else is not ours.
+    const char* first = name.data() + 1;
+    const char* last = name.data() + name.size() - suffix.size();
+    pid_t pid = 0;
+    const auto [dash, error] = std::from_chars(first, last, pid);
+    if (error != std::errc() || pid <= 0 || dash == last || *dash != '-') continue;
+    if (::kill(pid, 0) != 0 && errno == ESRCH) std::filesystem::remove(it->path(), ec), ec.clear();
   }
 }
 

@@ -17,14 +17,22 @@ int exactOrientationSlow(const Vec2& a, const Vec2& b, const Vec2& c);
 // and each rounded to double: for triangles too thin for the floating-point ones.
 std::array<double, 3> exactBarycentricSlow(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c);
 
-// +1 when (a, b, c) turns counter-clockwise, -1 clockwise, 0 when the three are collinear. The
-// floating-point determinant decides when it exceeds its rounding bound (Shewchuk's orient2d
-// filter), which is nearly always; the rest goes to CGAL.
-inline int exactOrientation(const Vec2& a, const Vec2& b, const Vec2& c) {
+// The floating-point orientation determinant of (a, b, c) and its rounding bound (Shewchuk's orient2d
+// filter): its sign is certain when |det| exceeds the bound.
+struct FilteredOrientation {
+  double det, bound;
+};
+inline FilteredOrientation filteredOrientation(const Vec2& a, const Vec2& b, const Vec2& c) {
   const double left = (a.x - c.x) * (b.y - c.y), right = (a.y - c.y) * (b.x - c.x);
-  const double det = left - right;
   constexpr double kBound = 3.3306690738754716e-16;  // (3 + 16 eps) eps
-  const double bound = kBound * (std::abs(left) + std::abs(right));
+  return {left - right, kBound * (std::abs(left) + std::abs(right))};
+}
+
+// +1 when (a, b, c) turns counter-clockwise, -1 clockwise, 0 when the three are collinear. The
+// floating-point determinant decides when it exceeds its rounding bound, which is nearly always; the
+// rest goes to CGAL.
+inline int exactOrientation(const Vec2& a, const Vec2& b, const Vec2& c) {
+  const auto [det, bound] = filteredOrientation(a, b, c);
   if (det > bound) return 1;
   if (-det > bound) return -1;
   return exactOrientationSlow(a, b, c);
@@ -39,9 +47,8 @@ inline bool exactlyInTriangle(const Vec2& p, const Vec2& a, const Vec2& b, const
 // triangle is so thin that its floating-point area keeps fewer than about 30 correct bits (or rounds
 // to zero, where barycentric2 would give the centroid); then exactly.
 inline std::array<double, 3> barycentricInTriangle(const Vec2& p, const Vec2& a, const Vec2& b, const Vec2& c) {
-  const double left = (a.x - c.x) * (b.y - c.y), right = (a.y - c.y) * (b.x - c.x);
-  constexpr double kThinBound = 3.3306690738754716e-16 * 1e6;  // the orientation filter's bound, a million times
-  if (std::abs(left - right) > kThinBound * (std::abs(left) + std::abs(right))) return barycentric2(p, a, b, c);
+  const auto [det, bound] = filteredOrientation(a, b, c);
+  if (std::abs(det) > 1e6 * bound) return barycentric2(p, a, b, c);  // ~20 bits spent of 53
   return exactBarycentricSlow(p, a, b, c);
 }
 

@@ -307,14 +307,21 @@ TEST(Hausdorff, KnownDistancesBothWays) {
   Mesh broken = a;
   broken.positions[3].y = std::nan("");
   EXPECT_THROW(hausdorffDistance(a, broken, 1000), Error);
-  // A face Surface_mesh refuses (here a second copy of one, so that an edge has three faces) is
-  // still measured, from a copy of its corners: the surface is the same, and so is the distance.
+  // A face Surface_mesh refuses is still measured, from a copy of its corners. A second copy of a
+  // face (an edge of three faces) leaves the surface as it was; a chord across the sphere (three
+  // vertices whose fans are closed) reaches deep inside it, and its points are that far from a.
   Mesh twice = a;
   const auto c = a.face(0);
   twice.addFace({c[0], c[1], c[2]});
   EXPECT_FALSE(analyzeTopology(twice).manifold);
   EXPECT_LT(hausdorffDistance(a, twice, 1000).symmetric(), 1e-12);
   EXPECT_LT(hausdorffDistance(twice, a, 1000).symmetric(), 1e-12);
+  Mesh chord = a;
+  const auto n = std::uint32_t(a.vertexCount());
+  chord.addFace({0, n / 3, 2 * n / 3});
+  const Hausdorff toChord = hausdorffDistance(a, chord, 1000);
+  EXPECT_LT(toChord.aToB, 1e-12);  // a lies on chord's surface
+  EXPECT_GT(toChord.bToA, 2.0);    // the chord's middle lies well inside a's sphere of radius 10
   // Only faces that name a vertex twice cover nothing: refused.
   Mesh flat;
   flat.positions = a.positions;
