@@ -4,6 +4,8 @@
 #include <chrono>
 
 #include <OpenMesh/Tools/Utils/HeapT.hh>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 
 #include "core/error.h"
 #include "core/progress.h"
@@ -27,19 +29,25 @@ constexpr double kMeasureFromTimesTarget = 10;
 constexpr std::size_t kMeasuredTargets = 2;
 constexpr double kQuadricShare = 0.5;
 
-// Where a removed dense vertex lies: a face of the current mesh, and weights of the face's vertices.
+// A removed dense vertex where it lies: weights of the vertices of the face that holds it. Each face
+// keeps its points together, with their positions, so that a ring's points are read in sequence.
 struct MappedPoint {
-  int face = -1;
-  std::array<int, 3> vertices{};
-  std::array<double, 3> bary{};
+  std::uint32_t id;  // the dense vertex
+  std::array<int, 3> vertices;
+  std::array<double, 3> bary;
+  Vec3 position;
 };
 
 // A vertex's cheapest weld. The heap holds at most one per vertex, replaced when it is ranked again (a heap
 // of every ranking ever made grew to 12 million entries on a 3-million-triangle mesh, and its cache
-// misses took a sixth of the time).
+// misses took a sixth of the time). While ranking by the quadric, a vertex whose ring changed is only
+// bounded: its cheapest target's cost before any check, which no valid weld of it undercuts. It is
+// ranked in full when it reaches the front, so the welds come in the same order as if every vertex
+// were ranked in full each time its ring changed, for a ninth of the rankings.
 struct Candidate {
   double cost;
   std::uint32_t vertex, target;
+  bool ranked = true;  // cost is that of its cheapest valid weld, into target; else a lower bound
 };
 
 struct CandidateHeapInterface {
@@ -53,6 +61,43 @@ struct CandidateHeapInterface {
 };
 using CandidateHeap = OpenMesh::Utils::HeapT<Candidate, CandidateHeapInterface>;
 
+// A target of a vertex's weld, by its quadric cost.
+struct WeldOption {
+  double cost, length2;  // ties (flat regions cost nothing) go to the nearer neighbour
+  double weight;         // the quadric's: cost / weight is its mean squared distance
+  std::size_t t;         // the target's place in the ring
+  bool operator<(const WeldOption& o) const { return cost != o.cost ? cost < o.cost : length2 < o.length2; }
+};
+
+// Scratch space of one ranking, one per thread (rankings run in parallel).
+struct RankScratch {
+  OneRing ring;
+  std::vector<Vec2> plane;
+  std::vector<FanPoint> dense;
+};
+
+// Per dense vertex, the other two corners of each dense face around it, in the face's order: a weld's
+// check of the dense triangles reads them in sequence.
+struct DenseStars {
+  std::vector<std::uint32_t> offsets;
+  std::vector<std::array<std::uint32_t, 2>> opposite;
+
+  explicit DenseStars(const Mesh& dense = {}) {
+    const Rows faces = vertexFaces(dense.vertexCount(), dense.faceCount(), [&](std::size_t f) { return dense.face(f); });
+    offsets = faces.offsets;
+    opposite.resize(faces.items.size());
+    for (std::size_t a = 0; a + 1 < offsets.size(); ++a)
+      for (std::uint32_t j = offsets[a]; j < offsets[a + 1]; ++j) {
+        const auto c = dense.face(faces.items[j]);
+        const std::size_t at = c[0] == a ? 0 : c[1] == a ? 1 : 2;
+        opposite[j] = {c[(at + 1) % 3], c[(at + 2) % 3]};
+      }
+  }
+  std::span<const std::array<std::uint32_t, 2>> of(std::uint32_t v) const {
+    return {opposite.data() + offsets[v], offsets[v + 1] - offsets[v]};
+  }
+};
+
 class Simplifier {
 public:
   Simplifier(const Mesh& dense, const SimplifyOptions& options)
@@ -63,15 +108,18 @@ public:
 
 private:
   void initQuadrics();
-  bool evaluate(VertexH v, Candidate& best);
+  bool evaluate(VertexH v, Candidate& best, RankScratch& scratch) const;
+  bool bound(VertexH v, Candidate& lower, RankScratch& scratch) const;
+  std::size_t rankTargets(VertexH v, const OneRing& ring, const Vec3* points, WeldOption* options) const;
   void ringPoints(VertexH v, const OneRing& ring, const std::vector<Vec2>& plane, std::vector<FanPoint>& points,
-                  std::vector<std::uint32_t>* ids) const;
-  void push(VertexH v);
+                  std::vector<MappedPoint>* region) const;
+  void rankAgain(std::span<const VertexH> vertices);
+  void rankAgain(VertexH v) { rankAgain({&v, 1}); }
   bool removeVertex(VertexH v, VertexH u);
   bool locateInFan(VertexH v, const OneRing& ring, const std::vector<Vec2>& plane, const WeldPlan& plan,
-                   const std::vector<FanPoint>& points, const std::vector<std::uint32_t>& ids,
+                   const std::vector<FanPoint>& points, const std::vector<MappedPoint>& region,
                    std::vector<TriangleHit>& hits) const;
-  bool denseTrianglesTurnLeft(const std::vector<FanPoint>& points, const std::vector<std::uint32_t>& ids,
+  bool denseTrianglesTurnLeft(const std::vector<FanPoint>& points, const std::vector<MappedPoint>& region,
                               const OneRing& ring, const std::vector<Vec2>& plane);
   void recordStep(const OneRing& ring, const std::vector<Vec2>& plane, VertexH v);
   BaseMesh compact();
@@ -79,7 +127,7 @@ private:
   SimplifyOptions options_;
   const Mesh& dense_;
   StellarMesh mesh_;
-  Rows denseFaces_;  // per dense vertex, its dense faces
+  DenseStars denseStars_;
   std::shared_ptr<ParametrisationHistory> history_;
   std::vector<std::uint32_t> faceVersion_;              // per face, its version in history_
   std::vector<std::array<int, 3>> faceCorners_;         // per face, its version's corners in order
@@ -88,16 +136,17 @@ private:
   RefusalCounts refusals_;
   std::vector<Quadric> quadric_;
   bool measuring_ = false;  // ranking by measured distance (near the target size) instead of the quadric
-  std::vector<MappedPoint> mapped_;                    // per dense vertex, once removed
-  std::vector<std::vector<std::uint32_t>> facePoints_;  // removed dense vertices mapped into each face
+  std::vector<std::vector<MappedPoint>> facePoints_;  // removed dense vertices mapped into each face
   DegreeTable degrees_;  // kept by weldInto; spares canWeldInto walks round far vertices
   std::vector<int> heapPosition_;
   CandidateHeap heap_;
   WeldCounts operators_;
-  OneRing ringBuffer_;  // scratch for evaluate, reused to avoid allocations
-  std::vector<Vec2> planeBuffer_, regionPlane_;
+  tbb::enumerable_thread_specific<RankScratch> rankScratch_;  // reused to avoid allocations
+  std::vector<std::pair<Candidate, bool>> rankings_;            // scratch for rankAgain
+  std::vector<Vec2> regionPlane_;
   std::vector<TriangleHit> hitBuffer_;  // scratch for removeVertex
-  std::vector<FanPoint> denseBuffer_;
+  std::vector<VertexH> changedBuffer_;  // scratch for removeVertex
+  std::vector<MappedPoint> regionBuffer_;  // scratch for removeVertex
 };
 
 Vec3 pointOf(const StellarMesh& mesh, VertexH v) { return toVec3(mesh.point(v)); }
@@ -145,35 +194,11 @@ void Simplifier::initQuadrics() {
   }
 }
 
-// The cheapest valid weld of v: into which neighbour, at what quadric cost. A weld is valid when the
-// fan it leaves is counter-clockwise in v's exponential map (so the parametrisation stays one-to-one),
-// no face turns over in space, and the topology is kept (canWeldInto).
-bool Simplifier::evaluate(VertexH v, Candidate& best) {
-  OneRing& ring = ringBuffer_;
-  oneRing(mesh_, v, ring);
+// The targets v may weld into (on a boundary, its boundary neighbours), cheapest first, within the
+// error bound; `points` holds the ring's positions. Returns how many.
+std::size_t Simplifier::rankTargets(VertexH v, const OneRing& ring, const Vec3* points, WeldOption* options) const {
   const std::size_t k = ring.vertices.size();
-  if (k < 3 || ring.faces.size() < 2) return false;
-  std::vector<Vec2>& plane = planeBuffer_;
-  if (!exponentialMap(mesh_, v, ring, plane)) return false;
-  double maxR2 = 0;
-  for (const Vec2& p : plane) maxR2 = std::max(maxR2, p.x * p.x + p.y * p.y);
   const Vec3 pv = pointOf(mesh_, v);
-  Vec3 points[kMaxDegree], oldNormal[kMaxDegree];  // exponentialMap refuses larger rings
-  double oldLength[kMaxDegree];
-  for (std::size_t i = 0; i < k; ++i) points[i] = pointOf(mesh_, ring.vertices[i]);
-  for (std::size_t i = 0; i < ring.faces.size(); ++i) {
-    oldNormal[i] = cross(points[i] - pv, points[(i + 1) % k] - pv);
-    oldLength[i] = norm(oldNormal[i]);
-  }
-
-  // Rank the candidates by cost first (cheap), then take the cheapest that passes the checks.
-  struct Option {
-    double cost, length2;  // ties (flat regions cost nothing) go to the nearer neighbour
-    double weight;         // the quadric's: cost / weight is its mean squared distance
-    std::size_t t;
-    bool operator<(const Option& o) const { return cost != o.cost ? cost < o.cost : length2 < o.length2; }
-  };
-  Option options[kMaxDegree];
   std::size_t count = 0;
   auto rank = [&](std::size_t t) {
     const Quadric q = quadric_[v.idx()] + quadric_[ring.vertices[t].idx()];
@@ -189,6 +214,48 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
     for (std::size_t t = 0; t < k; ++t) rank(t);
   }
   std::sort(options, options + count);
+  return count;
+}
+
+// A lower bound of v's cheapest valid weld while ranking by the quadric: its cheapest target before
+// the checks (evaluate's first option). False where evaluate would find no weld for want of targets.
+bool Simplifier::bound(VertexH v, Candidate& lower, RankScratch& scratch) const {
+  OneRing& ring = scratch.ring;
+  oneRing(mesh_, v, ring);
+  const std::size_t k = ring.vertices.size();
+  if (k < 3 || k > kMaxDegree || ring.faces.size() < 2) return false;
+  Vec3 points[kMaxDegree];
+  for (std::size_t i = 0; i < k; ++i) points[i] = pointOf(mesh_, ring.vertices[i]);
+  WeldOption options[kMaxDegree];
+  if (rankTargets(v, ring, points, options) == 0) return false;
+  lower = {options[0].cost, std::uint32_t(v.idx()), std::uint32_t(ring.vertices[options[0].t].idx()), false};
+  return true;
+}
+
+// The cheapest valid weld of v: into which neighbour, at what quadric cost. A weld is valid when the
+// fan it leaves is counter-clockwise in v's exponential map (so the parametrisation stays one-to-one),
+// no face turns over in space, and the topology is kept (canWeldInto).
+bool Simplifier::evaluate(VertexH v, Candidate& best, RankScratch& scratch) const {
+  OneRing& ring = scratch.ring;
+  oneRing(mesh_, v, ring);
+  const std::size_t k = ring.vertices.size();
+  if (k < 3 || ring.faces.size() < 2) return false;
+  std::vector<Vec2>& plane = scratch.plane;
+  if (!exponentialMap(mesh_, v, ring, plane)) return false;
+  double maxR2 = 0;
+  for (const Vec2& p : plane) maxR2 = std::max(maxR2, p.x * p.x + p.y * p.y);
+  const Vec3 pv = pointOf(mesh_, v);
+  Vec3 points[kMaxDegree], oldNormal[kMaxDegree];  // exponentialMap refuses larger rings
+  double oldLength[kMaxDegree];
+  for (std::size_t i = 0; i < k; ++i) points[i] = pointOf(mesh_, ring.vertices[i]);
+  for (std::size_t i = 0; i < ring.faces.size(); ++i) {
+    oldNormal[i] = cross(points[i] - pv, points[(i + 1) % k] - pv);
+    oldLength[i] = norm(oldNormal[i]);
+  }
+
+  // Rank the candidates by cost first (cheap), then take the cheapest that passes the checks.
+  WeldOption options[kMaxDegree];
+  const std::size_t count = rankTargets(v, ring, points, options);
   if (!starIsValid(plane, ring.boundary)) return false;
   const std::vector<std::uint32_t>& refused = refused_[v.idx()];
   WeldPlan plan;
@@ -220,7 +287,7 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
 
   // Measuring: the cost is the weld's largest distance (weldDistance2) plus a share of the quadric's
   // mean, over the quadric's kMeasuredTargets best valid targets.
-  std::vector<FanPoint>& dense = denseBuffer_;
+  std::vector<FanPoint>& dense = scratch.dense;
   ringPoints(v, ring, plane, dense, nullptr);
   bool found = false;
   // Valid targets, whether measured or refused by canWeldInto: the same targets as when the
@@ -252,33 +319,47 @@ bool Simplifier::evaluate(VertexH v, Candidate& best) {
 }
 
 // The points a weld of v maps again: v and every dense vertex mapped into its ring's faces, in space
-// and in the ring's flat map `plane`; `ids`, when given, gets their dense indices.
+// and in the ring's flat map `plane`; `region`, when given, gets where they lie now (v: at itself).
 void Simplifier::ringPoints(VertexH v, const OneRing& ring, const std::vector<Vec2>& plane,
-                            std::vector<FanPoint>& points, std::vector<std::uint32_t>* ids) const {
-  points.assign(1, {pointOf(mesh_, v), {0, 0}});
-  if (ids) ids->assign(1, std::uint32_t(v.idx()));
+                            std::vector<FanPoint>& points, std::vector<MappedPoint>* region) const {
+  const Vec3 pv = pointOf(mesh_, v);
+  points.assign(1, {pv, {0, 0}});
+  if (region) region->assign(1, {std::uint32_t(v.idx()), {v.idx(), v.idx(), v.idx()}, {1, 0, 0}, pv});
   const std::size_t k = ring.vertices.size();
   for (std::size_t i = 0; i < ring.faces.size(); ++i) {
     // A point of ring face i is weighted on that face's corners: v, ring vertex i and i + 1.
     auto planeOf = [&](int vertex) {
       return vertex == v.idx() ? Vec2{0, 0} : vertex == ring.vertices[i].idx() ? plane[i] : plane[(i + 1) % k];
     };
-    for (const std::uint32_t p : facePoints_[ring.faces[i].idx()]) {
-      const MappedPoint& m = mapped_[p];
-      points.push_back({pointOf(mesh_, VertexH(int(p))), planeOf(m.vertices[0]) * m.bary[0] +
-                                                             planeOf(m.vertices[1]) * m.bary[1] +
-                                                             planeOf(m.vertices[2]) * m.bary[2]});
-      if (ids) ids->push_back(p);
+    for (const MappedPoint& m : facePoints_[ring.faces[i].idx()]) {
+      points.push_back({m.position, planeOf(m.vertices[0]) * m.bary[0] + planeOf(m.vertices[1]) * m.bary[1] +
+                                        planeOf(m.vertices[2]) * m.bary[2]});
+      if (region) region->push_back(m);
     }
   }
 }
 
-// Ranks v again: its entry in the heap is replaced, or dropped when no weld of v is valid.
-void Simplifier::push(VertexH v) {
-  const Candidate key{0, std::uint32_t(v.idx()), 0};
-  if (heap_.is_stored(key)) heap_.remove(key);
-  Candidate c;
-  if (evaluate(v, c)) heap_.insert(c);
+// Ranks the vertices again (bounds them, while ranking by the quadric): each one's entry in the heap
+// is replaced, or dropped when no weld of it is valid. The rankings only read the mesh, so measured
+// ones (and long lists) run in parallel; the heap then changes in the list's order, so the welds do
+// not depend on the thread count.
+void Simplifier::rankAgain(std::span<const VertexH> vertices) {
+  rankings_.resize(vertices.size());
+  auto rank = [&](std::size_t i) {
+    RankScratch& scratch = rankScratch_.local();
+    auto& [c, valid] = rankings_[i];
+    valid = measuring_ ? evaluate(vertices[i], c, scratch) : bound(vertices[i], c, scratch);
+  };
+  constexpr std::size_t kParallelBounds = 1024;  // bounds are cheap: a thread's start costs more
+  if (vertices.size() > 1 && (measuring_ || vertices.size() >= kParallelBounds))
+    tbb::parallel_for(std::size_t(0), vertices.size(), rank);
+  else
+    for (std::size_t i = 0; i < vertices.size(); ++i) rank(i);
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    const Candidate key{0, std::uint32_t(vertices[i].idx()), 0};
+    if (heap_.is_stored(key)) heap_.remove(key);
+    if (rankings_[i].second) heap_.insert(rankings_[i].first);
+  }
 }
 
 // Welds v into u when the region passes every check: the plan (evaluate() checked it on this very
@@ -295,15 +376,15 @@ bool Simplifier::removeVertex(VertexH v, VertexH u) {
   if (t == k || !planWeld(plane, ring.boundary, t, plan))
     throw Error("stellar simplify: a weld ranked valid has no valid plan", ErrorKind::Failure);
   std::vector<FanPoint> points;
-  std::vector<std::uint32_t> ids;
-  ringPoints(v, ring, plane, points, &ids);
+  std::vector<MappedPoint>& region = regionBuffer_;
+  ringPoints(v, ring, plane, points, &region);
   std::vector<TriangleHit>& hits = hitBuffer_;
-  const bool located = locateInFan(v, ring, plane, plan, points, ids, hits);
-  const bool keepsDenseTriangles = located && denseTrianglesTurnLeft(points, ids, ring, plane);
+  const bool located = locateInFan(v, ring, plane, plan, points, region, hits);
+  const bool keepsDenseTriangles = located && denseTrianglesTurnLeft(points, region, ring, plane);
   if (!keepsDenseTriangles) {
     ++(located ? refusals_.denseTriangle : refusals_.pointOutside);
     refused_[v.idx()].push_back(std::uint32_t(u.idx()));
-    push(v);
+    rankAgain(v);
     return false;
   }
 
@@ -336,17 +417,17 @@ bool Simplifier::removeVertex(VertexH v, VertexH u) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     const std::size_t m = hits[i].triangle;
     const FaceH f = fan[m];
-    mapped_[ids[i]] = {f.idx(), {u.idx(), ring.vertices[plan.rim[m]].idx(), ring.vertices[plan.rim[m + 1]].idx()}, hits[i].bary};
-    facePoints_[f.idx()].push_back(ids[i]);
+    facePoints_[f.idx()].push_back({region[i].id,
+                                    {u.idx(), ring.vertices[plan.rim[m]].idx(), ring.vertices[plan.rim[m + 1]].idx()},
+                                    hits[i].bary, points[i].position});
   }
 
   quadric_[u.idx()] += quadric_[v.idx()];
-  refused_[u.idx()].clear();
-  push(u);
-  for (const VertexH w : mesh_.vv_range(u)) {
-    refused_[w.idx()].clear();
-    push(w);
-  }
+  std::vector<VertexH>& changed = changedBuffer_;  // u and its ring
+  changed.assign(1, u);
+  for (const VertexH w : mesh_.vv_range(u)) changed.push_back(w);
+  for (const VertexH w : changed) refused_[w.idx()].clear();
+  rankAgain(changed);
   return true;
 }
 
@@ -355,7 +436,7 @@ bool Simplifier::removeVertex(VertexH v, VertexH u) {
 // that border edge with the same weights (its place in the plane, computed in floating point, may
 // fall just outside the ring). False when a point lies in no fan face.
 bool Simplifier::locateInFan(VertexH v, const OneRing& ring, const std::vector<Vec2>& plane, const WeldPlan& plan,
-                             const std::vector<FanPoint>& points, const std::vector<std::uint32_t>& ids,
+                             const std::vector<FanPoint>& points, const std::vector<MappedPoint>& region,
                              std::vector<TriangleHit>& hits) const {
   const std::size_t t = plan.target;
   const VertexH u = ring.vertices[t];
@@ -366,7 +447,7 @@ bool Simplifier::locateInFan(VertexH v, const OneRing& ring, const std::vector<V
   bool located = true;
   auto onBorder = [&](std::size_t i, TriangleHit& hit) {
     if (i == 0) return false;
-    const MappedPoint& m = mapped_[ids[i]];
+    const MappedPoint& m = region[i];
     int at = -1;
     for (int c = 0; c < 3; ++c)
       if (m.vertices[c] == v.idx()) at = c;
@@ -397,7 +478,7 @@ bool Simplifier::locateInFan(VertexH v, const OneRing& ring, const std::vector<V
 // Whether every dense triangle with a corner among the points a weld maps again (v and the dense
 // vertices mapped into its ring: inside the ring) and all its corners there or on the ring turns
 // counter-clockwise in the ring's layout (exact test).
-bool Simplifier::denseTrianglesTurnLeft(const std::vector<FanPoint>& points, const std::vector<std::uint32_t>& ids,
+bool Simplifier::denseTrianglesTurnLeft(const std::vector<FanPoint>& points, const std::vector<MappedPoint>& region,
                                         const OneRing& ring, const std::vector<Vec2>& plane) {
   std::vector<Vec2>& at = regionPlane_;
   at.clear();
@@ -405,22 +486,20 @@ bool Simplifier::denseTrianglesTurnLeft(const std::vector<FanPoint>& points, con
     regionIndex_[vertex] = std::int32_t(at.size());
     at.push_back(p);
   };
-  for (std::size_t i = 0; i < ids.size(); ++i) mark(ids[i], points[i].plane);
+  for (std::size_t i = 0; i < region.size(); ++i) mark(region[i].id, points[i].plane);
   for (std::size_t i = 0; i < ring.vertices.size(); ++i) mark(std::uint32_t(ring.vertices[i].idx()), plane[i]);
   bool ok = true;
-  for (std::size_t i = 0; i < ids.size() && ok; ++i)
-    for (const std::uint32_t f : denseFaces_.of(ids[i])) {
-      const auto c = dense_.face(f);
-      const std::int32_t a = regionIndex_[c[0]], b = regionIndex_[c[1]], d = regionIndex_[c[2]];
-      if (a < 0 || b < 0 || d < 0) continue;
-      // Once per face: from its corner that comes first among the inner points.
-      if (std::min({a, b, d}) != std::int32_t(i)) continue;
-      if (exactOrientation(at[std::size_t(a)], at[std::size_t(b)], at[std::size_t(d)]) <= 0) {
+  for (std::size_t i = 0; i < region.size() && ok; ++i)
+    for (const auto& [second, third] : denseStars_.of(region[i].id)) {
+      const std::int32_t b = regionIndex_[second], d = regionIndex_[third];
+      // Once per face inside: from its corner that comes first among the inner points.
+      if (b <= std::int32_t(i) || d <= std::int32_t(i)) continue;
+      if (exactOrientation(at[i], at[std::size_t(b)], at[std::size_t(d)]) <= 0) {
         ok = false;
         break;
       }
     }
-  for (const std::uint32_t id : ids) regionIndex_[id] = -1;
+  for (const MappedPoint& m : region) regionIndex_[m.id] = -1;
   for (const VertexH w : ring.vertices) regionIndex_[w.idx()] = -1;
   return ok;
 }
@@ -448,7 +527,7 @@ BaseMesh Simplifier::run(SimplifyStats& stats) {
   initQuadrics();
   degrees_ = degreeTable(mesh_);
   heapPosition_.assign(n, -1);
-  denseFaces_ = vertexAdjacency(dense_).faces;
+  denseStars_ = DenseStars(dense_);
   history_ = std::make_shared<ParametrisationHistory>(std::uint32_t(dense_.faceCount()));
   faceVersion_.resize(mesh_.n_faces());
   faceCorners_.resize(mesh_.n_faces());
@@ -460,24 +539,30 @@ BaseMesh Simplifier::run(SimplifyStats& stats) {
   refused_.assign(n, {});
   regionIndex_.assign(n, -1);
   heap_.reserve(n);
-  mapped_.assign(n, {});
   facePoints_.assign(mesh_.n_faces(), {});
 
   std::size_t alive = n;
   Progress progress("simplify", n > target ? n - target : 0, "vertices");
   const auto measureFrom = std::size_t(kMeasureFromTimesTarget * double(target));
   measuring_ = n <= measureFrom;
-  for (const VertexH v : mesh_.vertices()) push(v);
+  std::vector<VertexH> all(mesh_.vertices().begin(), mesh_.vertices().end());
+  rankAgain(all);
   while (alive > target && !heap_.empty()) {
     if (!measuring_ && alive <= measureFrom) {
       measuring_ = true;
-      for (const VertexH v : mesh_.vertices()) push(v);  // ranked again, by the new cost
+      all.assign(mesh_.vertices().begin(), mesh_.vertices().end());
+      rankAgain(all);  // by the new cost
     }
     const Candidate c = heap_.front();
     heap_.pop_front();
     const VertexH v(int(c.vertex)), u(int(c.target));
+    if (!c.ranked) {
+      Candidate ranked;
+      if (evaluate(v, ranked, rankScratch_.local())) heap_.insert(ranked);
+      continue;
+    }
     if (mesh_.status(u).deleted() || !canWeldInto(mesh_, v, u, &degrees_)) {
-      push(v);  // its ring changed since it was ranked
+      rankAgain(v);  // its ring changed since it was ranked
       continue;
     }
     if (!removeVertex(v, u)) continue;
@@ -539,12 +624,15 @@ BaseMesh Simplifier::compact() {
         if (base.triangles[t][c] == vertexIndex[d]) base.denseBary[d][c] = 1;
       continue;
     }
-    const MappedPoint& m = mapped_[d];
-    const std::uint32_t t = faceIndex[m.face];
-    base.denseTriangle[d] = t;
-    for (int c = 0; c < 3; ++c)
-      for (int j = 0; j < 3; ++j)
-        if (base.triangles[t][c] == vertexIndex[m.vertices[j]]) base.denseBary[d][c] = m.bary[j];
+  }
+  for (const FaceH f : mesh_.faces()) {
+    const std::uint32_t t = faceIndex[f.idx()];
+    for (const MappedPoint& m : facePoints_[f.idx()]) {
+      base.denseTriangle[m.id] = t;
+      for (int c = 0; c < 3; ++c)
+        for (int j = 0; j < 3; ++j)
+          if (base.triangles[t][c] == vertexIndex[m.vertices[j]]) base.denseBary[m.id][c] = m.bary[j];
+    }
   }
   return base;
 }

@@ -10,6 +10,7 @@
 #include "multires/stellar_simplify.h"
 #include "tests/multires/mesh_shapes.h"
 #include "tests/multires/parametrisation_checks.h"
+#include "tests/thread_count.h"
 
 namespace isoatlas::multires {
 namespace {
@@ -164,6 +165,20 @@ TEST(StellarSimplify, DoubleTorusKeepsGenusTwo) {
   expectSameTopology(dense, base.triangleMesh());
   expectParametrisation(dense, base, 2.0);  // tube radius 3.2 voxels
   EXPECT_LT(base.vertexCount(), dense.vertexCount() / 10);
+}
+
+TEST(StellarSimplify, TheBaseMeshDoesNotDependOnTheThreadCount) {
+  // Rankings near the target size run in parallel; the welds must still come in one order.
+  const Mesh dense = test::doubleTorusMesh();
+  auto simplify = [&] { return simplifyStellar(dense, {.vertexRatio = 0.03}); };
+  const BaseMesh one = test::onThreads(1, simplify);
+  for (const int threads : {2, 8}) {
+    const BaseMesh m = test::onThreads(threads, simplify);
+    EXPECT_EQ(m.positions, one.positions) << threads << " threads";
+    EXPECT_EQ(m.triangles, one.triangles) << threads << " threads";
+    EXPECT_EQ(m.denseTriangle, one.denseTriangle) << threads << " threads";
+    EXPECT_EQ(m.denseBary, one.denseBary) << threads << " threads";
+  }
 }
 
 TEST(StellarSimplify, BoundariesAreWeldedAlongThemselves) {
