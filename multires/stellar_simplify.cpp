@@ -553,14 +553,18 @@ BaseMesh Simplifier::run(SimplifyStats& stats) {
       all.assign(mesh_.vertices().begin(), mesh_.vertices().end());
       rankAgain(all);  // by the new cost
     }
-    const Candidate c = heap_.front();
+    Candidate c = heap_.front();
     heap_.pop_front();
-    const VertexH v(int(c.vertex)), u(int(c.target));
     if (!c.ranked) {
       Candidate ranked;
-      if (evaluate(v, ranked, rankScratch_.local())) heap_.insert(ranked);
-      continue;
+      if (!evaluate(VertexH(int(c.vertex)), ranked, rankScratch_.local())) continue;
+      if (ranked.cost != c.cost) {
+        heap_.insert(ranked);
+        continue;
+      }
+      c = ranked;  // its bound was its cost, and no other vertex's bound lies below: it is the cheapest
     }
+    const VertexH v(int(c.vertex)), u(int(c.target));
     if (mesh_.status(u).deleted() || !canWeldInto(mesh_, v, u, &degrees_)) {
       rankAgain(v);  // its ring changed since it was ranked
       continue;
