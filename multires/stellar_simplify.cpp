@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 
-#include <OpenMesh/Tools/Utils/HeapT.hh>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -11,6 +10,7 @@
 #include "core/progress.h"
 #include "multires/exact_orientation.h"
 #include "multires/exponential_map.h"
+#include "multires/indexed_heap.h"
 #include "multires/weld_plan.h"
 #include "multires/weld_distance.h"
 #include "multires/quadric.h"
@@ -50,16 +50,15 @@ struct Candidate {
   bool ranked = true;  // cost is that of its cheapest valid weld, into target; else a lower bound
 };
 
-struct CandidateHeapInterface {
-  std::vector<int>* position;  // per vertex, its place in the heap or -1
-  bool less(const Candidate& a, const Candidate& b) const {
+struct CandidateVertex {
+  std::size_t operator()(const Candidate& c) const { return c.vertex; }
+};
+struct CheaperCandidate {
+  bool operator()(const Candidate& a, const Candidate& b) const {
     return a.cost != b.cost ? a.cost < b.cost : a.vertex < b.vertex;
   }
-  bool greater(const Candidate& a, const Candidate& b) const { return less(b, a); }
-  int get_heap_position(const Candidate& c) const { return (*position)[c.vertex]; }
-  void set_heap_position(const Candidate& c, int i) const { (*position)[c.vertex] = i; }
 };
-using CandidateHeap = OpenMesh::Utils::HeapT<Candidate, CandidateHeapInterface>;
+using CandidateHeap = IndexedHeap<Candidate, CandidateVertex, CheaperCandidate>;
 
 // A target of a vertex's weld, by its quadric cost.
 struct WeldOption {
@@ -101,8 +100,7 @@ struct DenseStars {
 class Simplifier {
 public:
   Simplifier(const Mesh& dense, const SimplifyOptions& options)
-      : options_(options), dense_(dense), mesh_(toStellarMesh(dense, "simplify")),
-        heap_(CandidateHeapInterface{&heapPosition_}) {}
+      : options_(options), dense_(dense), mesh_(toStellarMesh(dense, "simplify")), heap_(mesh_.n_vertices()) {}
 
   BaseMesh run(SimplifyStats& stats);
 
@@ -138,7 +136,6 @@ private:
   bool measuring_ = false;  // ranking by measured distance (near the target size) instead of the quadric
   std::vector<std::vector<MappedPoint>> facePoints_;  // removed dense vertices mapped into each face
   DegreeTable degrees_;  // kept by weldInto; spares canWeldInto walks round far vertices
-  std::vector<int> heapPosition_;
   CandidateHeap heap_;
   WeldCounts operators_;
   tbb::enumerable_thread_specific<RankScratch> rankScratch_;  // reused to avoid allocations
@@ -356,9 +353,10 @@ void Simplifier::rankAgain(std::span<const VertexH> vertices) {
   else
     for (std::size_t i = 0; i < vertices.size(); ++i) rank(i);
   for (std::size_t i = 0; i < vertices.size(); ++i) {
-    const Candidate key{0, std::uint32_t(vertices[i].idx()), 0};
-    if (heap_.is_stored(key)) heap_.remove(key);
-    if (rankings_[i].second) heap_.insert(rankings_[i].first);
+    if (rankings_[i].second)
+      heap_.set(rankings_[i].first);
+    else
+      heap_.erase(std::size_t(vertices[i].idx()));
   }
 }
 
@@ -526,7 +524,6 @@ BaseMesh Simplifier::run(SimplifyStats& stats) {
                                  : std::max<std::size_t>(4, std::size_t(std::llround(options_.vertexRatio * double(n))));
   initQuadrics();
   degrees_ = degreeTable(mesh_);
-  heapPosition_.assign(n, -1);
   denseStars_ = DenseStars(dense_);
   history_ = std::make_shared<ParametrisationHistory>(std::uint32_t(dense_.faceCount()));
   faceVersion_.resize(mesh_.n_faces());
@@ -538,7 +535,6 @@ BaseMesh Simplifier::run(SimplifyStats& stats) {
   }
   refused_.assign(n, {});
   regionIndex_.assign(n, -1);
-  heap_.reserve(n);
   facePoints_.assign(mesh_.n_faces(), {});
 
   std::size_t alive = n;
@@ -553,13 +549,12 @@ BaseMesh Simplifier::run(SimplifyStats& stats) {
       all.assign(mesh_.vertices().begin(), mesh_.vertices().end());
       rankAgain(all);  // by the new cost
     }
-    Candidate c = heap_.front();
-    heap_.pop_front();
+    Candidate c = heap_.pop();
     if (!c.ranked) {
       Candidate ranked;
       if (!evaluate(VertexH(int(c.vertex)), ranked, rankScratch_.local())) continue;
       if (ranked.cost != c.cost) {
-        heap_.insert(ranked);
+        heap_.set(ranked);
         continue;
       }
       c = ranked;  // its bound was its cost, and no other vertex's bound lies below: it is the cheapest
