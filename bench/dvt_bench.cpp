@@ -213,7 +213,7 @@ int main(int argc, char** argv) {
       nodeSeries.push_back({std::string(v.name), steps(0, 2 * kSteps), ours.size});
     }
     if (gpu) {
-      const Trace ours = drawOurs(k, true, true, dvt::makeGpuTreePasses(*gpu));
+      const Trace ours = drawOurs(k, true, true, dvt::makeGpuTreePasses());
       reportBeside(std::string("torus drawing, ROHR on the GPU, ") + size, ours, vdb, device);
       timeSeries.push_back({"ROHR, GPU", steps(0, 2 * kSteps), ours.ms});
       nodeSeries.push_back({"ROHR, GPU", steps(0, 2 * kSteps), ours.size});

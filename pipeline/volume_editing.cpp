@@ -42,14 +42,20 @@ dvt::TreeFrame frameAroundMesh(const Mesh& mesh, std::uint32_t depth) {
   return dvt::frameAround(box.min, box.max, int(std::min<std::uint32_t>((depth + 2) / 3, dvt::kMaxDepth / 3)));
 }
 
-EditedTree start(const dvt::VolumeTree& tree, std::uint32_t depth, Gpu& gpu, const EditRequest& request) {
+EditedTree start(const dvt::VolumeTree& tree, std::uint32_t depth, levelset::Backend backend, const EditRequest& request) {
   EditedTree e;
-  const bool onGpu = gpu.backend == levelset::Backend::Gpu;
-  auto passes = onGpu ? dvt::makeGpuTreePasses(gpu.needGl()) : dvt::makeCpuTreePasses();
+  const bool onGpu = backend == levelset::Backend::Gpu;
+  auto passes = onGpu ? dvt::makeGpuTreePasses() : dvt::makeCpuTreePasses();
   e.tree = std::make_unique<dvt::DynamicVolumeTree>(
       tree, std::move(passes), dvt::TreeOptions{.nodeLimit = request.nodeLimit, .collapseEvery = request.collapseEvery});
   e.depth = depth, e.backend = onGpu ? "gpu" : "cpu";
   return e;
+}
+
+// The backend of a command's stage, its context made when it is the GPU.
+levelset::Backend backendOf(Gpu& gpu) {
+  if (gpu.backend == levelset::Backend::Gpu) gpu.needGl();
+  return gpu.backend;
 }
 
 // A segmentation's conversion is always rasterised hierarchically; `--flat` is for the shapes (and a
@@ -91,8 +97,12 @@ std::vector<std::unique_ptr<dvt::DistanceSolid>> stepSolids(const std::vector<Ed
 }
 
 EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest& request, Gpu& gpu) {
+  return treeOfLevelSet(levelSet, request, backendOf(gpu));
+}
+
+EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest& request, levelset::Backend backend) {
   const dvt::TreeFrame frame = dvt::frameOf(levelSet.geometry());
-  EditedTree e = start(dvt::VolumeTree::empty(frame), checkedDepth(request.depth, frame), gpu, request);
+  EditedTree e = start(dvt::VolumeTree::empty(frame), checkedDepth(request.depth, frame), backend, request);
   write(e, dvt::VolumeSolid(levelSet), dvt::Op::Union, request, true);
   return e;
 }
@@ -142,7 +152,7 @@ void checkEditBudget(const EditInput& input, const EditRequest& request) {
 }
 
 EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& gpu) {
-  EditedTree e = start(input.tree ? *input.tree : dvt::VolumeTree::empty(input.frame), input.depth, gpu, request);
+  EditedTree e = start(input.tree ? *input.tree : dvt::VolumeTree::empty(input.frame), input.depth, backendOf(gpu), request);
   if (input.solid) write(e, *input.solid, dvt::Op::Union, request, inputHierarchical(input, request));
   applySteps(e, request, input.solids);
   return e;

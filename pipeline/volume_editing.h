@@ -69,6 +69,8 @@ void checkEditBudget(const EditInput& input, const EditRequest& request);
 // them (no dense phi), at the request's depth (default its voxels), node limit and collapse period
 // (its steps are not applied: applySteps).
 EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest& request, Gpu& gpu);
+// The same on `backend`, in the current context when it is the GPU (the window's).
+EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest& request, levelset::Backend backend);
 // The input's tree with the request's steps applied, then collapsed.
 EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& gpu);
 void applySteps(EditedTree& edited, const EditRequest& request, const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids);

@@ -34,9 +34,9 @@ Box frameBox(const dvt::TreeFrame& f) {
 
 }  // namespace
 
-DvtRenderer::DvtRenderer(gl::Context& context)
-    : cubes_(context.program(source("viewer/shaders/dvt_cubes.vert", "viewer/shaders/dvt_cubes.frag"))),
-      rayCast_(context.program({dvtRenderShaders(), {"viewer/shaders/dvt_raycast.comp"}, dvt::ruleDefines(), {}})) {}
+DvtRenderer::DvtRenderer()
+    : cubes_(gl::Context::current().program(source("viewer/shaders/dvt_cubes.vert", "viewer/shaders/dvt_cubes.frag"))),
+      rayCast_(gl::Context::current().program({dvtRenderShaders(), {"viewer/shaders/dvt_raycast.comp"}, dvt::ruleDefines(), {}})) {}
 
 void DvtRenderer::draw(const dvt::GpuTreeBuffers& buffers, std::uint64_t nodeCount, const dvt::TreeFrame& frame, const DvtView& view) {
   const Camera& cam = view.camera;
@@ -98,10 +98,9 @@ Box insideBounds(const dvt::VolumeTree& tree) {
 }
 
 Image renderTree(const dvt::GpuTreeBuffers& buffers, std::uint64_t nodeCount, const dvt::TreeFrame& frame, const DvtView& view) {
-  gl::Context& context = gl::Context::current();
   const gl::Framebuffer fb(view.camera.width, view.camera.height);
   fb.bind();
-  DvtRenderer(context).draw(buffers, nodeCount, frame, view);
+  DvtRenderer().draw(buffers, nodeCount, frame, view);
   glFinish();
   return fb.readImage();
 }

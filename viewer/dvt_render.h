@@ -27,7 +27,7 @@ struct DvtView {
 
 class DvtRenderer {
 public:
-  explicit DvtRenderer(gl::Context& context);
+  DvtRenderer();  // in gl::Context::current(), as every renderer of viewer/
   // Draws into the bound framebuffer (of the camera's size).
   void draw(const levelset::dvt::GpuTreeBuffers& buffers, std::uint64_t nodeCount, const levelset::dvt::TreeFrame& frame,
             const DvtView& view);

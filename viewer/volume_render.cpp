@@ -23,7 +23,7 @@ Box gridBounds(const Volume& v) {
   return boundingBox(corners);
 }
 
-VolumeRenderer::VolumeRenderer(gl::Context& context) : context_(context) {}
+VolumeRenderer::VolumeRenderer() { gl::Context::current(); }
 
 void VolumeRenderer::setSource(const Volume& source) {
   geometry_ = source.sameGeometry(ScalarType::Float32);
@@ -44,7 +44,7 @@ void VolumeRenderer::draw(const levelset::PagedPhiGpu& phi, const VolumeRenderVi
   const auto [near, far] = depthRange(cam, gridBounds(geometry_));
   const Mat4 vp = cam.viewProjection(near, far), toWorld = gridToWorld(geometry_.direction, geometry_.spacing, geometry_.origin);
   const Mat4 toIndex = inverse(toWorld);
-  const gl::Program& p = rayCaster(context_, phi.pageSize());
+  const gl::Program& p = rayCaster(gl::Context::current(), phi.pageSize());
   p.use();
   phi.bindData(0, 0);
   phi.setUniforms(p);
@@ -82,8 +82,7 @@ void VolumeRenderer::draw(const levelset::PagedPhiGpu& phi, const VolumeRenderVi
 }
 
 Image renderVolume(const Volume& source, const levelset::LevelSet& levelSet, const VolumeRenderView& view) {
-  gl::Context& context = gl::Context::current();
-  VolumeRenderer renderer(context);
+  VolumeRenderer renderer;
   renderer.setSource(source);
   const levelset::PagedPhiGpu phi(levelSet);
   gl::Framebuffer target(view.camera.width, view.camera.height);

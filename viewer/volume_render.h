@@ -38,14 +38,13 @@ struct VolumeRenderView {
 
 class VolumeRenderer {
 public:
-  explicit VolumeRenderer(gl::Context& context);
+  VolumeRenderer();  // in gl::Context::current(), as every renderer of viewer/
   // The scan, uploaded once (float, linear filtering); its grid is the level set's.
   void setSource(const Volume& source);
   // Draws into the bound framebuffer (of the camera's size).
   void draw(const levelset::PagedPhiGpu& phi, const VolumeRenderView& view);
 
 private:
-  gl::Context& context_;
   Volume geometry_;  // the scan's grid, no voxels
   gl::Texture source_;
   std::unique_ptr<gl::Framebuffer> rays_;

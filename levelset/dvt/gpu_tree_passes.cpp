@@ -228,7 +228,7 @@ private:
 
 }  // namespace
 
-std::unique_ptr<TreePasses> makeGpuTreePasses(gl::Context& context) { return std::make_unique<GpuTreePasses>(context); }
+std::unique_ptr<TreePasses> makeGpuTreePasses() { return std::make_unique<GpuTreePasses>(gl::Context::current()); }
 
 const gl::EmbeddedShader* treeShaderFiles() { return gl::kDvtShaders; }
 

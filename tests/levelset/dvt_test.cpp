@@ -23,7 +23,9 @@ namespace {
 TreeFrame unitFrame() { return frameAround({0, 0, 0}, {1, 1, 1}, 5); }
 
 std::unique_ptr<TreePasses> passesFor(const std::string& backend) {
-  return backend == "gpu" ? makeGpuTreePasses(test::glContext()) : makeCpuTreePasses();
+  if (backend != "gpu") return makeCpuTreePasses();
+  test::glContext();  // made current
+  return makeGpuTreePasses();
 }
 
 // Every cell centre of depth `depth`, inside by the tree vs by `truth`; returns the mismatches.
@@ -113,7 +115,8 @@ TEST(Dvt, GpuPassesMakeTheCpuStreamsNodeForNode) {
   for (const int splits : {5, 8}) {
     const TreeFrame frame = frameAround({0, 0, 0}, {1, 1, 1}, splits);
     DynamicVolumeTree cpu(VolumeTree::empty(frame), makeCpuTreePasses(), {.collapseEvery = 3});
-    DynamicVolumeTree gpu(VolumeTree::empty(frame), makeGpuTreePasses(test::glContext()), {.collapseEvery = 3});
+    test::glContext();  // made current
+    DynamicVolumeTree gpu(VolumeTree::empty(frame), makeGpuTreePasses(), {.collapseEvery = 3});
     for (int step = 0; step < 8; ++step) {
       const double a = 0.4 * step;
       const std::string brush = "sphere:" + std::to_string(0.5 + 0.3 * std::cos(a)) + "," + std::to_string(0.5 + 0.3 * std::sin(a)) + ",0.5,0.08";

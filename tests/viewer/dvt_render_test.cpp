@@ -22,9 +22,9 @@ namespace {
 namespace dvt = levelset::dvt;
 
 TEST(DvtRender, SilhouettesOfASphereAndTheGpuTreesOwnBuffers) {
-  gl::Context& context = test::glContext();
+  test::glContext();
   const dvt::TreeFrame frame = dvt::frameAround({-1, -1, -1}, {1, 1, 1}, 5);
-  dvt::DynamicVolumeTree tree(dvt::VolumeTree::empty(frame), dvt::makeGpuTreePasses(context));
+  dvt::DynamicVolumeTree tree(dvt::VolumeTree::empty(frame), dvt::makeGpuTreePasses());
   tree.write(dvt::rasterise(*dvt::parseBrush("sphere:0,0,0,0.8"), frame, 16), dvt::Op::Union);
   const dvt::VolumeTree streams = tree.tree();
   DvtView view{.camera = Camera::framing(insideBounds(streams), 160, 120, {0.3, 1, -0.2})};

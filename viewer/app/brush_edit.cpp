@@ -4,23 +4,21 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "levelset/dvt/cpu_tree_passes.h"
-#include "levelset/dvt/gpu_tree_passes.h"
 #include "levelset/solids/rasterise.h"
 #include "levelset/solids/volume_solid.h"
+#include "pipeline/volume_editing.h"
 
 namespace isoatlas::viewer {
 
 namespace dvt = levelset::dvt;
 
-BrushStroke::BrushStroke(const levelset::LevelSet& levelSet, dvt::Op op, gl::Context* gpu, int levels)
+BrushStroke::BrushStroke(const levelset::LevelSet& levelSet, dvt::Op op, levelset::Backend backend, int levels)
     : op_(op), preview_(levelSet.mask()) {
   const dvt::TreeFrame frame = dvt::frameOf(levelSet.geometry());
   const std::uint32_t voxels = frame.voxelDepth();
   require(levels >= -int(voxels) && int(voxels) + levels <= int(dvt::kMaxDepth), "the brush's depth is past the tree's range");
   depth_ = std::uint32_t(int(voxels) + levels);
-  tree_ = std::make_unique<dvt::DynamicVolumeTree>(dvt::VolumeTree::empty(frame), gpu ? dvt::makeGpuTreePasses(*gpu) : dvt::makeCpuTreePasses());
-  tree_->write(dvt::rasterise(dvt::VolumeSolid(levelSet), frame, voxels), dvt::Op::Union);
+  tree_ = pipeline::treeOfLevelSet(levelSet, {.depth = voxels}, backend).tree;  // as `isoatlas edit` makes it
 }
 
 void BrushStroke::apply(const dvt::Solid& shape) {
@@ -83,8 +81,9 @@ BrushResult BrushStroke::finish() {
   return r;
 }
 
-BrushResult brushSegmentation(const levelset::LevelSet& levelSet, const dvt::Solid& brush, dvt::Op op, gl::Context* gpu, int levels) {
-  BrushStroke stroke(levelSet, op, gpu, levels);
+BrushResult brushSegmentation(const levelset::LevelSet& levelSet, const dvt::Solid& brush, dvt::Op op, levelset::Backend backend,
+                              int levels) {
+  BrushStroke stroke(levelSet, op, backend, levels);
   stroke.apply(brush);
   return stroke.finish();
 }

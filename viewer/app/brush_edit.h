@@ -9,14 +9,13 @@
 //   exactly, for brushes at the voxels' depth (levels 0); coarser or finer brushes preview at the
 //   voxels their cells cover.
 //   brushSegmentation: a stroke of one shape.
-//   gpu: the context whose compute shaders run the tree passes (the window's), or null for the CPU twin
+//   backend: the tree passes' (Gpu: compute shaders in the current context, the window's)
 //   levels: the brush's depth past the voxels' (-3: cells of 2 x 2 x 2 voxels; past 0 the tree holds
 //     detail the mask, at the voxels, does not keep)
 #pragma once
 #include <memory>
 #include <optional>
 
-#include "core/gl/context.h"
 #include "core/volume.h"
 #include "levelset/dvt/dynamic_volume_tree.h"
 #include "levelset/solids/solid.h"
@@ -31,7 +30,7 @@ struct BrushResult {
 
 class BrushStroke {
 public:
-  BrushStroke(const levelset::LevelSet& levelSet, levelset::dvt::Op op, gl::Context* gpu, int levels = 0);
+  BrushStroke(const levelset::LevelSet& levelSet, levelset::dvt::Op op, levelset::Backend backend, int levels = 0);
   // One write of `shape`, painted into the preview.
   void apply(const levelset::dvt::Solid& shape);
   // A sphere of `radius` mm at `centre`, swept from the last dab's centre when there was one.
@@ -61,6 +60,6 @@ private:
 };
 
 BrushResult brushSegmentation(const levelset::LevelSet& levelSet, const levelset::dvt::Solid& brush, levelset::dvt::Op op,
-                              gl::Context* gpu, int levels = 0);
+                              levelset::Backend backend, int levels = 0);
 
 }  // namespace isoatlas::viewer

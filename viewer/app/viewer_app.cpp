@@ -184,7 +184,7 @@ public:
       segment_->point = volumeCentre(*loaded.volume);
       segment_->session = std::make_unique<SegmentationSession>(std::move(*loaded.volume), backend_);
       segment_->window = segment_->session->window();
-      segment_->volume = std::make_unique<VolumeRenderer>(context_);
+      segment_->volume = std::make_unique<VolumeRenderer>();
       segment_->volume->setSource(segment_->session->source());
       segment_->volumeRendering = !context_.info().software();  // llvmpipe takes seconds a picture
       mode_ = Mode::Segment;
@@ -232,7 +232,7 @@ public:
   void beginStroke(bool add, int levels) {
     seg().session->pause();  // the stroke's mask replaces the segmentation as it was when the stroke began
     seg().stroke = std::make_unique<BrushStroke>(seg().session->levelSet(), add ? dvt::Op::Union : dvt::Op::Subtract,
-                                                 backend_ == levelset::Backend::Gpu ? &context_ : nullptr, levels);
+                                                 backend_, levels);
   }
   void strokeWith(const dvt::Solid& shape) {
     seg().stroke->apply(shape);
@@ -394,7 +394,7 @@ private:
   // Compiled when a tree or a model is first drawn, not when the window opens.
   std::optional<DvtRenderer> dvtRenderer_;
   std::optional<AtlasRenderer> atlasRenderer_;
-  DvtRenderer& dvtRenderer() { return dvtRenderer_ ? *dvtRenderer_ : dvtRenderer_.emplace(context_); }
+  DvtRenderer& dvtRenderer() { return dvtRenderer_ ? *dvtRenderer_ : dvtRenderer_.emplace(); }
   AtlasRenderer& atlasRenderer() { return atlasRenderer_ ? *atlasRenderer_ : atlasRenderer_.emplace(); }
   std::optional<SegmentView> segment_;
   std::optional<ModelView> model_;
