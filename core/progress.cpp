@@ -40,7 +40,12 @@ Progress::Progress(std::string task, std::uint64_t total, std::string unit)
     : task_(std::move(task)), unit_(std::move(unit)), total_(total), start_(std::chrono::steady_clock::now()),
       lastPrint_(start_), lastNotify_(start_), tty_(isatty(STDERR_FILENO) == 1) {}
 
-Progress::~Progress() { finish(); }
+Progress::~Progress() {
+  try {
+    finish();
+  } catch (...) {  // the observer stopping work that is ending anyway (a destructor must not throw)
+  }
+}
 
 void Progress::update(std::uint64_t done) {
   done_ = done;

@@ -18,7 +18,9 @@ public:
   static void setQuiet(bool quiet);
   static bool quiet();
   // Also tells `observer` (task, fraction done) at most every 50 ms and when finished, from whichever
-  // thread updates: a window's progress bar for work it runs in the background. Empty: none.
+  // thread updates: a window's progress bar for work it runs in the background. Empty: none. The
+  // observer may throw to stop the work (a build the window no longer wants, Ctrl-C in Python): the
+  // exception leaves update() or finish(); the destructor swallows it.
   using Observer = std::function<void(const std::string& task, double fraction)>;
   static void setObserver(Observer observer);
 

@@ -2,7 +2,9 @@
 // and saved; the pictures show what was loaded where it should be.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <fstream>
+#include <thread>
 
 #include "core/error.h"
 #include "core/image.h"
@@ -22,6 +24,8 @@
 #include "atlas/model_file.h"
 #include "core/gl/context.h"
 #include "core/gl/resources.h"
+#include "core/progress.h"
+#include "viewer/app/model_job.h"
 #include "viewer/app/viewer_app.h"
 
 namespace isoatlas::viewer {
@@ -221,6 +225,74 @@ TEST(ViewWindow, AScriptErrorNamesItsLine) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("bad.txt:2:"), std::string::npos) << e.what();
   }
+}
+
+// A build that reports progress every 10 ms for 30 s, unless it is stopped; it counts its updates and
+// says whether it ran to the end.
+struct SlowBuild {
+  std::atomic<int> updates{0};
+  std::atomic<bool> ranToTheEnd{false};
+  atlas::Model operator()(const Mesh&) {
+    Progress progress("slow build", 3000);
+    for (int i = 0; i < 3000; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      progress.update(std::uint64_t(i));
+      ++updates;
+    }
+    ranToTheEnd = true;
+    return {};
+  }
+};
+
+TEST(ModelJob, AFailedBuildIsToldWhenTheModelIsTaken) {
+  ModelJob job(test::sphereMesh(10), [](const Mesh&) -> atlas::Model { throw Error("no room for the charts"); });
+  for (int i = 0; i < 1000 && !job.done(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_TRUE(job.done());
+  try {
+    job.take();
+    ADD_FAILURE() << "a failed build gave a model";
+  } catch (const Error& e) {
+    EXPECT_STREQ(e.what(), "no room for the charts");
+  }
+}
+
+TEST(ModelJob, AJobDroppedMidBuildStopsTheBuildAtItsNextUpdate) {
+  SlowBuild build;
+  {
+    ModelJob job(test::sphereMesh(10), [&](const Mesh& m) { return build(m); });
+    while (build.updates < 10) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }  // the window closes
+  EXPECT_FALSE(build.ranToTheEnd);
+  EXPECT_LT(build.updates, 3000);
+  Progress after("after the job", 2);  // the job's observer is gone: updates no longer throw
+  EXPECT_NO_THROW(after.update(1));
+}
+
+TEST(ViewWindow, AFailedBuildStopsTheScriptNamingItsLine) {
+  const auto dir = test::scratchDir();
+  const std::string volume = (dir / "head.nii.gz").string(), script = (dir / "build.txt").string();
+  writeVolume(volume, test::headPhantom().image);
+  std::ofstream(script) << "seed 0,0,0,6\nset eps 30\nrun 20\nbuild\nquit\n";
+  try {
+    runViewer({.files = {volume}, .script = script, .width = 640, .height = 400, .backend = "cpu",
+               .buildModel = [](const Mesh&) -> atlas::Model { throw Error("no room for the charts"); }});
+    ADD_FAILURE() << "a failed build went unnoticed";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("build.txt:4: build: no room for the charts"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ViewWindow, ClosingTheWindowMidBuildStopsTheBuild) {
+  const auto dir = test::scratchDir();
+  const std::string volume = (dir / "head.nii.gz").string(), script = (dir / "build.txt").string();
+  writeVolume(volume, test::headPhantom().image);
+  std::ofstream(script) << "seed 0,0,0,6\nset eps 30\nrun 20\nbuild\nquit\n";
+  SlowBuild build;
+  // The window closes after 150 frames, long before the build's 30 s.
+  runViewer({.files = {volume}, .script = script, .frames = 150, .width = 640, .height = 400, .backend = "cpu",
+             .buildModel = [&](const Mesh& m) { return build(m); }});
+  EXPECT_GT(build.updates, 0) << "the build had started";
+  EXPECT_FALSE(build.ranToTheEnd);
 }
 
 }  // namespace

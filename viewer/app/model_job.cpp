@@ -1,11 +1,13 @@
 #include "viewer/app/model_job.h"
 
+#include "core/error.h"
 #include "core/progress.h"
 
 namespace isoatlas::viewer {
 
 ModelJob::ModelJob(Mesh surface, const ModelBuilder& build) : start_(std::chrono::steady_clock::now()) {
   Progress::setObserver([this](const std::string& task, double fraction) {
+    if (cancelled_) throw Error("the model's build was stopped", ErrorKind::Failure);
     const std::lock_guard lock(mutex_);
     task_ = task, fraction_ = fraction;
   });
@@ -13,6 +15,7 @@ ModelJob::ModelJob(Mesh surface, const ModelBuilder& build) : start_(std::chrono
 }
 
 ModelJob::~ModelJob() {
+  cancelled_ = true;
   if (result_.valid()) result_.wait();
   Progress::setObserver({});
 }

@@ -1,7 +1,9 @@
 // ModelJob: a model built from a surface in the background, so the window keeps drawing: a worker
 // thread runs the build (CPU only, no GL) and reports progress through core/progress's observer; the
-// window polls it each frame and takes the model when it is done.
+// window polls it each frame and takes the model when it is done. A job destroyed before it is done
+// (the window closed mid-build) stops the build at its next progress update.
 #pragma once
+#include <atomic>
 #include <functional>
 #include <future>
 #include <mutex>
@@ -18,7 +20,7 @@ using ModelBuilder = std::function<atlas::Model(const Mesh& surface)>;
 class ModelJob {
 public:
   ModelJob(Mesh surface, const ModelBuilder& build);
-  ~ModelJob();  // waits for the worker
+  ~ModelJob();  // stops the build at its next progress update, and waits for the worker
   bool done() const;
   // The model once done (rethrows the build's error); call once.
   atlas::Model take();
@@ -28,6 +30,7 @@ public:
 
 private:
   mutable std::mutex mutex_;
+  std::atomic<bool> cancelled_{false};
   std::string task_ = "starting";
   double fraction_ = 0;
   std::chrono::steady_clock::time_point start_;
