@@ -214,13 +214,18 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   EXPECT_GT(double(inBoth) / double(inEither), 0.97) << "the window draws the model where the headless renderer does";
 }
 
-TEST(ViewWindow, AScriptErrorNamesItsLine) {
+// A small window on the head phantom that replays `actions`, written to the test's folder as `script`.
+ViewerOptions headSession(const std::string& script, const std::string& actions) {
   const auto dir = test::scratchDir();
-  const std::string volume = (dir / "head.nii.gz").string(), script = (dir / "bad.txt").string();
+  const std::string volume = (dir / "head.nii.gz").string();
   writeVolume(volume, test::headPhantom().image);
-  std::ofstream(script) << "seed 0,0,0,6\nprobe 900,0,0\nquit\n";
+  std::ofstream((dir / script).string()) << actions;
+  return {.files = {volume}, .script = (dir / script).string(), .width = 640, .height = 400, .backend = "cpu"};
+}
+
+TEST(ViewWindow, AScriptErrorNamesItsLine) {
   try {
-    runViewer({.files = {volume}, .script = script, .width = 640, .height = 400, .backend = "cpu"});
+    runViewer(headSession("bad.txt", "seed 0,0,0,6\nprobe 900,0,0\nquit\n"));
     ADD_FAILURE() << "a probe outside the volume was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("bad.txt:2:"), std::string::npos) << e.what();
@@ -268,14 +273,13 @@ TEST(ModelJob, AJobDroppedMidBuildStopsTheBuildAtItsNextUpdate) {
   EXPECT_NO_THROW(after.update(1));
 }
 
+constexpr const char* kSegmentThenBuild = "seed 0,0,0,6\nset eps 30\nrun 20\nbuild\nquit\n";
+
 TEST(ViewWindow, AFailedBuildStopsTheScriptNamingItsLine) {
-  const auto dir = test::scratchDir();
-  const std::string volume = (dir / "head.nii.gz").string(), script = (dir / "build.txt").string();
-  writeVolume(volume, test::headPhantom().image);
-  std::ofstream(script) << "seed 0,0,0,6\nset eps 30\nrun 20\nbuild\nquit\n";
+  ViewerOptions options = headSession("build.txt", kSegmentThenBuild);
+  options.buildModel = [](const Mesh&) -> atlas::Model { throw Error("no room for the charts"); };
   try {
-    runViewer({.files = {volume}, .script = script, .width = 640, .height = 400, .backend = "cpu",
-               .buildModel = [](const Mesh&) -> atlas::Model { throw Error("no room for the charts"); }});
+    runViewer(options);
     ADD_FAILURE() << "a failed build went unnoticed";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("build.txt:4: build: no room for the charts"), std::string::npos) << e.what();
@@ -283,14 +287,11 @@ TEST(ViewWindow, AFailedBuildStopsTheScriptNamingItsLine) {
 }
 
 TEST(ViewWindow, ClosingTheWindowMidBuildStopsTheBuild) {
-  const auto dir = test::scratchDir();
-  const std::string volume = (dir / "head.nii.gz").string(), script = (dir / "build.txt").string();
-  writeVolume(volume, test::headPhantom().image);
-  std::ofstream(script) << "seed 0,0,0,6\nset eps 30\nrun 20\nbuild\nquit\n";
   SlowBuild build;
-  // The window closes after 150 frames, long before the build's 30 s.
-  runViewer({.files = {volume}, .script = script, .frames = 150, .width = 640, .height = 400, .backend = "cpu",
-             .buildModel = [&](const Mesh& m) { return build(m); }});
+  ViewerOptions options = headSession("build.txt", kSegmentThenBuild);
+  options.buildModel = [&](const Mesh& m) { return build(m); };
+  options.frames = 150;  // the window closes long before the build's 30 s
+  runViewer(options);
   EXPECT_GT(build.updates, 0) << "the build had started";
   EXPECT_FALSE(build.ranToTheEnd);
 }
