@@ -23,7 +23,7 @@ Box gridBounds(const Volume& v) {
   return boundingBox(corners);
 }
 
-VolumeRenderer::VolumeRenderer() { gl::Context::current(); }
+VolumeRenderer::VolumeRenderer() { gl::Context::current(); }  // throws now, not at the first draw, when none is current
 
 void VolumeRenderer::setSource(const Volume& source) {
   geometry_ = source.sameGeometry(ScalarType::Float32);
