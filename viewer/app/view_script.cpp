@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/numbers.h"
 #include "levelset/solids/solid.h"
+#include "viewer/app/viewer_state.h"
 
 namespace isoatlas::viewer {
 namespace {
@@ -138,5 +139,62 @@ std::vector<ViewAction> readViewScript(const std::string& path) {
   }
   return actions;
 }
+
+namespace {
+
+// A stroke action's points: its numbers after the radius, three a point.
+std::vector<Vec3> strokePoints(const std::vector<double>& numbers) {
+  std::vector<Vec3> points;
+  for (std::size_t i = 1; i + 2 < numbers.size(); i += 3) points.push_back({numbers[i], numbers[i + 1], numbers[i + 2]});
+  return points;
+}
+
+}  // namespace
+
+void ScriptPlayer::step(window::Viewer& viewer, std::string& screenshot, bool& quit) {
+  if (const std::string error = viewer.takeBuildError(); !error.empty())
+    throw Error((next_ > 0 ? actions_[next_ - 1].where() + ": " : std::string()) + "build: " + error);
+  if (framesLeft_ > 0) {
+    --framesLeft_;
+    return;
+  }
+  if (finished() || viewer.busy()) return;
+  const ViewAction& a = actions_[next_++];
+  try {
+    perform(a, viewer, screenshot, quit);
+  } catch (const std::exception& e) {
+    throw Error(a.where() + ": " + e.what());
+  }
+}
+
+void ScriptPlayer::perform(const ViewAction& a, window::Viewer& v, std::string& screenshot, bool& quit) {
+  const auto& n = a.numbers;
+  const std::string& verb = a.verb;
+  if (verb == "open") v.show(window::load(a.word));
+  else if (verb == "mode") v.setMode(a.word);
+  else if (verb == "slice") v.slice({n[0], n[1], n[2]});
+  else if (verb == "probe") v.probe({n[0], n[1], n[2]}, n[3]);
+  else if (verb == "seed" || verb == "unseed") v.seed({n[0], n[1], n[2]}, n[3], verb == "seed");
+  else if (verb == "set") v.set(a.word, n[0]);
+  else if (verb == "run") v.run(int(n[0]));
+  else if (verb == "undo") v.undo();
+  else if (verb == "redo") v.redo();
+  else if (verb == "brush") v.brush(a.word, a.on);
+  else if (verb == "stroke") v.stroke(strokePoints(n), n[0], a.on);
+  else if (verb == "paint") v.stroke(strokePoints(n), n[0], a.on, int(a.word[0] - 'i'));
+  else if (verb == "build") v.build();
+  else if (verb == "levels") v.levels(int(n[0]), int(n[1]));
+  else if (verb == "view3d") v.view3d(a.word == "volume");
+  else if (verb == "stamp") v.stamp({n[0], n[1], n[2]}, a.word, n[3], n[4]);
+  else if (verb == "clip") v.clip(a.word);
+  else if (verb == "wireframe") v.wireframe(a.on);
+  else if (verb == "render") v.treeRender(a.word == "cubes");
+  else if (verb == "save-mask") v.saveMask(a.word);
+  else if (verb == "save-model") v.saveModel(a.word);
+  else if (verb == "screenshot") screenshot = a.word;
+  else if (verb == "frames") framesLeft_ = int(n[0]);
+  else if (verb == "quit") quit = true;
+}
+std::vector<ViewAction> actions_;
 
 }  // namespace isoatlas::viewer

@@ -30,7 +30,9 @@
 //   quit                      close the window
 // readViewScript checks every line before the window opens: a bad one is an Error naming FILE:LINE.
 #pragma once
+#include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace isoatlas::viewer {
@@ -46,5 +48,26 @@ struct ViewAction {
 };
 
 std::vector<ViewAction> readViewScript(const std::string& path);
+
+namespace window {
+class Viewer;
+}
+
+// Replays a script's actions on the window one per frame, waiting where an action takes time.
+class ScriptPlayer {
+public:
+  explicit ScriptPlayer(std::vector<ViewAction> actions) : actions_(std::move(actions)) {}
+  bool finished() const { return next_ >= actions_.size(); }
+  // The next action, unless the viewer is still busy with the last; screenshots and quit are left
+  // to the end of the frame. Throws Error naming the script's line when an action (or the build it
+  // started) fails.
+  void step(window::Viewer& viewer, std::string& screenshot, bool& quit);
+
+private:
+  void perform(const ViewAction& a, window::Viewer& v, std::string& screenshot, bool& quit);
+  std::vector<ViewAction> actions_;
+  std::size_t next_ = 0;
+  int framesLeft_ = 0;
+};
 
 }  // namespace isoatlas::viewer
