@@ -10,6 +10,7 @@
 #include "pipeline/surface_figures.h"
 #include "pipeline/demo.h"
 #include "pipeline/model_building.h"
+#include "pipeline/run_page.h"
 #include "app/options.h"
 #include "pipeline/segmentation.h"
 #include "pipeline/volume_editing.h"
@@ -68,29 +69,9 @@ void writeViewSession(const std::string& path, const std::string& input, const V
   writeFileAtomically(path, out.str());
 }
 
-struct Stage {
-  std::string name, status, detail;  // status: "done" or "skipped"
-  double seconds = 0;
-};
-
-// The files run writes into its folder, each named with what it holds; pictures are also shown.
-struct Products {
-  struct Product {
-    std::string file, what;
-    bool picture;
-  };
-  std::filesystem::path dir;
-  std::vector<Product> all;
-  // Records `file` and returns its path in the folder, to write to.
-  std::string add(const std::string& file, const std::string& what, bool picture = false) {
-    all.push_back({file, what, picture});
-    return (dir / file).string();
-  }
-};
-
 // The model through the tessellation renderer, seen from the left: three levels of detail (CPU
 // levels, no GPU refinement), the cascade with its wireframe (tile borders brown), and a turntable.
-std::string renderModelViews(const atlas::Model& model, Products& products, nlohmann::json& r) {
+std::string renderModelViews(const atlas::Model& model, pipeline::RunProducts& products, nlohmann::json& r) {
   const viewer::AtlasRenderer renderer;
   viewer::Scene scene({&model});
   const viewer::Camera camera = viewer::Camera::framing(scene.bounds(), 800, 600, {1, 0, 0});
@@ -139,8 +120,8 @@ struct RunJob {
   std::string input;
   Volume volume;
   pipeline::Gpu gpu;
-  Products products;
-  std::vector<Stage> stages;
+  pipeline::RunProducts products;
+  std::vector<pipeline::RunStage> stages;
   nlohmann::json& report;
 
   // Runs one stage, timed; `work` returns its detail line.
@@ -305,34 +286,6 @@ void engraveStage(RunJob& job, const atlas::Model& model, const Mesh& surface) {
   }
 }
 
-// index.html: the stages with their seconds, the products, the pictures.
-void writeIndexHtml(const std::filesystem::path& dir, const std::string& input, const std::vector<Stage>& stages,
-                    const Products& products, double seconds) {
-  std::ostringstream html;
-  html << "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>isoatlas run</title>\n"
-       << "<style>body{font-family:sans-serif;max-width:1000px;margin:2em auto}td,th{padding:4px 10px;text-align:left}"
-       << ".skipped{color:#999}img{max-width:100%}</style></head><body>\n"
-       << "<h1>isoatlas run</h1>\n<p>Input: <code>" << input << "</code></p>\n<table>\n"
-       << "<tr><th>stage</th><th>status</th><th>seconds</th><th>detail</th></tr>\n";
-  char time[32];
-  for (const Stage& s : stages) {
-    std::snprintf(time, sizeof time, "%.2f", s.seconds);
-    html << "<tr class=\"" << s.status << "\"><td>" << s.name << "</td><td>" << s.status << "</td><td>"
-         << (s.status == "done" ? time : "") << "</td><td>" << s.detail << "</td></tr>\n";
-  }
-  std::snprintf(time, sizeof time, "%.2f", seconds);
-  html << "<tr><td><b>total</b></td><td></td><td><b>" << time << "</b></td><td></td></tr>\n";
-  html << "</table>\n<h2>Products</h2>\n<ul>\n";
-  for (const auto& p : products.all) html << "<li><a href=\"" << p.file << "\">" << p.file << "</a>: " << p.what << "</li>\n";
-  html << "</ul>\n";
-  for (const auto& p : products.all)
-    if (p.picture)
-      html << "<figure><img src=\"" << p.file << "\" alt=\"" << p.what << "\"><figcaption>" << p.what
-           << "</figcaption></figure>\n";
-  html << "<p>Figures: <a href=\"report.json\">report.json</a></p>\n</body></html>\n";
-  writeFileAtomically((dir / "index.html").string(), html.str());
-}
-
 // The levels the model's accuracy is measured at: "even" (0, 2, ..., the whole chart) or eval's form.
 std::vector<int> runLevels(const std::string& text, int topLevel) {
   if (text != "even") return pipeline::parseLevels(text, topLevel);
@@ -395,15 +348,12 @@ void runJob(const std::string& input, const std::string& outDir, const RunOption
     if (pipeline::isDemoVolume(input, job.volume)) engraveStage(job, model, surface);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  r["stages"] = nlohmann::json::array();
-  for (const Stage& s : job.stages)
-    r["stages"].push_back({{"name", s.name}, {"status", s.status}, {"detail", s.detail}, {"seconds", s.seconds}});
+  r["stages"] = pipeline::stagesJson(job.stages);
   r["gl_contexts"] = gl::Context::made();
   r["seconds"] = seconds;
-  r["products"] = nlohmann::json::array();
-  for (const auto& p : job.products.all) r["products"].push_back({{"file", p.file}, {"what", p.what}});
+  r["products"] = pipeline::productsJson(job.products);
   writeJsonFile((dir / "report.json").string(), r);
-  writeIndexHtml(dir, input, job.stages, job.products, seconds);
+  pipeline::writeRunPage(dir, input, job.stages, job.products, seconds);
   logInfo("run: wrote " + (dir / "index.html").string());
 }
 
