@@ -17,7 +17,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
   auto models = std::make_shared<std::vector<std::string>>();
   auto dense = std::make_shared<std::string>(), levelText = std::make_shared<std::string>(), plot = std::make_shared<std::string>();
   auto outMesh = std::make_shared<std::pair<int, std::string>>(-1, "");
-  auto samples = std::make_shared<std::size_t>(atlas::kHausdorffFacePoints);
+  auto samples = std::make_shared<std::size_t>(kHausdorffFacePoints);
   sub->add_option("model", *models, "one or more .isoatlas models of the same dense mesh (the first is reported)")->required();
   sub->add_option("--dense", *dense, "the dense mesh the models were built from")->required();
   sub->add_option("--levels", *levelText, "levels to measure: 0-10, 4, or 0,4,10 (default: every level)");

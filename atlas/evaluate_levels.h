@@ -1,6 +1,6 @@
 // evaluateLevels: how close the model comes to the dense mesh at each uniform level: the mesh
 // reconstructed at that level (reconstructLevel), measured by CGAL's Hausdorff distance both ways
-// (hausdorff.h; the dense mesh's samples and tree made once for all levels), PSNR against the dense
+// (core/distance/mesh_distance.h; the dense mesh's samples and tree made once for all levels), PSNR against the dense
 // mesh's bounding-box diagonal from the largest distance and from the RMS distance.
 //   base, atlas  the model
 //   dense        the dense triangle mesh it was built from
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "atlas/atlas.h"
-#include "atlas/hausdorff.h"
+#include "core/distance/mesh_distance.h"
 #include "core/image.h"
 #include "core/mesh.h"
 #include "multires/base_mesh.h"

@@ -3,7 +3,7 @@
 // face count isoatlas's base mesh reaches at 1 % of the vertices), on bunny00, elephant, fandisk and
 // the white-matter surface of ch2better (3 million triangles). Figures: seconds (isoatlas: simplify
 // plus match), base vertices, symmetric Hausdorff distance to the dense mesh and PSNR, all measured
-// by CGAL's approximate_Hausdorff_distance (atlas/hausdorff).
+// by CGAL's approximate_Hausdorff_distance (core/distance/mesh_distance).
 #include <meshoptimizer.h>
 
 #include <chrono>
@@ -15,7 +15,7 @@
 #include "core/mesh_io.h"
 #include "core/mesh_topology.h"
 #include "extract/extract_surface.h"
-#include "atlas/hausdorff.h"
+#include "core/distance/mesh_distance.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
 
@@ -60,9 +60,9 @@ void compare(const std::string& name, const Mesh& dense) {
   const Mesh cgal = bench::cgalSimplify(dense, baseEdges, cgalSeconds);
   const Mesh meshopt = meshoptSimplify(dense, 2 * baseEdges / 3, meshoptSeconds);
 
-  const double hOurs = atlas::hausdorffDistance(dense, ourMesh).symmetric();
-  const double hCgal = atlas::hausdorffDistance(dense, cgal).symmetric();
-  const double hMeshopt = atlas::hausdorffDistance(dense, meshopt).symmetric();
+  const double hOurs = hausdorffDistance(dense, ourMesh).symmetric();
+  const double hCgal = hausdorffDistance(dense, cgal).symmetric();
+  const double hMeshopt = hausdorffDistance(dense, meshopt).symmetric();
   const std::string caseName = name + " (" + std::to_string(dense.faceCount()) + " triangles)";
   const std::string cgalName = "CGAL 5.5 edge_collapse, Garland-Heckbert plane policies";
   const std::string meshoptName = "meshoptimizer 0.18 meshopt_simplify";
@@ -73,10 +73,10 @@ void compare(const std::string& name, const Mesh& dense) {
   bench::report("multires", caseName, "Hausdorff to the dense mesh (mm)", hOurs, cgalName, hCgal);
   bench::report("multires", caseName, "Hausdorff to the dense mesh (mm)", hOurs, meshoptName, hMeshopt);
   // PSNR: higher is better; the ratio column is ours / theirs in dB.
-  bench::report("multires", caseName, "base PSNR (dB)", atlas::psnrDb(diagonal, hOurs), cgalName,
-                atlas::psnrDb(diagonal, hCgal), false);
-  bench::report("multires", caseName, "base PSNR (dB)", atlas::psnrDb(diagonal, hOurs), meshoptName,
-                atlas::psnrDb(diagonal, hMeshopt), false);
+  bench::report("multires", caseName, "base PSNR (dB)", psnrDb(diagonal, hOurs), cgalName,
+                psnrDb(diagonal, hCgal), false);
+  bench::report("multires", caseName, "base PSNR (dB)", psnrDb(diagonal, hOurs), meshoptName,
+                psnrDb(diagonal, hMeshopt), false);
 }
 
 }  // namespace

@@ -17,7 +17,7 @@
 #include <filesystem>
 
 #include "pipeline/model_building.h"
-#include "atlas/hausdorff.h"
+#include "core/distance/mesh_distance.h"
 #include "bench/bench_util.h"
 #include "core/gl/context.h"
 #include "core/image.h"
@@ -139,9 +139,9 @@ void accuracy(const std::string& name, const atlas::Model& model, const Mesh& de
     const Mesh atlasMesh = renderer.capture(scene.items(), camera, scene.bounds(), {viewer::GpuRefinement::Mode::Level, 0});
     const Mesh detailed = smooth.capture({{0, 0, 0}}, camera, scene.bounds(), t, true);
     const Mesh limit = smooth.capture({{0, 0, 0}}, camera, scene.bounds(), t, false);
-    const double psnrAtlas = atlas::psnrDb(diagonal, atlas::hausdorffDistance(atlasMesh, dense).symmetric());
-    const double psnrDetailed = atlas::psnrDb(diagonal, atlas::hausdorffDistance(detailed, dense).symmetric());
-    const double psnrLimit = atlas::psnrDb(diagonal, atlas::hausdorffDistance(limit, dense).symmetric());
+    const double psnrAtlas = psnrDb(diagonal, hausdorffDistance(atlasMesh, dense).symmetric());
+    const double psnrDetailed = psnrDb(diagonal, hausdorffDistance(detailed, dense).symmetric());
+    const double psnrLimit = psnrDb(diagonal, hausdorffDistance(limit, dense).symmetric());
     const std::string caseName = name + ", " + std::to_string(atlasMesh.faceCount()) + " triangles";
     std::fprintf(stderr, "bench render: %s: PSNR atlas level %d %.1f dB, smooth T %d with detail %.1f dB, limit alone %.1f dB (%zu, %zu triangles)\n",
                  caseName.c_str(), level, psnrAtlas, t, psnrDetailed, psnrLimit, detailed.faceCount(), limit.faceCount());

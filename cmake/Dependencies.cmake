@@ -42,7 +42,7 @@ target_compile_definitions(isoatlas::openmesh INTERFACE _USE_MATH_DEFINES)
 
 find_package(GTest REQUIRED)
 
-# CGAL (header-only): atlas/hausdorff.cpp and the multires bench; Eigen first, for Eigen3::Eigen.
+# CGAL (header-only): core/distance, multires' exact predicates and the multires bench; Eigen first, for Eigen3::Eigen.
 # Last: CGAL's config puts its own Find modules (OpenMesh's among them) on the module path.
 find_package(Eigen3 3.3 NO_MODULE)
 find_package(CGAL REQUIRED)

@@ -4,7 +4,7 @@
 #include <filesystem>
 
 #include "atlas/atlas_previews.h"
-#include "atlas/hausdorff.h"
+#include "core/distance/mesh_distance.h"
 #include "atlas/make_atlas.h"
 #include "atlas/reconstruct.h"
 #include "atlas/stamp_detail.h"
@@ -96,11 +96,11 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   r["dense_ply_bytes"] = atlas::binaryPlyBytes(dense);
   if (request.hausdorff) {
     const auto start = std::chrono::steady_clock::now();
-    const atlas::Hausdorff h = atlas::hausdorffDistance(dense, base.triangleMesh(), request.hausdorffFacePoints);
+    const Hausdorff h = hausdorffDistance(dense, base.triangleMesh(), request.hausdorffFacePoints);
     r["hausdorff_base"] = h.symmetric();
     r["hausdorff_dense_to_base"] = h.aToB;
     r["hausdorff_base_to_dense"] = h.bToA;
-    const double psnr = atlas::psnrDb(diagonal, h.symmetric());
+    const double psnr = psnrDb(diagonal, h.symmetric());
     r["psnr_base_db"] = psnr;
     r["seconds_hausdorff"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     logInfo("build: base mesh Hausdorff " + std::to_string(h.symmetric()) + " (PSNR " + std::to_string(psnr) + " dB, CGAL)");

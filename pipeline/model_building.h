@@ -7,7 +7,7 @@
 #include <string>
 
 #include "atlas/evaluate_levels.h"
-#include "atlas/hausdorff.h"
+#include "core/distance/mesh_distance.h"
 #include "atlas/make_atlas.h"
 #include "atlas/model_file.h"
 #include "atlas/stamp_detail.h"
@@ -25,7 +25,7 @@ struct ModelRequest {
   int relaxSweeps = atlas::kDefaultRelaxSweeps;  // texels follow the surface's bending (0: uniform in each tile)
   bool keepDense = false;  // the model keeps the dense mesh and its parametrisation
   bool hausdorff = true;   // measure the base mesh against the dense one
-  std::size_t hausdorffFacePoints = atlas::kHausdorffFacePoints;
+  std::size_t hausdorffFacePoints = kHausdorffFacePoints;
 };
 
 // Throws Error naming the option (--base-ratio, --max-error, --chart, --relax-sweeps) when the request is out of range.

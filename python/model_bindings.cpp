@@ -84,7 +84,7 @@ void bindModels(py::module_& m) {
         }
         // A list that owns its items (an accessor into a temporary dict would outlive the dict).
         return py::list(toDict(nlohmann::json{{"levels", pipeline::levelFiguresJson(figures)}})["levels"]);
-      }, py::arg("model"), py::arg("vertices"), py::arg("triangles"), py::arg("levels") = "", py::arg("samples") = atlas::kHausdorffFacePoints,
+      }, py::arg("model"), py::arg("vertices"), py::arg("triangles"), py::arg("levels") = "", py::arg("samples") = kHausdorffFacePoints,
       py::arg("progress") = py::none(),
       "per level (isoatlas eval): level, vertices, triangles, hausdorff, psnr_db, rms, psnr_rms_db, closed, manifold against the dense mesh; "
       "levels as eval takes them (\"0-10\", \"4\", \"0,2,10\"; default all)");

@@ -9,7 +9,7 @@
 #include <functional>
 #include <map>
 
-#include "atlas/hausdorff.h"
+#include "core/distance/mesh_distance.h"
 #include "atlas/make_atlas.h"
 #include "atlas/reconstruct.h"
 #include "atlas/tile_sides.h"
@@ -264,69 +264,6 @@ TEST(Reconstruct, RefusesLevelsBeyondTheChart) {
   EXPECT_EQ(maxLevel(3), 2);
   EXPECT_THROW(reconstructLevel(torus().base, torus().atlas, 9), Error);  // 17 texels: levels 0..8
   EXPECT_THROW(reconstructLevel(torus().base, torus().atlas, -1), Error);
-}
-
-TEST(Hausdorff, KnownDistancesBothWays) {
-  // Two concentric spheres of radii 10 and 10.5 (marching cubes, so each lies within a small
-  // error of its radius): the distance is 0.5 both ways, within those errors.
-  const Mesh a = test::sphereMesh(10);
-  Mesh b = a;
-  const Vec3 centre{12.3, 12.5, 12.2};
-  for (Vec3& p : b.positions) p = centre + (p - centre) * (10.5 / 10);
-  const Hausdorff h = hausdorffDistance(a, b, 20000);
-  EXPECT_NEAR(h.aToB, 0.5, 0.06);
-  EXPECT_NEAR(h.bToA, 0.5, 0.06);
-  // The RMS of the same samples: also near 0.5, and never past the largest distance.
-  EXPECT_NEAR(h.rmsAToB, 0.5, 0.06);
-  EXPECT_NEAR(h.rmsBToA, 0.5, 0.06);
-  EXPECT_LE(h.rms(), h.symmetric());
-  // One mesh measured against many answers as measuring each pair afresh, bit for bit.
-  const MeshDistances fromA(a, 20000);
-  for (int k = 0; k < 2; ++k) {
-    const Hausdorff reused = fromA.to(b);
-    EXPECT_EQ(reused.aToB, h.aToB);
-    EXPECT_EQ(reused.bToA, h.bToA);
-    EXPECT_EQ(reused.rms(), h.rms());
-  }
-  EXPECT_LT(hausdorffDistance(a, a, 20000).symmetric(), 1e-12);
-  // Seeded: the same figure every time (CGAL 5.5 placed points in faces with a generator seeded
-  // from the clock).
-  const Hausdorff again = hausdorffDistance(a, b, 20000);
-  EXPECT_EQ(again.aToB, h.aToB);
-  EXPECT_EQ(again.bToA, h.bToA);
-  // A mesh moved by a known offset: the farthest sample lies at most that far.
-  Mesh moved = a;
-  for (Vec3& p : moved.positions) p.x += 0.25;
-  const Hausdorff m = hausdorffDistance(a, moved, 20000);
-  EXPECT_LE(m.symmetric(), 0.25 + 1e-9);
-  EXPECT_GT(m.symmetric(), 0.2);
-  EXPECT_LT(m.rms(), m.symmetric());  // most points of a sphere moved sideways lie nearer than 0.25
-  EXPECT_NEAR(psnrDb(100, 1), 40, 1e-12);
-  EXPECT_THROW(hausdorffDistance(Mesh{}, a), Error);
-  // A point that is not finite is refused (CGAL's face sampler would never return).
-  Mesh broken = a;
-  broken.positions[3].y = std::nan("");
-  EXPECT_THROW(hausdorffDistance(a, broken, 1000), Error);
-  // A face Surface_mesh refuses is still measured, from a copy of its corners. A second copy of a
-  // face (an edge of three faces) leaves the surface as it was; a chord across the sphere (three
-  // vertices whose fans are closed) reaches deep inside it, and its points are that far from a.
-  Mesh twice = a;
-  const auto c = a.face(0);
-  twice.addFace({c[0], c[1], c[2]});
-  EXPECT_FALSE(analyzeTopology(twice).manifold);
-  EXPECT_LT(hausdorffDistance(a, twice, 1000).symmetric(), 1e-12);
-  EXPECT_LT(hausdorffDistance(twice, a, 1000).symmetric(), 1e-12);
-  Mesh chord = a;
-  const auto n = std::uint32_t(a.vertexCount());
-  chord.addFace({0, n / 3, 2 * n / 3});
-  const Hausdorff toChord = hausdorffDistance(a, chord, 1000);
-  EXPECT_LT(toChord.aToB, 1e-12);  // a lies on chord's surface
-  EXPECT_GT(toChord.bToA, 2.0);    // the chord's middle lies well inside a's sphere of radius 10
-  // Only faces that name a vertex twice cover nothing: refused.
-  Mesh flat;
-  flat.positions = a.positions;
-  flat.addFace({0, 0, 1});
-  EXPECT_THROW(hausdorffDistance(a, flat, 1000), Error);
 }
 
 // Simplification, matching and charting give the same model whatever the thread count (1, 2 or 8).

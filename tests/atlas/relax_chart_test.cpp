@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "atlas/hausdorff.h"
+#include "core/distance/mesh_distance.h"
 #include "atlas/make_atlas.h"
 #include "atlas/reconstruct.h"
 #include "atlas/relax_chart.h"

@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "core/mesh_topology.h"
-#include "atlas/hausdorff.h"
+#include "core/distance/mesh_distance.h"
 #include "multires/stellar_simplify.h"
 #include "tests/multires/mesh_shapes.h"
 #include "tests/multires/parametrisation_checks.h"
@@ -214,8 +214,8 @@ TEST(StellarSimplify, ErrorBoundStopsEarly) {
   expectSameTopology(dense, b.triangleMesh());
   // The bound is on each weld's RMS distance to the planes it replaced: the dense surface stays that
   // close on average, where the unbounded run strays past it.
-  const atlas::Hausdorff boundedDistance = atlas::hausdorffDistance(dense, b.triangleMesh());
-  const atlas::Hausdorff looseDistance = atlas::hausdorffDistance(dense, a.triangleMesh());
+  const Hausdorff boundedDistance = hausdorffDistance(dense, b.triangleMesh());
+  const Hausdorff looseDistance = hausdorffDistance(dense, a.triangleMesh());
   EXPECT_LE(boundedDistance.rmsAToB, 0.05);
   EXPECT_GT(looseDistance.rmsAToB, 0.05);
 }

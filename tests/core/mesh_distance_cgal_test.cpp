@@ -1,5 +1,5 @@
-// atlas::MeshDistances against CGAL's own one call: Polygon_mesh_processing's
-// approximate_Hausdorff_distance, seeded as hausdorff.cpp seeds it, gives the same figures bit for
+// MeshDistances against CGAL's own one call: Polygon_mesh_processing's
+// approximate_Hausdorff_distance, seeded as mesh_distance.cpp seeds it, gives the same figures bit for
 // bit both ways (the yardstick every reported PSNR rests on). The one test file with CGAL's headers.
 #include <gtest/gtest.h>
 
@@ -10,11 +10,11 @@
 #include <algorithm>
 #include <random>
 
-#include "atlas/hausdorff.h"
+#include "core/distance/mesh_distance.h"
 #include "core/mesh_topology.h"
 #include "tests/multires/mesh_shapes.h"
 
-namespace isoatlas::atlas {
+namespace isoatlas {
 namespace {
 
 using SurfaceMesh = CGAL::Surface_mesh<CGAL::Simple_cartesian<double>::Point_3>;
@@ -75,4 +75,4 @@ TEST(MeshDistances, ASoupOfAnOrientedManifoldAnswersAsItsSurfaceMesh) {
 }
 
 }  // namespace
-}  // namespace isoatlas::atlas
+}  // namespace isoatlas

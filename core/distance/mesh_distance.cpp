@@ -1,7 +1,5 @@
-#include "atlas/hausdorff.h"
+#include "core/distance/mesh_distance.h"
 
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
 #include <CGAL/boost/graph/property_maps.h>
 #include <CGAL/Polygon_mesh_processing/distance.h>
 #include <CGAL/Simple_cartesian.h>
@@ -17,9 +15,10 @@
 #include <optional>
 #include <span>
 
+#include "core/distance/triangle_tree.h"
 #include "core/error.h"
 
-namespace isoatlas::atlas {
+namespace isoatlas {
 namespace {
 
 using Kernel = CGAL::Simple_cartesian<double>;
@@ -27,30 +26,6 @@ using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
 using Point = Kernel::Point_3;
-using Triangles = std::vector<Kernel::Triangle_3>;
-
-// CGAL's AABB_triangle_primitive, but holding its triangle: building the tree compares and boxes
-// every primitive at every depth, and one that points into the triangles' array misses the cache
-// each time. The same datum and reference point (the first corner), so the same tree and answers.
-class HeldTriangle {
-public:
-  using Point = Kernel::Point_3;
-  using Datum = Kernel::Triangle_3;
-  using Id = Triangles::const_iterator;
-  using Datum_reference = const Datum&;
-  using Point_reference = const Point&;
-  HeldTriangle() = default;
-  explicit HeldTriangle(Id triangle) : datum_(*triangle), id_(triangle) {}
-  const Datum& datum() const { return datum_; }
-  Id id() const { return id_; }
-  const Point& reference_point() const { return datum_.vertex(0); }
-
-private:
-  Datum datum_;
-  Id id_;
-};
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, HeldTriangle>>;
-
 // Whether a face names three different vertices; one that names a vertex twice covers nothing.
 bool namesThreeVertices(std::span<const std::uint32_t> c) { return c[0] != c[1] && c[1] != c[2] && c[0] != c[2]; }
 
@@ -107,30 +82,8 @@ SampledSurface sampledSurface(const Mesh& mesh, const MeshTopology& topology) {
   return out;
 }
 
-// The mesh's triangles by value, in face order, each with its corners from the face's first, as
-// CGAL's face-graph primitive reads a Surface_mesh made of them (a refused face's soup copy keeps
-// its place): a tree over them answers as a tree over that mesh would, without the halfedges. A
-// face that names a vertex twice covers nothing and is left out.
-Triangles trianglesOf(const Mesh& mesh) {
-  Triangles out;
-  out.reserve(mesh.faceCount());
-  const auto at = [&](std::uint32_t v) { return Point(mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z); };
-  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
-    const auto c = mesh.face(f);
-    if (namesThreeVertices(c)) out.emplace_back(at(c[0]), at(c[1]), at(c[2]));
-  }
-  return out;
-}
-
 // The first hint of queries into a mesh's tree: its first vertex, as CGAL's own distance takes it.
-Point firstVertex(const Mesh& mesh) { return {mesh.positions[0].x, mesh.positions[0].y, mesh.positions[0].z}; }
-
-// Every query here is given a hint (the last answer), so CGAL's search tree of hints, which it
-// would build over one point per triangle, is never wanted.
-void buildTree(Tree& tree, const Triangles& triangles) {
-  tree.do_not_accelerate_distance_queries();
-  tree.rebuild(triangles.begin(), triangles.end());
-}
+Vec3 firstVertex(const Mesh& mesh) { return mesh.positions[0]; }
 
 // A surface's samples as CGAL's approximate_Hausdorff_distance draws them: its vertices plus
 // `facePoints` random face points. CGAL 5.5 places the points inside each chosen face with its
@@ -151,16 +104,17 @@ std::vector<Point> samplePoints(const SampledSurface& surface, std::size_t faceP
 struct OneWay {
   double largest = 0, rms = 0;
 };
-OneWay distances(std::vector<Point> points, const Tree& tree, const Point& start) {
+OneWay distances(std::vector<Point> points, const TriangleTree& tree, const Vec3& start) {
   CGAL::spatial_sort(points.begin(), points.end());
   // Each point's squared distance in its own slot, summed in order afterwards: the same figure
   // whatever the threads did.
   std::vector<double> d2(points.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()), [&](const tbb::blocked_range<std::size_t>& range) {
-    Point hint = start;
+    Vec3 hint = start;
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      hint = tree.closest_point(points[i], hint);
-      d2[i] = CGAL::squared_distance(hint, points[i]);
+      const Point& p = points[i];
+      hint = tree.closestPoint({p.x(), p.y(), p.z()}, hint);
+      d2[i] = CGAL::squared_distance(Point(hint.x, hint.y, hint.z), p);
     }
   });
   double largest2 = 0, sum2 = 0;
@@ -173,18 +127,16 @@ OneWay distances(std::vector<Point> points, const Tree& tree, const Point& start
 struct MeshDistances::State {
   std::vector<Point> samples;
   std::size_t facePoints;
-  Triangles triangles;
-  Tree tree;
-  Point firstVertex;  // the first hint of queries into the tree
+  std::optional<TriangleTree> tree;
+  Vec3 firstVertex;  // the first hint of queries into the tree
 };
 
 MeshDistances::MeshDistances(const Mesh& a, std::size_t facePoints) : state_(std::make_unique<State>()) {
   requireMeasurable(a, "first");
   state_->samples = samplePoints(sampledSurface(a, analyzeTopology(a)), facePoints);
   state_->facePoints = facePoints;
-  state_->triangles = trianglesOf(a);
+  state_->tree.emplace(a, TriangleTree::Hints::Given);
   state_->firstVertex = firstVertex(a);
-  buildTree(state_->tree, state_->triangles);
 }
 
 MeshDistances::~MeshDistances() = default;
@@ -197,14 +149,12 @@ Hausdorff MeshDistances::to(const Mesh& b, MeshTopology* topologyOfB) const {
   MeshTopology topology;
   tbb::parallel_invoke(
       [&] {
-        const Triangles triangles = trianglesOf(b);
-        Tree tree;
-        buildTree(tree, triangles);
+        const TriangleTree tree(b, TriangleTree::Hints::Given);
         aToB = distances(state_->samples, tree, firstVertex(b));
       },
       [&] {
         topology = analyzeTopology(b);
-        bToA = distances(samplePoints(sampledSurface(b, topology), state_->facePoints), state_->tree, state_->firstVertex);
+        bToA = distances(samplePoints(sampledSurface(b, topology), state_->facePoints), *state_->tree, state_->firstVertex);
       });
   if (topologyOfB) *topologyOfB = std::move(topology);
   return {aToB.largest, bToA.largest, aToB.rms, bToA.rms};
@@ -216,4 +166,4 @@ double psnrDb(double diagonal, double distance) {
   return distance > 0 ? 20 * std::log10(diagonal / distance) : std::numeric_limits<double>::infinity();
 }
 
-}  // namespace isoatlas::atlas
+}  // namespace isoatlas

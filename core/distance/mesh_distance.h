@@ -1,14 +1,15 @@
+// The one module every distance isoatlas reports comes from (core/distance: below multires and atlas,
+// so both, the pipeline and the benchmarks measure with it), on CGAL.
 // hausdorffDistance: the approximate Hausdorff distance between two triangle meshes, both ways, by
 // CGAL's Polygon_mesh_processing::approximate_Hausdorff_distance taken apart into its two public
 // steps, so that one side's samples and tree serve many measures (the one yardstick of every
 // Hausdorff and PSNR figure isoatlas reports, so that its models and CGAL's simplifier are judged
 // alike): each mesh is sampled by CGAL's sample_triangle_mesh at its vertices plus `facePoints`
 // points spread at random (seed 0, so a figure repeats) over its faces in proportion to their
-// area, and each sample measured to the other surface by CGAL's AABB tree. An oriented manifold is
+// area, and each sample measured to the other surface by CGAL's AABB tree (triangle_tree.h). An oriented manifold is
 // sampled by CGAL's sample_triangle_soup instead, which draws the same points without the
-// halfedges (tests/atlas/cgal_reference_test.cpp holds both to CGAL's own figure). The root mean square
-// of the same distances is Multi-chart Geometry Images' measure. Keeps CGAL's headers in this one
-// translation unit.
+// halfedges (tests/core/mesh_distance_cgal_test.cpp holds both to CGAL's own figure). The root mean square
+// of the same distances is Multi-chart Geometry Images' measure.
 //   a, b        triangle meshes (faces of three corners; others refused)
 //   facePoints  face samples per mesh
 // PSNR = 20 log10(diagonal / distance), the diagonal that of the dense mesh's bounding box.
@@ -19,7 +20,7 @@
 #include "core/mesh.h"
 #include "core/mesh_topology.h"
 
-namespace isoatlas::atlas {
+namespace isoatlas {
 
 inline constexpr std::size_t kHausdorffFacePoints = 200000;
 
@@ -49,4 +50,4 @@ private:
 // 20 log10(diagonal / distance); infinite for a zero distance.
 double psnrDb(double diagonal, double distance);
 
-}  // namespace isoatlas::atlas
+}  // namespace isoatlas
