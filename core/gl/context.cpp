@@ -2,8 +2,6 @@
 
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
-#define GLFW_INCLUDE_NONE
-#include <GLFW/glfw3.h>
 
 #include <atomic>
 #include <cstdlib>
@@ -159,29 +157,6 @@ std::unique_ptr<Context> Context::headless() {
   return ctx;
 }
 
-std::unique_ptr<Context> Context::window(int width, int height, const std::string& title, bool visible) {
-  if (!glfwInit())
-    throw Error("cannot open a window: GLFW found no display (set DISPLAY, or run under xvfb-run)", ErrorKind::Failure);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  glfwWindowHint(GLFW_VISIBLE, visible ? GLFW_TRUE : GLFW_FALSE);
-#ifndef NDEBUG
-  glfwWindowHint(GLFW_OPENGL_DEBUG_CONTEXT, GLFW_TRUE);
-#endif
-  GLFWwindow* window = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
-  if (!window) {
-    glfwTerminate();
-    throw Error("cannot open an OpenGL 4.5 core window (the display's GL is too old?)", ErrorKind::Failure);
-  }
-  glfwMakeContextCurrent(window);
-  std::unique_ptr<Context> ctx(new Context);
-  ctx->window_ = window;
-  ctx->finishSetup("GLFW window");
-  return ctx;
-}
-
 void Context::finishSetup(const std::string& platform) {
   t_current = this;
   queryInfo(info_);
@@ -203,19 +178,19 @@ void Context::finishSetup(const std::string& platform) {
 }
 
 void Context::makeCurrent() {
-  if (window_) glfwMakeContextCurrent(window_);
+  if (window_) windowSystem_->makeCurrent(window_);
   else eglMakeCurrent(static_cast<EGLDisplay>(display_), EGL_NO_SURFACE, EGL_NO_SURFACE, static_cast<EGLContext>(context_));
   t_current = this;
 }
 
 void Context::releaseCurrent() {
-  if (window_) glfwMakeContextCurrent(nullptr);
+  if (window_) windowSystem_->makeCurrent(nullptr);
   else eglMakeCurrent(static_cast<EGLDisplay>(display_), EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
   if (t_current == this) t_current = nullptr;
 }
 
 bool Context::isCurrent() const {
-  if (window_) return glfwGetCurrentContext() == window_;
+  if (window_) return windowSystem_->current() == window_;
   return eglGetCurrentContext() == static_cast<EGLContext>(context_);
 }
 
@@ -250,7 +225,7 @@ Context::~Context() {
   t_current = nullptr;
   if (window_) {
     // No glfwTerminate, for the same reason as no eglTerminate below: it unloads the GL driver.
-    glfwDestroyWindow(window_);
+    windowSystem_->destroy(window_);
   } else if (display_) {
     eglMakeCurrent(static_cast<EGLDisplay>(display_), EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroyContext(static_cast<EGLDisplay>(display_), static_cast<EGLContext>(context_));

@@ -2,7 +2,9 @@
 //   headless(): EGL, on a real GPU through EGL_EXT_platform_device, else Mesa's surfaceless platform
 //               (llvmpipe on a machine without a GPU). There is no default framebuffer: bind an FBO
 //               before drawing. ISOATLAS_EGL=device|surfaceless forces one platform.
-//   window():   a GLFW window (needs a display; Xvfb in tests).
+//   window():   a GLFW window (needs a display; Xvfb in tests). Defined in window_context.cpp, in its
+//               own library (isoatlas_gl_window): only what opens a window links GLFW, so the
+//               Python module and the command's headless paths do not.
 // The caller makes the context and keeps it current; GPU algorithms take the current one
 // (Context::current(), checked) and never open their own, as OpenSubdiv's GL evaluators do. A process
 // makes one unless it asks for more. GL objects made in a context must be destroyed before it, while
@@ -65,6 +67,13 @@ public:
   GLFWwindow* glfwWindow() const { return window_; }
 
 private:
+  // What a window's context asks of its window system, given by window(), so that this library
+  // calls no GLFW function itself.
+  struct WindowSystem {
+    void (*makeCurrent)(GLFWwindow*);
+    GLFWwindow* (*current)();
+    void (*destroy)(GLFWwindow*);
+  };
   Context() = default;
   void finishSetup(const std::string& platform);
   Info info_;
@@ -74,6 +83,7 @@ private:
   void* display_ = nullptr;  // EGLDisplay
   void* context_ = nullptr;  // EGLContext
   GLFWwindow* window_ = nullptr;
+  const WindowSystem* windowSystem_ = nullptr;  // with window_
 };
 
 // Throws isoatlas::Error (Failure) if GL reported an error since the last call: glGetError and,

@@ -13,10 +13,6 @@
 namespace isoatlas::viewer::window {
 namespace {
 
-levelset::Backend chooseSolver(const std::string& choice, const gl::Context& context) {
-  return levelset::backendFor(choice, context.info().software());
-}
-
 std::string formatPoint(const Vec3& p) {
   char text[96];
   std::snprintf(text, sizeof text, "%.1f,%.1f,%.1f", p.x, p.y, p.z);
@@ -36,8 +32,8 @@ Loaded load(const std::string& file) {
   return l;
 }
 
-Viewer::Viewer(gl::Context& context, const ViewerOptions& options)
-    : context_(context), options_(options), backend_(chooseSolver(options.backend, context)) {}
+Viewer::Viewer(const ViewerOptions& options)
+    : softwareGl_(gl::Context::current().info().software()), options_(options), backend_(levelset::backendFor(options.backend, softwareGl_)) {}
 
 void Viewer::show(Loaded loaded) {
   if (loaded.volume) {
@@ -49,7 +45,7 @@ void Viewer::show(Loaded loaded) {
     segment_->window = segment_->session->window();
     segment_->volume = std::make_unique<VolumeRenderer>();
     segment_->volume->setSource(segment_->session->source());
-    segment_->volumeRendering = !context_.info().software();  // llvmpipe takes seconds a picture
+    segment_->volumeRendering = !softwareGl_;  // llvmpipe takes seconds a picture
     mode_ = Mode::Segment;
   } else if (loaded.model) {
     showModel(std::move(*loaded.model), loaded.file);

@@ -70,7 +70,7 @@ ViewerReport runViewer(const ViewerOptions& options) {
   ImGuiScope imgui(window);
   ViewerReport report;
   {
-    Viewer viewer(*context, options);
+    Viewer viewer(options);
     for (window::Loaded& l : files) viewer.show(std::move(l));
     int shots = 0;
     bool pWasDown = false;

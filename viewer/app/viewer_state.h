@@ -139,7 +139,8 @@ struct TreeView {
 // The window's state and every action on it; the mouse, the panels and the script all go through these.
 class Viewer {
 public:
-  Viewer(gl::Context& context, const ViewerOptions& options);
+  // Draws into the current GL context (the window's), as every renderer of viewer/ does.
+  explicit Viewer(const ViewerOptions& options);
 
   // ---- actions (throw Error on bad input; the panels show it, the script stops with it) ----
   void show(Loaded loaded);
@@ -221,7 +222,7 @@ private:
   void applyTool(const Vec3& at);
   void brushAt(const Vec3& at);
 
-  gl::Context& context_;
+  const bool softwareGl_;  // llvmpipe: the window draws less by default
   const ViewerOptions& options_;
   levelset::Backend backend_;
   // Compiled when a tree or a model is first drawn, not when the window opens.
