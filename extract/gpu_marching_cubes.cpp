@@ -101,7 +101,7 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   const gl::Program& countEdges = ctx.compute(shaders.data(), "extract/shaders/mc_count_edges.comp");
   const gl::Program& makeVertices = ctx.compute(shaders.data(), "extract/shaders/mc_vertices.comp", defines);
   const gl::Program& makeTriangles = ctx.compute(shaders.data(), "extract/shaders/mc_triangles.comp", defines);
-  gl::GpuScan scan(ctx);
+  gl::GpuScan scan;
 
   // The field: the dense values, or the page table through which the shaders read the pool.
   profile.stage(paged ? "upload page table" : "upload phi");

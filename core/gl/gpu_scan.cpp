@@ -6,9 +6,9 @@
 
 namespace isoatlas::gl {
 
-GpuScan::GpuScan(Context& context)
-    : scanBlocks_(context.compute(kGlShaders, "core/gl/shaders/scan.comp", {{"SCAN_BLOCKS", "1"}})),
-      addOffsets_(context.compute(kGlShaders, "core/gl/shaders/scan.comp")) {}
+GpuScan::GpuScan()
+    : scanBlocks_(Context::current().compute(kGlShaders, "core/gl/shaders/scan.comp", {{"SCAN_BLOCKS", "1"}})),
+      addOffsets_(Context::current().compute(kGlShaders, "core/gl/shaders/scan.comp")) {}
 
 std::uint32_t GpuScan::exclusive(Buffer& values, std::uint32_t count) {
   if (count == 0) return 0;

@@ -1,6 +1,6 @@
 // GpuScan: in-place exclusive prefix sums of uint32 values in a GL buffer (Blelloch, 1024 values per
-// work group, recursing on the groups' totals), with the programs of the context it is given (which
-// must be current whenever it runs).
+// work group, recursing on the groups' totals), with the programs of the context current when it is
+// made (which must be current whenever it runs).
 #pragma once
 #include <cstdint>
 
@@ -11,7 +11,7 @@ namespace isoatlas::gl {
 
 class GpuScan {
 public:
-  explicit GpuScan(Context& context);
+  GpuScan();
   // Scans the first `count` values; returns their total.
   std::uint32_t exclusive(Buffer& values, std::uint32_t count);
 

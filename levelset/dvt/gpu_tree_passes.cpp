@@ -29,7 +29,6 @@ public:
         runs_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_runs.comp", withRules({}))),
         plan_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_plan.comp", withRules({}))),
         restructure_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_restructure.comp", withRules({}))),
-        scan_(context),
         counter_(8) {}
 
   std::string name() const override { return "gpu"; }
