@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "core/error.h"
 #include "core/mesh.h"
 #include "core/volume.h"
 
@@ -37,6 +38,19 @@ inline std::string readBytes(const std::filesystem::path& path) {
 inline void expectGolden(const std::filesystem::path& golden, const std::string& written) {
   if (std::getenv("ISOATLAS_WRITE_GOLDEN")) writeBytes(golden, written);
   EXPECT_TRUE(readBytes(golden) == written) << golden << " differs from what the writer makes of its contents";
+}
+
+// The Error that `work` throws, for the test to check its message and exit code. When it throws none,
+// records a failure saying that `what` was accepted, and returns an Error with an empty message.
+template <class F>
+Error thrownError(F&& work, const std::string& what) {
+  try {
+    work();
+  } catch (const Error& e) {
+    return e;
+  }
+  ADD_FAILURE() << what << " was accepted";
+  return Error("");
 }
 
 // A float volume whose voxel (x, y, z) holds f(x, y, z), unit spacing at the origin.

@@ -203,12 +203,8 @@ TEST(StampDetail, DetailChartsRoundTripThroughTheModelFile) {
   ASSERT_NE(at, std::string::npos);
   bytes[at + 16 + 40] ^= 4;
   test::writeBytes(path, bytes);
-  try {
-    readModel(path);
-    ADD_FAILURE() << "a damaged detail section was accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("section DETL"), std::string::npos) << e.what();
-  }
+  const Error e = test::thrownError([&] { readModel(path); }, "a damaged detail section");
+  EXPECT_NE(std::string(e.what()).find("section DETL"), std::string::npos) << e.what();
 }
 
 TEST(Text, AWordRendersWithInkInItsBox) {

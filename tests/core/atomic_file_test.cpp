@@ -89,15 +89,11 @@ TEST(AtomicFile, EveryWriterGoesThroughATemporary) {
 
 TEST(AtomicFile, AWriterThatCannotWriteNamesThePathNotTheTemporary) {
   const std::string path = (test::scratchDir() / "no-such-folder" / "v.nii.gz").string();
-  try {
-    writeVolume(path, test::rampVolume(ScalarType::UInt8));
-    ADD_FAILURE() << "wrote into a missing folder";
-  } catch (const Error& e) {
-    const std::string message = e.what();
-    EXPECT_NE(message.find(path), std::string::npos) << message;
-    EXPECT_EQ(message.find(".partial."), std::string::npos) << message;
-    EXPECT_NE(message.find("folder does not exist"), std::string::npos) << message;
-  }
+  const std::string message =
+      test::thrownError([&] { writeVolume(path, test::rampVolume(ScalarType::UInt8)); }, "a write into a missing folder").what();
+  EXPECT_NE(message.find(path), std::string::npos) << message;
+  EXPECT_EQ(message.find(".partial."), std::string::npos) << message;
+  EXPECT_NE(message.find("folder does not exist"), std::string::npos) << message;
 }
 
 TEST(AtomicFile, AnUnfinishedSectionedFileLeavesTheOldOne) {

@@ -8,6 +8,7 @@
 #include "core/gl/resources.h"
 #include "kTestShaders.h"
 #include "tests/gl_context.h"
+#include "tests/test_util.h"
 
 namespace isoatlas::gl {
 namespace {
@@ -51,12 +52,8 @@ TEST(GlCompute, ScrambleMatchesTheCpu) {
 TEST(GlCompute, CompileErrorsAreReported) {
   Context& ctx = test::glContext();
   // Without OFFSET defined the shader does not compile; the error names the file.
-  try {
-    ctx.compute(kTestShaders, "tests/gl/shaders/scramble.comp");
-    ADD_FAILURE() << "compiled without OFFSET";
-  } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find("scramble.comp"), std::string::npos);
-  }
+  const Error e = test::thrownError([&] { ctx.compute(kTestShaders, "tests/gl/shaders/scramble.comp"); }, "a shader without OFFSET");
+  EXPECT_NE(std::string(e.what()).find("scramble.comp"), std::string::npos) << e.what();
 }
 
 }  // namespace

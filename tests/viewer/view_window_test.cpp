@@ -224,12 +224,9 @@ ViewerOptions headSession(const std::string& script, const std::string& actions)
 }
 
 TEST(ViewWindow, AScriptErrorNamesItsLine) {
-  try {
-    runViewer(headSession("bad.txt", "seed 0,0,0,6\nprobe 900,0,0\nquit\n"));
-    ADD_FAILURE() << "a probe outside the volume was accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("bad.txt:2:"), std::string::npos) << e.what();
-  }
+  const Error e = test::thrownError([] { runViewer(headSession("bad.txt", "seed 0,0,0,6\nprobe 900,0,0\nquit\n")); },
+                                     "a probe outside the volume");
+  EXPECT_NE(std::string(e.what()).find("bad.txt:2:"), std::string::npos) << e.what();
 }
 
 // A build that reports progress every 10 ms for 30 s, unless it is stopped; it counts its updates and
@@ -253,12 +250,7 @@ TEST(ModelJob, AFailedBuildIsToldWhenTheModelIsTaken) {
   ModelJob job(test::sphereMesh(10), [](const Mesh&) -> atlas::Model { throw Error("no room for the charts"); });
   for (int i = 0; i < 1000 && !job.done(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   ASSERT_TRUE(job.done());
-  try {
-    job.take();
-    ADD_FAILURE() << "a failed build gave a model";
-  } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "no room for the charts");
-  }
+  EXPECT_STREQ(test::thrownError([&] { job.take(); }, "a failed build's model").what(), "no room for the charts");
 }
 
 TEST(ModelJob, AJobDroppedMidBuildStopsTheBuildAtItsNextUpdate) {
@@ -278,12 +270,8 @@ constexpr const char* kSegmentThenBuild = "seed 0,0,0,6\nset eps 30\nrun 20\nbui
 TEST(ViewWindow, AFailedBuildStopsTheScriptNamingItsLine) {
   ViewerOptions options = headSession("build.txt", kSegmentThenBuild);
   options.buildModel = [](const Mesh&) -> atlas::Model { throw Error("no room for the charts"); };
-  try {
-    runViewer(options);
-    ADD_FAILURE() << "a failed build went unnoticed";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("build.txt:4: build: no room for the charts"), std::string::npos) << e.what();
-  }
+  const Error e = test::thrownError([&] { runViewer(options); }, "a script whose build failed");
+  EXPECT_NE(std::string(e.what()).find("build.txt:4: build: no room for the charts"), std::string::npos) << e.what();
 }
 
 TEST(ViewWindow, ClosingTheWindowMidBuildStopsTheBuild) {
