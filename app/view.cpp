@@ -30,6 +30,7 @@ void addViewCommand(CLI::App& app, int& exitCode) {
     for (const auto& [mode, f] : v.modes) r["frames"][mode] = {{"frames", f.frames}, {"mean_ms", f.meanMs}, {"max_ms", f.maxMs}};
     r["iterations"] = v.iterations;
     if (!v.backend.empty()) r["backend"] = v.backend;
+    r["status"] = v.status;
     if (!o->screenshot.empty()) r["screenshot"] = o->screenshot;
     return 0;
   }, exitCode);

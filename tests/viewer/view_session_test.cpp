@@ -209,8 +209,9 @@ TEST(ViewScript, ReadsEveryActionAndNamesTheLineOfABadOne) {
                                                   "seed 0,0,0,6\nunseed 1,2,3,4\nset eps 30\nrun 50\nundo\nredo\n"
                                                   "brush subtract sphere:9,0,0,6\nstroke union 2.5 1,2,3 4,5,6\npaint subtract 3 k 1,2,3\nbuild\nlevels 2 1\nwireframe on\n"
                                                   "render cubes\nmode mesh\nslice 1,2,3\nview3d volume\nclip -y\nstamp 1,2,3,4,0.5 word\nsave-mask m.nii.gz\n"
-                                                  "save-model m.isoatlas\nscreenshot s.png\nframes 3\nquit\n"));
-  ASSERT_EQ(actions.size(), 25u);
+                                                  "save-model m.isoatlas\nscreenshot s.png\nframes 3\ntool unseed\nquit\n"));
+  ASSERT_EQ(actions.size(), 26u);
+  EXPECT_EQ(actions[24].word, "unseed");
   EXPECT_EQ(actions[0].verb, "open");
   EXPECT_EQ(actions[0].line, 2);
   EXPECT_EQ(actions[1].numbers, (std::vector<double>{0, 0, 0, 3}));
@@ -231,7 +232,7 @@ TEST(ViewScript, ReadsEveryActionAndNamesTheLineOfABadOne) {
                                 "brush add sphere:0,0,0,1", "screenshot s.jpg", "levels 2", "mode volume", "teleport 1,2,3",
                                 "open", "quit now", "clip y", "view3d slices", "stamp 1,2,3,4 word", "stamp 1,2,3,4,0 word",
                                 "stroke union 2", "stroke carve 2 1,2,3", "redo now", "paint union 2 1,2,3", "paint union 2 z 1,2,3", "stroke union 0 1,2,3", "stroke subtract 2 1,2",
-                                "run 6e119", "frames 1000001", "levels 2 1e300"}) {  // the view-script fuzzer's find: no cast of a huge count
+                                "run 6e119", "frames 1000001", "levels 2 1e300", "tool hammer", "tool", "tool brush 8"}) {  // the view-script fuzzer's find: no cast of a huge count
     SCOPED_TRACE(bad);
     const Error e = test::thrownError([&] { readViewScript(writeScript(dir, "frames 1\n\n" + bad + "\n")); }, bad);
     EXPECT_NE(std::string(e.what()).find("actions.txt:3:"), std::string::npos) << e.what();

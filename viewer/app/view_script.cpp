@@ -13,7 +13,7 @@ namespace isoatlas::viewer {
 namespace {
 
 const char* kUsage =
-    "open FILE, mode segment|mesh|tree, slice X,Y,Z, probe X,Y,Z[,R], seed X,Y,Z,R, unseed X,Y,Z,R, set t|eps|alpha V, run N, "
+    "open FILE, mode segment|mesh|tree, tool navigate|probe|seed|unseed|brush, slice X,Y,Z, probe X,Y,Z[,R], seed X,Y,Z,R, unseed X,Y,Z,R, set t|eps|alpha V, run N, "
     "undo, redo, brush union|subtract SHAPE, stroke union|subtract R X,Y,Z..., paint union|subtract R i|j|k X,Y,Z..., view3d volume|surface, clip +x|-x|+y|-y|+z|-z|off, build, levels CPU GPU, stamp X,Y,Z,R,DEPTH WORD, wireframe on|off, render raycast|cubes, save-mask FILE, "
     "save-model FILE, screenshot FILE.png, frames N, quit";
 
@@ -43,6 +43,9 @@ ViewAction parseAction(const std::vector<std::string>& words, const std::string&
     a.word = words[1];
     if (v == "screenshot" && !a.word.ends_with(".png")) throw Error(where + ": screenshot " + a.word + ": writes a .png");
     if (v == "save-model" && !a.word.ends_with(".isoatlas")) throw Error(where + ": save-model " + a.word + ": writes a .isoatlas");
+  } else if (v == "tool") {
+    need(1, "navigate, probe, seed, unseed or brush");
+    if (!window::toolNamed(a.word = words[1])) throw Error(where + ": tool " + a.word + ": navigate, probe, seed, unseed or brush");
   } else if (v == "mode") {
     need(1, "segment, mesh or tree");
     oneOf(a.word = words[1], {"segment", "mesh", "tree"});
@@ -172,6 +175,7 @@ void ScriptPlayer::perform(const ViewAction& a, window::Viewer& v, std::string& 
   const std::string& verb = a.verb;
   if (verb == "open") v.show(window::load(a.word));
   else if (verb == "mode") v.setMode(a.word);
+  else if (verb == "tool") v.setTool(a.word);
   else if (verb == "slice") v.slice({n[0], n[1], n[2]});
   else if (verb == "probe") v.probe({n[0], n[1], n[2]}, n[3]);
   else if (verb == "seed" || verb == "unseed") v.seed({n[0], n[1], n[2]}, n[3], verb == "seed");

@@ -3,6 +3,7 @@
 // actions (docs/view-script.md documents them with an example):
 //   open FILE                 a volume (segmentation mode), a model (.isoatlas) or a tree (.dvt)
 //   mode segment|mesh|tree    which view the window shows
+//   tool navigate|probe|seed|unseed|brush   what a click on the slices (or a ctrl-click in 3D) does
 //   slice X,Y,Z               the point the three slices pass through
 //   probe X,Y,Z[,R]           T and eps from the mean and deviation in a ball (R mm, default 3)
 //   seed X,Y,Z,R              a ball added to the segmentation (model on)

@@ -83,6 +83,12 @@ void Viewer::set(const std::string& parameter, double value) {
   seg().session->setParams(p);
 }
 
+void Viewer::setTool(const std::string& name) {
+  const std::optional<Tool> tool = toolNamed(name);
+  require(tool.has_value(), "tool " + name + ": navigate, probe, seed, unseed or brush");
+  seg().tool = *tool;
+}
+
 void Viewer::undo() {
   require(seg().session->canUndo(), "undo: nothing to undo");
   seg().session->undo();

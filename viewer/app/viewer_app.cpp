@@ -76,6 +76,7 @@ ViewerReport runViewer(const ViewerOptions& options) {
     bool pWasDown = false;
     auto last = std::chrono::steady_clock::now();
     for (int frame = 0; !glfwWindowShouldClose(window); ++frame) {
+      if (options.beforeFrame) options.beforeFrame(frame);
       glfwPollEvents();
       int width = 0, height = 0;
       glfwGetFramebufferSize(window, &width, &height);
@@ -115,6 +116,8 @@ ViewerReport runViewer(const ViewerOptions& options) {
     }
     report.iterations = viewer.iterations();
     report.backend = viewer.backendName();
+    report.status = viewer.status();
+    if (const auto point = viewer.slicePoint()) report.slicePoint = *point;
   }
   return report;
 }

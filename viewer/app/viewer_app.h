@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/vec.h"
 #include "viewer/app/model_job.h"
 
 namespace isoatlas::viewer {
@@ -33,6 +34,9 @@ struct ViewerOptions {
   int width = 1280, height = 800;
   std::string backend = "auto";    // the segmentation's solver: gpu, cpu, auto (the CPU when the window's GL is software)
   ModelBuilder buildModel;         // the `build` stage (the CLI passes its own); none: building is off
+  // Called at the start of each frame (0, 1, ...), before the window's events are polled: input
+  // injected into the display here (tests use XTest) reaches the handlers as a user's does.
+  std::function<void(int frame)> beforeFrame;
 };
 
 struct ModeFrames {
@@ -43,6 +47,8 @@ struct ViewerReport {
   std::map<std::string, ModeFrames> modes;  // per view: segment, mesh, tree
   int iterations = 0;                       // solver steps taken
   std::string backend;                      // the segmentation's solver
+  std::string status;                       // the status line as the window closed
+  Vec3 slicePoint{0, 0, 0};                 // where the slices crossed as it closed (with a volume open)
 };
 
 // Throws Error (BadInput) when there is no display, a file cannot be read or a script action fails

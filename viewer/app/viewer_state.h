@@ -3,6 +3,7 @@
 // (view_script.h's ScriptPlayer) all go through Viewer's actions; viewer_drawing.cpp draws it.
 // Internal to viewer/app.
 #pragma once
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -42,6 +43,15 @@ constexpr int kPanelWidth = kControlsWidth;
 enum class Mode { Segment, Mesh, Tree };
 inline const char* modeName(Mode m) { return m == Mode::Segment ? "segment" : m == Mode::Mesh ? "mesh" : "tree"; }
 enum class Tool { Navigate, Probe, SeedIn, SeedOut, Brush };
+// The tools by the names scripts give them (view_script.h's `tool`).
+inline constexpr std::array<std::pair<const char*, Tool>, 5> kToolNames{
+    {{"navigate", Tool::Navigate}, {"probe", Tool::Probe}, {"seed", Tool::SeedIn}, {"unseed", Tool::SeedOut}, {"brush", Tool::Brush}}};
+// The tool named `name`; none when no tool has that name.
+inline std::optional<Tool> toolNamed(const std::string& name) {
+  for (const auto& [n, tool] : kToolNames)
+    if (name == n) return tool;
+  return std::nullopt;
+}
 enum class BrushShape { Sphere, Box, Capsule };
 
 // A file as read before any window opens, so that a bad one is one line.
@@ -149,6 +159,9 @@ public:
   void probe(const Vec3& p, double radius);
   void seed(const Vec3& p, double radius, bool add);
   void set(const std::string& parameter, double value);  // t, eps or alpha
+  // What a click on the slices does: navigate, probe, seed, unseed or brush (carving; the panel's
+  // "brush adds" makes it add).
+  void setTool(const std::string& name);
   void run(int steps) { seg().session->requestSteps(steps); }
   void undo();
   void redo();
@@ -182,6 +195,8 @@ public:
   std::string takeBuildError() { return std::exchange(buildError_, {}); }
   Mode mode() const { return mode_; }
   int iterations() const { return segment_ ? segment_->session->iterations() : 0; }
+  const std::string& status() const { return status_; }
+  std::optional<Vec3> slicePoint() const { return segment_ ? std::optional<Vec3>(segment_->point) : std::nullopt; }
   std::string backendName() const { return segment_ ? segment_->session->levelSet().backendName() : ""; }
 
   // viewer_panels.cpp: the controls on the right.
