@@ -11,6 +11,40 @@
 namespace isoatlas::levelset {
 namespace {
 
+// Speed and rate of change of the voxels x < xEnd of row y of a page, from its apron (the page's
+// values with a one-voxel border, [dz + 1][y + 1][x + 1], side P + 2): the whole row at once, flat
+// voxels too (their rate is 0), one branch-free loop the compiler vectorises, with the update inlined
+// into it (as a call it was not, and the loop stayed scalar). Compiled for AVX2 and
+// for the baseline, the one the processor runs chosen when the program loads, so Debian's portable
+// flags still get the wide registers. Floating-point contraction is off in this file (CMakeLists),
+// so both give the same bits.
+//
+// GCC inlines the update into the loop only when told to (flatten); clang refuses flatten beside
+// target_clones, and inlines it of itself. Under ThreadSanitizer one build: its runtime is not set up
+// yet when the loader runs the clones' resolver, and the program crashes.
+#if defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define ISOATLAS_THREAD_SANITIZER 1
+#endif
+#endif
+#if defined(__SANITIZE_THREAD__) || defined(ISOATLAS_THREAD_SANITIZER)
+#define ISOATLAS_ROW_LOOP
+#elif defined(__clang__)
+#define ISOATLAS_ROW_LOOP __attribute__((target_clones("avx2", "default")))
+#else
+#define ISOATLAS_ROW_LOOP __attribute__((target_clones("avx2", "default"), flatten))
+#endif
+ISOATLAS_ROW_LOOP void evaluateRow(const float* __restrict apron, int side, int y, int xEnd, const float* __restrict intensity,
+                                   SpeedParams params, float* __restrict speed, float* __restrict rate) {
+  for (int x = 0; x < xEnd; ++x) {
+    const VoxelUpdate update = evaluateVoxelAt(
+        [&](int dx, int dy, int dz) { return apron[std::size_t(((dz + 1) * side + y + dy + 1) * side + x + dx + 1)]; }, intensity[x],
+        params);
+    speed[x] = update.speed;
+    rate[x] = update.rate;
+  }
+}
+
 class CpuSolver final : public SolverBackend {
 public:
   CpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims) : source_(std::move(source)), dims_(dims) {}
@@ -66,16 +100,10 @@ public:
           apron.flatRow(y, flat);
           const int xEnd = int(std::min<std::int64_t>(P_, dims_[0] - page.coords[0] * P_));
           if (std::all_of(flat, flat + xEnd, [](bool f) { return f; })) continue;  // no voxel can change
-          // The whole row at once, flat voxels too (their rate is 0): one branch-free loop the
-          // compiler vectorises, which is faster than evaluating only the voxels that can move.
+          // The whole row, which is faster than evaluating only the voxels that can move.
           const float* intensity = &source_[std::size_t((vz * dims_[1] + vy) * dims_[0] + page.coords[0] * P_)];
           float speed[kMaxPageSize], rate[kMaxPageSize];
-          for (int x = 0; x < xEnd; ++x) {
-            const VoxelUpdate update = evaluateVoxelAt(
-                [&](int dx, int dy, int dz) { return apron.at(x + dx, y + dy, dz); }, intensity[x], params);
-            speed[x] = update.speed;
-            rate[x] = update.rate;
-          }
+          evaluateRow(apron.v.data(), apron.side, y, xEnd, intensity, params, speed, rate);
           for (int x = 0; x < xEnd; ++x) {
             if (flat[x] || rate[x] == 0) continue;  // flat (every one-sided difference zero) or not moving
             moving.push_back({std::uint32_t(texelOf(page.neighbourOrigins[13], x, y)), rate[x]});
@@ -166,7 +194,6 @@ private:
     int side;
     std::array<float, 3 * (kMaxPageSize + 2) * (kMaxPageSize + 2)> v;  // [dz][y + 1][x + 1]
     explicit Apron(int P) : side(P + 2) {}
-    float at(int x, int y, int dz) const { return v[std::size_t(((dz + 1) * side + y + 1) * side + x + 1)]; }
     void load(const CpuSolver& s, const std::vector<float>& phi, const PageInfo& page) {
       const int P = side - 2;
       for (int dz = -1; dz <= 1; ++dz)
