@@ -13,7 +13,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <span>
 
 #include "core/distance/triangle_tree.h"
 #include "core/error.h"
@@ -26,8 +25,6 @@ using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
 using Point = Kernel::Point_3;
-// Whether a face names three different vertices; one that names a vertex twice covers nothing.
-bool namesThreeVertices(std::span<const std::uint32_t> c) { return c[0] != c[1] && c[1] != c[2] && c[0] != c[2]; }
 
 // Refuses what CGAL cannot measure: no faces, faces of other than three corners, a point that is
 // not finite (CGAL's face sampler never returns on a non-finite area), or only faces that name a

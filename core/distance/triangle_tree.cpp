@@ -5,7 +5,6 @@
 #include <CGAL/Simple_cartesian.h>
 
 #include <cmath>
-#include <span>
 #include <vector>
 
 #include "core/error.h"
@@ -44,8 +43,6 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, HeldTriangle>>;
 
 Point point(const Vec3& p) { return {p.x, p.y, p.z}; }
 Vec3 vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
-
-bool namesThreeVertices(std::span<const std::uint32_t> c) { return c[0] != c[1] && c[1] != c[2] && c[0] != c[2]; }
 
 }  // namespace
 

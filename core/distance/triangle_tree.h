@@ -8,10 +8,17 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 
 #include "core/mesh.h"
 
 namespace isoatlas {
+
+// Whether a triangle names three different vertices; one that names a vertex twice covers nothing
+// (the tree leaves it out, and the Hausdorff samples never land on it).
+inline bool namesThreeVertices(std::span<const std::uint32_t> triangle) {
+  return triangle[0] != triangle[1] && triangle[1] != triangle[2] && triangle[0] != triangle[2];
+}
 
 class TriangleTree {
 public:
