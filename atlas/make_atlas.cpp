@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "atlas/relax_chart.h"
+#include "atlas/snap_texels.h"
 #include "atlas/tile_sides.h"
 #include "core/error.h"
 #include "core/progress.h"
@@ -89,6 +90,47 @@ std::vector<std::array<std::vector<double>, 4>> sideFractions(const ChartSurface
   return sides;
 }
 
+// Per tile, the dense vertices strictly inside its chart, at their places on the base mesh (the
+// simplification's forward map); empty when the base mesh has none.
+std::vector<std::vector<ChartVertex>> verticesInCharts(const Mesh& dense, const multires::BaseMesh& base) {
+  if (base.denseTriangle.size() != dense.vertexCount()) return {};
+  std::vector<std::uint32_t> tileOf(base.triangleCount());
+  for (std::uint32_t t = 0; t < base.tiles.size(); ++t) tileOf[base.tiles[t][0]] = tileOf[base.tiles[t][1]] = t;
+  std::vector<std::vector<ChartVertex>> out(base.tiles.size());
+  for (std::uint32_t d = 0; d < dense.vertexCount(); ++d) {
+    const std::uint32_t triangle = base.denseTriangle[d], tile = tileOf[triangle];
+    const auto [u, v] = base.triangleToChart(tile, triangle, base.denseBary[d]);
+    if (u > 0 && u < 1 && v > 0 && v < 1) out[tile].push_back({{u, v}, dense.positions[d]});
+  }
+  return out;
+}
+
+// The chart points of tile c (relaxChart), then its finest texels drawn onto the dense vertices the
+// grid misses (snapTexels; with relaxation only, so that no relaxation keeps the tile's uniform
+// grid), and the dense surface at each.
+struct ChartPoints {
+  std::vector<multires::Vec2> chart;
+  std::vector<multires::ParametrisationHistory::DensePoint> dense;
+  std::uint32_t nonConvex = 0, snapped = 0;
+};
+ChartPoints placeTexels(const ChartSurface& surface, std::uint32_t c, std::uint32_t n, const std::array<std::vector<double>, 4>& sides,
+                        const ChartRelaxing& how, std::span<const ChartVertex> vertices) {
+  ChartPoints out;
+  out.chart = relaxChart(n, [&](const multires::Vec2& q) { return surface.at(c, q); }, sides, how, &out.nonConvex);
+  out.dense.resize(out.chart.size());
+  for (std::size_t k = 0; k < out.chart.size(); ++k) out.dense[k] = surface.point(c, out.chart[k]);
+  if (how.sweeps <= 0 || vertices.empty()) return out;
+  std::vector<Vec3> positions(out.chart.size());
+  for (std::size_t k = 0; k < positions.size(); ++k) positions[k] = multires::densePosition(surface.dense, out.dense[k]);
+  const std::vector<multires::Vec2> before = out.chart;
+  out.snapped = snapTexels(
+      n, vertices, [&](const multires::Vec2& q) { return multires::densePosition(surface.dense, surface.point(c, q)); }, out.chart,
+      positions);
+  for (std::size_t k = 0; k < out.chart.size(); ++k)
+    if (out.chart[k].x != before[k].x || out.chart[k].y != before[k].y) out.dense[k] = surface.point(c, out.chart[k]);
+  return out;
+}
+
 // Texel (i, j) of every chart: the dense surface at its chart point (relaxChart), through the
 // parametrisation's history (one-to-one and onto by construction). Counts the texels that some step
 // of the way back found outside its ring by more than rounding (gaps: sent to the nearest face), and
@@ -96,25 +138,25 @@ std::vector<std::array<std::vector<double>, 4>> sideFractions(const ChartSurface
 // claimed twice), and the texel quads whose corners, taken in chart order, turn against the
 // surface's normal (where the map shears hard, neighbouring texels land out of order even though
 // the map is one-to-one).
-void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, Atlas& atlas, std::vector<std::uint8_t>& held,
-                  ChartStats& stats) {
+void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, const std::vector<std::vector<ChartVertex>>& chartVertices,
+                  Atlas& atlas, std::vector<std::uint8_t>& held, ChartStats& stats) {
   const std::uint32_t n = atlas.layout.chartSize;
   const auto sides = sideFractions(surface, atlas.layout, how);
-  std::atomic<std::uint64_t> folded{0}, gaps{0}, steps{0}, turned{0}, nonConvex{0};
+  std::atomic<std::uint64_t> folded{0}, gaps{0}, steps{0}, turned{0}, nonConvex{0}, snapped{0};
   Progress progress("atlas: sampling charts", atlas.layout.charts, "charts");
   constexpr std::uint32_t kChunk = 64;  // charts between progress updates (Progress is not thread-safe)
   for (std::uint32_t first = 0; first < atlas.layout.charts; first += kChunk) {
   const std::uint32_t last = std::min(atlas.layout.charts, first + kChunk);
   tbb::parallel_for(first, last, [&](std::uint32_t c) {
     std::uint64_t gapsHere = 0, stepsHere = 0;
-    std::uint32_t nonConvexHere = 0;
-    const std::vector<multires::Vec2> chartPoints =
-        relaxChart(n, [&](const multires::Vec2& q) { return surface.at(c, q); }, sides[c], how, &nonConvexHere);
+    const ChartPoints points =
+        placeTexels(surface, c, n, sides[c], how, chartVertices.empty() ? std::span<const ChartVertex>{} : chartVertices[c]);
+    snapped += points.snapped;
     std::vector<std::array<float, 3>> chart;
     std::vector<Vec3> positions, surfaceNormals;
     for (std::uint32_t j = 0; j < n; ++j)
       for (std::uint32_t i = 0; i < n; ++i) {
-        const multires::ParametrisationHistory::DensePoint point = surface.point(c, chartPoints[j * n + i]);
+        const multires::ParametrisationHistory::DensePoint& point = points.dense[j * n + i];
         const bool gap = point.outside > multires::ParametrisationHistory::kGapWeight;
         gapsHere += gap;
         stepsHere += point.steps;
@@ -142,12 +184,13 @@ void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, Atlas& 
     folded += foldedHere;
     gaps += gapsHere;
     steps += stepsHere;
-    nonConvex += nonConvexHere;
+    nonConvex += points.nonConvex;
   });
   progress.update(last);
   }
   progress.finish();
   stats.foldedTexels = folded;
+  stats.snappedTexels = snapped;
   stats.gapTexels = gaps;
   stats.turnedTexelQuads = turned;
   stats.nonConvexChartQuads = nonConvex;
@@ -232,7 +275,8 @@ Atlas makeAtlas(const Mesh& dense, const multires::BaseMesh& base, std::uint32_t
   // Floored at a tenth of a sphere the size of the mesh, for meshes mostly flat (a box's median is 0).
   const double flat = std::max(kFlatCurvatureShare * medianEdgeCurvature(dense, normals), 0.1 / boundingBox(dense.positions).diagonal());
   const ChartRelaxing how{relaxSweeps, flat};
-  sampleCharts({dense, normals, base}, how, atlas, held, s);
+  const auto chartVertices = verticesInCharts(dense, base);
+  sampleCharts({dense, normals, base}, how, chartVertices, atlas, held, s);
   // Samples of one point may differ by float rounding (a few ulps of the coordinates), no more.
   const Box box = boundingBox(base.positions);
   const double largest = std::max({std::abs(box.min.x), std::abs(box.min.y), std::abs(box.min.z), std::abs(box.max.x),

@@ -3,7 +3,8 @@
 //   base         the base mesh with its tiles (pairTriangles) and the parametrisation of `dense`
 //   chartSize    N, texels per chart side: 2^k + 1 (multires::isChartSize)
 //   relaxSweeps  how far the texels are moved over their tile to follow the surface's bending
-//                (relax_chart.h; 0: the tile's uniform grid, the paper's)
+//                (relax_chart.h), after which the finest ones are drawn onto the dense vertices the
+//                grid misses (snap_texels.h); 0: the tile's uniform grid, the paper's
 // Every texel is the dense surface at its chart point through the parametrisation's history
 // (multires::ParametrisationHistory: exact, one-to-one and onto); normals interpolate the dense
 // mesh's area-weighted vertex normals. Then the shared borders: each base edge's N samples are
@@ -27,6 +28,7 @@ struct ChartStats {
   std::uint64_t gapTexels = 0;     // found outside a step's ring by more than rounding, sent to the nearest face
   std::uint64_t turnedTexelQuads = 0;  // texel quads turning against the surface (a shear, not a fold)
   std::uint64_t nonConvexChartQuads = 0;  // texel quads whose chart points are not strictly convex (0 expected)
+  std::uint64_t snappedTexels = 0;  // texels moved onto a dense vertex their grid missed (snap_texels.h)
   double meanHistorySteps = 0;     // the steps a texel walked back through the history
   std::uint64_t sharedSides = 0;   // tile sides averaged with a neighbour's
   std::uint64_t borderDisagreements = 0;  // shared samples from different sheets (one taken, not the mean)

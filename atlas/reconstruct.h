@@ -22,6 +22,10 @@
 
 namespace isoatlas::atlas {
 
+// Whether square (a, b) (column, row) of an even level's grid is cut along its main diagonal, from
+// its corner (0, 0) to (1, 1); else along the other.
+constexpr bool cutAlongMainDiagonal(std::uint32_t a, std::uint32_t b) { return (a + b) % 2 == 0; }
+
 int maxLevel(std::uint32_t chartSize);
 int maxLevel(const Atlas& atlas);  // with its detail charts
 Mesh reconstructLevel(const multires::BaseMesh& base, const Atlas& atlas, int level);

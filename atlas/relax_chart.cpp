@@ -19,21 +19,6 @@ double spacingWeight(const SurfacePoint& a, const SurfacePoint& b, double flatCu
   return std::sqrt(curvature + flatCurvature);
 }
 
-// Whether the quad of texels (i, j) .. (i + 1, j + 1) turns counter-clockwise at all four corners.
-bool convexQuad(const std::vector<Vec2>& q, std::uint32_t n, std::uint32_t i, std::uint32_t j) {
-  const std::size_t k = std::size_t(j) * n + i;
-  const std::array<Vec2, 4> c = {q[k], q[k + 1], q[k + n + 1], q[k + n]};
-  for (int m = 0; m < 4; ++m)
-    if (multires::exactOrientation(c[m], c[(m + 1) % 4], c[(m + 2) % 4]) <= 0) return false;
-  return true;
-}
-
-// The convex quads around interior texel (i, j), one bit each.
-unsigned convexAround(const std::vector<Vec2>& q, std::uint32_t n, std::uint32_t i, std::uint32_t j) {
-  return unsigned(convexQuad(q, n, i - 1, j - 1)) | unsigned(convexQuad(q, n, i, j - 1)) << 1 |
-         unsigned(convexQuad(q, n, i - 1, j)) << 2 | unsigned(convexQuad(q, n, i, j)) << 3;
-}
-
 // The chart step that moves texel k's surface point towards `target`: the surface step written in
 // the grid's two directions at k (least squares), then taken into the chart the same way.
 bool chartStep(const std::vector<Vec2>& q, const std::vector<SurfacePoint>& p, std::uint32_t n, std::size_t k, const Vec3& target,
@@ -81,11 +66,11 @@ void smoothNewTexels(std::uint32_t n, const std::function<SurfacePoint(const Vec
         Vec2 step;
         if (!(weights > 0) || !chartStep(q, p, n, k, target * (1 / weights), step)) continue;
         const Vec2 from = q[k];
-        const unsigned convexBefore = convexAround(q, n, i, j);
+        const unsigned convexBefore = convexAroundTexel(q, n, i, j);
         bool moved = false;
         for (double scale = 0.5; scale > 0.05 && !moved; scale *= 0.5) {
           q[k] = from + step * scale;
-          moved = (convexAround(q, n, i, j) & convexBefore) == convexBefore;
+          moved = (convexAroundTexel(q, n, i, j) & convexBefore) == convexBefore;
         }
         if (moved) p[k] = surfaceAt(q[k]);
         else q[k] = from;
@@ -107,6 +92,19 @@ Vec2 crossing(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
 }
 
 }  // namespace
+
+bool convexChartQuad(const std::vector<Vec2>& q, std::uint32_t n, std::uint32_t i, std::uint32_t j) {
+  const std::size_t k = std::size_t(j) * n + i;
+  const std::array<Vec2, 4> c = {q[k], q[k + 1], q[k + n + 1], q[k + n]};
+  for (int m = 0; m < 4; ++m)
+    if (multires::exactOrientation(c[m], c[(m + 1) % 4], c[(m + 2) % 4]) <= 0) return false;
+  return true;
+}
+
+unsigned convexAroundTexel(const std::vector<Vec2>& q, std::uint32_t n, std::uint32_t i, std::uint32_t j) {
+  return unsigned(convexChartQuad(q, n, i - 1, j - 1)) | unsigned(convexChartQuad(q, n, i, j - 1)) << 1 |
+         unsigned(convexChartQuad(q, n, i - 1, j)) << 2 | unsigned(convexChartQuad(q, n, i, j)) << 3;
+}
 
 std::vector<double> relaxSide(std::uint32_t n, const std::function<SurfacePoint(double)>& surfaceAt, const ChartRelaxing& how) {
   std::vector<double> t(n);
@@ -206,7 +204,7 @@ std::vector<Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(c
   if (nonConvex) {
     *nonConvex = 0;
     for (std::uint32_t j = 0; j + 1 < n; ++j)
-      for (std::uint32_t i = 0; i + 1 < n; ++i) *nonConvex += !convexQuad(q, n, i, j);
+      for (std::uint32_t i = 0; i + 1 < n; ++i) *nonConvex += !convexChartQuad(q, n, i, j);
   }
   return q;
 }

@@ -61,4 +61,10 @@ std::vector<multires::Vec2> relaxChart(std::uint32_t n, const std::function<Surf
 std::vector<multires::Vec2> refineChartGrid(std::uint32_t n, const std::vector<multires::Vec2>& q,
                                             const std::array<std::vector<double>, 4>& sides);
 
+// convexChartQuad: whether the quad of texels (i, j) .. (i + 1, j + 1) of grid q (n a side) turns
+// counter-clockwise at all four corners (exact predicates). convexAroundTexel: the four quads around
+// interior texel (i, j), one bit each.
+bool convexChartQuad(const std::vector<multires::Vec2>& q, std::uint32_t n, std::uint32_t i, std::uint32_t j);
+unsigned convexAroundTexel(const std::vector<multires::Vec2>& q, std::uint32_t n, std::uint32_t i, std::uint32_t j);
+
 }  // namespace isoatlas::atlas

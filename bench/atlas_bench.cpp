@@ -2,7 +2,8 @@
 // seconds and peak resident memory on stderr), beside CGAL's edge collapse to the same base size
 // for the time; the model's bytes beside the dense mesh as a plain halfedge mesh and as a binary
 // PLY; the atlas's efficiency beside the paper's best; the parametrisation's folds (dense
-// triangles drawn straight, folded and gap texels, texel quads turned by shear, border samples the
+// triangles drawn straight, folded and gap texels, texel quads turned by shear, texels drawn onto dense
+// vertices (snap_texels.h), border samples the
 // two charts of an edge disagree on); eval's seconds; PSNR at the even
 // levels (CGAL: from the largest distance and from the RMS distance) beside the faithful-model
 // issue's target at level 10 for that mesh (beside the base mesh's where it names none). Cases: bunny00, elephant, fandisk, mannequin-devil
@@ -71,6 +72,8 @@ std::vector<atlas::LevelFigures> measure(const std::string& name, const Mesh& de
   bench::report("atlas", caseName, "folded texels", double(charts.foldedTexels), "texels", double(charts.texels), false);
   bench::report("atlas", caseName, "gap texels", double(charts.gapTexels), "texels", double(charts.texels), false);
   bench::report("atlas", caseName, "texel quads turned by shear", double(charts.turnedTexelQuads), "texels", double(charts.texels), false);
+  bench::report("atlas", caseName, "texels drawn onto dense vertices the grid missed", double(charts.snappedTexels), "texels",
+                double(charts.texels), false);
   bench::report("atlas", caseName, "border samples the two charts disagree on", double(charts.borderDisagreements), "texels",
                 double(charts.texels), false);
   bench::report("atlas", caseName, "dense triangles folded drawn straight", double(foldedDense), "dense triangles",

@@ -37,6 +37,13 @@ std::pair<std::uint32_t, std::array<double, 3>> BaseMesh::chartToTriangle(std::u
   return {tiles[tile][1], w};
 }
 
+std::array<double, 2> BaseMesh::triangleToChart(std::uint32_t tile, std::uint32_t triangle, const std::array<double, 3>& bary) const {
+  const TileCorners c = tileCorners(tile);
+  if (triangle == tiles[tile][0]) return {bary[std::size_t((c.first + 1) % 3)], 1 - bary[std::size_t(c.first)]};
+  require(triangle == tiles[tile][1], "base mesh: triangle " + std::to_string(triangle) + " is not in tile " + std::to_string(tile));
+  return {1 - bary[std::size_t((c.second + 1) % 3)], bary[std::size_t(c.second)]};
+}
+
 Mesh BaseMesh::quadMesh() const {
   require(tiles.size() * 2 == triangles.size(), "base mesh: the triangles are not all paired into tiles");
   Mesh mesh;

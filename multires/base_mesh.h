@@ -59,6 +59,9 @@ struct BaseMesh {
   // triangle shares: p (0,0), s (1,0), q (1,1), r (0,1). Returns the base triangle and barycentric
   // coordinates of chart point (u, v).
   std::pair<std::uint32_t, std::array<double, 3>> chartToTriangle(std::uint32_t tile, double u, double v) const;
+  // The other way: the chart point (u, v) of tile `tile` at weights `bary` of its triangle
+  // `triangle` (one of tiles[tile]).
+  std::array<double, 2> triangleToChart(std::uint32_t tile, std::uint32_t triangle, const std::array<double, 3>& bary) const;
   // Per triangle t and edge e (corner e to corner e + 1): the triangle across it, or kNoTriangle on
   // the boundary.
   static constexpr std::uint32_t kNoTriangle = isoatlas::kNoTriangle;  // core/mesh.h's triangleNeighbours
