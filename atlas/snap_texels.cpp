@@ -109,86 +109,118 @@ private:
   const std::vector<Vec3>& p_;
 };
 
+// The greedy pass of snapTexels over one chart.
+class Snapper {
+public:
+  Snapper(std::uint32_t n, std::span<const ChartVertex> vertices, const std::function<Vec3(const Vec2&)>& surfaceAt,
+          std::vector<Vec2>& q, std::vector<Vec3>& p)
+      : n_(n), s_(n - 1), vertices_(vertices), surfaceAt_(surfaceAt), q_(q), p_(p), level_(n, q, p),
+        squareOf_(vertices.size()), error_(vertices.size()), inSquare_(std::size_t(s_) * s_), moved_(q.size(), 0),
+        tried_(vertices.size(), 0) {
+    // Errors this small are rounding: nothing to mend.
+    negligible_ = 1e-9 * boundingBox(p).diagonal();
+    for (std::uint32_t d = 0; d < vertices.size(); ++d) {
+      const Vec2& x = vertices[d].chart;
+      squareOf_[d] = level_.locate(x, level_.guess(x));
+      error_[d] = norm(vertices[d].position - level_.pointAt(x, squareOf_[d]));
+      inSquare_[squareOf_[d]].push_back(d);
+      if (error_[d] > negligible_) worst_.push({error_[d], d});
+    }
+  }
+
+  // Worst vertex first: the nearest movable corner of its square that takes it.
+  std::uint32_t run() {
+    std::uint32_t snapped = 0;
+    while (!worst_.empty()) {
+      const auto [e, d] = worst_.top();
+      worst_.pop();
+      if (tried_[d] || e != error_[d]) continue;  // done, or an entry from before its square changed
+      tried_[d] = 1;
+      const Vec2& x = vertices_[d].chart;
+      std::array<std::size_t, 4> corners = level_.texels(squareOf_[d] % s_, squareOf_[d] / s_);
+      std::sort(corners.begin(), corners.end(), [&](std::size_t u, std::size_t v) {
+        const Vec2 du = q_[u] - x, dv = q_[v] - x;
+        return du.x * du.x + du.y * du.y < dv.x * dv.x + dv.y * dv.y;
+      });
+      for (const std::size_t t : corners)
+        if (movable(t) && tryMove(t, x)) {
+          ++snapped;
+          break;
+        }
+    }
+    return snapped;
+  }
+
+private:
+  // A texel of the finest two levels, off the border, not moved yet.
+  bool movable(std::size_t t) const {
+    const std::uint32_t i = std::uint32_t(t % n_), j = std::uint32_t(t / n_);
+    return !moved_[t] && i > 0 && j > 0 && i + 1 < n_ && j + 1 < n_ && (i % 2 == 1 || j % 2 == 1);
+  }
+
+  // Texel t moved to chart point `to`, kept only if the squares around it stay strictly convex, the
+  // largest error of the vertices in them falls, and the level's triangles at t stray less than it was.
+  bool tryMove(std::size_t t, const Vec2& to) {
+    const std::uint32_t i = std::uint32_t(t % n_), j = std::uint32_t(t / n_);
+    const std::uint32_t squaresAround[4] = {(j - 1) * s_ + i - 1, (j - 1) * s_ + i, j * s_ + i - 1, j * s_ + i};
+    around_.clear();
+    double before = 0;
+    for (const std::uint32_t sq : squaresAround)
+      for (const std::uint32_t v : inSquare_[sq]) around_.push_back(v), before = std::max(before, error_[v]);
+    const Vec2 fromChart = q_[t];
+    const Vec3 fromSurface = p_[t];
+    q_[t] = to;
+    if (convexAroundTexel(q_, n_, i, j) != 0xF) {
+      q_[t] = fromChart;
+      return false;
+    }
+    p_[t] = surfaceAt_(to);
+    squareAfter_.resize(around_.size()), errorAfter_.resize(around_.size());
+    double after = 0;
+    for (std::size_t m = 0; m < around_.size(); ++m) {
+      const ChartVertex& v = vertices_[around_[m]];
+      squareAfter_[m] = level_.locate(v.chart, squareOf_[around_[m]]);
+      errorAfter_[m] = norm(v.position - level_.pointAt(v.chart, squareAfter_[m]));
+      after = std::max(after, errorAfter_[m]);
+    }
+    if (after < before) after = std::max(after, level_.strayAround(i, j, surfaceAt_));
+    if (!(after < before)) {
+      q_[t] = fromChart, p_[t] = fromSurface;
+      return false;
+    }
+    moved_[t] = 1;
+    for (const std::uint32_t sq : squaresAround) inSquare_[sq].clear();
+    for (std::size_t m = 0; m < around_.size(); ++m) {
+      const std::uint32_t v = around_[m];
+      squareOf_[v] = squareAfter_[m], error_[v] = errorAfter_[m];
+      inSquare_[squareOf_[v]].push_back(v);
+      if (!tried_[v] && error_[v] > negligible_) worst_.push({error_[v], v});
+    }
+    return true;
+  }
+
+  std::uint32_t n_, s_;
+  std::span<const ChartVertex> vertices_;
+  const std::function<Vec3(const Vec2&)>& surfaceAt_;
+  std::vector<Vec2>& q_;
+  std::vector<Vec3>& p_;
+  FinestLevel level_;
+  double negligible_ = 0;
+  std::vector<std::uint32_t> squareOf_;
+  std::vector<double> error_;
+  std::vector<std::vector<std::uint32_t>> inSquare_;  // per square, the vertices in it
+  std::vector<std::uint8_t> moved_, tried_;
+  std::priority_queue<std::pair<double, std::uint32_t>> worst_;  // (error, vertex), stale entries skipped
+  std::vector<std::uint32_t> around_, squareAfter_;
+  std::vector<double> errorAfter_;
+};
+
 }  // namespace
 
 std::uint32_t snapTexels(std::uint32_t n, std::span<const ChartVertex> vertices, const std::function<Vec3(const Vec2&)>& surfaceAt,
                          std::vector<Vec2>& q, std::vector<Vec3>& p) {
   if (n < 3 || vertices.empty()) return 0;
-  const FinestLevel level(n, q, p);
-  const std::uint32_t s = level.squares();
-  // Errors this small are rounding: nothing to mend.
-  const double negligible = 1e-9 * boundingBox(p).diagonal();
-  std::vector<std::uint32_t> squareOf(vertices.size());
-  std::vector<double> error(vertices.size());
-  std::vector<std::vector<std::uint32_t>> inSquare(std::size_t(s) * s);
-  using Entry = std::pair<double, std::uint32_t>;
-  std::priority_queue<Entry> worst;
-  for (std::uint32_t d = 0; d < vertices.size(); ++d) {
-    const Vec2& x = vertices[d].chart;
-    squareOf[d] = level.locate(x, level.guess(x));
-    error[d] = norm(vertices[d].position - level.pointAt(x, squareOf[d]));
-    inSquare[squareOf[d]].push_back(d);
-    if (error[d] > negligible) worst.push({error[d], d});
-  }
-
-  std::vector<std::uint8_t> moved(q.size(), 0), tried(vertices.size(), 0);
-  std::vector<std::uint32_t> around, squareAfter;
-  std::vector<double> errorAfter;
-  std::uint32_t snapped = 0;
-  while (!worst.empty()) {
-    const auto [e, d] = worst.top();
-    worst.pop();
-    if (tried[d] || e != error[d]) continue;  // done, or an entry from before its square changed
-    tried[d] = 1;
-    const Vec2& x = vertices[d].chart;
-    const auto corners = level.texels(squareOf[d] % s, squareOf[d] / s);
-    std::array<std::size_t, 4> order = corners;
-    std::sort(order.begin(), order.end(), [&](std::size_t u, std::size_t v) {
-      const Vec2 du = q[u] - x, dv = q[v] - x;
-      return du.x * du.x + du.y * du.y < dv.x * dv.x + dv.y * dv.y;
-    });
-    for (const std::size_t t : order) {
-      const std::uint32_t i = std::uint32_t(t % n), j = std::uint32_t(t / n);
-      if (moved[t] || i == 0 || j == 0 || i + 1 == n || j + 1 == n || (i % 2 == 0 && j % 2 == 0)) continue;
-      // The four squares around texel t and the vertices in them, and their largest error now.
-      const std::uint32_t squaresAround[4] = {(j - 1) * s + i - 1, (j - 1) * s + i, j * s + i - 1, j * s + i};
-      around.clear();
-      double before = 0;
-      for (const std::uint32_t sq : squaresAround)
-        for (const std::uint32_t v : inSquare[sq]) around.push_back(v), before = std::max(before, error[v]);
-      const Vec2 fromChart = q[t];
-      const Vec3 fromSurface = p[t];
-      q[t] = x;
-      if (convexAroundTexel(q, n, i, j) != 0xF) {
-        q[t] = fromChart;
-        continue;
-      }
-      p[t] = surfaceAt(x);
-      squareAfter.resize(around.size()), errorAfter.resize(around.size());
-      double after = 0;
-      for (std::size_t m = 0; m < around.size(); ++m) {
-        const std::uint32_t v = around[m];
-        squareAfter[m] = level.locate(vertices[v].chart, squareOf[v]);
-        errorAfter[m] = norm(vertices[v].position - level.pointAt(vertices[v].chart, squareAfter[m]));
-        after = std::max(after, errorAfter[m]);
-      }
-      if (after < before) after = std::max(after, level.strayAround(i, j, surfaceAt));
-      if (!(after < before)) {
-        q[t] = fromChart, p[t] = fromSurface;
-        continue;
-      }
-      moved[t] = 1, ++snapped;
-      for (const std::uint32_t sq : squaresAround) inSquare[sq].clear();
-      for (std::size_t m = 0; m < around.size(); ++m) {
-        const std::uint32_t v = around[m];
-        squareOf[v] = squareAfter[m], error[v] = errorAfter[m];
-        inSquare[squareOf[v]].push_back(v);
-        if (!tried[v] && error[v] > negligible) worst.push({error[v], v});
-      }
-      break;
-    }
-  }
-  return snapped;
+  return Snapper(n, vertices, surfaceAt, q, p).run();
 }
 
 }  // namespace isoatlas::atlas
