@@ -12,7 +12,6 @@ namespace {
 
 using multires::Vec2;
 
-
 // The finest level over a chart: its grid squares (square (a, b) at b * (n - 1) + a), each cut
 // into two triangles as reconstructLevel cuts it.
 class FinestLevel {
