@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <map>
 
 #include "core/mesh_topology.h"
@@ -36,6 +37,23 @@ TEST(TrianglePairing, ClosedMeshIsPairedWithoutSplits) {
   EXPECT_TRUE(quads.closed && quads.manifold && quads.oriented) << quads.firstProblem;
   EXPECT_EQ(quads.genus, 1);
   EXPECT_GT(stats.meanOrthogonality, 0.5);
+}
+
+// A tile's chart point, taken to its base triangle and back (BaseMesh::triangleToChart, the inverse
+// of chartToTriangle), comes back where it was, on both halves and on the diagonal between them.
+TEST(TrianglePairing, ChartPointsComeBackFromTheirTriangles) {
+  const Mesh dense = test::torusMesh(60, 30);
+  BaseMesh base = simplifyStellar(dense, {.vertexRatio = 0.03});
+  pairTriangles(base, dense);
+  const std::array<std::array<double, 2>, 6> points{{{0.2, 0.7}, {0.7, 0.2}, {0.5, 0.5}, {0.999, 0.001}, {0.001, 0.999}, {0.3, 0.3}}};
+  for (std::uint32_t tile = 0; tile < base.tiles.size(); ++tile)
+    for (const auto& [u, v] : points) {
+      const auto [triangle, bary] = base.chartToTriangle(tile, u, v);
+      EXPECT_TRUE(triangle == base.tiles[tile][0] || triangle == base.tiles[tile][1]);
+      const auto back = base.triangleToChart(tile, triangle, bary);
+      EXPECT_NEAR(back[0], u, 1e-12) << "tile " << tile;
+      EXPECT_NEAR(back[1], v, 1e-12) << "tile " << tile;
+    }
 }
 
 // A wavy sheet with a square hole, plus one lone triangle hung below its bottom border so that the
