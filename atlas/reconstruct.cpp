@@ -151,10 +151,9 @@ Mesh reconstructLevel(const multires::BaseMesh& base, const Atlas& atlas, int le
           const Corner centre{i + step / 2, j + step / 2};
           triangle(c, v00, v10, centre), triangle(c, v10, v11, centre);
           triangle(c, v11, v01, centre), triangle(c, v01, v00, centre);
-        } else if (cutAlongMainDiagonal(a, b)) {
-          triangle(c, v00, v10, v11), triangle(c, v00, v11, v01);
         } else {
-          triangle(c, v00, v10, v01), triangle(c, v10, v11, v01);
+          const Corner square[4] = {v00, v10, v11, v01};
+          for (const auto& t : squareTriangles(a, b)) triangle(c, square[t[0]], square[t[1]], square[t[2]]);
         }
       }
   }

@@ -14,6 +14,7 @@
 // normals come from the atlas, where neighbouring charts hold the same border samples.
 // Throws Error(BadInput) for a level outside 0 .. maxLevel or an atlas of another base mesh.
 #pragma once
+#include <array>
 #include <cstdint>
 
 #include "atlas/atlas.h"
@@ -22,9 +23,13 @@
 
 namespace isoatlas::atlas {
 
-// Whether square (a, b) (column, row) of an even level's grid is cut along its main diagonal, from
-// its corner (0, 0) to (1, 1); else along the other.
-constexpr bool cutAlongMainDiagonal(std::uint32_t a, std::uint32_t b) { return (a + b) % 2 == 0; }
+// The two triangles square (a, b) (column, row) of an even level's grid is cut into, as corners of
+// the square counter-clockwise from (a, b): 0 (a, b), 1 (a + 1, b), 2 (a + 1, b + 1), 3 (a, b + 1).
+// Along its main diagonal, 0 to 2, when a + b is even; else along the other.
+constexpr std::array<std::array<int, 3>, 2> squareTriangles(std::uint32_t a, std::uint32_t b) {
+  if ((a + b) % 2 == 0) return {{{0, 1, 2}, {0, 2, 3}}};
+  return {{{0, 1, 3}, {1, 2, 3}}};
+}
 
 int maxLevel(std::uint32_t chartSize);
 int maxLevel(const Atlas& atlas);  // with its detail charts

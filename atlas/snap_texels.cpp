@@ -44,7 +44,7 @@ public:
   Vec3 pointAt(const Vec2& x, std::uint32_t square) const {
     const std::uint32_t a = square % squares(), b = square / squares();
     const auto k = texels(a, b);
-    const auto halves = halvesOf(a, b);
+    const auto halves = squareTriangles(a, b);
     std::array<double, 3> best{};
     std::size_t bestHalf = 0;
     double bestLowest = -1e300;
@@ -71,7 +71,7 @@ public:
     for (std::uint32_t b = j - 1; b <= j; ++b)
       for (std::uint32_t a = i - 1; a <= i; ++a) {
         const auto k = texels(a, b);
-        for (const auto& h : halvesOf(a, b)) {
+        for (const auto& h : squareTriangles(a, b)) {
           const std::size_t u = k[h[0]], v = k[h[1]], w = k[h[2]];
           if (u != t && v != t && w != t) continue;
           largest = std::max(largest, stray((q_[u] + q_[v] + q_[w]) * (1.0 / 3), (p_[u] + p_[v] + p_[w]) * (1.0 / 3)));
@@ -85,14 +85,7 @@ public:
     return largest;
   }
 
-  // Square (a, b)'s two triangles, as corners of texels(a, b) (counter-clockwise: 0 (a, b),
-  // 1 (a + 1, b), 2 (a + 1, b + 1), 3 (a, b + 1)).
-  static std::array<std::array<int, 3>, 2> halvesOf(std::uint32_t a, std::uint32_t b) {
-    if (cutAlongMainDiagonal(a, b)) return {{{0, 1, 2}, {0, 2, 3}}};
-    return {{{0, 1, 3}, {1, 2, 3}}};
-  }
-
-  // Texel indices of square (a, b)'s corners, counter-clockwise from (a, b).
+  // Texel indices of square (a, b)'s corners, counter-clockwise from (a, b), as squareTriangles numbers them.
   std::array<std::size_t, 4> texels(std::uint32_t a, std::uint32_t b) const {
     const std::size_t k = std::size_t(b) * n_ + a;
     return {k, k + 1, k + n_ + 1, k + n_};

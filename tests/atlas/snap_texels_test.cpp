@@ -39,9 +39,7 @@ Vec3 levelPoint(std::uint32_t n, const std::vector<Vec2>& q, const std::vector<V
     for (std::uint32_t a = 0; a + 1 < n; ++a) {
       const std::size_t k = std::size_t(b) * n + a;
       const std::size_t c[4] = {k, k + 1, k + n + 1, k + n};
-      const int halves[2][3] = {{0, 1, 2}, {0, 2, 3}}, other[2][3] = {{0, 1, 3}, {1, 2, 3}};
-      const auto& t = cutAlongMainDiagonal(a, b) ? halves : other;
-      for (const auto& h : t) {
+      for (const auto& h : squareTriangles(a, b)) {
         const std::size_t u = c[h[0]], v = c[h[1]], w = c[h[2]];
         if (!multires::exactlyInTriangle(x, q[u], q[v], q[w])) continue;
         const auto bary = multires::barycentric2(x, q[u], q[v], q[w]);
