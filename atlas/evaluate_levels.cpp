@@ -5,23 +5,37 @@
 #include "core/plot.h"
 #include "core/progress.h"
 
+#include <tbb/parallel_for_each.h>
+
+#include <algorithm>
+#include <mutex>
+#include <numeric>
+
 
 namespace isoatlas::atlas {
 
+// The levels side by side, the finest first: the parts of one level that run on one core (its
+// reconstruction, its tree's nodes, its topology) leave the other core to the next level.
 std::vector<LevelFigures> evaluateLevels(const multires::BaseMesh& base, const Atlas& atlas, const Mesh& dense,
                                          const std::vector<int>& levels, std::size_t facePoints) {
   const double diagonal = boundingBox(dense.positions).diagonal();
   const MeshDistances fromDense(dense, facePoints);  // the dense samples and tree, once for every level
-  std::vector<LevelFigures> out;
+  std::vector<LevelFigures> out(levels.size());
+  std::vector<std::size_t> finestFirst(levels.size());
+  std::iota(finestFirst.begin(), finestFirst.end(), 0);
+  std::stable_sort(finestFirst.begin(), finestFirst.end(), [&](std::size_t a, std::size_t b) { return levels[a] > levels[b]; });
   Progress progress("eval: levels", levels.size(), "levels");
-  for (const int level : levels) {
-    const Mesh mesh = reconstructLevel(base, atlas, level);
+  std::mutex progressLock;
+  std::size_t done = 0;
+  tbb::parallel_for_each(finestFirst.begin(), finestFirst.end(), [&](std::size_t i) {
+    const Mesh mesh = reconstructLevel(base, atlas, levels[i]);
     MeshTopology topology;
     const Hausdorff h = fromDense.to(mesh, &topology);
-    out.push_back({level, mesh.vertexCount(), mesh.faceCount(), h.symmetric(), psnrDb(diagonal, h.symmetric()), h.rms(),
-                   psnrDb(diagonal, h.rms()), topology.closed, topology.manifold});
-    progress.update(out.size());
-  }
+    out[i] = {levels[i], mesh.vertexCount(), mesh.faceCount(), h.symmetric(), psnrDb(diagonal, h.symmetric()), h.rms(),
+              psnrDb(diagonal, h.rms()), topology.closed, topology.manifold};
+    const std::lock_guard lock(progressLock);
+    progress.update(++done);
+  });
   progress.finish();
   return out;
 }

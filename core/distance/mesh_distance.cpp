@@ -4,16 +4,18 @@
 #include <CGAL/Polygon_mesh_processing/distance.h>
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/Surface_mesh.h>
-#include <CGAL/spatial_sort.h>
+#include <CGAL/point_generators_3.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
 
+#include "core/distance/morton_order.h"
 #include "core/distance/triangle_tree.h"
 #include "core/error.h"
 
@@ -25,6 +27,8 @@ using SurfaceMesh = CGAL::Surface_mesh<Kernel::Point_3>;
 namespace PMP = CGAL::Polygon_mesh_processing;
 
 using Point = Kernel::Point_3;
+
+Vec3 vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
 
 // Refuses what CGAL cannot measure: no faces, faces of other than three corners, a point that is
 // not finite (CGAL's face sampler never returns on a non-finite area), or only faces that name a
@@ -39,33 +43,42 @@ void requireMeasurable(const Mesh& mesh, const char* which) {
   require(covers, std::string("Hausdorff distance: every face of the ") + which + " mesh is degenerate");
 }
 
-// A mesh as CGAL's sampler reads it. Where Surface_mesh would take every face (an oriented
-// manifold), the positions and corner triples go to CGAL's soup sampler as they are: its samples
-// are then the Surface_mesh sampler's bit for bit (both read a face's corners from its first, weigh
-// faces by the same area and draw alike), without building the halfedges. Elsewhere a Surface_mesh
-// is built, and the faces it refuses go in as a soup of their own vertices, so every triangle is
-// still sampled.
-struct SampledSurface {
-  std::vector<Point> points;
-  std::vector<std::array<std::size_t, 3>> corners;  // the soup's faces, when no halfedges are wanted
-  std::optional<SurfaceMesh> halfedges;
-};
-
-SampledSurface sampledSurface(const Mesh& mesh, const MeshTopology& topology) {
-  SampledSurface out;
-  out.points.reserve(mesh.vertexCount());
-  for (const Vec3& p : mesh.positions) out.points.emplace_back(p.x, p.y, p.z);
-  if (topology.manifold && topology.oriented) {
-    out.corners.reserve(mesh.faceCount());
-    for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
-      const auto c = mesh.face(f);
-      out.corners.push_back({c[0], c[1], c[2]});
-    }
-    return out;
+// A soup's samples as CGAL's sample_triangle_soup draws them for approximate_Hausdorff_distance, bit
+// for bit: the vertices, then `facePoints` points, each in a face drawn by area (CGAL's area, running
+// sum and generators, seeded 0, called in the same order). Only the faces' areas, the long part on a
+// fine mesh, are computed in parallel; the running sum and the draws stay in order.
+std::vector<Point> soupSamples(const Mesh& mesh, std::size_t facePoints) {
+  std::vector<Point> out;
+  out.reserve(mesh.vertexCount() + facePoints);
+  for (const Vec3& p : mesh.positions) out.emplace_back(p.x, p.y, p.z);
+  const auto corner = [&](std::size_t f, int k) { return out[mesh.face(f)[k]]; };
+  std::vector<double> runningArea(mesh.faceCount());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.faceCount()), [&](const tbb::blocked_range<std::size_t>& r) {
+    const auto squaredArea = Kernel().compute_squared_area_3_object();
+    for (std::size_t f = r.begin(); f != r.end(); ++f)
+      runningArea[f] = CGAL::to_double(CGAL::approximate_sqrt(squaredArea(corner(f, 0), corner(f, 1), corner(f, 2))));
+  });
+  double total = 0;
+  for (double& a : runningArea) a = total += a;
+  CGAL::Random chooseFace(0), inFace(0);  // CGAL draws the face with the seed, the point with its default generator
+  for (std::size_t k = 0; k < facePoints; ++k) {
+    const std::size_t f = std::upper_bound(runningArea.begin(), runningArea.end(), chooseFace.get_double(0, total)) - runningArea.begin();
+    out.push_back(*CGAL::Random_points_in_triangle_3<Point>(corner(f, 0), corner(f, 1), corner(f, 2), inFace));
   }
-  SurfaceMesh& sm = out.halfedges.emplace();
+  return out;
+}
+
+// The samples of a mesh that is not an oriented manifold, by CGAL's own sampler on a Surface_mesh: the
+// faces it refuses go in as a soup of their own vertices, so every triangle is still sampled. (On an
+// oriented manifold, Surface_mesh takes every face, and its samples are the soup's bit for bit: both
+// read a face's corners from its first, weigh faces by the same area and draw alike.)
+std::vector<Point> halfedgeSamples(const Mesh& mesh, std::size_t facePoints) {
+  std::vector<Point> points;
+  points.reserve(mesh.vertexCount());
+  for (const Vec3& p : mesh.positions) points.emplace_back(p.x, p.y, p.z);
+  SurfaceMesh sm;
   sm.reserve(SurfaceMesh::size_type(mesh.vertexCount()), 0, SurfaceMesh::size_type(mesh.faceCount()));
-  for (const Point& p : out.points) sm.add_vertex(p);
+  for (const Point& p : points) sm.add_vertex(p);
   for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
     const auto c = mesh.face(f);
     const SurfaceMesh::Vertex_index v[3] = {SurfaceMesh::Vertex_index(c[0]), SurfaceMesh::Vertex_index(c[1]),
@@ -73,45 +86,54 @@ SampledSurface sampledSurface(const Mesh& mesh, const MeshTopology& topology) {
     if (sm.add_face(v[0], v[1], v[2]) != SurfaceMesh::null_face()) continue;
     if (!namesThreeVertices(c)) continue;
     // From our own copy of the points: a reference into the mesh's would dangle once it grows.
-    const auto a = sm.add_vertex(out.points[c[0]]), b = sm.add_vertex(out.points[c[1]]), d = sm.add_vertex(out.points[c[2]]);
+    const auto a = sm.add_vertex(points[c[0]]), b = sm.add_vertex(points[c[1]]), d = sm.add_vertex(points[c[2]]);
     sm.add_face(a, b, d);
   }
+  // CGAL 5.5 places the points inside each chosen face with its default generator, whatever the seed
+  // given: seeded here too, so that a figure repeats.
+  CGAL::get_default_random() = CGAL::Random(0);
+  std::vector<Point> out;
+  out.reserve(sm.number_of_vertices() + facePoints);
+  PMP::sample_triangle_mesh(
+      sm, std::back_inserter(out),
+      CGAL::parameters::number_of_points_on_faces(facePoints).do_sample_edges(false).do_sample_vertices(true).random_seed(0));
   return out;
 }
 
-// The first hint of queries into a mesh's tree: its first vertex, as CGAL's own distance takes it.
-Vec3 firstVertex(const Mesh& mesh) { return mesh.positions[0]; }
-
-// A surface's samples as CGAL's approximate_Hausdorff_distance draws them: its vertices plus
-// `facePoints` random face points. CGAL 5.5 places the points inside each chosen face with its
-// default generator, whatever the seed given: seeded here too, so that a figure repeats.
-std::vector<Point> samplePoints(const SampledSurface& surface, std::size_t facePoints) {
-  CGAL::get_default_random() = CGAL::Random(0);
-  std::vector<Point> points;
-  const auto parameters =
-      CGAL::parameters::number_of_points_on_faces(facePoints).do_sample_edges(false).do_sample_vertices(true).random_seed(0);
-  if (surface.halfedges) PMP::sample_triangle_mesh(*surface.halfedges, std::back_inserter(points), parameters);
-  else PMP::sample_triangle_soup(surface.points, surface.corners, std::back_inserter(points), parameters);
-  return points;
+// A mesh's samples as CGAL's approximate_Hausdorff_distance draws them, in Morton order: each query's
+// hint, the last answer, is then near. (CGAL's max_distance_to_triangle_mesh queries them in Hilbert
+// order, for the same reason, at several times the cost of sorting: the order decides no largest
+// distance, and the RMS only in its last digits, by the order of the sum.) `topology` receives
+// analyzeTopology(mesh): the mesh is sampled as a soup beside it, and again through halfedges only if
+// it is no oriented manifold.
+std::vector<Point> samplesOf(const Mesh& mesh, std::size_t facePoints, MeshTopology& topology) {
+  std::vector<Point> drawn;
+  tbb::parallel_invoke([&] { topology = analyzeTopology(mesh); }, [&] { drawn = soupSamples(mesh, facePoints); });
+  if (!(topology.manifold && topology.oriented)) drawn = halfedgeSamples(mesh, facePoints);
+  const std::vector<MortonKey> keys = mortonOrder(drawn.size(), [&](std::size_t i) { return vec(drawn[i]); });
+  std::vector<Point> out(keys.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = drawn[keys[i].index];
+  });
+  return out;
 }
 
-// The farthest and the mean squared distance of the points from the tree's surface, by CGAL's
-// closest-point queries (as max_distance_to_triangle_mesh makes them: points in spatial order, each
-// query hinted by the last answer).
+// The farthest and the mean squared distance of the samples from the tree's surface, by CGAL's
+// closest-point projections (as max_distance_to_triangle_mesh makes them), each query hinted by the
+// last answer.
 struct OneWay {
   double largest = 0, rms = 0;
 };
-OneWay distances(std::vector<Point> points, const TriangleTree& tree, const Vec3& start) {
-  CGAL::spatial_sort(points.begin(), points.end());
-  // Each point's squared distance in its own slot, summed in order afterwards: the same figure
+OneWay distances(const std::vector<Point>& samples, const TriangleTree& tree) {
+  // Each sample's squared distance in its own slot, summed in order afterwards: the same figure
   // whatever the threads did.
-  std::vector<double> d2(points.size());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size()), [&](const tbb::blocked_range<std::size_t>& range) {
-    Vec3 hint = start;
+  std::vector<double> d2(samples.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size()), [&](const tbb::blocked_range<std::size_t>& range) {
+    TriangleTree::Closest hint = tree.closest(vec(samples[range.begin()]));
     for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      const Point& p = points[i];
-      hint = tree.closestPoint({p.x(), p.y(), p.z()}, hint);
-      d2[i] = CGAL::squared_distance(Point(hint.x, hint.y, hint.z), p);
+      const Point& p = samples[i];
+      hint = tree.closest(vec(p), hint);
+      d2[i] = CGAL::squared_distance(Point(hint.point.x, hint.point.y, hint.point.z), p);
     }
   });
   double largest2 = 0, sum2 = 0;
@@ -122,37 +144,32 @@ OneWay distances(std::vector<Point> points, const TriangleTree& tree, const Vec3
 }  // namespace
 
 struct MeshDistances::State {
-  std::vector<Point> samples;
+  std::vector<Point> samples;  // in Morton order
   std::size_t facePoints;
   std::optional<TriangleTree> tree;
-  Vec3 firstVertex;  // the first hint of queries into the tree
 };
 
 MeshDistances::MeshDistances(const Mesh& a, std::size_t facePoints) : state_(std::make_unique<State>()) {
   requireMeasurable(a, "first");
-  state_->samples = samplePoints(sampledSurface(a, analyzeTopology(a)), facePoints);
+  MeshTopology topology;
+  tbb::parallel_invoke([&] { state_->samples = samplesOf(a, facePoints, topology); }, [&] { state_->tree.emplace(a); });
   state_->facePoints = facePoints;
-  state_->tree.emplace(a, TriangleTree::Hints::Given);
-  state_->firstVertex = firstVertex(a);
 }
 
 MeshDistances::~MeshDistances() = default;
 
-// The two ways apart: building b's tree takes one core, so b's topology (whether its samples may be
-// drawn from a soup) and samples are made and measured against a's tree beside it.
+// The two ways side by side: b's tree is built and a's samples measured against it, while b's
+// topology and samples are made and measured against a's tree.
 Hausdorff MeshDistances::to(const Mesh& b, MeshTopology* topologyOfB) const {
   requireMeasurable(b, "second");
   OneWay aToB, bToA;
   MeshTopology topology;
   tbb::parallel_invoke(
       [&] {
-        const TriangleTree tree(b, TriangleTree::Hints::Given);
-        aToB = distances(state_->samples, tree, firstVertex(b));
+        const TriangleTree tree(b);
+        aToB = distances(state_->samples, tree);
       },
-      [&] {
-        topology = analyzeTopology(b);
-        bToA = distances(samplePoints(sampledSurface(b, topology), state_->facePoints), *state_->tree, state_->firstVertex);
-      });
+      [&] { bToA = distances(samplesOf(b, state_->facePoints, topology), *state_->tree); });
   if (topologyOfB) *topologyOfB = std::move(topology);
   return {aToB.largest, bToA.largest, aToB.rms, bToA.rms};
 }

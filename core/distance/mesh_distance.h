@@ -1,15 +1,16 @@
 // The one module every distance isoatlas reports comes from (core/distance: below multires and atlas,
 // so both, the pipeline and the benchmarks measure with it), on CGAL.
-// hausdorffDistance: the approximate Hausdorff distance between two triangle meshes, both ways, by
-// CGAL's Polygon_mesh_processing::approximate_Hausdorff_distance taken apart into its two public
-// steps, so that one side's samples and tree serve many measures (the one yardstick of every
-// Hausdorff and PSNR figure isoatlas reports, so that its models and CGAL's simplifier are judged
-// alike): each mesh is sampled by CGAL's sample_triangle_mesh at its vertices plus `facePoints`
-// points spread at random (seed 0, so a figure repeats) over its faces in proportion to their
-// area, and each sample measured to the other surface by CGAL's AABB tree (triangle_tree.h). An oriented manifold is
-// sampled by CGAL's sample_triangle_soup instead, which draws the same points without the
-// halfedges (tests/core/mesh_distance_cgal_test.cpp holds both to CGAL's own figure). The root mean square
-// of the same distances is Multi-chart Geometry Images' measure.
+// hausdorffDistance: the approximate Hausdorff distance between two triangle meshes, both ways, as
+// CGAL's Polygon_mesh_processing::approximate_Hausdorff_distance measures it, taken apart so that one
+// side's samples and tree serve many measures (the one yardstick of every Hausdorff and PSNR figure
+// isoatlas reports, so that its models and CGAL's simplifier are judged alike): each mesh is sampled
+// at its vertices plus `facePoints` points spread at random (seed 0, so a figure repeats) over its
+// faces in proportion to their area, and each sample measured to the other surface by CGAL's
+// projection onto its nearest triangle (triangle_tree.h). The samples are CGAL's sample_triangle_mesh
+// points; on an oriented manifold they are drawn as from a soup of triangles (CGAL's
+// sample_triangle_soup, its areas computed in parallel), the same points without the halfedges.
+// tests/core/mesh_distance_cgal_test.cpp holds both ways to CGAL's own figure, bit for bit. The root
+// mean square of the same distances is Multi-chart Geometry Images' measure.
 //   a, b        triangle meshes (faces of three corners; others refused)
 //   facePoints  face samples per mesh
 // PSNR = 20 log10(diagonal / distance), the diagonal that of the dense mesh's bounding box.

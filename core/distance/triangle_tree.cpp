@@ -1,12 +1,19 @@
 #include "core/distance/triangle_tree.h"
 
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
 #include <CGAL/Simple_cartesian.h>
+#include <CGAL/intersections.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <xmmintrin.h>
 
+#include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
+#include <limits>
 #include <vector>
 
+#include "core/distance/morton_order.h"
 #include "core/error.h"
 
 namespace isoatlas {
@@ -15,76 +22,327 @@ namespace {
 using Kernel = CGAL::Simple_cartesian<double>;
 using Point = Kernel::Point_3;
 
-struct FaceTriangle {
+Point point(const Vec3& p) { return {p.x, p.y, p.z}; }
+Vec3 vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// Boxes are held in floats, rounded outwards so that a box holds every double coordinate of its
+// triangles: half the bytes of doubles, so more of the tree stays in the cache.
+float roundedDown(double x) {
+  const float f = float(x);
+  return double(f) > x ? std::nextafter(f, -kInfinity) : f;
+}
+float roundedUp(double x) {
+  const float f = float(x);
+  return double(f) < x ? std::nextafter(f, kInfinity) : f;
+}
+
+struct NodeBox {
+  std::array<float, 3> lo{kInfinity, kInfinity, kInfinity}, hi{-kInfinity, -kInfinity, -kInfinity};
+  void add(const Point& p) {
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], roundedDown(p[k])), hi[k] = std::max(hi[k], roundedUp(p[k]));
+  }
+  void add(const NodeBox& b) {
+    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], b.lo[k]), hi[k] = std::max(hi[k], b.hi[k]);
+  }
+  double halfArea() const {
+    const double x = hi[0] - lo[0], y = hi[1] - lo[1], z = hi[2] - lo[2];
+    return x * y + y * z + z * x;
+  }
+};
+
+// The squared distance from q to the box of triangle t: a bound below the triangle's own, cheaper than
+// projecting onto it.
+double triangleBoxSquaredDistance(const Kernel::Triangle_3& t, const Point& q) {
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double a = t.vertex(0)[k], b = t.vertex(1)[k], c = t.vertex(2)[k];
+    const double below = std::min({a, b, c}) - q[k], above = q[k] - std::max({a, b, c});
+    const double d = below > 0 ? below : above > 0 ? above : 0;
+    d2 += d * d;
+  }
+  return d2;
+}
+
+struct HeldTriangle {
   Kernel::Triangle_3 triangle;
   std::uint32_t face;
 };
 
-// CGAL's AABB_triangle_primitive, but holding its triangle and naming it by its face. The same datum
-// and reference point (the first corner), so the same tree and answers as CGAL's own primitive.
-class HeldTriangle {
-public:
-  using Point = Kernel::Point_3;
-  using Datum = Kernel::Triangle_3;
-  using Id = std::uint32_t;
-  using Datum_reference = const Datum&;
-  using Point_reference = const Point&;
-  HeldTriangle() = default;
-  explicit HeldTriangle(std::vector<FaceTriangle>::const_iterator t) : datum_(t->triangle), id_(t->face) {}
-  const Datum& datum() const { return datum_; }
-  Id id() const { return id_; }
-  const Point& reference_point() const { return datum_.vertex(0); }
+// The tree: each node has up to four children, their boxes side by side (one coordinate of all four
+// in a row, so the four distances are computed together). A child is a node, or a leaf of up to
+// kLeafSize consecutive triangles, or nothing (an empty box, infinitely far).
+constexpr std::uint32_t kLeafSize = 4;
+constexpr std::uint32_t kNoSlot = ~std::uint32_t(0);
+struct Node {
+  std::array<std::array<float, 4>, 3> lo, hi;  // [axis][child]
+  std::array<std::uint32_t, 4> index;          // a node, or a leaf's first triangle
+  std::array<std::uint8_t, 4> count;           // a leaf's triangles; 0 for a node or nothing
 
-private:
-  Datum datum_;
-  Id id_ = 0;
+  void set(int child, const NodeBox& box) {
+    for (int k = 0; k < 3; ++k) lo[k][child] = box.lo[k], hi[k][child] = box.hi[k];
+  }
+  // The four squared distances from q (given rounded outwards, qLo <= q <= qHi) to the boxes, each a
+  // bound below the true one: rounding errors of the float arithmetic are taken off at the end. One
+  // SSE lane a child.
+  std::array<float, 4> squaredDistances(const std::array<float, 3>& qLo, const std::array<float, 3>& qHi) const {
+    __m128 d2 = _mm_setzero_ps();
+    for (int k = 0; k < 3; ++k) {
+      const __m128 below = _mm_sub_ps(_mm_loadu_ps(lo[k].data()), _mm_set1_ps(qHi[k]));
+      const __m128 above = _mm_sub_ps(_mm_set1_ps(qLo[k]), _mm_loadu_ps(hi[k].data()));
+      const __m128 d = _mm_max_ps(_mm_max_ps(below, above), _mm_setzero_ps());
+      d2 = _mm_add_ps(d2, _mm_mul_ps(d, d));
+    }
+    // Finite even where the squares overflow, so that a search with no bound yet still opens it.
+    d2 = _mm_min_ps(_mm_mul_ps(d2, _mm_set1_ps(0.9999f)), _mm_set1_ps(std::numeric_limits<float>::max()));
+    std::array<float, 4> out;
+    _mm_storeu_ps(out.data(), d2);
+    return out;
+  }
 };
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, HeldTriangle>>;
 
-Point point(const Vec3& p) { return {p.x, p.y, p.z}; }
-Vec3 vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
+// A binary hierarchy first (as the Morton order splits), then collapsed into four-wide nodes.
+struct BinaryNode {
+  NodeBox box;
+  std::uint32_t first = 0, count = 0;  // a leaf's triangles
+  std::uint32_t second = 0;            // an inner node's second child (its first is the next node)
+};
 
 }  // namespace
 
+// A bounding volume hierarchy over the triangles, built in the Morton order of their centroids (one
+// sort, then each range split where its codes first differ: no comparisons of boxes at every depth),
+// the triangles held by value in leaf order. Closest points are CGAL's own projections onto the
+// triangles, so a distance is the one CGAL's AABB tree gives.
 struct TriangleTree::State {
-  Tree tree;
+  std::vector<HeldTriangle> triangles;
+  std::vector<Node> nodes;
+  std::vector<std::uint32_t> slotOfFace;  // where each face's triangle is held (faces left out: none)
+
+  void build(const Mesh& mesh);
+  std::uint32_t buildBinary(std::vector<BinaryNode>& binary, const std::vector<std::uint64_t>& codes, std::uint32_t begin,
+                            std::uint32_t end) const;
+  std::uint32_t collapse(const std::vector<BinaryNode>& binary, std::uint32_t from);
+  // Improves (best, bestFace, best2) with any triangle strictly nearer to q.
+  void search(const Point& q, Point& best, std::uint32_t& bestFace, double& best2) const;
 };
 
-TriangleTree::TriangleTree(const Mesh& mesh, Hints hints) : state_(std::make_unique<State>()) {
-  require(mesh.allFacesHave(3), "a closest-point tree needs a triangle mesh");
-  std::vector<FaceTriangle> triangles;
-  triangles.reserve(mesh.faceCount());
-  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
-    const auto c = mesh.face(f);
-    if (!namesThreeVertices(c)) continue;
-    const auto at = [&](int k) { return point(mesh.positions[c[k]]); };
-    triangles.push_back({Kernel::Triangle_3(at(0), at(1), at(2)), std::uint32_t(f)});
+void TriangleTree::State::build(const Mesh& mesh) {
+  std::vector<std::uint32_t> faces;
+  faces.reserve(mesh.faceCount());
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f)
+    if (namesThreeVertices(mesh.face(f))) faces.push_back(std::uint32_t(f));
+  require(!faces.empty(), "a closest-point tree needs a triangle that names three vertices");
+  const std::vector<MortonKey> keys = mortonOrder(faces.size(), [&](std::size_t i) {
+    const auto c = mesh.face(faces[i]);
+    return (mesh.positions[c[0]] + mesh.positions[c[1]] + mesh.positions[c[2]]) * (1.0 / 3);
+  });
+  std::vector<std::uint64_t> codes(keys.size());
+  triangles.resize(keys.size());
+  slotOfFace.assign(mesh.faceCount(), kNoSlot);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) {
+      const std::uint32_t face = faces[keys[i].index];
+      const auto c = mesh.face(face);
+      const auto at = [&](int k) { return point(mesh.positions[c[k]]); };
+      triangles[i] = {Kernel::Triangle_3(at(0), at(1), at(2)), face};
+      codes[i] = keys[i].code;
+      slotOfFace[face] = std::uint32_t(i);
+    }
+  });
+  std::vector<BinaryNode> binary;
+  binary.reserve(2 * (triangles.size() / kLeafSize + 1));
+  buildBinary(binary, codes, 0, std::uint32_t(triangles.size()));
+  nodes.reserve(binary.size() / 3 + 1);
+  collapse(binary, 0);
+}
+
+// The binary node over triangles [begin, end): a leaf when few, else split where the codes' highest
+// differing bit turns on (the middle, when every code is the same).
+std::uint32_t TriangleTree::State::buildBinary(std::vector<BinaryNode>& binary, const std::vector<std::uint64_t>& codes,
+                                               std::uint32_t begin, std::uint32_t end) const {
+  const std::uint32_t index = std::uint32_t(binary.size());
+  binary.emplace_back();
+  if (end - begin <= kLeafSize) {
+    NodeBox box;
+    for (std::uint32_t t = begin; t < end; ++t)
+      for (int k = 0; k < 3; ++k) box.add(triangles[t].triangle.vertex(k));
+    binary[index] = {box, begin, end - begin, 0};
+    return index;
   }
-  require(!triangles.empty(), "a closest-point tree needs a triangle that names three vertices");
-  if (hints == Hints::Given) state_->tree.do_not_accelerate_distance_queries();
-  state_->tree.rebuild(triangles.begin(), triangles.end());
-  if (hints == Hints::Searched) state_->tree.accelerate_distance_queries();
+  std::uint32_t split = begin + (end - begin) / 2;
+  if (const std::uint64_t differ = codes[begin] ^ codes[end - 1]) {
+    const std::uint64_t bit = std::uint64_t(1) << (63 - std::countl_zero(differ));
+    split = std::uint32_t(std::partition_point(codes.begin() + begin, codes.begin() + end,
+                                               [&](std::uint64_t c) { return (c & bit) == 0; }) -
+                          codes.begin());
+  }
+  buildBinary(binary, codes, begin, split);
+  const std::uint32_t second = buildBinary(binary, codes, split, end);
+  NodeBox box = binary[index + 1].box;
+  box.add(binary[second].box);
+  binary[index] = {box, 0, 0, second};
+  return index;
+}
+
+// The four-wide node standing for binary node `from`: its children, the largest inner one opened
+// into its own two while fewer than four.
+std::uint32_t TriangleTree::State::collapse(const std::vector<BinaryNode>& binary, std::uint32_t from) {
+  std::vector<std::uint32_t> children;
+  if (binary[from].count > 0) children = {from};
+  else children = {from + 1, binary[from].second};
+  while (children.size() < 4) {
+    auto largest = children.end();
+    for (auto c = children.begin(); c != children.end(); ++c)
+      if (binary[*c].count == 0 && (largest == children.end() || binary[*c].box.halfArea() > binary[*largest].box.halfArea())) largest = c;
+    if (largest == children.end()) break;
+    const std::uint32_t opened = *largest;
+    *largest = opened + 1;
+    children.push_back(binary[opened].second);
+  }
+  const std::uint32_t index = std::uint32_t(nodes.size());
+  nodes.emplace_back();
+  for (int c = 0; c < 4; ++c) {
+    nodes[index].set(c, NodeBox{});
+    nodes[index].index[c] = 0, nodes[index].count[c] = 0;
+  }
+  for (std::size_t c = 0; c < children.size(); ++c) {
+    const BinaryNode& child = binary[children[c]];
+    nodes[index].set(int(c), child.box);
+    if (child.count > 0) {
+      nodes[index].index[c] = child.first, nodes[index].count[c] = std::uint8_t(child.count);
+    } else {
+      const std::uint32_t node = collapse(binary, children[c]);
+      nodes[index].index[c] = node;
+    }
+  }
+  return index;
+}
+
+// Depth first, the nearer children first, a child skipped once its box is no nearer than the best so
+// far (CGAL's AABB tree goes left to right; the order only speeds the search).
+void TriangleTree::State::search(const Point& q, Point& best, std::uint32_t& bestFace, double& best2) const {
+  const auto project = Kernel().construct_projected_point_3_object();
+  const std::array<float, 3> qLo{roundedDown(q.x()), roundedDown(q.y()), roundedDown(q.z())},
+      qHi{roundedUp(q.x()), roundedUp(q.y()), roundedUp(q.z())};
+  struct Pending {
+    std::uint32_t index, count;  // a node (count 0) or a leaf
+    double d2;
+  };
+  // Each node pushes at most three children beside the one it follows; a Morton split halves a 63-bit
+  // range at least, so the binary depth is below 64 + log2 n, and the four-wide one about half that.
+  std::array<Pending, 256> stack;
+  std::size_t size = 0;
+  stack[size++] = {0, 0, 0};
+  while (size > 0) {
+    const Pending top = stack[--size];
+    if (!(top.d2 < best2)) continue;
+    if (top.count > 0) {
+      for (std::uint32_t t = top.index; t < top.index + top.count; ++t) {
+        const Kernel::Triangle_3& triangle = triangles[t].triangle;
+        if (!(triangleBoxSquaredDistance(triangle, q) < best2)) continue;
+        const Point p = project(triangle, q);
+        const double d2 = CGAL::squared_distance(q, p);
+        if (d2 < best2) best = p, bestFace = triangles[t].face, best2 = d2;
+      }
+      continue;
+    }
+    const Node& node = nodes[top.index];
+    const std::array<float, 4> d2 = node.squaredDistances(qLo, qHi);
+    // The children near enough pushed farthest first, so that the nearest is searched first.
+    const std::size_t first = size;
+    for (int c = 0; c < 4; ++c) {
+      if (!(double(d2[c]) < best2) || (node.count[c] == 0 && node.index[c] == 0)) continue;
+      std::size_t k = size++;
+      for (; k > first && stack[k - 1].d2 < d2[c]; --k) stack[k] = stack[k - 1];
+      stack[k] = {node.index[c], node.count[c], d2[c]};
+    }
+  }
+}
+
+TriangleTree::TriangleTree(const Mesh& mesh) : state_(std::make_unique<State>()) {
+  require(mesh.allFacesHave(3), "a closest-point tree needs a triangle mesh");
+  state_->build(mesh);
 }
 
 TriangleTree::~TriangleTree() = default;
 TriangleTree::TriangleTree(TriangleTree&&) noexcept = default;
 
 TriangleTree::Closest TriangleTree::closest(const Vec3& q) const {
-  const auto [p, face] = state_->tree.closest_point_and_primitive(point(q));
-  return {vec(p), face};
+  Point best;
+  std::uint32_t face = 0;
+  double best2 = std::numeric_limits<double>::infinity();
+  state_->search(point(q), best, face, best2);
+  return {vec(best), face};
 }
 
+// The hint's point bounds the search, and so does its face's own closest point (usually the answer,
+// or next to it, when the last query was near): the tighter the bound, the fewer boxes opened.
 TriangleTree::Closest TriangleTree::closest(const Vec3& q, const Closest& hint) const {
-  const auto [p, face] = state_->tree.closest_point_and_primitive(point(q), {point(hint.point), hint.face});
-  return {vec(p), face};
+  const Point p = point(q);
+  Point best = point(hint.point);
+  std::uint32_t face = hint.face;
+  double best2 = CGAL::squared_distance(p, best);
+  if (hint.face < state_->slotOfFace.size() && state_->slotOfFace[hint.face] != kNoSlot) {
+    const Point onFace = Kernel().construct_projected_point_3_object()(state_->triangles[state_->slotOfFace[hint.face]].triangle, p);
+    if (const double d2 = CGAL::squared_distance(p, onFace); d2 < best2) best = onFace, best2 = d2;
+  }
+  state_->search(p, best, face, best2);
+  return {vec(best), face};
 }
 
-Vec3 TriangleTree::closestPoint(const Vec3& q, const Vec3& hint) const { return vec(state_->tree.closest_point(point(q), point(hint))); }
+Vec3 TriangleTree::closestPoint(const Vec3& q, const Vec3& hint) const {
+  return closest(q, Closest{hint, std::numeric_limits<std::uint32_t>::max()}).point;
+}
 
-double TriangleTree::distance(const Vec3& q) const { return std::sqrt(state_->tree.squared_distance(point(q))); }
+double TriangleTree::distance(const Vec3& q) const { return norm(q - closest(q).point); }
+
+namespace {
+
+// Whether the ray meets child c's box; the slabs widened by a rounding margin, so a ray grazing the
+// box of a triangle it meets is never turned away (the triangle itself decides, by CGAL's test).
+bool rayMeetsBox(const Point& origin, const std::array<double, 3>& inverse, const std::array<std::array<float, 4>, 3>& lo,
+                 const std::array<std::array<float, 4>, 3>& hi, int c) {
+  double enter = 0, leave = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    if (lo[k][c] > hi[k][c]) return false;  // nothing there
+    const double margin = 1e-9 * (std::abs(double(lo[k][c])) + std::abs(double(hi[k][c])) + 1);
+    const double lower = double(lo[k][c]) - margin - origin[k], upper = double(hi[k][c]) + margin - origin[k];
+    if (std::isinf(inverse[k])) {  // parallel to this slab: inside it or never
+      if (lower > 0 || upper < 0) return false;
+      continue;
+    }
+    double t0 = lower * inverse[k], t1 = upper * inverse[k];
+    if (t0 > t1) std::swap(t0, t1);
+    enter = std::max(enter, t0), leave = std::min(leave, t1);
+    if (enter > leave) return false;
+  }
+  return true;
+}
+
+}  // namespace
 
 std::size_t TriangleTree::crossings(const Vec3& origin, const Vec3& direction) const {
-  return state_->tree.number_of_intersected_primitives(Kernel::Ray_3(point(origin), Kernel::Vector_3(direction.x, direction.y, direction.z)));
+  const Point o = point(origin);
+  const Kernel::Ray_3 ray(o, Kernel::Vector_3(direction.x, direction.y, direction.z));
+  const std::array<double, 3> inverse{1 / direction.x, 1 / direction.y, 1 / direction.z};
+  std::size_t count = 0;
+  std::vector<std::uint32_t> stack{0};
+  while (!stack.empty()) {
+    const Node& node = state_->nodes[stack.back()];
+    stack.pop_back();
+    for (int c = 0; c < 4; ++c) {
+      if (!rayMeetsBox(o, inverse, node.lo, node.hi, c)) continue;
+      if (node.count[c] == 0) {
+        stack.push_back(node.index[c]);
+        continue;
+      }
+      for (std::uint32_t t = node.index[c]; t < node.index[c] + node.count[c]; ++t)
+        count += CGAL::do_intersect(ray, state_->triangles[t].triangle) ? 1 : 0;
+    }
+  }
+  return count;
 }
 
 }  // namespace isoatlas

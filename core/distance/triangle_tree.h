@@ -1,7 +1,8 @@
-// TriangleTree: closest points on a triangle mesh and the triangles a ray crosses, by CGAL's AABB tree
-// over the mesh's triangles (held by value: building the tree compares and boxes every triangle at
-// every depth, and one read through an index misses the cache each time). The one closest-point
-// query of isoatlas: mesh_distance.h measures with it, the volume tree's mesh solids voxelise with it.
+// TriangleTree: closest points on a triangle mesh and the triangles a ray crosses, by a bounding
+// volume hierarchy of our own over the mesh's triangles (held by value, in the Morton order of their
+// centroids), whose answers are CGAL's: each closest point is CGAL's projection onto its triangle,
+// each crossing CGAL's ray-triangle test. The one closest-point query of isoatlas: mesh_distance.h
+// measures with it, the volume tree's mesh solids voxelise with it.
 // A face that names a vertex twice covers nothing and is left out; every answer names a face of the
 // mesh by its index.
 #pragma once
@@ -22,11 +23,8 @@ inline bool namesThreeVertices(std::span<const std::uint32_t> triangle) {
 
 class TriangleTree {
 public:
-  // How queries without a hint start: from a search tree of the mesh's vertices (built with the
-  // tree), or, when every query brings its own hint, from nothing (the search tree is not built).
-  enum class Hints { Searched, Given };
   // Throws Error unless the mesh is triangles, at least one of which names three vertices.
-  explicit TriangleTree(const Mesh& mesh, Hints hints = Hints::Searched);
+  explicit TriangleTree(const Mesh& mesh);
   ~TriangleTree();
   TriangleTree(TriangleTree&&) noexcept;
 
@@ -37,10 +35,10 @@ public:
   // The closest point of the mesh to q. Exact whatever the hint; a hint near the answer (the last
   // answer of a query nearby) only makes the search shorter. Only a tie between two points at the
   // same distance can be decided differently by another hint.
-  Closest closest(const Vec3& q) const;  // Hints::Searched only
+  Closest closest(const Vec3& q) const;
   Closest closest(const Vec3& q, const Closest& hint) const;
   Vec3 closestPoint(const Vec3& q, const Vec3& hint) const;
-  double distance(const Vec3& q) const;  // Hints::Searched only
+  double distance(const Vec3& q) const;
   // How many triangles the ray from `origin` along `direction` crosses.
   std::size_t crossings(const Vec3& origin, const Vec3& direction) const;
 

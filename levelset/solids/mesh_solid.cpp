@@ -35,9 +35,8 @@ public:
 private:
   // The closest point to q. The rasteriser asks of neighbouring cells in turn, so the last answer on
   // this thread bounds the search well when q is near the last query (its distance exceeds the true
-  // one by at most twice the step): about as well as CGAL's own hint (the nearest vertex, within an
-  // edge of the surface) when the step is under the last distance plus a mean edge, and without
-  // searching for it. After a longer step, CGAL's hint.
+  // one by at most twice the step), when the step is under the last distance plus a mean edge. After
+  // a longer step, a search with no bound (the tree's nearest boxes first).
   TriangleTree::Closest closestTo(const Vec3& q) const {
     struct Last {
       std::uint64_t solid = 0;

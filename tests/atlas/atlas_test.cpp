@@ -10,6 +10,7 @@
 #include <map>
 
 #include "core/distance/mesh_distance.h"
+#include "atlas/evaluate_levels.h"
 #include "atlas/make_atlas.h"
 #include "atlas/reconstruct.h"
 #include "atlas/tile_sides.h"
@@ -281,6 +282,30 @@ TEST(Atlas, TheSameModelOnOneTwoOrEightThreads) {
     EXPECT_TRUE(other.first == one.first) << "base vertices on " << threads << " threads";
     EXPECT_TRUE(other.second == one.second) << "atlas texels on " << threads << " threads";
   }
+}
+
+// evaluateLevels measures its levels side by side: each answers as measured alone, in the order asked,
+// on one thread or eight.
+TEST(EvaluateLevels, LevelsSideBySideAnswerAsEachAlone) {
+  const Built& b = torus();
+  const std::vector<int> levels{4, 0, 8, 2};
+  const auto together = [&] { return evaluateLevels(b.base, b.atlas, b.dense, levels, 5000); };
+  const std::vector<LevelFigures> one = test::onThreads(1, together), eight = test::onThreads(8, together);
+  ASSERT_EQ(one.size(), levels.size());
+  ASSERT_EQ(eight.size(), levels.size());
+  const MeshDistances fromDense(b.dense, 5000);
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const Mesh mesh = reconstructLevel(b.base, b.atlas, levels[i]);
+    const Hausdorff alone = fromDense.to(mesh);
+    for (const auto* figures : {&one[i], &eight[i]}) {
+      EXPECT_EQ(figures->level, levels[i]);
+      EXPECT_EQ(figures->triangles, mesh.faceCount());
+      EXPECT_EQ(figures->hausdorff, alone.symmetric()) << "level " << levels[i];
+      EXPECT_EQ(figures->rms, alone.rms()) << "level " << levels[i];
+      EXPECT_TRUE(figures->closed && figures->manifold);
+    }
+  }
+  EXPECT_LT(one[2].hausdorff, one[1].hausdorff);  // level 8 nearer than level 0
 }
 
 }  // namespace

@@ -100,22 +100,47 @@ Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& 
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
+// Whether the ray from o along d crosses triangle abc (Moller and Trumbore): the brute force the
+// tree's crossings are held to, for rays that meet no edge.
+bool rayCrosses(const Vec3& o, const Vec3& d, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 e1 = b - a, e2 = c - a, p = cross(d, e2);
+  const double det = dot(e1, p);
+  if (std::abs(det) < 1e-14) return false;
+  const Vec3 t = o - a;
+  const double u = dot(t, p) / det;
+  if (u < 0 || u > 1) return false;
+  const Vec3 qv = cross(t, e1);
+  const double v = dot(d, qv) / det;
+  return v >= 0 && u + v <= 1 && dot(e2, qv) / det > 0;
+}
+
+double bruteDistance(const Mesh& mesh, const Vec3& q) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+    const auto c = mesh.face(f);
+    best = std::min(best, norm(q - closestOnTriangle(q, mesh.positions[c[0]], mesh.positions[c[1]], mesh.positions[c[2]])));
+  }
+  return best;
+}
+
+// A torus of 14,400 triangles, so that the tree is many nodes deep: queries anywhere in its box and
+// just off its surface, without a hint, with the last answer, and with a hint on the far side.
 TEST(TriangleTree, ClosestPointsAsBruteForceWithOrWithoutAHint) {
-  const Mesh torus = test::torusMesh(24, 12, 8, 3);
+  const Mesh torus = test::torusMesh(120, 60, 8, 3);
   const TriangleTree tree(torus);
   std::mt19937 random(3);
-  std::uniform_real_distribution<double> coordinate(-14, 14);
+  std::uniform_real_distribution<double> coordinate(-14, 14), offset(-0.05, 0.05);
   TriangleTree::Closest last = tree.closest(torus.positions[0]);
+  const TriangleTree::Closest farSide = tree.closest({-11, 0, 0});
   for (int k = 0; k < 300; ++k) {
-    const Vec3 q{coordinate(random), coordinate(random), coordinate(random) / 3};
-    double best = std::numeric_limits<double>::infinity();
-    for (std::size_t f = 0; f < torus.faceCount(); ++f) {
-      const auto c = torus.face(f);
-      best = std::min(best, norm(q - closestOnTriangle(q, torus.positions[c[0]], torus.positions[c[1]], torus.positions[c[2]])));
-    }
-    const TriangleTree::Closest found = tree.closest(q), hinted = tree.closest(q, last);
+    const Vec3 v = torus.positions[random() % torus.vertexCount()];
+    const Vec3 q = k % 2 == 0 ? Vec3{coordinate(random), coordinate(random), coordinate(random) / 3}
+                              : v + Vec3{offset(random), offset(random), offset(random)};
+    const double best = bruteDistance(torus, q);
+    const TriangleTree::Closest found = tree.closest(q), hinted = tree.closest(q, last), misled = tree.closest(q, farSide);
     EXPECT_NEAR(norm(q - found.point), best, 1e-9);
     EXPECT_NEAR(norm(q - hinted.point), best, 1e-9);
+    EXPECT_NEAR(norm(q - misled.point), best, 1e-9);
     EXPECT_NEAR(norm(q - tree.closestPoint(q, last.point)), best, 1e-9);
     EXPECT_NEAR(tree.distance(q), best, 1e-9);
     // The face named holds the point.
@@ -123,6 +148,17 @@ TEST(TriangleTree, ClosestPointsAsBruteForceWithOrWithoutAHint) {
     EXPECT_NEAR(norm(found.point - closestOnTriangle(found.point, torus.positions[c[0]], torus.positions[c[1]], torus.positions[c[2]])), 0,
                 1e-9);
     last = hinted;
+  }
+  // Rays from anywhere cross as many triangles as brute force counts.
+  for (int k = 0; k < 100; ++k) {
+    const Vec3 o{coordinate(random), coordinate(random), coordinate(random) / 3};
+    const Vec3 d{coordinate(random), coordinate(random), coordinate(random)};
+    std::size_t crossed = 0;
+    for (std::size_t f = 0; f < torus.faceCount(); ++f) {
+      const auto c = torus.face(f);
+      crossed += rayCrosses(o, d, torus.positions[c[0]], torus.positions[c[1]], torus.positions[c[2]]) ? 1 : 0;
+    }
+    EXPECT_EQ(tree.crossings(o, d), crossed) << "ray " << k;
   }
 }
 
@@ -136,7 +172,7 @@ TEST(TriangleTree, NamesFacesOfTheMeshAndCountsCrossings) {
     const auto c = sphere.face(f);
     withDegenerate.addFace({c[0], c[1], c[2]});
   }
-  const TriangleTree tree(withDegenerate, TriangleTree::Hints::Given);
+  const TriangleTree tree(withDegenerate);
   const TriangleTree::Closest hint{sphere.positions[0], 1};
   for (std::size_t f = 0; f < sphere.faceCount(); f += 97) {
     const auto c = sphere.face(f);
