@@ -5,37 +5,35 @@
 #include "core/plot.h"
 #include "core/progress.h"
 
-#include <tbb/parallel_for_each.h>
+#include <tbb/parallel_invoke.h>
 
-#include <algorithm>
-#include <mutex>
-#include <numeric>
+#include <optional>
 
 
 namespace isoatlas::atlas {
 
-// The levels side by side, the finest first: the parts of one level that run on one core (its
-// reconstruction, its tree's nodes, its topology) leave the other core to the next level.
+// One level measured at a time, with both cores (MeshDistances::to measures both ways side by side),
+// while the next level is reconstructed beside it (one core's work).
 std::vector<LevelFigures> evaluateLevels(const multires::BaseMesh& base, const Atlas& atlas, const Mesh& dense,
                                          const std::vector<int>& levels, std::size_t facePoints) {
   const double diagonal = boundingBox(dense.positions).diagonal();
-  const MeshDistances fromDense(dense, facePoints);  // the dense samples and tree, once for every level
-  std::vector<LevelFigures> out(levels.size());
-  std::vector<std::size_t> finestFirst(levels.size());
-  std::iota(finestFirst.begin(), finestFirst.end(), 0);
-  std::stable_sort(finestFirst.begin(), finestFirst.end(), [&](std::size_t a, std::size_t b) { return levels[a] > levels[b]; });
+  std::optional<MeshDistances> fromDense;  // the dense samples and tree, once for every level
+  std::optional<Mesh> next;
+  const auto reconstructNext = [&](std::size_t i) {
+    if (i < levels.size()) next = reconstructLevel(base, atlas, levels[i]);
+  };
+  tbb::parallel_invoke([&] { fromDense.emplace(dense, facePoints); }, [&] { reconstructNext(0); });
+  std::vector<LevelFigures> out;
   Progress progress("eval: levels", levels.size(), "levels");
-  std::mutex progressLock;
-  std::size_t done = 0;
-  tbb::parallel_for_each(finestFirst.begin(), finestFirst.end(), [&](std::size_t i) {
-    const Mesh mesh = reconstructLevel(base, atlas, levels[i]);
+  for (std::size_t i = 0; i < levels.size(); ++i) {
+    const Mesh mesh = std::move(*next);
     MeshTopology topology;
-    const Hausdorff h = fromDense.to(mesh, &topology);
-    out[i] = {levels[i], mesh.vertexCount(), mesh.faceCount(), h.symmetric(), psnrDb(diagonal, h.symmetric()), h.rms(),
-              psnrDb(diagonal, h.rms()), topology.closed, topology.manifold};
-    const std::lock_guard lock(progressLock);
-    progress.update(++done);
-  });
+    Hausdorff h;
+    tbb::parallel_invoke([&] { h = fromDense->to(mesh, &topology); }, [&] { reconstructNext(i + 1); });
+    out.push_back({levels[i], mesh.vertexCount(), mesh.faceCount(), h.symmetric(), psnrDb(diagonal, h.symmetric()), h.rms(),
+                   psnrDb(diagonal, h.rms()), topology.closed, topology.manifold});
+    progress.update(out.size());
+  }
   progress.finish();
   return out;
 }

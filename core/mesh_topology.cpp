@@ -8,11 +8,11 @@
 namespace isoatlas {
 namespace {
 
+// A half-edge filed under the lower of its two vertices: the higher one, and the corner (index into
+// faceVertices) its face leaves it from. Eight bytes, so that a large mesh's are sorted fast.
 struct HalfEdge {
-  std::uint64_t key;        // (min vertex << 32) | max vertex
-  std::uint32_t corner;     // index into faceVertices of the edge's first vertex
-  std::uint32_t nextCorner;
-  bool forward;             // first vertex is the smaller one
+  std::uint32_t upper;
+  std::uint32_t corner;
 };
 
 // The vertex a face names twice, or UINT32_MAX: faces are short, so pairs are compared directly.
@@ -23,18 +23,28 @@ std::uint32_t repeatedVertex(const std::uint32_t* begin, const std::uint32_t* en
   return UINT32_MAX;
 }
 
-// Half-edges grouped by edge (equal keys adjacent, keys ascending): a counting sort on the lower
-// vertex, then each vertex's few edges in key order. Linear, where one sort of every half-edge
-// dominated the analysis of a large mesh.
-std::vector<HalfEdge> groupedByEdge(const std::vector<HalfEdge>& halfEdges, std::size_t vertexCount) {
-  std::vector<std::uint32_t> start(vertexCount + 1, 0);
-  for (const HalfEdge& h : halfEdges) ++start[(h.key >> 32) + 1];
-  for (std::size_t v = 0; v < vertexCount; ++v) start[v + 1] += start[v];
-  std::vector<HalfEdge> out(halfEdges.size());
+// Half-edges grouped by edge: filed by lower vertex (a counting sort, `start` the offsets), then
+// each vertex's few by higher vertex and corner. Linear, where one sort of every half-edge dominated
+// the analysis of a large mesh.
+std::vector<HalfEdge> groupedByEdge(const Mesh& m, std::vector<std::uint32_t>& start) {
+  start.assign(m.vertexCount() + 1, 0);
+  const auto forEachHalfEdge = [&](auto&& f) {
+    for (std::size_t face = 0; face < m.faceCount(); ++face) {
+      const std::uint32_t begin = m.faceOffsets[face], end = m.faceOffsets[face + 1];
+      for (std::uint32_t c = begin; c < end; ++c) {
+        const std::uint32_t a = m.faceVertices[c], b = m.faceVertices[c + 1 == end ? begin : c + 1];
+        if (a != b) f(std::min(a, b), std::max(a, b), c);
+      }
+    }
+  };
+  forEachHalfEdge([&](std::uint32_t lower, std::uint32_t, std::uint32_t) { ++start[lower + 1]; });
+  for (std::size_t v = 0; v < m.vertexCount(); ++v) start[v + 1] += start[v];
+  std::vector<HalfEdge> out(start.back());
   std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-  for (const HalfEdge& h : halfEdges) out[fill[h.key >> 32]++] = h;
-  for (std::size_t v = 0; v < vertexCount; ++v)
-    std::sort(out.begin() + start[v], out.begin() + start[v + 1], [](const HalfEdge& a, const HalfEdge& b) { return a.key < b.key; });
+  forEachHalfEdge([&](std::uint32_t lower, std::uint32_t upper, std::uint32_t c) { out[fill[lower]++] = {upper, c}; });
+  for (std::size_t v = 0; v < m.vertexCount(); ++v)
+    std::sort(out.begin() + start[v], out.begin() + start[v + 1],
+              [](const HalfEdge& a, const HalfEdge& b) { return a.upper != b.upper ? a.upper < b.upper : a.corner < b.corner; });
   return out;
 }
 
@@ -45,8 +55,6 @@ MeshTopology analyzeTopology(const Mesh& m) {
   t.faces = m.faceCount();
   const std::size_t corners = m.faceVertices.size();
   std::vector<std::uint32_t> faceOfCorner(corners);
-  std::vector<HalfEdge> halfEdges;
-  halfEdges.reserve(corners);
   std::vector<char> used(m.vertexCount(), 0);
   auto problem = [&](const std::string& what) {
     if (t.firstProblem.empty()) t.firstProblem = what;
@@ -54,21 +62,19 @@ MeshTopology analyzeTopology(const Mesh& m) {
 
   for (std::size_t f = 0; f < t.faces; ++f) {
     const std::uint32_t begin = m.faceOffsets[f], end = m.faceOffsets[f + 1];
-    for (std::uint32_t c = begin; c < end; ++c) {
-      faceOfCorner[c] = std::uint32_t(f);
-      const std::uint32_t next = c + 1 == end ? begin : c + 1;
-      const std::uint32_t a = m.faceVertices[c], b = m.faceVertices[next];
-      used[a] = 1;
-      if (a == b) continue;
-      halfEdges.push_back({(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b), c, next, a < b});
-    }
+    for (std::uint32_t c = begin; c < end; ++c) faceOfCorner[c] = std::uint32_t(f), used[m.faceVertices[c]] = 1;
     const std::uint32_t twice = repeatedVertex(m.faceVertices.data() + begin, m.faceVertices.data() + end);
     if (twice != UINT32_MAX) {
       ++t.degenerateFaces;
       problem("face " + std::to_string(f) + " names vertex " + std::to_string(twice) + " twice");
     }
   }
-  halfEdges = groupedByEdge(halfEdges, m.vertexCount());
+  std::vector<std::uint32_t> start;
+  const std::vector<HalfEdge> halfEdges = groupedByEdge(m, start);
+  const auto nextCorner = [&](std::uint32_t c) {
+    const std::uint32_t f = faceOfCorner[c];
+    return c + 1 == m.faceOffsets[f + 1] ? m.faceOffsets[f] : c + 1;
+  };
 
   // Corners around a vertex are joined when their faces share an edge at that vertex; a manifold
   // vertex ends with all its corners in one set (one fan). Faces sharing an edge form components.
@@ -76,37 +82,37 @@ MeshTopology analyzeTopology(const Mesh& m) {
   std::vector<std::uint32_t> boundaryNext;  // boundary half-edges: from vertex -> to vertex
   std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary;
   t.oriented = true;
-  for (std::size_t i = 0; i < halfEdges.size();) {
-    std::size_t j = i;
-    while (j < halfEdges.size() && halfEdges[j].key == halfEdges[i].key) ++j;
-    const std::size_t count = j - i;
-    ++t.edges;
-    const auto u = std::uint32_t(halfEdges[i].key >> 32), v = std::uint32_t(halfEdges[i].key & 0xffffffffu);
-    if (count == 1) {
-      ++t.boundaryEdges;
-      const HalfEdge& h = halfEdges[i];
-      boundary.push_back({m.faceVertices[h.corner], m.faceVertices[h.nextCorner]});
-    } else if (count == 2) {
-      const HalfEdge &h0 = halfEdges[i], &h1 = halfEdges[i + 1];
-      if (h0.forward == h1.forward) t.oriented = false;
-      // h0 runs x->y over corners (c0, n0); h1 joins the corner holding the same vertex.
-      const std::uint32_t c0 = h0.corner, n0 = h0.nextCorner, c1 = h1.corner, n1 = h1.nextCorner;
-      if (m.faceVertices[c0] == m.faceVertices[c1]) {
-        cornerSets.unite(c0, c1);
-        cornerSets.unite(n0, n1);
+  for (std::uint32_t u = 0; u < m.vertexCount(); ++u)
+    for (std::size_t i = start[u]; i < start[u + 1];) {
+      std::size_t j = i;
+      while (j < start[u + 1] && halfEdges[j].upper == halfEdges[i].upper) ++j;
+      const std::size_t count = j - i;
+      ++t.edges;
+      const std::uint32_t v = halfEdges[i].upper;
+      if (count == 1) {
+        ++t.boundaryEdges;
+        const std::uint32_t c = halfEdges[i].corner;
+        boundary.push_back({m.faceVertices[c], m.faceVertices[nextCorner(c)]});
+      } else if (count == 2) {
+        // The first runs x->y over corners (c0, n0); the second joins the corner holding the same vertex.
+        const std::uint32_t c0 = halfEdges[i].corner, n0 = nextCorner(c0), c1 = halfEdges[i + 1].corner, n1 = nextCorner(c1);
+        if (m.faceVertices[c0] == m.faceVertices[c1]) {
+          t.oriented = false;  // both run the same way
+          cornerSets.unite(c0, c1);
+          cornerSets.unite(n0, n1);
+        } else {
+          cornerSets.unite(c0, n1);
+          cornerSets.unite(n0, c1);
+        }
+        faceSets.unite(faceOfCorner[c0], faceOfCorner[c1]);
       } else {
-        cornerSets.unite(c0, n1);
-        cornerSets.unite(n0, c1);
+        ++t.nonManifoldEdges;
+        problem("edge (" + std::to_string(u) + ", " + std::to_string(v) + ") is shared by " + std::to_string(count) +
+                " faces");
+        for (std::size_t k = i + 1; k < j; ++k) faceSets.unite(faceOfCorner[halfEdges[i].corner], faceOfCorner[halfEdges[k].corner]);
       }
-      faceSets.unite(faceOfCorner[c0], faceOfCorner[c1]);
-    } else {
-      ++t.nonManifoldEdges;
-      problem("edge (" + std::to_string(u) + ", " + std::to_string(v) + ") is shared by " + std::to_string(count) +
-              " faces");
-      for (std::size_t k = i + 1; k < j; ++k) faceSets.unite(faceOfCorner[halfEdges[i].corner], faceOfCorner[halfEdges[k].corner]);
+      i = j;
     }
-    i = j;
-  }
 
   // Fans per vertex.
   std::vector<std::uint32_t> firstRoot(m.vertexCount(), UINT32_MAX);

@@ -103,17 +103,14 @@ std::vector<Point> halfedgeSamples(const Mesh& mesh, std::size_t facePoints) {
 // A mesh's samples as CGAL's approximate_Hausdorff_distance draws them, in Morton order: each query's
 // hint, the last answer, is then near. (CGAL's max_distance_to_triangle_mesh queries them in Hilbert
 // order, for the same reason, at several times the cost of sorting: the order decides no largest
-// distance, and the RMS only in its last digits, by the order of the sum.) `topology` receives
-// analyzeTopology(mesh): the mesh is sampled as a soup beside it, and again through halfedges only if
-// it is no oriented manifold.
-std::vector<Point> samplesOf(const Mesh& mesh, std::size_t facePoints, MeshTopology& topology) {
-  std::vector<Point> drawn;
-  tbb::parallel_invoke([&] { topology = analyzeTopology(mesh); }, [&] { drawn = soupSamples(mesh, facePoints); });
-  if (!(topology.manifold && topology.oriented)) drawn = halfedgeSamples(mesh, facePoints);
-  const std::vector<MortonKey> keys = mortonOrder(drawn.size(), [&](std::size_t i) { return vec(drawn[i]); });
+// distance, and the RMS only in its last digits, by the order of the sum.) Drawn from the soup of
+// triangles where the mesh is an oriented manifold, else through halfedges.
+std::vector<Point> samplesOf(const Mesh& mesh, std::size_t facePoints, bool orientedManifold) {
+  const std::vector<Point> drawn = orientedManifold ? soupSamples(mesh, facePoints) : halfedgeSamples(mesh, facePoints);
+  const std::vector<std::uint64_t> keys = mortonOrder(drawn.size(), [&](std::size_t i) { return vec(drawn[i]); });
   std::vector<Point> out(keys.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-    for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = drawn[keys[i].index];
+    for (std::size_t i = r.begin(); i != r.end(); ++i) out[i] = drawn[mortonIndex(keys[i])];
   });
   return out;
 }
@@ -151,15 +148,19 @@ struct MeshDistances::State {
 
 MeshDistances::MeshDistances(const Mesh& a, std::size_t facePoints) : state_(std::make_unique<State>()) {
   requireMeasurable(a, "first");
+  // Sampled as an oriented manifold while its topology is analysed (see to()).
   MeshTopology topology;
-  tbb::parallel_invoke([&] { state_->samples = samplesOf(a, facePoints, topology); }, [&] { state_->tree.emplace(a); });
+  tbb::parallel_invoke([&] { state_->samples = samplesOf(a, facePoints, true); }, [&] { topology = analyzeTopology(a); },
+                       [&] { state_->tree.emplace(a); });
+  if (!(topology.manifold && topology.oriented)) state_->samples = samplesOf(a, facePoints, false);
   state_->facePoints = facePoints;
 }
 
 MeshDistances::~MeshDistances() = default;
 
-// The two ways side by side: b's tree is built and a's samples measured against it, while b's
-// topology and samples are made and measured against a's tree.
+// Three parts side by side: b's tree is built and a's samples measured against it; b is sampled and
+// measured against a's tree; b's topology is analysed. b is sampled as an oriented manifold (as every
+// level of a model is) before its topology says so, and sampled again if it is not one.
 Hausdorff MeshDistances::to(const Mesh& b, MeshTopology* topologyOfB) const {
   requireMeasurable(b, "second");
   OneWay aToB, bToA;
@@ -169,7 +170,8 @@ Hausdorff MeshDistances::to(const Mesh& b, MeshTopology* topologyOfB) const {
         const TriangleTree tree(b);
         aToB = distances(state_->samples, tree);
       },
-      [&] { bToA = distances(samplesOf(b, state_->facePoints, topology), *state_->tree); });
+      [&] { bToA = distances(samplesOf(b, state_->facePoints, true), *state_->tree); }, [&] { topology = analyzeTopology(b); });
+  if (!(topology.manifold && topology.oriented)) bToA = distances(samplesOf(b, state_->facePoints, false), *state_->tree);
   if (topologyOfB) *topologyOfB = std::move(topology);
   return {aToB.largest, bToA.largest, aToB.rms, bToA.rms};
 }

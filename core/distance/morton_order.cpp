@@ -2,6 +2,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -9,38 +10,47 @@
 namespace isoatlas {
 namespace {
 
-// The low 21 bits of x, two zero bits after each.
-std::uint64_t spreadBits(std::uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffULL;
-  x = (x | x << 16) & 0x1f0000ff0000ffULL;
-  x = (x | x << 8) & 0x100f00f00f00f00fULL;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-  x = (x | x << 2) & 0x1249249249249249ULL;
+// The low 10 bits of x, two zero bits after each.
+std::uint32_t spreadBits(std::uint32_t x) {
+  x &= 0x3ff;
+  x = (x | x << 16) & 0x30000ff;
+  x = (x | x << 8) & 0x300f00f;
+  x = (x | x << 4) & 0x30c30c3;
+  x = (x | x << 2) & 0x9249249;
   return x;
 }
 
-}  // namespace
-
-std::vector<MortonKey> mortonOrder(std::size_t count, const std::function<Vec3(std::size_t)>& at) {
-  std::vector<MortonKey> keys(count);
-  if (count == 0) return keys;
-  Vec3 lo = at(0), hi = lo;
-  for (std::size_t i = 1; i < count; ++i) {
-    const Vec3 p = at(i);
+struct Bounds {
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  void add(const Vec3& p) {
     lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
-  const double scale = double((1u << 21) - 1) / std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 1e-300});
+};
+
+}  // namespace
+
+std::vector<std::uint64_t> mortonOrder(std::size_t count, const std::function<Vec3(std::size_t)>& at) {
+  const Bounds box = tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, count), Bounds{},
+      [&](const tbb::blocked_range<std::size_t>& r, Bounds b) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) b.add(at(i));
+        return b;
+      },
+      [](Bounds a, const Bounds& b) {
+        a.add(b.lo), a.add(b.hi);
+        return a;
+      });
+  const double scale = 1023.0 / std::max({box.hi.x - box.lo.x, box.hi.y - box.lo.y, box.hi.z - box.lo.z, 1e-300});
+  std::vector<std::uint64_t> keys(count);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      const Vec3 c = (at(i) - lo) * scale;
-      keys[i] = {spreadBits(std::uint64_t(c.x)) | spreadBits(std::uint64_t(c.y)) << 1 | spreadBits(std::uint64_t(c.z)) << 2,
-                 std::uint32_t(i)};
+      const Vec3 c = (at(i) - box.lo) * scale;
+      const std::uint32_t code = spreadBits(std::uint32_t(c.x)) | spreadBits(std::uint32_t(c.y)) << 1 | spreadBits(std::uint32_t(c.z)) << 2;
+      keys[i] = std::uint64_t(code) << 32 | std::uint32_t(i);
     }
   });
-  tbb::parallel_sort(keys.begin(), keys.end(),
-                     [](const MortonKey& a, const MortonKey& b) { return a.code != b.code ? a.code < b.code : a.index < b.index; });
+  tbb::parallel_sort(keys.begin(), keys.end());
   return keys;
 }
 

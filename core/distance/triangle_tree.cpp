@@ -65,6 +65,8 @@ double triangleBoxSquaredDistance(const Kernel::Triangle_3& t, const Point& q) {
   return d2;
 }
 
+// A triangle as the tree holds it, by value: a leaf's triangles are then read from one place, not
+// from three points each anywhere in the mesh's.
 struct HeldTriangle {
   Kernel::Triangle_3 triangle;
   std::uint32_t face;
@@ -80,6 +82,11 @@ struct Node {
   std::array<std::uint32_t, 4> index;          // a node, or a leaf's first triangle
   std::array<std::uint8_t, 4> count;           // a leaf's triangles; 0 for a node or nothing
 
+  static Node nothing() {
+    Node node;
+    for (int c = 0; c < 4; ++c) node.set(c, NodeBox{}), node.index[c] = 0, node.count[c] = 0;
+    return node;
+  }
   void set(int child, const NodeBox& box) {
     for (int k = 0; k < 3; ++k) lo[k][child] = box.lo[k], hi[k][child] = box.hi[k];
   }
@@ -102,28 +109,56 @@ struct Node {
   }
 };
 
-// A binary hierarchy first (as the Morton order splits), then collapsed into four-wide nodes.
-struct BinaryNode {
-  NodeBox box;
-  std::uint32_t first = 0, count = 0;  // a leaf's triangles
-  std::uint32_t second = 0;            // an inner node's second child (its first is the next node)
+// A range of triangles [begin, end) in Morton order.
+struct Range {
+  std::uint32_t begin, end;
+  std::uint32_t size() const { return end - begin; }
 };
+
+// Where a range splits: where its Morton codes' highest differing bit turns on (the middle, when every
+// code is the same).
+std::uint32_t mortonSplit(const std::vector<std::uint64_t>& keys, Range r) {
+  const std::uint32_t differ = mortonCode(keys[r.begin]) ^ mortonCode(keys[r.end - 1]);
+  if (differ == 0) return r.begin + r.size() / 2;
+  const std::uint32_t bit = std::uint32_t(1) << (31 - std::countl_zero(differ));
+  return std::uint32_t(std::partition_point(keys.begin() + r.begin, keys.begin() + r.end,
+                                            [&](std::uint64_t k) { return (mortonCode(k) & bit) == 0; }) -
+                       keys.begin());
+}
+
+// The ranges a node's children stand for: two rounds of splits, a range of a leaf's size not split
+// again (one range, a leaf, for a node over that few).
+std::vector<Range> childRanges(const std::vector<std::uint64_t>& keys, Range r) {
+  if (r.size() <= kLeafSize) return {r};
+  std::vector<Range> out;
+  const std::uint32_t middle = mortonSplit(keys, r);
+  for (const Range half : {Range{r.begin, middle}, Range{middle, r.end}}) {
+    if (half.size() <= kLeafSize) {
+      out.push_back(half);
+      continue;
+    }
+    const std::uint32_t quarter = mortonSplit(keys, half);
+    out.push_back({half.begin, quarter});
+    out.push_back({quarter, half.end});
+  }
+  return out;
+}
 
 }  // namespace
 
 // A bounding volume hierarchy over the triangles, built in the Morton order of their centroids (one
-// sort, then each range split where its codes first differ: no comparisons of boxes at every depth),
-// the triangles held by value in leaf order. Closest points are CGAL's own projections onto the
-// triangles, so a distance is the one CGAL's AABB tree gives.
+// sort, then each range split where its keys first differ: no comparisons of boxes at every depth),
+// the triangles held in leaf order. Closest points are CGAL's own projections onto the triangles, so a
+// distance is the one CGAL's AABB tree gives.
 struct TriangleTree::State {
   std::vector<HeldTriangle> triangles;
   std::vector<Node> nodes;
   std::vector<std::uint32_t> slotOfFace;  // where each face's triangle is held (faces left out: none)
 
+  const Kernel::Triangle_3& triangle(std::uint32_t t) const { return triangles[t].triangle; }
   void build(const Mesh& mesh);
-  std::uint32_t buildBinary(std::vector<BinaryNode>& binary, const std::vector<std::uint64_t>& codes, std::uint32_t begin,
-                            std::uint32_t end) const;
-  std::uint32_t collapse(const std::vector<BinaryNode>& binary, std::uint32_t from);
+  NodeBox leafBox(Range range) const;
+  NodeBox buildSubtree(std::vector<Node>& out, const std::vector<std::uint64_t>& keys, Range range, int sideBySideDepth) const;
   // Improves (best, bestFace, best2) with any triangle strictly nearer to q.
   void search(const Point& q, Point& best, std::uint32_t& bestFace, double& best2) const;
 };
@@ -134,90 +169,72 @@ void TriangleTree::State::build(const Mesh& mesh) {
   for (std::size_t f = 0; f < mesh.faceCount(); ++f)
     if (namesThreeVertices(mesh.face(f))) faces.push_back(std::uint32_t(f));
   require(!faces.empty(), "a closest-point tree needs a triangle that names three vertices");
-  const std::vector<MortonKey> keys = mortonOrder(faces.size(), [&](std::size_t i) {
+  const std::vector<std::uint64_t> keys = mortonOrder(faces.size(), [&](std::size_t i) {
     const auto c = mesh.face(faces[i]);
     return (mesh.positions[c[0]] + mesh.positions[c[1]] + mesh.positions[c[2]]) * (1.0 / 3);
   });
-  std::vector<std::uint64_t> codes(keys.size());
   triangles.resize(keys.size());
   slotOfFace.assign(mesh.faceCount(), kNoSlot);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size()), [&](const tbb::blocked_range<std::size_t>& r) {
     for (std::size_t i = r.begin(); i != r.end(); ++i) {
-      const std::uint32_t face = faces[keys[i].index];
+      const std::uint32_t face = faces[mortonIndex(keys[i])];
       const auto c = mesh.face(face);
       const auto at = [&](int k) { return point(mesh.positions[c[k]]); };
       triangles[i] = {Kernel::Triangle_3(at(0), at(1), at(2)), face};
-      codes[i] = keys[i].code;
       slotOfFace[face] = std::uint32_t(i);
     }
   });
-  std::vector<BinaryNode> binary;
-  binary.reserve(2 * (triangles.size() / kLeafSize + 1));
-  buildBinary(binary, codes, 0, std::uint32_t(triangles.size()));
-  nodes.reserve(binary.size() / 3 + 1);
-  collapse(binary, 0);
+  nodes.reserve(triangles.size() / 3 + 1);
+  buildSubtree(nodes, keys, {0, std::uint32_t(triangles.size())}, 2);
 }
 
-// The binary node over triangles [begin, end): a leaf when few, else split where the codes' highest
-// differing bit turns on (the middle, when every code is the same).
-std::uint32_t TriangleTree::State::buildBinary(std::vector<BinaryNode>& binary, const std::vector<std::uint64_t>& codes,
-                                               std::uint32_t begin, std::uint32_t end) const {
-  const std::uint32_t index = std::uint32_t(binary.size());
-  binary.emplace_back();
-  if (end - begin <= kLeafSize) {
-    NodeBox box;
-    for (std::uint32_t t = begin; t < end; ++t)
-      for (int k = 0; k < 3; ++k) box.add(triangles[t].triangle.vertex(k));
-    binary[index] = {box, begin, end - begin, 0};
-    return index;
-  }
-  std::uint32_t split = begin + (end - begin) / 2;
-  if (const std::uint64_t differ = codes[begin] ^ codes[end - 1]) {
-    const std::uint64_t bit = std::uint64_t(1) << (63 - std::countl_zero(differ));
-    split = std::uint32_t(std::partition_point(codes.begin() + begin, codes.begin() + end,
-                                               [&](std::uint64_t c) { return (c & bit) == 0; }) -
-                          codes.begin());
-  }
-  buildBinary(binary, codes, begin, split);
-  const std::uint32_t second = buildBinary(binary, codes, split, end);
-  NodeBox box = binary[index + 1].box;
-  box.add(binary[second].box);
-  binary[index] = {box, 0, 0, second};
-  return index;
+NodeBox TriangleTree::State::leafBox(Range range) const {
+  NodeBox box;
+  for (std::uint32_t t = range.begin; t < range.end; ++t)
+    for (int k = 0; k < 3; ++k) box.add(triangles[t].triangle.vertex(k));
+  return box;
 }
 
-// The four-wide node standing for binary node `from`: its children, the largest inner one opened
-// into its own two while fewer than four.
-std::uint32_t TriangleTree::State::collapse(const std::vector<BinaryNode>& binary, std::uint32_t from) {
-  std::vector<std::uint32_t> children;
-  if (binary[from].count > 0) children = {from};
-  else children = {from + 1, binary[from].second};
-  while (children.size() < 4) {
-    auto largest = children.end();
-    for (auto c = children.begin(); c != children.end(); ++c)
-      if (binary[*c].count == 0 && (largest == children.end() || binary[*c].box.halfArea() > binary[*largest].box.halfArea())) largest = c;
-    if (largest == children.end()) break;
-    const std::uint32_t opened = *largest;
-    *largest = opened + 1;
-    children.push_back(binary[opened].second);
-  }
-  const std::uint32_t index = std::uint32_t(nodes.size());
-  nodes.emplace_back();
-  for (int c = 0; c < 4; ++c) {
-    nodes[index].set(c, NodeBox{});
-    nodes[index].index[c] = 0, nodes[index].count[c] = 0;
-  }
+// The node over `range` and every node below it, appended to `out` (the node first, its subtrees
+// after it); returns its box. The top `sideBySideDepth` levels build their large subtrees side by
+// side, each into a list of its own, appended afterwards with its node numbers moved along (a few
+// levels only: each level of them copies the nodes below it once more).
+NodeBox TriangleTree::State::buildSubtree(std::vector<Node>& out, const std::vector<std::uint64_t>& keys, Range range,
+                                          int sideBySideDepth) const {
+  const std::size_t index = out.size();
+  out.push_back(Node::nothing());
+  const std::vector<Range> children = childRanges(keys, range);
+  const bool sideBySide = sideBySideDepth > 0 && range.size() > (1u << 15);
+  std::array<NodeBox, 4> boxes;
+  std::array<std::vector<Node>, 4> parts;
+  const auto subtree = [&](std::size_t c, std::vector<Node>& into) { return buildSubtree(into, keys, children[c], sideBySideDepth - 1); };
+  if (sideBySide)
+    tbb::parallel_for(std::size_t(0), children.size(), [&](std::size_t c) {
+      if (children[c].size() > kLeafSize) boxes[c] = subtree(c, parts[c]);
+    });
   for (std::size_t c = 0; c < children.size(); ++c) {
-    const BinaryNode& child = binary[children[c]];
-    nodes[index].set(int(c), child.box);
-    if (child.count > 0) {
-      nodes[index].index[c] = child.first, nodes[index].count[c] = std::uint8_t(child.count);
+    if (children[c].size() <= kLeafSize) {
+      boxes[c] = leafBox(children[c]);
+      out[index].index[c] = children[c].begin, out[index].count[c] = std::uint8_t(children[c].size());
+    } else if (!sideBySide) {
+      const std::size_t child = out.size();
+      boxes[c] = subtree(c, out);
+      out[index].index[c] = std::uint32_t(child);
     } else {
-      const std::uint32_t node = collapse(binary, children[c]);
-      nodes[index].index[c] = node;
+      // A part's own first node is its root; no child names it, so a node number 0 is still nothing.
+      const std::uint32_t offset = std::uint32_t(out.size());
+      for (Node node : parts[c]) {
+        for (int k = 0; k < 4; ++k)
+          if (node.count[k] == 0 && node.index[k] != 0) node.index[k] += offset;
+        out.push_back(node);
+      }
+      out[index].index[c] = offset;
     }
+    out[index].set(int(c), boxes[c]);
   }
-  return index;
+  NodeBox box;
+  for (std::size_t c = 0; c < children.size(); ++c) box.add(boxes[c]);
+  return box;
 }
 
 // Depth first, the nearer children first, a child skipped once its box is no nearer than the best so
@@ -240,7 +257,7 @@ void TriangleTree::State::search(const Point& q, Point& best, std::uint32_t& bes
     if (!(top.d2 < best2)) continue;
     if (top.count > 0) {
       for (std::uint32_t t = top.index; t < top.index + top.count; ++t) {
-        const Kernel::Triangle_3& triangle = triangles[t].triangle;
+        const Kernel::Triangle_3& triangle = this->triangle(t);
         if (!(triangleBoxSquaredDistance(triangle, q) < best2)) continue;
         const Point p = project(triangle, q);
         const double d2 = CGAL::squared_distance(q, p);
@@ -285,7 +302,7 @@ TriangleTree::Closest TriangleTree::closest(const Vec3& q, const Closest& hint) 
   std::uint32_t face = hint.face;
   double best2 = CGAL::squared_distance(p, best);
   if (hint.face < state_->slotOfFace.size() && state_->slotOfFace[hint.face] != kNoSlot) {
-    const Point onFace = Kernel().construct_projected_point_3_object()(state_->triangles[state_->slotOfFace[hint.face]].triangle, p);
+    const Point onFace = Kernel().construct_projected_point_3_object()(state_->triangle(state_->slotOfFace[hint.face]), p);
     if (const double d2 = CGAL::squared_distance(p, onFace); d2 < best2) best = onFace, best2 = d2;
   }
   state_->search(p, best, face, best2);
@@ -339,7 +356,7 @@ std::size_t TriangleTree::crossings(const Vec3& origin, const Vec3& direction) c
         continue;
       }
       for (std::uint32_t t = node.index[c]; t < node.index[c] + node.count[c]; ++t)
-        count += CGAL::do_intersect(ray, state_->triangles[t].triangle) ? 1 : 0;
+        count += CGAL::do_intersect(ray, state_->triangle(t)) ? 1 : 0;
     }
   }
   return count;
