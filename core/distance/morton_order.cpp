@@ -3,9 +3,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
 
 namespace isoatlas {
 namespace {
@@ -27,6 +27,19 @@ struct Bounds {
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
 };
+
+// Sorts keys by their code (the high 32 bits, of which 30 are used), keeping the order of keys with
+// equal codes: four passes of a byte each (least significant first), linear in the keys.
+void radixSortByCode(std::vector<std::uint64_t>& keys) {
+  std::vector<std::uint64_t> other(keys.size());
+  for (int shift = 32; shift < 62; shift += 8) {
+    std::array<std::size_t, 257> start{};
+    for (const std::uint64_t k : keys) ++start[((k >> shift) & 0xff) + 1];
+    for (int d = 0; d < 256; ++d) start[d + 1] += start[d];
+    for (const std::uint64_t k : keys) other[start[(k >> shift) & 0xff]++] = k;
+    keys.swap(other);
+  }
+}
 
 }  // namespace
 
@@ -50,7 +63,7 @@ std::vector<std::uint64_t> mortonOrder(std::size_t count, const std::function<Ve
       keys[i] = std::uint64_t(code) << 32 | std::uint32_t(i);
     }
   });
-  tbb::parallel_sort(keys.begin(), keys.end());
+  radixSortByCode(keys);  // the keys came in index order, so equal codes stay in it
   return keys;
 }
 

@@ -188,10 +188,19 @@ void TriangleTree::State::build(const Mesh& mesh) {
   buildSubtree(nodes, keys, {0, std::uint32_t(triangles.size())}, 2);
 }
 
+// The box of a leaf's triangles, bounded in doubles and rounded outwards once.
 NodeBox TriangleTree::State::leafBox(Range range) const {
-  NodeBox box;
+  std::array<double, 3> lo{triangles[range.begin].triangle.vertex(0).x(), triangles[range.begin].triangle.vertex(0).y(),
+                           triangles[range.begin].triangle.vertex(0).z()},
+      hi = lo;
   for (std::uint32_t t = range.begin; t < range.end; ++t)
-    for (int k = 0; k < 3; ++k) box.add(triangles[t].triangle.vertex(k));
+    for (int v = 0; v < 3; ++v)
+      for (int k = 0; k < 3; ++k) {
+        const double x = triangles[t].triangle.vertex(v)[k];
+        lo[k] = std::min(lo[k], x), hi[k] = std::max(hi[k], x);
+      }
+  NodeBox box;
+  for (int k = 0; k < 3; ++k) box.lo[k] = roundedDown(lo[k]), box.hi[k] = roundedUp(hi[k]);
   return box;
 }
 

@@ -284,9 +284,9 @@ TEST(Atlas, TheSameModelOnOneTwoOrEightThreads) {
   }
 }
 
-// evaluateLevels measures its levels side by side: each answers as measured alone, in the order asked,
-// on one thread or eight.
-TEST(EvaluateLevels, LevelsSideBySideAnswerAsEachAlone) {
+// evaluateLevels measures each level while it reconstructs the next beside it: each answers as measured
+// alone, in the order asked, on one thread or eight.
+TEST(EvaluateLevels, EachLevelAnswersAsMeasuredAlone) {
   const Built& b = torus();
   const std::vector<int> levels{4, 0, 8, 2};
   const auto together = [&] { return evaluateLevels(b.base, b.atlas, b.dense, levels, 5000); };
