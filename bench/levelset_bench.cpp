@@ -84,6 +84,7 @@ struct Convergence {
   double seconds = 0;
   std::vector<char> result;
   std::string device;  // the GL renderer the GPU solver ran on; empty for the CPU solvers
+  double activeVoxels = 0;  // isoatlas: the mean active voxels an iteration, over the iterations counted
   // Returns true when the run may stop.
   bool snapshot(int iteration, double seconds, std::vector<char> mask) {
     if (!previous.empty() && dice(previous, mask) >= 0.999) {
@@ -183,9 +184,10 @@ Convergence runOurs(const Volume& v, const Case& c, levelset::Backend backend) {
   for (const auto& s : c.seeds) ls.addSphere({s[0], s[1], s[2]}, s[3]);
   Convergence conv;
   if (context) conv.device = context->info().renderer;
+  std::vector<std::size_t> activePages;  // each iteration's
   const auto start = Clock::now();
   for (int i = 1; i <= c.maxIterations; ++i) {
-    ls.step();
+    activePages.push_back(ls.step().messages.size());
     if (std::chrono::duration<double>(Clock::now() - start).count() > capSeconds()) break;
     if (i < conv.next) continue;
     const Volume m = ls.mask();
@@ -201,6 +203,11 @@ Convergence runOurs(const Volume& v, const Case& c, levelset::Backend backend) {
     conv.result.resize(m.voxelCount());
     for (std::size_t n = 0; n < m.voxelCount(); ++n) conv.result[n] = m.data[n] != std::byte{0};
   }
+  const std::size_t counted = std::min(activePages.size(), std::size_t(conv.iterations));
+  double pages = 0;
+  for (std::size_t i = 0; i < counted; ++i) pages += double(activePages[i]);
+  const double P = ls.pages().pageSize();
+  conv.activeVoxels = counted ? pages / double(counted) * P * P : 0;
   return conv;
 }
 
@@ -253,7 +260,8 @@ int runOne(const std::string& solver, const Case& c, const std::string& data, co
   const nlohmann::json j{{"solver", solver}, {"case", c.name}, {"converged", conv.converged},
                          {"iterations", conv.iterations}, {"seconds", conv.seconds},
                          {"ms_per_iteration", conv.iterations ? 1000 * conv.seconds / conv.iterations : 0.0},
-                         {"peak_rss_mib", bench::peakRssMiB()}, {"device", conv.device}};
+                         {"peak_rss_mib", bench::peakRssMiB()}, {"device", conv.device},
+                         {"active_voxels_per_iteration", conv.activeVoxels}};
   std::printf("%s\n", j.dump().c_str());
   return 0;
 }
@@ -302,6 +310,16 @@ int main(int argc, char** argv) {
     };
     for (const std::string& ours : solvers) {
       if (ours.rfind("isoatlas", 0) != 0) continue;
+      // The CPU solver beside the time its memory traffic alone would take (the speed issue's
+      // bound): 12 bytes an active voxel an iteration, phi read and written and the source read.
+      if (ours == "isoatlas-cpu" && figures[ours]["active_voxels_per_iteration"].get<double>() > 0) {
+        static const double bandwidth = bench::memoryBandwidth();
+        std::fprintf(stderr, "bench_levelset: memory bandwidth %.2f GB/s (triad, every core), %.0f active voxels an iteration\n",
+                     bandwidth / 1e9, figures[ours]["active_voxels_per_iteration"].get<double>());
+        const double boundMs = 1000 * 12 * figures[ours]["active_voxels_per_iteration"].get<double>() / bandwidth;
+        bench::report("levelset", c.name + ", " + ours, "ms per iteration beside the memory-bandwidth bound", figures[ours]["ms_per_iteration"],
+                      "bandwidth bound: 12 bytes an active voxel at the triad bandwidth measured", boundMs, true);
+      }
       for (const std::string& peer : {std::string("itk-serial"), std::string("itk-parallel")}) {
         if (!figures.count(peer)) continue;
         const std::string peerName =
