@@ -256,8 +256,9 @@ void TriangleTree::State::search(const Point& q, Point& best, std::uint32_t& bes
     std::uint32_t index, count;  // a node (count 0) or a leaf
     double d2;
   };
-  // Each node pushes at most three children beside the one it follows; a Morton split halves a 63-bit
-  // range at least, so the binary depth is below 64 + log2 n, and the four-wide one about half that.
+  // A node opened leaves at most three more on the stack than before. Each split either drops a bit of
+  // the 30-bit codes or halves a run of equal codes, so a node's depth is below (30 + 32) / 2 + 1 and
+  // the stack below 3 x 32 + 4 entries.
   std::array<Pending, 256> stack;
   std::size_t size = 0;
   stack[size++] = {0, 0, 0};
