@@ -32,15 +32,20 @@ Vec3 vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
 
 // Refuses what CGAL cannot measure: no faces, faces of other than three corners, a point that is
 // not finite (CGAL's face sampler never returns on a non-finite area), or only faces that name a
-// vertex twice (they cover nothing).
+// vertex twice or lie on a line (they cover nothing; the sampler, CGAL's too, would never return).
 void requireMeasurable(const Mesh& mesh, const char* which) {
   const std::string the = std::string("Hausdorff distance: the ") + which + " mesh";
   require(mesh.faceCount() > 0 && mesh.allFacesHave(3), the + " must be a non-empty triangle mesh");
   for (const Vec3& p : mesh.positions)
     require(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z), the + " has a vertex that is not a finite point");
+  // A face with area to draw points from (with none, the sampler's draw by area finds no face).
   bool covers = false;
-  for (std::size_t f = 0; f < mesh.faceCount() && !covers; ++f) covers = namesThreeVertices(mesh.face(f));
-  require(covers, std::string("Hausdorff distance: every face of the ") + which + " mesh is degenerate");
+  for (std::size_t f = 0; f < mesh.faceCount() && !covers; ++f) {
+    const auto c = mesh.face(f);
+    const Vec3 n = cross(mesh.positions[c[1]] - mesh.positions[c[0]], mesh.positions[c[2]] - mesh.positions[c[0]]);
+    covers = namesThreeVertices(c) && dot(n, n) > 0;
+  }
+  require(covers, std::string("Hausdorff distance: every face of the ") + which + " mesh is degenerate (no area)");
 }
 
 // A soup's samples as CGAL's sample_triangle_soup draws them for approximate_Hausdorff_distance, bit

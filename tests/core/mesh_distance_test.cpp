@@ -71,11 +71,17 @@ TEST(Hausdorff, KnownDistancesBothWays) {
   const Hausdorff toChord = hausdorffDistance(a, chord, 1000);
   EXPECT_LT(toChord.aToB, 1e-12);  // a lies on chord's surface
   EXPECT_GT(toChord.bToA, 2.0);    // the chord's middle lies well inside a's sphere of radius 10
-  // Only faces that name a vertex twice cover nothing: refused.
+  // Only faces that name a vertex twice, or whose corners lie on one line, cover nothing: refused
+  // (the draw by area would find no face).
   Mesh flat;
   flat.positions = a.positions;
   flat.addFace({0, 0, 1});
   EXPECT_THROW(hausdorffDistance(a, flat, 1000), Error);
+  Mesh line;
+  line.positions = {{0, 0, 0}, {1, 1, 1}, {3, 3, 3}};
+  line.addFace({0, 1, 2});
+  EXPECT_THROW(hausdorffDistance(a, line, 1000), Error);
+  EXPECT_THROW(hausdorffDistance(line, a, 1000), Error);
 }
 
 // The closest point on triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5): the
