@@ -9,7 +9,6 @@
 
 #include <optional>
 
-
 namespace isoatlas::atlas {
 
 // One level measured at a time, with both cores (MeshDistances::to measures both ways side by side),

@@ -79,7 +79,6 @@ MeshTopology analyzeTopology(const Mesh& m) {
   // Corners around a vertex are joined when their faces share an edge at that vertex; a manifold
   // vertex ends with all its corners in one set (one fan). Faces sharing an edge form components.
   UnionFind cornerSets(corners), faceSets(t.faces);
-  std::vector<std::uint32_t> boundaryNext;  // boundary half-edges: from vertex -> to vertex
   std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary;
   t.oriented = true;
   for (std::uint32_t u = 0; u < m.vertexCount(); ++u)

@@ -40,15 +40,8 @@ float roundedUp(double x) {
 
 struct NodeBox {
   std::array<float, 3> lo{kInfinity, kInfinity, kInfinity}, hi{-kInfinity, -kInfinity, -kInfinity};
-  void add(const Point& p) {
-    for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], roundedDown(p[k])), hi[k] = std::max(hi[k], roundedUp(p[k]));
-  }
   void add(const NodeBox& b) {
     for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], b.lo[k]), hi[k] = std::max(hi[k], b.hi[k]);
-  }
-  double halfArea() const {
-    const double x = hi[0] - lo[0], y = hi[1] - lo[1], z = hi[2] - lo[2];
-    return x * y + y * z + z * x;
   }
 };
 
