@@ -1,14 +1,19 @@
 #include "extract/cpu_marching_cubes.h"
 
+#include "extract/bit_rows.h"
 #include "extract/case_table.h"
+#include "extract/straddling_blocks.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <array>
 #include <limits>
+#include <memory>
 
+#include "core/cpu_dispatch.h"
 #include "core/error.h"
 
 namespace isoatlas::extract {
@@ -16,90 +21,91 @@ namespace {
 
 constexpr float kOffCorner = 1e-3f;  // crossing points stay this far (in voxels) from grid points
 
-// The vertices a point's 3 edge bits name (std::popcount is a library call without -mpopcnt).
-std::uint32_t edgeCount(unsigned bits) { return (0x3221'2110u >> (4 * bits)) & 0xf; }
-
-// A cell's case from its two sides' columns (bit j of a column: the point in row j of the four
-// around the cell row): corner k sits in row k >> 1, at x + (k & 1).
-int cellCase(unsigned side, unsigned nextSide) {
-  constexpr std::uint8_t kSpread[16] = {0x00, 0x01, 0x04, 0x05, 0x10, 0x11, 0x14, 0x15,
-                                        0x40, 0x41, 0x44, 0x45, 0x50, 0x51, 0x54, 0x55};  // bit j -> bit 2j
-  return kSpread[side] | kSpread[nextSide] << 1;
-}
-
 // Grid points run from -1 to dims on each axis (the padding included), cells from -1 to dims - 1
 // (a cell is named by its lower corner). A row is the points (or cells) of one (y, z), x fastest;
-// rows are numbered like points, so cell row (y, z) and point row (y, z) share an index. Within a
-// row, point or cell x sits at x + 1.
+// rows are numbered like points, so cell row (y, z) and point row (y, z) share an index. Rows are
+// kept as bits (point or cell x at bit x + 1): which points are inside, which cells are visited, and
+// per point row three planes, one per axis, of the edges from its points that get a vertex.
 //
 // Three passes over rows, each row on its own (so in parallel), and no search:
-//   1. count: per point, which of its three edges (to x+1, y+1, z+1) cross iso next to a visited
-//      cell (3 bits, kept); per row, those edges and the triangles and centre vertices of its cells;
+//   1. count: per point row, its edge planes and their vertices before each word; per cell row, the
+//      triangles and centre vertices of its cells;
 //   2. exclusive sums over the rows: where each row's vertices, triangles and centres start;
 //   3. emit: each row's vertices, then its cells' triangles. A vertex's index is its row's start
-//      plus the vertices before it in the row, counted while walking the four point rows a cell
-//      row touches.
+//      plus the vertices before it in the row: its word's start and the bits below it in the planes.
 // So vertices come in (point, axis) order, centre vertices after them in cell order, triangles in
 // cell order (the GPU path numbers the same way within each block, block by block).
+//
+// The passes that count bits are compiled for popcnt too (core/cpu_dispatch.h).
 class RowMarcher {
 public:
-  RowMarcher(const Grid& grid, float iso, int blockSize, const std::function<bool(std::int64_t, std::int64_t, std::int64_t)>& visitBlock)
+  RowMarcher(const Grid& grid, float iso, int blockSize, const VisitBlock& visitBlock)
       : grid_(grid), iso_(iso), block_(blockSize), d_(grid.dims), px_(d_[0] + 2), py_(d_[1] + 2), pz_(d_[2] + 2),
-        rows_(std::size_t(py_ * pz_)), zeros_(std::size_t(px_) + 2, 0) {
+        rows_(std::size_t(py_ * pz_)), words_(rowWords(d_[0])), zeros_(words_, 0), visitBlock_(visitBlock) {
     for (int a = 0; a < 3; ++a) blocks_[a] = blockCount(d_[a], blockSize);
-    visited_.assign(std::size_t(blocks_[0] * blocks_[1] * blocks_[2]), 1);
-    if (visitBlock)
-      tbb::parallel_for(std::int64_t(0), blocks_[2], [&](std::int64_t bz) {
-        for (std::int64_t by = 0; by < blocks_[1]; ++by)
-          for (std::int64_t bx = 0; bx < blocks_[0]; ++bx) visited_[blockIndex(bx, by, bz)] = visitBlock(bx, by, bz);
-      });
-    const auto& table = caseTable();
-    for (int c = 0; c < 256; ++c)
-      for (const Polygon& polygon : table.polygons[std::size_t(c)]) {
-        caseTriangles_[c] += std::uint32_t(polygon.apex >= 0 ? polygon.edges.size() - 2 : polygon.edges.size());
-        caseCentres_[c] += polygon.apex < 0;
-      }
+    fanCases();
   }
 
   MarchingResult run() {
-    markCells();
-    markInside();
-    flags_.assign(std::size_t(px_) * rows_, 0);
-    std::vector<std::uint64_t> edgeStart(rows_ + 1, 0), triangleStart(rows_ + 1, 0), centreStart(rows_ + 1, 0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows_), [&](const auto& range) {
-      std::vector<std::uint8_t> column;
-      for (std::size_t r = range.begin(); r != range.end(); ++r)
-        countRow(r, column, edgeStart[r + 1], triangleStart[r + 1], centreStart[r + 1]);
-    });
-    for (std::size_t r = 0; r < rows_; ++r) {
-      edgeStart[r + 1] += edgeStart[r];
-      triangleStart[r + 1] += triangleStart[r];
-      centreStart[r + 1] += centreStart[r];
-    }
-    // Summed in 64 bits and checked before anything is written: a mesh indexes with 32.
-    const std::uint64_t edgeVertices = edgeStart[rows_];
-    if (edgeVertices + centreStart[rows_] > std::numeric_limits<std::uint32_t>::max() ||
-        3 * triangleStart[rows_] > std::numeric_limits<std::uint32_t>::max())
-      throw Error("the surface has too many vertices or triangles for one mesh (2^32 indices)", ErrorKind::Failure);
+    chooseBlocks();
+    const RowStarts starts = countRows();
     MarchingResult result;
-    Mesh& mesh = result.mesh;
-    mesh.positions.resize(std::size_t(edgeVertices) + centreStart[rows_]);
-    mesh.faceVertices.resize(std::size_t(triangleStart[rows_]) * 3);
-    mesh.faceOffsets.resize(std::size_t(triangleStart[rows_]) + 1);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows_), [&](const auto& range) {
-      std::vector<std::uint8_t> column, vertexAt;
-      for (std::size_t r = range.begin(); r != range.end(); ++r) {
-        emitVertices(r, edgeStart[r], edgeStart[r + 1], mesh);
-        if (triangleStart[r + 1] > triangleStart[r])
-          emitTriangles(r, column, vertexAt, edgeStart, triangleStart[r], edgeVertices + centreStart[r], mesh);
-      }
-    });
-    for (std::size_t t = 0; t < mesh.faceOffsets.size(); ++t) mesh.faceOffsets[t] = std::uint32_t(3 * t);
+    result.mesh = emitRows(starts);
     result.cellsVisited = cellsVisited();
     return result;
   }
 
 private:
+  // Where each row's vertices, triangles and centre vertices start (the totals last).
+  struct RowStarts {
+    std::vector<std::uint64_t> edges, triangles, centres;
+  };
+
+  // Passes 1 and 2: each row's edge planes and counts, then their exclusive sums.
+  RowStarts countRows() {
+    // Every word of these is written by the count pass: no zeroing first.
+    planes_.reset(new Word[rows_ * 3 * words_]);
+    wordStart_.reset(new std::uint32_t[rows_ * words_]);
+    RowStarts s{std::vector<std::uint64_t>(rows_ + 1, 0), std::vector<std::uint64_t>(rows_ + 1, 0),
+                std::vector<std::uint64_t>(rows_ + 1, 0)};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows_), [&](const auto& range) {
+      std::vector<Word> scratch;
+      for (std::size_t r = range.begin(); r != range.end(); ++r)
+        countRow(r, scratch, s.edges[r + 1], s.triangles[r + 1], s.centres[r + 1]);
+    });
+    for (std::size_t r = 0; r < rows_; ++r) {
+      s.edges[r + 1] += s.edges[r];
+      s.triangles[r + 1] += s.triangles[r];
+      s.centres[r + 1] += s.centres[r];
+    }
+    // Summed in 64 bits and checked before anything is written: a mesh indexes with 32.
+    if (s.edges[rows_] + s.centres[rows_] > std::numeric_limits<std::uint32_t>::max() ||
+        3 * s.triangles[rows_] > std::numeric_limits<std::uint32_t>::max())
+      throw Error("the surface has too many vertices or triangles for one mesh (2^32 indices)", ErrorKind::Failure);
+    return s;
+  }
+
+  // Pass 3: the mesh, each row's vertices and triangles where the starts say.
+  Mesh emitRows(const RowStarts& s) const {
+    Mesh mesh;
+    const std::uint64_t edgeVertices = s.edges[rows_];
+    // Each array is zeroed as it is sized: the three side by side.
+    tbb::parallel_invoke([&] { mesh.positions.resize(std::size_t(edgeVertices + s.centres[rows_])); },
+                         [&] { mesh.faceVertices.resize(std::size_t(s.triangles[rows_]) * 3); },
+                         [&] { mesh.faceOffsets.resize(std::size_t(s.triangles[rows_]) + 1); });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows_), [&](const auto& range) {
+      std::vector<Word> scratch;
+      for (std::size_t r = range.begin(); r != range.end(); ++r) {
+        emitVertices(r, s.edges[r], mesh);
+        if (s.triangles[r + 1] > s.triangles[r]) emitTriangles(r, scratch, s.edges, s.triangles[r], edgeVertices + s.centres[r], mesh);
+      }
+    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.faceOffsets.size()), [&](const auto& range) {
+      for (std::size_t t = range.begin(); t != range.end(); ++t) mesh.faceOffsets[t] = std::uint32_t(3 * t);
+    });
+    return mesh;
+  }
+
   std::size_t blockIndex(std::int64_t bx, std::int64_t by, std::int64_t bz) const {
     return std::size_t((bz * blocks_[1] + by) * blocks_[0] + bx);
   }
@@ -107,56 +113,149 @@ private:
   std::int64_t blockOf(std::int64_t cell) const { return (cell + 1) / block_; }
   std::int64_t rowY(std::size_t r) const { return std::int64_t(r % std::size_t(py_)) - 1; }
   std::int64_t rowZ(std::size_t r) const { return std::int64_t(r / std::size_t(py_)) - 1; }
+  std::size_t rowOf(std::int64_t y, std::int64_t z) const { return std::size_t((z + 1) * py_ + y + 1); }
 
-  // Per row of blocks, which cells of a cell row lie in visited blocks (at x + 1; one more 0 at
-  // each end, so cells -2 and dims read as unvisited); null when none does.
+  // Per case: its triangles and centre vertices, the edges it crosses, its triangles fanned.
+  void fanCases() {
+    const auto& table = caseTable();
+    for (int c = 0; c < 256; ++c) {
+      FannedCase& fanned = fanned_[c];
+      for (const Polygon& polygon : table.polygons[std::size_t(c)]) {
+        caseTriangles_[c] += std::uint32_t(polygon.apex >= 0 ? polygon.edges.size() - 2 : polygon.edges.size());
+        caseCentres_[c] += polygon.apex < 0;
+        for (std::int8_t e : polygon.edges) fanned.edges |= std::uint16_t(1u << e);
+        // Fan in the cycle's order, which is the outward orientation.
+        const std::size_t n = polygon.edges.size(), a = std::size_t(polygon.apex);
+        for (std::size_t k = 1; polygon.apex >= 0 && k + 1 < n; ++k)
+          for (std::size_t j : {a, (a + k) % n, (a + k + 1) % n}) fanned.corners[fanned.cornerCount++] = polygon.edges[j];
+      }
+    }
+  }
+
+  // The blocks to visit and the points' inside bits: the caller's blocks, and the bits of the rows
+  // their cells touch; or every row's bits, and the blocks that straddle iso from them.
+  void chooseBlocks() {
+    if (visitBlock_) {
+      visited_.resize(std::size_t(blocks_[0] * blocks_[1] * blocks_[2]));
+      tbb::parallel_for(std::int64_t(0), blocks_[2], [&](std::int64_t bz) {
+        for (std::int64_t by = 0; by < blocks_[1]; ++by)
+          for (std::int64_t bx = 0; bx < blocks_[0]; ++bx) visited_[blockIndex(bx, by, bz)] = visitBlock_(bx, by, bz);
+      });
+      markCells();
+      markInside(false);
+    } else {
+      markInside(true);
+      visited_ = straddlingBlockTable(d_, int(block_), [&](std::int64_t y, std::int64_t z, std::vector<Word>&) { return insideRow(y, z); });
+      markCells();
+    }
+  }
+
+  // Per row of blocks, the cells of a cell row that lie in visited blocks; none when no block of the
+  // row is visited.
   void markCells() {
-    const std::size_t blockRows = std::size_t(blocks_[1] * blocks_[2]), width = std::size_t(px_) + 2;
-    cellMasks_.assign(blockRows * width, 0);
+    const std::size_t blockRows = std::size_t(blocks_[1] * blocks_[2]);
+    cellMasks_.assign(blockRows * words_, 0);
     blockRowVisited_.assign(blockRows, 0);
     for (std::size_t row = 0; row < blockRows; ++row) {
-      std::uint8_t* mask = cellMasks_.data() + row * width + 1;
+      Word* mask = cellMasks_.data() + row * words_;
       for (std::int64_t bx = 0; bx < blocks_[0]; ++bx) {
         if (!visited_[row * std::size_t(blocks_[0]) + std::size_t(bx)]) continue;
         blockRowVisited_[row] = 1;
         const BlockCells cells = blockCells(bx, int(block_), d_[0]);
-        for (std::int64_t x = cells.first; x <= cells.last; ++x) mask[x + 1] = 1;
+        for (std::int64_t x = cells.first; x <= cells.last; ++x) mask[std::size_t(x + 1) / kWordBits] |= Word(1) << std::size_t(x + 1) % kWordBits;
       }
     }
   }
-  const std::uint8_t* cellRow(std::int64_t y, std::int64_t z) const {
+  const Word* cellRow(std::int64_t y, std::int64_t z) const {
     if (y < -1 || y >= d_[1] || z < -1 || z >= d_[2]) return nullptr;
     const std::size_t row = std::size_t(blockOf(z) * blocks_[1] + blockOf(y));
-    return blockRowVisited_[row] ? cellMasks_.data() + row * (std::size_t(px_) + 2) + 1 : nullptr;
+    return blockRowVisited_[row] ? cellMasks_.data() + row * words_ : nullptr;
+  }
+  // Whether point row (y, z) is a corner row of a visited cell: the only rows the passes read.
+  bool rowNeeded(std::int64_t y, std::int64_t z) const {
+    return cellRow(y, z) || cellRow(y - 1, z) || cellRow(y, z - 1) || cellRow(y - 1, z - 1);
   }
 
-  // Inside is value > iso; points in the padding are outside. One byte per point, once, so the
-  // passes read each row four times without comparing again; one more 0 ends each row.
-  void markInside() {
-    const std::size_t width = std::size_t(px_) + 1;
-    inside_.assign(rows_ * width, 0);
-    const float iso = iso_;  // a local: the byte stores could alias a member
-    tbb::parallel_for(std::int64_t(0), d_[2], [&](std::int64_t z) {
+  // Inside is value > iso; points in the padding are outside. Unless everyRow, the rows no visited
+  // cell touches are left 0.
+  void markInside(bool everyRow) {
+    inside_.reset(new Word[rows_ * words_]);
+    const float iso = iso_;
+    tbb::parallel_for(std::int64_t(-1), d_[2] + 1, [&](std::int64_t z) {
       std::vector<float> scratch;
-      for (std::int64_t y = 0; y < d_[1]; ++y) {
-        const float* v = grid_.row(y, z, scratch);
-        std::uint8_t* out = inside_.data() + std::size_t((z + 1) * py_ + y + 1) * width + 1;
-        for (std::int64_t x = 0, n = d_[0]; x < n; ++x) out[x] = v[x] > iso;
+      for (std::int64_t y = -1; y <= d_[1]; ++y) {
+        Word* out = inside_.get() + rowOf(y, z) * words_;
+        if (y < 0 || y >= d_[1] || z < 0 || z >= d_[2] || !(everyRow || rowNeeded(y, z))) std::fill(out, out + words_, Word(0));
+        else insideBits(grid_.row(y, z, scratch), std::size_t(d_[0]), iso, out, words_);
       }
     });
   }
-  const std::uint8_t* insideRow(std::int64_t y, std::int64_t z) const {
-    if (y < 0 || y >= d_[1] || z < 0 || z >= d_[2]) return zeros_.data();
-    return inside_.data() + std::size_t((z + 1) * py_ + y + 1) * (std::size_t(px_) + 1);
+  const Word* insideRow(std::size_t row) const { return inside_.get() + row * words_; }
+  const Word* insideRow(std::int64_t y, std::int64_t z) const {
+    return y < -1 || y > d_[1] || z < -1 || z > d_[2] ? zeros_.data() : insideRow(rowOf(y, z));
   }
-  // Per point of cell row (y, z): its corners in rows (y, z), (y+1, z), (y, z+1), (y+1, z+1).
-  void columns(std::int64_t y, std::int64_t z, std::vector<std::uint8_t>& out) const {
-    const std::uint8_t *in0 = insideRow(y, z), *in1 = insideRow(y + 1, z), *in2 = insideRow(y, z + 1),
-                       *in3 = insideRow(y + 1, z + 1);
-    const std::size_t points = std::size_t(px_);
-    out.resize(points);
-    std::uint8_t* o = out.data();
-    for (std::size_t i = 0; i < points; ++i) o[i] = std::uint8_t(in0[i] | in1[i] << 1 | in2[i] << 2 | in3[i] << 3);
+  Word* plane(std::size_t row, int axis) const { return planes_.get() + (row * 3 + std::size_t(axis)) * words_; }
+
+  // The cells of cell row r with corners on both sides of iso, in visited blocks: into `out`.
+  void crossedCells(std::size_t r, const Word* visited, std::vector<Word>& out) const {
+    const Word *in0 = insideRow(r), *in1 = insideRow(r + 1), *in2 = insideRow(r + std::size_t(py_)),
+               *in3 = insideRow(r + std::size_t(py_) + 1);
+    out.resize(3 * words_);
+    Word *any = out.data() + words_, *all = any + words_;
+    for (std::size_t w = 0; w < words_; ++w) any[w] = in0[w] | in1[w] | in2[w] | in3[w], all[w] = in0[w] & in1[w] & in2[w] & in3[w];
+    for (std::size_t w = 0; w < words_; ++w)
+      out[w] = (any[w] | fromNext(any, w, words_)) & ~(all[w] & fromNext(all, w, words_)) & visited[w];
+  }
+  // The case of cell i (x = i - 1) of cell row r: corner k in point row k >> 1 of the four, at x + (k & 1).
+  int cellCase(std::size_t r, std::size_t i) const {
+    const std::size_t rows[4] = {r, r + 1, r + std::size_t(py_), r + std::size_t(py_) + 1};
+    int c = 0;
+    for (int k = 0; k < 4; ++k) {
+      const Word* in = insideRow(rows[k]);
+      c |= int(bitAt(in, i) << (2 * k) | bitAt(in, i + 1) << (2 * k + 1));
+    }
+    return c;
+  }
+
+  // Pass 1 for row r: its edge planes, its vertices before each word, its cells' triangles and
+  // centres. An edge that crosses gets a vertex when one of the four cells around it is visited
+  // (those cells exist: a crossing edge has an end inside the grid).
+  ISOATLAS_CLONES("popcnt")
+  void countRow(std::size_t r, std::vector<Word>& scratch, std::uint64_t& edges, std::uint64_t& triangles,
+                std::uint64_t& centres) const {
+    const std::int64_t y = rowY(r), z = rowZ(r);
+    Word *alongX = plane(r, 0), *alongY = plane(r, 1), *alongZ = plane(r, 2);
+    std::uint32_t* start = wordStart_.get() + r * words_;
+    // The cells around this row's edges: cell rows (y, z), (y-1, z), (y, z-1), (y-1, z-1).
+    const Word* cells[4] = {cellRow(y, z), cellRow(y - 1, z), cellRow(y, z - 1), cellRow(y - 1, z - 1)};
+    if (!cells[0] && !cells[1] && !cells[2] && !cells[3]) {
+      std::fill(alongX, alongX + 3 * words_, Word(0));
+      std::fill(start, start + words_, 0u);
+      return;
+    }
+    const Word* visitedHere = cells[0];
+    for (const Word*& c : cells) c = c ? c : zeros_.data();
+    const Word *in0 = insideRow(r), *in1 = insideRow(y + 1, z), *in2 = insideRow(y, z + 1);
+    std::uint32_t count = 0;
+    for (std::size_t w = 0; w < words_; ++w) {
+      const Word here = in0[w], c0 = cells[0][w], c1 = cells[1][w], c2 = cells[2][w];
+      const Word c0Before = fromPrevious(cells[0], w), c1Before = fromPrevious(cells[1], w),
+                 c2Before = fromPrevious(cells[2], w);  // cell x - 1 at x
+      alongX[w] = (here ^ fromNext(in0, w, words_)) & (c0 | c1 | c2 | cells[3][w]);
+      alongY[w] = (here ^ in1[w]) & (c0 | c0Before | c2 | c2Before);
+      alongZ[w] = (here ^ in2[w]) & (c0 | c0Before | c1 | c1Before);
+      start[w] = count;
+      count += std::uint32_t(__builtin_popcountll(alongX[w]) + __builtin_popcountll(alongY[w]) + __builtin_popcountll(alongZ[w]));
+    }
+    edges = count;
+    if (!visitedHere) return;
+    crossedCells(r, visitedHere, scratch);
+    for (std::size_t w = 0; w < words_; ++w)
+      for (Word bits = scratch[w]; bits; bits &= bits - 1) {
+        const int c = cellCase(r, w * kWordBits + std::size_t(lowestBit(bits)));
+        triangles += caseTriangles_[c];
+        centres += caseCentres_[c];
+      }
   }
 
   // Samples outside the grid mirror the nearest grid value about iso when it is inside, so the
@@ -170,126 +269,109 @@ private:
   }
   // The crossing on the edge from grid point (x, y, z) along axis.
   Vec3 edgePoint(std::int64_t x, std::int64_t y, std::int64_t z, int axis) const {
-    const float a = sample(x, y, z), b = sample(x + (axis == 0), y + (axis == 1), z + (axis == 2));
+    const std::int64_t to[3] = {x + (axis == 0), y + (axis == 1), z + (axis == 2)};
+    float a, b;
+    if (grid_.values && x >= 0 && y >= 0 && z >= 0 && to[0] < d_[0] && to[1] < d_[1] && to[2] < d_[2]) {
+      const std::size_t at = std::size_t((z * d_[1] + y) * d_[0] + x);  // both ends in the grid: read them directly
+      a = grid_.values[at];
+      b = grid_.values[at + std::size_t(axis == 0 ? 1 : axis == 1 ? d_[0] : d_[0] * d_[1])];
+    } else {
+      a = sample(x, y, z);
+      b = sample(to[0], to[1], to[2]);
+    }
     const float t = std::clamp((iso_ - a) / (b - a), kOffCorner, 1 - kOffCorner);
     Vec3 p{double(x), double(y), double(z)};
     p[axis] += double(t);
     return p;
   }
-  std::uint8_t* flagRow(std::size_t row) { return flags_.data() + row * std::size_t(px_); }
-  const std::uint8_t* flagRow(std::size_t row) const { return flags_.data() + row * std::size_t(px_); }
 
-  // Pass 1 for row r: its points' edge flags and counts, its cells' triangles and centres. An edge
-  // that crosses gets a vertex when one of the four cells around it is visited (those cells exist:
-  // a crossing edge has an end inside the grid).
-  void countRow(std::size_t r, std::vector<std::uint8_t>& column, std::uint64_t& edges, std::uint64_t& triangles,
-                std::uint64_t& centres) {
+  // Pass 3: row r's vertices, in (x, axis) order, numbered from `first`.
+  void emitVertices(std::size_t r, std::uint64_t first, Mesh& mesh) const {
+    const Word* along[3] = {plane(r, 0), plane(r, 1), plane(r, 2)};
     const std::int64_t y = rowY(r), z = rowZ(r);
-    // The cells around this row's edges: cell rows (y, z), (y-1, z), (y, z-1), (y-1, z-1).
-    const std::uint8_t* cells[4] = {cellRow(y, z), cellRow(y - 1, z), cellRow(y, z - 1), cellRow(y - 1, z - 1)};
-    if (!cells[0] && !cells[1] && !cells[2] && !cells[3]) return;
-    const bool cellsHere = cells[0] != nullptr;
-    for (const std::uint8_t*& c : cells) c = c ? c : zeros_.data() + 1;
-    const std::uint8_t *c0 = cells[0], *c1 = cells[1], *c2 = cells[2], *c3 = cells[3];
-    const std::uint8_t *c0Before = c0 - 1, *c1Before = c1 - 1, *c2Before = c2 - 1;  // cell x - 1 at i
-    const std::uint8_t *in0 = insideRow(y, z), *in1 = insideRow(y + 1, z), *in2 = insideRow(y, z + 1);
-    std::uint8_t* flags = flagRow(r);
-    std::uint32_t count = 0;
-    const std::size_t points = std::size_t(px_);  // a local: the byte stores could alias a member
-    for (std::size_t i = 0; i < points; ++i) {     // point x = i - 1; cell x at i
-      const std::uint8_t here = in0[i];
-      const unsigned alongX = (here ^ in0[i + 1]) & (c0[i] | c1[i] | c2[i] | c3[i]);
-      const unsigned alongY = (here ^ in1[i]) & (c0[i] | c0Before[i] | c2[i] | c2Before[i]);
-      const unsigned alongZ = (here ^ in2[i]) & (c0[i] | c0Before[i] | c1[i] | c1Before[i]);
-      flags[i] = std::uint8_t(alongX | alongY << 1 | alongZ << 2);
-      count += alongX + alongY + alongZ;
-    }
-    edges = count;
-    if (!cellsHere) return;
-    columns(y, z, column);
-    const std::uint8_t* side = column.data();
-    for (std::size_t i = 0; i + 1 < points; ++i) {
-      if (side[i] == side[i + 1] && (side[i] == 0 || side[i] == 15)) continue;  // all outside or all inside
-      if (!c0[i]) continue;
-      const int c = cellCase(side[i], side[i + 1]);
-      triangles += caseTriangles_[c];
-      centres += caseCentres_[c];
-    }
+    for (std::size_t w = 0; w < words_; ++w)
+      for (Word bits = along[0][w] | along[1][w] | along[2][w]; bits; bits &= bits - 1) {
+        const std::size_t b = std::size_t(lowestBit(bits));
+        const std::int64_t x = std::int64_t(w * kWordBits + b) - 1;
+        for (int axis = 0; axis < 3; ++axis)
+          if (along[axis][w] >> b & 1) mesh.positions[first++] = edgePoint(x, y, z, axis);
+      }
   }
 
-  // Pass 3: row r's vertices, in (x, axis) order, numbered first .. end - 1.
-  void emitVertices(std::size_t r, std::uint64_t first, std::uint64_t end, Mesh& mesh) const {
-    const std::uint8_t* flags = flagRow(r);
-    const std::int64_t y = rowY(r), z = rowZ(r);
-    for (std::int64_t x = -1; first < end; ++x) {
-      const std::uint8_t bits = flags[x + 1];
-      for (int axis = 0; bits && axis < 3; ++axis)
-        if (bits >> axis & 1) mesh.positions[first++] = edgePoint(x, y, z, axis);
-    }
+  // How a point row's vertices are numbered: its three edge planes (one after the other), the
+  // vertices before each word, the index of its first.
+  struct RowNumbers {
+    const Word* planes;
+    const std::uint32_t* wordStart;
+    std::uint64_t first;
+  };
+  RowNumbers rowNumbers(std::size_t row, const std::vector<std::uint64_t>& edgeStart) const {
+    return {plane(row, 0), wordStart_.get() + row * words_, edgeStart[row]};
+  }
+  // The index of the vertex on the edge from point i of a row along axis (the edge has one).
+  std::uint32_t vertexIndex(const RowNumbers& row, std::size_t i, int axis) const {
+    const std::size_t w = i / kWordBits, b = i % kWordBits;
+    const Word alongX = row.planes[w], alongY = row.planes[words_ + w], alongZ = row.planes[2 * words_ + w];
+    const Word below = (Word(1) << b) - 1;
+    std::uint64_t index = row.first + row.wordStart[w] + std::uint64_t(__builtin_popcountll(alongX & below)) +
+                          std::uint64_t(__builtin_popcountll(alongY & below) + __builtin_popcountll(alongZ & below));
+    if (axis > 0) index += alongX >> b & 1;
+    if (axis > 1) index += alongY >> b & 1;
+    return std::uint32_t(index);  // run() checked that indices fit
   }
 
   // Pass 3: cell row r's triangles from `triangle`, its centre vertices from `centre`.
-  void emitTriangles(std::size_t r, std::vector<std::uint8_t>& column, std::vector<std::uint8_t>& vertexAt,
-                     const std::vector<std::uint64_t>& edgeStart, std::uint64_t triangle, std::uint64_t centre,
-                     Mesh& mesh) const {
+  ISOATLAS_CLONES("popcnt")
+  void emitTriangles(std::size_t r, std::vector<Word>& scratch, const std::vector<std::uint64_t>& edgeStart,
+                     std::uint64_t triangle, std::uint64_t centre, Mesh& mesh) const {
     const std::int64_t y = rowY(r), z = rowZ(r);
-    const std::size_t rows[4] = {r, r + 1, r + std::size_t(py_), r + std::size_t(py_) + 1};
-    const std::uint8_t* flags[4];
-    std::uint32_t next[4];  // per point row: the index of the first vertex at the current x
-    for (int i = 0; i < 4; ++i) {
-      flags[i] = flagRow(rows[i]);
-      next[i] = std::uint32_t(edgeStart[rows[i]]);  // run() checked that indices fit
-    }
-    const std::uint8_t* visited = cellRow(y, z);  // not null: this row has triangles
-    columns(y, z, column);
-    // A cell has surface only where one of its 12 edges has a vertex: at point x or x + 1 of one of
-    // the four rows. Elsewhere the counters stay, so most of the row is one byte test per cell.
-    const std::size_t points = std::size_t(px_);
-    vertexAt.resize(points);
-    std::uint8_t* at = vertexAt.data();
-    for (std::size_t i = 0; i < points; ++i) at[i] = flags[0][i] | flags[1][i] | flags[2][i] | flags[3][i];
-    const auto& table = caseTable();
+    const RowNumbers rows[4] = {rowNumbers(r, edgeStart), rowNumbers(r + 1, edgeStart), rowNumbers(r + std::size_t(py_), edgeStart),
+                                rowNumbers(r + std::size_t(py_) + 1, edgeStart)};
+    crossedCells(r, cellRow(y, z), scratch);  // the row is visited: it has triangles
     std::uint32_t* out = mesh.faceVertices.data() + std::size_t(triangle) * 3;
-    for (std::int64_t x = -1; x < d_[0]; ++x) {
-      const std::size_t i = std::size_t(x + 1);
-      if (!at[i] && !at[i + 1]) continue;
-      std::uint32_t here[4], after[4];  // first vertex index at points x and x + 1
-      for (int k = 0; k < 4; ++k) {
-        here[k] = next[k];
-        after[k] = next[k] + edgeCount(flags[k][i]);
-        next[k] = after[k];
-      }
-      if (!visited[i]) continue;
-      const int c = cellCase(column[i], column[i + 1]);
-      if (c == 0 || c == 255) continue;
-      std::uint32_t ids[12];
-      for (const Polygon& polygon : table.polygons[std::size_t(c)]) {
-        for (std::int8_t e : polygon.edges) {
-          const int a = kEdgeCorner[e][0], axis = kEdgeAxis[e];  // the edge runs from corner a along axis
-          const int row = (a >> 1) & 3, dx = a & 1;
-          ids[e] = (dx ? after[row] : here[row]) + edgeCount(flags[row][i + std::size_t(dx)] & ((1u << axis) - 1));
+    for (std::size_t w = 0; w < words_; ++w)
+      for (Word bits = scratch[w]; bits; bits &= bits - 1) {
+        const std::size_t i = w * kWordBits + std::size_t(lowestBit(bits));
+        const std::int64_t x = std::int64_t(i) - 1;
+        const int c = cellCase(r, i);
+        std::uint32_t ids[12];
+        for (unsigned edges = fanned_[c].edges; edges; edges &= edges - 1) {
+          const int e = __builtin_ctz(edges), a = kEdgeCorner[e][0];  // the edge runs from corner a along its axis
+          ids[e] = vertexIndex(rows[(a >> 1) & 3], i + std::size_t(a & 1), kEdgeAxis[e]);
         }
-        const auto& cycle = polygon.edges;
-        const std::size_t n = cycle.size();
-        if (polygon.apex >= 0) {
-          // Fan in the cycle's order, which is the outward orientation.
-          const std::size_t a = std::size_t(polygon.apex);
-          for (std::size_t k = 1; k + 1 < n; ++k)
-            for (std::size_t j : {a, (a + k) % n, (a + k + 1) % n}) *out++ = ids[cycle[j]];
+        if (!caseCentres_[c]) {
+          for (int k = 0; k < fanned_[c].cornerCount; ++k) *out++ = ids[fanned_[c].corners[k]];
         } else {
-          // A centre vertex of this polygon alone, at the mean of its crossings.
-          Vec3 mean{0, 0, 0};
-          for (std::int8_t e : cycle) {
-            const int a = kEdgeCorner[e][0];
-            mean = mean + edgePoint(x + (a & 1), y + ((a >> 1) & 1), z + ((a >> 2) & 1), kEdgeAxis[e]);
-          }
-          mesh.positions[centre] = mean * (1.0 / double(n));
-          for (std::size_t k = 0; k < n; ++k)
-            for (std::uint32_t id : {std::uint32_t(centre), ids[cycle[k]], ids[cycle[(k + 1) % n]]}) *out++ = id;
-          ++centre;
+          out = emitPolygons(c, {x, y, z}, ids, out, centre, mesh);
         }
       }
+  }
+
+  // Case c's polygons in cell `cell`, as triangles from `out` (returned past them), each fanned from
+  // its apex or from a centre vertex of its own, numbered from `centre` on (advanced past them).
+  std::uint32_t* emitPolygons(int c, const std::array<std::int64_t, 3>& cell, const std::uint32_t (&ids)[12], std::uint32_t* out,
+                              std::uint64_t& centre, Mesh& mesh) const {
+    for (const Polygon& polygon : caseTable().polygons[std::size_t(c)]) {
+      const auto& cycle = polygon.edges;
+      const std::size_t n = cycle.size();
+      if (polygon.apex >= 0) {
+        const std::size_t a = std::size_t(polygon.apex);
+        for (std::size_t k = 1; k + 1 < n; ++k)
+          for (std::size_t j : {a, (a + k) % n, (a + k + 1) % n}) *out++ = ids[cycle[j]];
+        continue;
+      }
+      // A centre vertex of this polygon alone, at the mean of its crossings.
+      Vec3 mean{0, 0, 0};
+      for (std::int8_t e : cycle) {
+        const int a = kEdgeCorner[e][0];
+        mean = mean + edgePoint(cell[0] + (a & 1), cell[1] + ((a >> 1) & 1), cell[2] + ((a >> 2) & 1), kEdgeAxis[e]);
+      }
+      mesh.positions[centre] = mean * (1.0 / double(n));
+      for (std::size_t k = 0; k < n; ++k)
+        for (std::uint32_t id : {std::uint32_t(centre), ids[cycle[k]], ids[cycle[(k + 1) % n]]}) *out++ = id;
+      ++centre;
     }
+    return out;
   }
 
   std::int64_t cellsVisited() const {
@@ -310,14 +392,25 @@ private:
   const std::int64_t block_;
   const std::array<std::int64_t, 3> d_;
   const std::int64_t px_, py_, pz_;  // points per axis, the padding included
-  const std::size_t rows_;
-  const std::vector<std::uint8_t> zeros_;  // a row of outside points, or of unvisited cells
+  const std::size_t rows_, words_;   // words_: per row of bits, with room for bit px_ (always 0)
+  const std::vector<Word> zeros_;    // a row of outside points, or of unvisited cells
   std::int64_t blocks_[3];
-  std::vector<std::uint8_t> visited_;     // per block of cells
-  std::vector<std::uint8_t> cellMasks_, blockRowVisited_;  // per row of blocks (markCells)
-  std::vector<std::uint8_t> inside_;      // per point row (markInside)
-  std::vector<std::uint8_t> flags_;       // per point: bit axis set when that edge has a vertex
+  const VisitBlock& visitBlock_;
+  std::vector<char> visited_;                         // per block of cells
+  std::vector<Word> cellMasks_;                       // per row of blocks (markCells)
+  std::vector<std::uint8_t> blockRowVisited_;
+  std::unique_ptr<Word[]> inside_;                    // per point row (markInside)
+  std::unique_ptr<Word[]> planes_;                    // per point row: the x, y and z planes (countRow)
+  std::unique_ptr<std::uint32_t[]> wordStart_;        // per point row and word: the row's vertices before it
   std::uint32_t caseTriangles_[256] = {}, caseCentres_[256] = {};
+  // Per case: the cell edges its polygons cross, and, when it has no centre vertex, its triangles
+  // fanned from their apexes, three edges each, in the order the polygons give them.
+  struct FannedCase {
+    std::uint16_t edges = 0;
+    int cornerCount = 0;
+    std::int8_t corners[36] = {};
+  };
+  FannedCase fanned_[256];
 };
 
 }  // namespace

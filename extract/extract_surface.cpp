@@ -1,5 +1,8 @@
 #include "extract/extract_surface.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -45,7 +48,9 @@ void gaussianBlur(std::vector<float>& f, const std::array<std::int64_t, 3>& dims
 // Index coordinates to world; triangles reversed where the index-to-world map mirrors space, so the
 // normals still point outwards.
 void toWorld(Mesh& mesh, const Volume& v) {
-  for (Vec3& p : mesh.positions) p = v.indexToWorld(p);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.positions.size()), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i != range.end(); ++i) mesh.positions[i] = v.indexToWorld(mesh.positions[i]);
+  });
   const Mat3& d = v.direction;
   const double det = dot(d.column(0), cross(d.column(1), d.column(2)));
   if (det < 0)
@@ -115,32 +120,8 @@ Mesh extractSurface(const Volume& volume, const ExtractOptions& o, ExtractStats*
   require(std::isfinite(s.iso), "the isovalue must be finite");
   // Taken only now: the blur swaps the field's buffer.
   const Grid grid{volume.dims, field.empty() ? reinterpret_cast<const float*>(volume.data.data()) : field.data()};
-  // Blocks with every corner on one side of iso hold no surface. The padding outside mirrors inside
-  // values, so a block on the border holds surface exactly when some corner is inside.
-  const auto d = volume.dims;
-  const float iso = s.iso;  // a local: read in the inner loop
-  auto visit = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) {
-    // The grid points at the block's cells' corners, clipped to the grid; the block touches the
-    // padding when its cells reach past the grid on some side.
-    std::int64_t lo[3], hi[3];
-    bool border = false;
-    const std::int64_t b[3] = {bx, by, bz};
-    for (int a = 0; a < 3; ++a) {
-      const BlockCells cells = blockCells(b[a], kBlock, d[a]);
-      lo[a] = std::max<std::int64_t>(0, cells.first);
-      hi[a] = std::min(d[a] - 1, cells.last + 1);
-      border |= cells.first < 0 || cells.last + 1 > d[a] - 1;
-    }
-    std::int64_t inside = 0, corners = 0;
-    for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
-      for (std::int64_t y = lo[1]; y <= hi[1]; ++y) {
-        const float* row = &grid.values[std::size_t((z * d[1] + y) * d[0])];
-        for (std::int64_t x = lo[0]; x <= hi[0]; ++x) inside += row[x] > iso;
-        corners += hi[0] - lo[0] + 1;
-      }
-    return inside > 0 && (inside < corners || border);
-  };
-  return march(grid, o.backend, "dense", visit, volume, o, s, start);
+  // No blocks named: those that straddle iso are visited, the only ones with surface.
+  return march(grid, o.backend, "dense", {}, volume, o, s, start);
 }
 
 namespace {

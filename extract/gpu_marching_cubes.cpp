@@ -1,6 +1,7 @@
 #include "extract/gpu_marching_cubes.h"
 
 #include "extract/case_table.h"
+#include "extract/straddling_blocks.h"
 
 #include <optional>
 #include <algorithm>
@@ -55,7 +56,7 @@ BlockStorage blockStorage(const std::array<std::int64_t, 3>& d, int blockSize,
   for (std::int64_t bz = 0; bz < nb[2]; ++bz)
     for (std::int64_t by = 0; by < nb[1]; ++by)
       for (std::int64_t bx = 0; bx < nb[0]; ++bx)
-        if (!visitBlock || visitBlock(bx, by, bz)) {
+        if (visitBlock(bx, by, bz)) {
           add(bx, by, bz);
           visited.push_back({bx, by, bz});
         }
@@ -79,7 +80,8 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   gl::StageProfile profile("extract gpu: marching cubes");  // ISOATLAS_GL_PROFILE=1
   profile.stage("choose blocks (cpu)");
   const auto d = grid.dims;
-  const BlockStorage storage = blockStorage(d, blockSize, visitBlock);
+  require(visitBlock || !paged, "marchingCubesGpu: a paged grid needs the blocks to visit");
+  const BlockStorage storage = blockStorage(d, blockSize, visitBlock ? visitBlock : straddlingBlocks(grid, iso, blockSize));
   MarchingResult result;
   if (storage.visited == 0) return result;
   const std::uint64_t blockCells = std::uint64_t(blockSize) * std::uint64_t(blockSize) * std::uint64_t(blockSize);

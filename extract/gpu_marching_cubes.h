@@ -8,6 +8,8 @@
 // a GPU level set's page pool, read in place through its page table: no dense copy of phi on the host
 // or the GPU. Its GPU memory, the field's besides, follows the visited blocks (about 24 bytes per
 // visited cell), plus two small tables over the grid (4 bytes per page and per 8^3 block).
+// With no visitBlock, a dense grid's straddling blocks are chosen on the host (straddling_blocks.h);
+// a paged grid needs visitBlock.
 // Runs in the current GL context (gl::Context::current(), checked); a paged texture must belong to it.
 #pragma once
 #include "extract/marching_cubes.h"

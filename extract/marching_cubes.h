@@ -60,8 +60,11 @@ inline BlockCells blockCells(std::int64_t b, int blockSize, std::int64_t points)
 using VisitBlock = std::function<bool(std::int64_t bx, std::int64_t by, std::int64_t bz)>;
 
 // Cells are the cubes between grid points, from (-1,-1,-1) to dims-1 (the padding included).
-// `visitBlock`, when given, says which blocks of blockSize^3 cells can hold surface (e.g. those
-// touching an active page of a level set); others are skipped. Blocks are indexed from cell -1.
+// `visitBlock` says which blocks of blockSize^3 cells to visit (e.g. those touching an active page of
+// a level set); others are skipped. Blocks are indexed from cell -1. With none given, the blocks that
+// straddle iso are visited (straddling_blocks.h), the only ones with surface: the CPU path finds them
+// from the inside bits it keeps anyway, the GPU path from a dense grid's values on the host (on the
+// GPU a paged grid needs visitBlock).
 // On the GPU backend it runs in the current GL context (gl::Context::current(), checked).
 MarchingResult marchingCubes(levelset::Backend backend, const Grid& grid, float iso, int blockSize = 8,
                              const VisitBlock& visitBlock = {});

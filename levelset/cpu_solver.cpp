@@ -8,31 +8,24 @@
 #include <algorithm>
 #include <atomic>
 
+#include "core/cpu_dispatch.h"
+
 namespace isoatlas::levelset {
 namespace {
 
 // Speed and rate of change of the voxels x < xEnd of row y of a page, from its apron (the page's
 // values with a one-voxel border, [dz + 1][y + 1][x + 1], side P + 2): the whole row at once, flat
 // voxels too (their rate is 0), one branch-free loop the compiler vectorises, with the update inlined
-// into it (as a call it was not, and the loop stayed scalar). Compiled for AVX2 and
-// for the baseline, the one the processor runs chosen when the program loads, so Debian's portable
-// flags still get the wide registers. Floating-point contraction is off in this file (CMakeLists),
+// into it (as a call it was not, and the loop stayed scalar). Compiled for AVX2 and the baseline
+// (core/cpu_dispatch.h). Floating-point contraction is off in this file (CMakeLists),
 // so both give the same bits.
 //
 // GCC inlines the update into the loop only when told to (flatten); clang refuses flatten beside
-// target_clones, and inlines it of itself. Under ThreadSanitizer one build: its runtime is not set up
-// yet when the loader runs the clones' resolver, and the program crashes.
-#if defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-#define ISOATLAS_THREAD_SANITIZER 1
-#endif
-#endif
-#if defined(__SANITIZE_THREAD__) || defined(ISOATLAS_THREAD_SANITIZER)
-#define ISOATLAS_ROW_LOOP
-#elif defined(__clang__)
-#define ISOATLAS_ROW_LOOP __attribute__((target_clones("avx2", "default")))
+// target_clones, and inlines it of itself.
+#if defined(__clang__) || defined(ISOATLAS_THREAD_SANITIZER)
+#define ISOATLAS_ROW_LOOP ISOATLAS_CLONES("avx2")
 #else
-#define ISOATLAS_ROW_LOOP __attribute__((target_clones("avx2", "default"), flatten))
+#define ISOATLAS_ROW_LOOP ISOATLAS_CLONES("avx2") __attribute__((flatten))
 #endif
 ISOATLAS_ROW_LOOP void evaluateRow(const float* __restrict apron, int side, int y, int xEnd, const float* __restrict intensity,
                                    SpeedParams params, float* __restrict speed, float* __restrict rate) {

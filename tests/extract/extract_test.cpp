@@ -16,6 +16,7 @@
 #include "extract/extract_surface.h"
 #include "extract/cpu_marching_cubes.h"
 #include "extract/marching_cubes.h"
+#include "extract/straddling_blocks.h"
 #include "levelset/level_set.h"
 #include "tests/gl_context.h"
 #include "tests/test_util.h"
@@ -112,6 +113,68 @@ TEST(MarchingCubes, EveryCasePatternClosesAcrossNeighbours) {
     if (r.mesh.faceCount() == 0) continue;
     const MeshTopology t = analyzeTopology(r.mesh);
     ASSERT_TRUE(t.closed && t.manifold && t.oriented) << "trial " << trial << ": " << t.firstProblem;
+  }
+}
+
+// Rows of bits against the rule itself: value x at bit x + 1 when above iso (a value equal to iso, or
+// not a number, is outside); the padding bits and every bit past the row 0. Rows long enough to
+// cross words, in lengths that leave every remainder of the four-wide compare.
+TEST(BitRows, InsideBitsFollowTheRule) {
+  std::mt19937 rng(21);
+  for (std::size_t n = 0; n < 200; n += 1 + rng() % 7) {
+    std::vector<float> values(n);
+    for (float& v : values) {
+      const unsigned pick = rng() % 10;
+      v = pick == 0 ? 0.25f : pick == 1 ? std::nanf("") : float(int(rng() % 2001) - 1000) / 1000.0f;
+    }
+    const std::size_t words = rowWords(std::int64_t(n)) + 1;
+    std::vector<Word> bits(words, ~Word(0));  // every bit set first: each must be written
+    insideBits(values.data(), n, 0.25f, bits.data(), words);
+    for (std::size_t i = 0; i < words * kWordBits; ++i) {
+      const bool inside = i >= 1 && i <= n && values[i - 1] > 0.25f;
+      ASSERT_EQ(bitAt(bits.data(), i), unsigned(inside)) << "n " << n << " bit " << i;
+    }
+  }
+}
+
+// The blocks that straddle iso against each block's corners read one by one (outside the grid is
+// outside); the CPU path, told no blocks, visits exactly those and gives the same mesh as when told
+// them, or told every block.
+TEST(StraddlingBlocks, AreTheBlocksWithCornersOnBothSides) {
+  std::mt19937 rng(22);
+  for (int trial = 0; trial < 40; ++trial) {
+    const std::array<std::int64_t, 3> d{1 + std::int64_t(rng() % 140), 1 + std::int64_t(rng() % 12), 1 + std::int64_t(rng() % 12)};
+    std::vector<float> values(std::size_t(d[0] * d[1] * d[2]));
+    const bool sparse = trial % 2;  // a few inside points, so whole blocks lie outside
+    for (float& v : values) v = sparse ? float(rng() % 9 == 0) : float(int(rng() % 5) - 2);
+    const Grid grid{d, values.data()};
+    const int block = 2 + int(rng() % 8);
+    const float iso = sparse ? 0.5f : 0.0f;
+    const VisitBlock straddles = straddlingBlocks(grid, iso, block);
+    std::int64_t straddling = 0;
+    for (std::int64_t bz = 0; bz < blockCount(d[2], block); ++bz)
+      for (std::int64_t by = 0; by < blockCount(d[1], block); ++by)
+        for (std::int64_t bx = 0; bx < blockCount(d[0], block); ++bx) {
+          const BlockCells xs = blockCells(bx, block, d[0]), ys = blockCells(by, block, d[1]), zs = blockCells(bz, block, d[2]);
+          bool in = false, out = false;
+          for (std::int64_t z = zs.first; z <= zs.last + 1; ++z)
+            for (std::int64_t y = ys.first; y <= ys.last + 1; ++y)
+              for (std::int64_t x = xs.first; x <= xs.last + 1; ++x) {
+                const bool inGrid = x >= 0 && y >= 0 && z >= 0 && x < d[0] && y < d[1] && z < d[2];
+                (inGrid && grid.at(x, y, z) > iso ? in : out) = true;
+              }
+          ASSERT_EQ(straddles(bx, by, bz), in && out) << "trial " << trial << " block " << bx << " " << by << " " << bz;
+          straddling += in && out;
+        }
+    const MarchingResult own = marchingCubesCpu(grid, iso, block), told = marchingCubesCpu(grid, iso, block, straddles),
+                         every = marchingCubesCpu(grid, iso, block, [](std::int64_t, std::int64_t, std::int64_t) { return true; });
+    EXPECT_EQ(own.cellsVisited, told.cellsVisited);
+    EXPECT_LE(own.cellsVisited, every.cellsVisited);
+    EXPECT_EQ(straddling > 0, own.cellsVisited > 0);
+    for (const MarchingResult* other : {&told, &every}) {
+      EXPECT_TRUE(own.mesh.faceVertices == other->mesh.faceVertices) << "trial " << trial;
+      EXPECT_TRUE(own.mesh.positions == other->mesh.positions) << "trial " << trial;
+    }
   }
 }
 
@@ -310,17 +373,33 @@ TEST(MarchingCubesGpu, GivesTheCpuMeshWhenBlocksAreSkipped) {
   // occurs (a pattern like a checkerboard never visits one cell of four alone).
   std::mt19937 rng(6);  // a draw under which dropping any one of the four cells from the rule fails
   const std::int64_t nx = blockCount(37, 8), ny = blockCount(30, 8), nz = blockCount(21, 8);
-  std::vector<char> visit(std::size_t(nx * ny * nz));
-  for (char& v : visit) v = rng() % 5 < 2;
-  auto scattered = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) { return visit[std::size_t((bz * ny + by) * nx + bx)] != 0; };
-  const MarchingResult cpu = marchingCubes(levelset::Backend::Cpu, grid, 0.0f, 8, scattered);
-  const MarchingResult all = marchingCubesCpu(grid, 0.0f, 8);
-  ASSERT_GT(cpu.mesh.faceCount(), all.mesh.faceCount() / 5);
-  ASSERT_LT(cpu.mesh.faceCount(), all.mesh.faceCount() * 4 / 5);
-  const MarchingResult gpu = marchingCubes(levelset::Backend::Gpu, grid, 0.0f, 8, scattered);
-  expectSameMesh(cpu.mesh, gpu.mesh);
-  EXPECT_EQ(cpu.cellsVisited, gpu.cellsVisited);
-  EXPECT_LT(cpu.cellsVisited, all.cellsVisited);
+  const MarchingResult all = marchingCubesCpu(grid, 0.0f, 8, [](std::int64_t, std::int64_t, std::int64_t) { return true; });
+  // Two in five blocks; then one in eight, so that whole rows of blocks go unvisited beside visited
+  // ones (the CPU reads only the rows of points its visited cells touch).
+  for (const unsigned inEight : {3u, 1u}) {
+    std::vector<char> visit(std::size_t(nx * ny * nz));
+    for (char& v : visit) v = rng() % 8 < inEight;
+    auto scattered = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) { return visit[std::size_t((bz * ny + by) * nx + bx)] != 0; };
+    const MarchingResult cpu = marchingCubes(levelset::Backend::Cpu, grid, 0.0f, 8, scattered);
+    ASSERT_GT(cpu.mesh.faceCount(), all.mesh.faceCount() / 20);
+    ASSERT_LT(cpu.mesh.faceCount(), all.mesh.faceCount() * 4 / 5);
+    const MarchingResult gpu = marchingCubes(levelset::Backend::Gpu, grid, 0.0f, 8, scattered);
+    expectSameMesh(cpu.mesh, gpu.mesh);
+    EXPECT_EQ(cpu.cellsVisited, gpu.cellsVisited);
+    EXPECT_LT(cpu.cellsVisited, all.cellsVisited);
+  }
+  // A random field has surface in most cells, so every way rows of visited and unvisited blocks
+  // can meet is met: e.g. a row of blocks visited whose three neighbours above it in y and z are not.
+  std::uniform_real_distribution<float> value(-1, 1);
+  const Volume noise = test::fieldVolume({33, 33, 33}, [&](double, double, double) { return value(rng); });
+  const Grid noiseGrid{noise.dims, reinterpret_cast<const float*>(noise.data.data())};
+  for (int draw = 0; draw < 4; ++draw) {
+    std::vector<char> visit(5 * 5 * 5);
+    for (char& v : visit) v = rng() % 6 == 0;
+    auto sparse = [&](std::int64_t bx, std::int64_t by, std::int64_t bz) { return visit[std::size_t((bz * 5 + by) * 5 + bx)] != 0; };
+    expectSameMesh(marchingCubes(levelset::Backend::Cpu, noiseGrid, 0.0f, 8, sparse).mesh,
+                   marchingCubes(levelset::Backend::Gpu, noiseGrid, 0.0f, 8, sparse).mesh);
+  }
 }
 
 TEST(ExtractLevelSet, ActivePagesGiveTheSameSurfaceForLessWork) {
