@@ -15,6 +15,12 @@ inline constexpr std::size_t kWordBits = 64;
 inline std::size_t rowWords(std::int64_t points) { return (std::size_t(points) + 2 + kWordBits) / kWordBits; }
 
 inline unsigned bitAt(const Word* row, std::size_t i) { return unsigned(row[i / kWordBits] >> (i % kWordBits)) & 1u; }
+// Bits i and i + 1 of a row (bit i + 1 within it) as bits 0 and 1.
+inline unsigned twoBitsAt(const Word* row, std::size_t i) {
+  const std::size_t w = i / kWordBits, b = i % kWordBits;
+  const Word bits = b + 1 < kWordBits ? row[w] >> b : row[w] >> b | row[w + 1] << 1;
+  return unsigned(bits) & 3u;
+}
 // Word w of a row of `words` words with every bit taken from the next place: bit i holds bit i + 1.
 inline Word fromNext(const Word* row, std::size_t w, std::size_t words) {
   return row[w] >> 1 | (w + 1 < words ? row[w + 1] << 63 : 0);

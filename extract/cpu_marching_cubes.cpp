@@ -210,10 +210,7 @@ private:
   int cellCase(std::size_t r, std::size_t i) const {
     const std::size_t rows[4] = {r, r + 1, r + std::size_t(py_), r + std::size_t(py_) + 1};
     int c = 0;
-    for (int k = 0; k < 4; ++k) {
-      const Word* in = insideRow(rows[k]);
-      c |= int(bitAt(in, i) << (2 * k) | bitAt(in, i + 1) << (2 * k + 1));
-    }
+    for (int k = 0; k < 4; ++k) c |= int(twoBitsAt(insideRow(rows[k]), i) << (2 * k));
     return c;
   }
 
