@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <limits>
+#include <unordered_map>
+#include <utility>
 
 #include "atlas/relax_chart.h"
 #include "atlas/snap_texels.h"
@@ -30,9 +33,10 @@ struct ChartSurface {
   const Mesh& dense;
   const std::vector<Vec3>& normals;
   const multires::BaseMesh& base;
-  multires::ParametrisationHistory::DensePoint point(std::uint32_t c, const multires::Vec2& q) const {
+  multires::ParametrisationHistory::DensePoint point(std::uint32_t c, const multires::Vec2& q,
+                                                     multires::ParametrisationHistory::Hints* hints = nullptr) const {
     const auto [triangle, bary] = base.chartToTriangle(c, q.x, q.y);
-    return base.densePoint(triangle, bary);
+    return base.densePoint(triangle, bary, hints);
   }
   Vec3 normal(const multires::ParametrisationHistory::DensePoint& point) const {
     Vec3 normal;
@@ -40,12 +44,37 @@ struct ChartSurface {
     for (int k = 0; k < 3; ++k) normal = normal + normals[corners[k]] * point.bary[k];
     return normal;
   }
-  SurfacePoint at(std::uint32_t c, const multires::Vec2& q) const {
-    const auto p = point(c, q);
+  SurfacePoint at(const multires::ParametrisationHistory::DensePoint& p) const {
     const Vec3 n = normal(p);
     const double length = norm(n);
     return {multires::densePosition(dense, p), length > 0 ? n * (1 / length) : n};
   }
+  SurfacePoint at(std::uint32_t c, const multires::Vec2& q) const { return at(point(c, q)); }
+};
+
+// The surface at the chart points of one tile, each point carried back through the history once:
+// relaxing, placing and snapping the texels ask again for many of the same points (the same bits).
+// The way back of one point hints the next's (ParametrisationHistory::Hints).
+class ChartPointCache {
+public:
+  ChartPointCache(const ChartSurface& surface, std::uint32_t tile) : surface_(surface), tile_(tile) {}
+  const multires::ParametrisationHistory::DensePoint& point(const multires::Vec2& q) {
+    const auto [at, added] = points_.try_emplace(Key{std::bit_cast<std::uint64_t>(q.x), std::bit_cast<std::uint64_t>(q.y)});
+    if (added) at->second = surface_.point(tile_, q, &hints_);
+    return at->second;
+  }
+  SurfacePoint at(const multires::Vec2& q) { return surface_.at(point(q)); }
+  Vec3 position(const multires::Vec2& q) { return multires::densePosition(surface_.dense, point(q)); }
+
+private:
+  using Key = std::pair<std::uint64_t, std::uint64_t>;
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const { return std::size_t(k.first * 0x9E3779B97F4A7C15ull ^ (k.second + (k.second >> 29))); }
+  };
+  const ChartSurface& surface_;
+  const std::uint32_t tile_;
+  std::unordered_map<Key, multires::ParametrisationHistory::DensePoint, KeyHash> points_;
+  multires::ParametrisationHistory::Hints hints_;
 };
 
 // A typical bending of the dense surface: the median over its edges of |n_a - n_b| / |p_a - p_b|.
@@ -74,10 +103,11 @@ std::vector<std::array<std::vector<double>, 4>> sideFractions(const ChartSurface
   const auto across = sidesAcross(surface.base);
   std::vector<std::array<std::vector<double>, 4>> sides(layout.charts);
   tbb::parallel_for(std::uint32_t(0), layout.charts, [&](std::uint32_t c) {
+    ChartPointCache cache(surface, c);
     for (int s = 0; s < 4; ++s) {
       const SideAcross other = across[c][s];
       if (other.tile != kNoTile && other.tile < c) continue;
-      const std::vector<double> t = relaxSide(n, [&](double f) { return surface.at(c, sidePoint(s, f)); }, how);
+      const std::vector<double> t = relaxSide(n, [&](double f) { return cache.at(sidePoint(s, f)); }, how);
       if (other.tile != kNoTile) {
         std::vector<double> back(n);
         for (std::uint32_t m = 0; m < n; ++m) back[m] = 1 - t[n - 1 - m];
@@ -116,18 +146,17 @@ struct ChartPoints {
 ChartPoints placeTexels(const ChartSurface& surface, std::uint32_t c, std::uint32_t n, const std::array<std::vector<double>, 4>& sides,
                         const ChartRelaxing& how, std::span<const ChartVertex> vertices) {
   ChartPoints out;
-  out.chart = relaxChart(n, [&](const multires::Vec2& q) { return surface.at(c, q); }, sides, how, &out.nonConvex);
+  ChartPointCache cache(surface, c);
+  out.chart = relaxChart(n, [&](const multires::Vec2& q) { return cache.at(q); }, sides, how, &out.nonConvex);
   out.dense.resize(out.chart.size());
-  for (std::size_t k = 0; k < out.chart.size(); ++k) out.dense[k] = surface.point(c, out.chart[k]);
+  for (std::size_t k = 0; k < out.chart.size(); ++k) out.dense[k] = cache.point(out.chart[k]);
   if (how.sweeps <= 0 || vertices.empty()) return out;
   std::vector<Vec3> positions(out.chart.size());
   for (std::size_t k = 0; k < positions.size(); ++k) positions[k] = multires::densePosition(surface.dense, out.dense[k]);
   const std::vector<multires::Vec2> before = out.chart;
-  out.snapped = snapTexels(
-      n, vertices, [&](const multires::Vec2& q) { return multires::densePosition(surface.dense, surface.point(c, q)); }, out.chart,
-      positions);
+  out.snapped = snapTexels(n, vertices, [&](const multires::Vec2& q) { return cache.position(q); }, out.chart, positions);
   for (std::size_t k = 0; k < out.chart.size(); ++k)
-    if (out.chart[k].x != before[k].x || out.chart[k].y != before[k].y) out.dense[k] = surface.point(c, out.chart[k]);
+    if (out.chart[k].x != before[k].x || out.chart[k].y != before[k].y) out.dense[k] = cache.point(out.chart[k]);
   return out;
 }
 

@@ -35,8 +35,9 @@ struct BaseMesh {
   std::shared_ptr<const ParametrisationHistory> history;
   std::vector<HistoryFrame> historyFrames;
   // The dense surface at base point (triangle, bary), through the history (which must be there).
-  ParametrisationHistory::DensePoint densePoint(std::uint32_t triangle, const std::array<double, 3>& bary) const {
-    return history->toDense(historyFrames[triangle].version, historyFrames[triangle].toVersion(bary));
+  ParametrisationHistory::DensePoint densePoint(std::uint32_t triangle, const std::array<double, 3>& bary,
+                                                ParametrisationHistory::Hints* hints = nullptr) const {
+    return history->toDense(historyFrames[triangle].version, historyFrames[triangle].toVersion(bary), hints);
   }
 
   // Filled by pairTriangles: each tile is two triangles sharing an edge; every triangle is in one.

@@ -56,21 +56,37 @@ inline std::array<double, 3> barycentricInTriangle(const Vec2& p, const Vec2& a,
 // weights there: a corner whose opposite edge holds p exactly gets weight 0 exactly (so the point
 // is on that edge for the next step, which carries it along edges it keeps), the others are
 // computed in floating point and rounded onto the triangle. kNoTriangleHit when none holds p. corners(i) gives triangle i's corners.
+// p's orientation against each side of triangle c (side i faces corner i), and the hit it makes when
+// none is negative.
+inline std::array<int, 3> sideOrientations(const Vec2& p, const std::array<Vec2, 3>& c) {
+  return {exactOrientation(c[1], c[2], p), exactOrientation(c[2], c[0], p), exactOrientation(c[0], c[1], p)};
+}
+inline TriangleHit hitIn(const Vec2& p, std::size_t t, const std::array<Vec2, 3>& c, const std::array<int, 3>& o) {
+  TriangleHit hit{t, barycentricInTriangle(p, c[0], c[1], c[2]), true};
+  for (int i = 0; i < 3; ++i)
+    if (o[std::size_t(i)] == 0) hit.bary[std::size_t(i)] = 0;
+  clampToTriangle(hit.bary);
+  return hit;
+}
+
 template <class Corners>
 TriangleHit locateExactly(const Vec2& p, std::size_t count, const Corners& corners, std::size_t hint = 0) {
-  TriangleHit hit;
   for (std::size_t m = 0; m < count; ++m) {
     const std::size_t t = (hint + m) % count;
     const std::array<Vec2, 3> c = corners(t);
-    const int o[3] = {exactOrientation(c[1], c[2], p), exactOrientation(c[2], c[0], p), exactOrientation(c[0], c[1], p)};
-    if (o[0] < 0 || o[1] < 0 || o[2] < 0) continue;
-    hit = {t, barycentricInTriangle(p, c[0], c[1], c[2]), true};
-    for (int i = 0; i < 3; ++i)
-      if (o[i] == 0) hit.bary[std::size_t(i)] = 0;
-    clampToTriangle(hit.bary);
-    break;
+    const std::array<int, 3> o = sideOrientations(p, c);
+    if (o[0] >= 0 && o[1] >= 0 && o[2] >= 0) return hitIn(p, t, c, o);
   }
-  return hit;
+  return {};
+}
+
+// Triangle t's hit when it holds p strictly inside, where no other triangle of a triangulation can
+// hold it: the same hit locateExactly gives, whatever order it tries them in. Else none.
+template <class Corners>
+TriangleHit strictlyInside(const Vec2& p, std::size_t t, const Corners& corners) {
+  const std::array<Vec2, 3> c = corners(t);
+  const std::array<int, 3> o = sideOrientations(p, c);
+  return o[0] > 0 && o[1] > 0 && o[2] > 0 ? hitIn(p, t, c, o) : TriangleHit{};
 }
 
 }  // namespace isoatlas::multires

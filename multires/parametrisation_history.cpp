@@ -54,7 +54,7 @@ int alongKeptEdge(const std::array<std::uint8_t, 3>& madeCorners, const std::arr
 
 }  // namespace
 
-ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t version, const Bary& bary) const {
+ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t version, const Bary& bary, Hints* hints) const {
   DensePoint out{version, bary, 0, 0};
   while (out.face >= denseFaces_) {
     const Face& made = made_[out.face - denseFaces_];
@@ -74,7 +74,12 @@ ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t
       const auto& c = replaced[i].corners;
       return std::array<Vec2, 3>{layout[c[0]], layout[c[1]], layout[c[2]]};
     };
-    TriangleHit hit = locateExactly(p, step.replacedSize, corners);
+    const std::uint32_t stepIndex = made.version;
+    TriangleHit hit;
+    if (hints)
+      if (const std::size_t face = hints->face(stepIndex); face < step.replacedSize) hit = strictlyInside(p, face, corners);
+    if (hit.triangle == kNoTriangleHit) hit = locateExactly(p, step.replacedSize, corners);
+    if (hints && hit.triangle != kNoTriangleHit) hints->remember(stepIndex, hit.triangle);
     if (hit.triangle == kNoTriangleHit) {
       hit = locateInTriangles(p, step.replacedSize, corners);
       if (hit.triangle == kNoTriangleHit) throw Error("parametrisation history: a step replaced only flat faces", ErrorKind::Failure);

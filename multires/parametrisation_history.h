@@ -50,7 +50,25 @@ public:
   };
   // A miss past this weight is a gap in the map, not rounding.
   static constexpr double kGapWeight = 1e-9;
-  DensePoint toDense(std::uint32_t version, const Bary& bary) const;
+  // Which face each step found a point in last (a small table by step): points near each other take
+  // the same way back, so that face is tried first. Hints change how fast toDense is, never what it
+  // gives: a hinted face is taken only when it holds the point strictly inside, where no other can.
+  class Hints {
+  public:
+    std::size_t face(std::uint32_t step) const {
+      const Entry& e = entries_[step % kEntries];
+      return e.step == step ? e.face : kNoTriangleHit;
+    }
+    void remember(std::uint32_t step, std::size_t face) { entries_[step % kEntries] = {step, std::uint32_t(face)}; }
+
+  private:
+    static constexpr std::size_t kEntries = 4096;
+    struct Entry {
+      std::uint32_t step = ~0u, face = 0;
+    };
+    std::array<Entry, kEntries> entries_{};
+  };
+  DensePoint toDense(std::uint32_t version, const Bary& bary, Hints* hints = nullptr) const;
 
   std::uint32_t denseFaces() const { return denseFaces_; }
   std::uint32_t versions() const { return denseFaces_ + std::uint32_t(made_.size()); }

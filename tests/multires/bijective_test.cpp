@@ -57,6 +57,12 @@ TEST(ExactLocation, AgreesWithBruteForce) {
               exactOrientationSlow(c[2], c[0], p) >= 0)
             holding.push_back(t);
         }
+        for (std::size_t t = 0; t < polygon.size(); ++t) {  // strictly inside: held by that triangle alone
+          const TriangleHit strict = strictlyInside(p, t, corners);
+          if (strict.triangle == kNoTriangleHit) continue;
+          ASSERT_EQ(holding, std::vector<std::size_t>{t}) << p.x << ", " << p.y;
+          EXPECT_EQ(strict.bary, locateExactly(p, polygon.size(), corners).bary);
+        }
         for (std::size_t hint = 0; hint < polygon.size(); hint += 2) {
           const TriangleHit hit = locateExactly(p, polygon.size(), corners, hint);
           if (holding.empty()) {
@@ -185,12 +191,25 @@ void expectHistoryInvertsTheForwardMap(const Mesh& dense, double ratio) {
   for (const bool paired : {false, true}) {
     if (paired) pairTriangles(base, dense);
     double worst = 0;
+    ParametrisationHistory::Hints hints;
+    auto expectSameWithHints = [&](std::uint32_t triangle, const ParametrisationHistory::Bary& bary) {
+      const ParametrisationHistory::DensePoint p = base.densePoint(triangle, bary), hinted = base.densePoint(triangle, bary, &hints);
+      EXPECT_TRUE(p.face == hinted.face && p.bary == hinted.bary && p.outside == hinted.outside && p.steps == hinted.steps)
+          << "triangle " << triangle;
+      return p;
+    };
     for (std::uint32_t d = 0; d < dense.vertexCount(); ++d) {
-      const ParametrisationHistory::DensePoint p = base.densePoint(base.denseTriangle[d], base.denseBary[d]);
+      const ParametrisationHistory::DensePoint p = expectSameWithHints(base.denseTriangle[d], base.denseBary[d]);
       EXPECT_LE(p.outside, ParametrisationHistory::kGapWeight);
       worst = std::max(worst, norm(densePosition(dense, p) - dense.positions[d]));
     }
     EXPECT_LT(worst, 1e-9 * size) << (paired ? "after pairing" : "before pairing");
+    // Hints change nothing on the base triangles' sides and corners either, where points lie on
+    // the edges of the faces they pass through.
+    for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
+      for (const ParametrisationHistory::Bary& bary :
+           {ParametrisationHistory::Bary{0.5, 0.5, 0}, {0, 0.25, 0.75}, {1, 0, 0}, {0.2, 0.3, 0.5}})
+        expectSameWithHints(t, bary);
   }
 }
 
