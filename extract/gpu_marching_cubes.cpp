@@ -3,6 +3,9 @@
 #include "extract/case_table.h"
 #include "extract/straddling_blocks.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <optional>
 #include <algorithm>
 
@@ -172,7 +175,7 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   // the mean of their ring, which every fan (centre, a, b) lists once as a.
   profile.stage("read back mesh");
   const auto gpuVertices = vertices.read<GpuVertex>(edgeVertexCount);
-  const auto corners = triangles.read<std::uint32_t>(std::size_t(triangleCount) * 3);
+  auto corners = triangles.read<std::uint32_t>(std::size_t(triangleCount) * 3);
   std::uint32_t visitedCells = 0;
   visited.download(&visitedCells, 4);
   result.cellsVisited = visitedCells;
@@ -181,12 +184,14 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   profile.stage("assemble mesh (cpu)");
   Mesh& mesh = result.mesh;
   mesh.positions.resize(std::size_t(edgeVertexCount) + centreCount, Vec3{0, 0, 0});
-  for (std::uint32_t i = 0; i < edgeVertexCount; ++i) {
-    const GpuVertex& v = gpuVertices[i];
-    Vec3 p{double(v.point[0]), double(v.point[1]), double(v.point[2])};
-    p[v.axis] += double(v.t);
-    mesh.positions[i] = p;
-  }
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, edgeVertexCount), [&](const auto& range) {
+    for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+      const GpuVertex& v = gpuVertices[i];
+      Vec3 p{double(v.point[0]), double(v.point[1]), double(v.point[2])};
+      p[v.axis] += double(v.t);
+      mesh.positions[i] = p;
+    }
+  });
   std::vector<std::uint32_t> ring(centreCount, 0);
   for (std::size_t t = 0; t < corners.size(); t += 3) {
     if (corners[t] < edgeVertexCount) continue;
@@ -196,9 +201,11 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   }
   for (std::uint32_t c = 0; c < centreCount; ++c)
     mesh.positions[edgeVertexCount + c] = mesh.positions[edgeVertexCount + c] * (1.0 / double(ring[c]));
-  mesh.faceVertices = corners;
+  mesh.faceVertices = std::move(corners);
   mesh.faceOffsets.resize(std::size_t(triangleCount) + 1);
-  for (std::uint32_t t = 0; t <= triangleCount; ++t) mesh.faceOffsets[t] = 3 * t;
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, triangleCount + 1), [&](const auto& range) {
+    for (std::uint32_t t = range.begin(); t != range.end(); ++t) mesh.faceOffsets[t] = 3 * t;
+  });
   gl::checkErrors("GPU marching cubes");
   return result;
 }
