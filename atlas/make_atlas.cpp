@@ -49,19 +49,18 @@ struct ChartSurface {
     const double length = norm(n);
     return {multires::densePosition(dense, p), length > 0 ? n * (1 / length) : n};
   }
-  SurfacePoint at(std::uint32_t c, const multires::Vec2& q) const { return at(point(c, q)); }
 };
 
-// The surface at the chart points of one tile, each point carried back through the history once:
+// The surface at the points of one chart, each point carried back through the history once:
 // relaxing, placing and snapping the texels ask again for many of the same points (the same bits).
 // The way back of one point hints the next's (ParametrisationHistory::Hints).
 class ChartPointCache {
 public:
-  ChartPointCache(const ChartSurface& surface, std::uint32_t tile) : surface_(surface), tile_(tile) {}
+  ChartPointCache(const ChartSurface& surface, std::uint32_t chart) : surface_(surface), chart_(chart) {}
   const multires::ParametrisationHistory::DensePoint& point(const multires::Vec2& q) {
-    const auto [at, added] = points_.try_emplace(Key{std::bit_cast<std::uint64_t>(q.x), std::bit_cast<std::uint64_t>(q.y)});
-    if (added) at->second = surface_.point(tile_, q, &hints_);
-    return at->second;
+    const Key key{std::bit_cast<std::uint64_t>(q.x), std::bit_cast<std::uint64_t>(q.y)};
+    if (const auto known = points_.find(key); known != points_.end()) return known->second;
+    return points_.emplace(key, surface_.point(chart_, q, &hints_)).first->second;
   }
   SurfacePoint at(const multires::Vec2& q) { return surface_.at(point(q)); }
   Vec3 position(const multires::Vec2& q) { return multires::densePosition(surface_.dense, point(q)); }
@@ -72,7 +71,7 @@ private:
     std::size_t operator()(const Key& k) const { return std::size_t(k.first * 0x9E3779B97F4A7C15ull ^ (k.second + (k.second >> 29))); }
   };
   const ChartSurface& surface_;
-  const std::uint32_t tile_;
+  const std::uint32_t chart_;
   std::unordered_map<Key, multires::ParametrisationHistory::DensePoint, KeyHash> points_;
   multires::ParametrisationHistory::Hints hints_;
 };

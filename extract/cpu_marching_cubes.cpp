@@ -21,6 +21,15 @@ namespace {
 
 constexpr float kOffCorner = 1e-3f;  // crossing points stay this far (in voxels) from grid points
 
+// The corners (cell edges) of a polygon's triangles fanned from its apex, three a triangle, in the
+// cycle's order, which is the outward orientation.
+template <class Corner>
+void forEachApexFanCorner(const Polygon& polygon, const Corner& corner) {
+  const std::size_t n = polygon.edges.size(), a = std::size_t(polygon.apex);
+  for (std::size_t k = 1; k + 1 < n; ++k)
+    for (std::size_t j : {a, (a + k) % n, (a + k + 1) % n}) corner(polygon.edges[j]);
+}
+
 // Grid points run from -1 to dims on each axis (the padding included), cells from -1 to dims - 1
 // (a cell is named by its lower corner). A row is the points (or cells) of one (y, z), x fastest;
 // rows are numbered like points, so cell row (y, z) and point row (y, z) share an index. Rows are
@@ -124,10 +133,7 @@ private:
         caseTriangles_[c] += std::uint32_t(polygon.apex >= 0 ? polygon.edges.size() - 2 : polygon.edges.size());
         caseCentres_[c] += polygon.apex < 0;
         for (std::int8_t e : polygon.edges) fanned.edges |= std::uint16_t(1u << e);
-        // Fan in the cycle's order, which is the outward orientation.
-        const std::size_t n = polygon.edges.size(), a = std::size_t(polygon.apex);
-        for (std::size_t k = 1; polygon.apex >= 0 && k + 1 < n; ++k)
-          for (std::size_t j : {a, (a + k) % n, (a + k + 1) % n}) fanned.corners[fanned.cornerCount++] = polygon.edges[j];
+        if (polygon.apex >= 0) forEachApexFanCorner(polygon, [&](std::int8_t e) { fanned.corners[fanned.cornerCount++] = e; });
       }
     }
   }
@@ -352,9 +358,7 @@ private:
       const auto& cycle = polygon.edges;
       const std::size_t n = cycle.size();
       if (polygon.apex >= 0) {
-        const std::size_t a = std::size_t(polygon.apex);
-        for (std::size_t k = 1; k + 1 < n; ++k)
-          for (std::size_t j : {a, (a + k) % n, (a + k + 1) % n}) *out++ = ids[cycle[j]];
+        forEachApexFanCorner(polygon, [&](std::int8_t e) { *out++ = ids[e]; });
         continue;
       }
       // A centre vertex of this polygon alone, at the mean of its crossings.

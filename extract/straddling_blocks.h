@@ -1,6 +1,7 @@
 // straddlingBlocks: the blocks of cells whose corners lie on both sides of iso, the padding around
 // the grid counted outside: the only blocks with surface (blocks as marching_cubes.h numbers them).
 #pragma once
+#include <array>
 #include <functional>
 #include <vector>
 

@@ -52,10 +52,6 @@ inline std::array<double, 3> barycentricInTriangle(const Vec2& p, const Vec2& a,
   return exactBarycentricSlow(p, a, b, c);
 }
 
-// Which of `count` counter-clockwise triangles holds p by exact tests, tried from `hint` on, and p's
-// weights there: a corner whose opposite edge holds p exactly gets weight 0 exactly (so the point
-// is on that edge for the next step, which carries it along edges it keeps), the others are
-// computed in floating point and rounded onto the triangle. kNoTriangleHit when none holds p. corners(i) gives triangle i's corners.
 // p's orientation against each side of triangle c (side i faces corner i), and the hit it makes when
 // none is negative.
 inline std::array<int, 3> sideOrientations(const Vec2& p, const std::array<Vec2, 3>& c) {
@@ -69,6 +65,10 @@ inline TriangleHit hitIn(const Vec2& p, std::size_t t, const std::array<Vec2, 3>
   return hit;
 }
 
+// Which of `count` counter-clockwise triangles holds p by exact tests, tried from `hint` on, and p's
+// weights there: a corner whose opposite edge holds p exactly gets weight 0 exactly (so the point
+// is on that edge for the next step, which carries it along edges it keeps), the others are
+// computed in floating point and rounded onto the triangle. kNoTriangleHit when none holds p. corners(i) gives triangle i's corners.
 template <class Corners>
 TriangleHit locateExactly(const Vec2& p, std::size_t count, const Corners& corners, std::size_t hint = 0) {
   for (std::size_t m = 0; m < count; ++m) {
