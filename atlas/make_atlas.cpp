@@ -7,8 +7,6 @@
 #include <bit>
 #include <chrono>
 #include <limits>
-#include <unordered_map>
-#include <utility>
 
 #include "atlas/relax_chart.h"
 #include "atlas/snap_texels.h"
@@ -56,23 +54,45 @@ struct ChartSurface {
 // The way back of one point hints the next's (ParametrisationHistory::Hints).
 class ChartPointCache {
 public:
-  ChartPointCache(const ChartSurface& surface, std::uint32_t chart) : surface_(surface), chart_(chart) {}
-  const multires::ParametrisationHistory::DensePoint& point(const multires::Vec2& q) {
+  ChartPointCache(const ChartSurface& surface, std::uint32_t chart) : surface_(surface), chart_(chart), slots_(kFirstSlots) {}
+  multires::ParametrisationHistory::DensePoint point(const multires::Vec2& q) {
     const Key key{std::bit_cast<std::uint64_t>(q.x), std::bit_cast<std::uint64_t>(q.y)};
-    if (const auto known = points_.find(key); known != points_.end()) return known->second;
-    return points_.emplace(key, surface_.point(chart_, q, &hints_)).first->second;
+    Slot& slot = slotOf(key);
+    if (slot.used) return slot.point;
+    const multires::ParametrisationHistory::DensePoint p = surface_.point(chart_, q, &hints_);
+    slot = {key, true, p};
+    if (++used_ * 2 > slots_.size()) grow();
+    return p;
   }
   SurfacePoint at(const multires::Vec2& q) { return surface_.at(point(q)); }
   Vec3 position(const multires::Vec2& q) { return multires::densePosition(surface_.dense, point(q)); }
 
 private:
-  using Key = std::pair<std::uint64_t, std::uint64_t>;
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const { return std::size_t(k.first * 0x9E3779B97F4A7C15ull ^ (k.second + (k.second >> 29))); }
+  // A table of its own (open addressing, linear probing, at most half full): a node-based map's
+  // allocations cost about what the walks it saved.
+  using Key = std::array<std::uint64_t, 2>;
+  struct Slot {
+    Key key{};
+    bool used = false;
+    multires::ParametrisationHistory::DensePoint point;
   };
+  static constexpr std::size_t kFirstSlots = 4096;  // a power of two
+  Slot& slotOf(const Key& key) {
+    const std::size_t mask = slots_.size() - 1;
+    std::size_t at = std::size_t((key[0] * 0x9E3779B97F4A7C15ull ^ key[1]) * 0xC2B2AE3D27D4EB4Full >> 20) & mask;
+    while (slots_[at].used && slots_[at].key != key) at = (at + 1) & mask;
+    return slots_[at];
+  }
+  void grow() {
+    std::vector<Slot> old(2 * slots_.size());
+    old.swap(slots_);
+    for (const Slot& slot : old)
+      if (slot.used) slotOf(slot.key) = slot;
+  }
   const ChartSurface& surface_;
   const std::uint32_t chart_;
-  std::unordered_map<Key, multires::ParametrisationHistory::DensePoint, KeyHash> points_;
+  std::vector<Slot> slots_;
+  std::size_t used_ = 0;
   multires::ParametrisationHistory::Hints hints_;
 };
 
