@@ -221,6 +221,10 @@ IterationResult LevelSet::step() {
   return r;
 }
 
+bool windowConverged(std::int64_t changesInWindow, std::int64_t activeVoxels, const RunOptions& options) {
+  return double(changesInWindow) < std::max(double(options.changedVoxels), options.changedShare * double(activeVoxels));
+}
+
 RunStats LevelSet::run(const RunOptions& options) {
   RunStats stats;
   const auto start = std::chrono::steady_clock::now();
@@ -240,7 +244,8 @@ RunStats LevelSet::run(const RunOptions& options) {
     if (options.untilConverged && int(recentSignChanges.size()) == options.window) {
       std::int64_t changes = 0;
       for (std::int64_t c : recentSignChanges) changes += c;
-      if (changes < options.changedVoxels) {
+      const std::int64_t page = pages_->pageSize(), activeVoxels = std::int64_t(pages_->activePages().size()) * page * page;
+      if (windowConverged(changes, activeVoxels, options)) {
         stats.converged = true;
         break;
       }

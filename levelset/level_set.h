@@ -25,11 +25,16 @@ struct LevelSetOptions {
 struct RunOptions {
   int maxIterations = 1000;
   bool untilConverged = true;
-  // Converged: fewer than `changedVoxels` voxels changed side over the last `window` iterations.
+  // Converged (windowConverged): over the last `window` iterations, fewer voxels changed side than
+  // `changedVoxels`, or than `changedShare` of the active pages' voxels, whichever is more. The share
+  // keeps the test the same for a large surface as for a small one: a front whose last voxels settle
+  // one by one is done long before ten voxels in a whole brain stop flickering.
   int window = 20;
   std::int64_t changedVoxels = 10;
+  double changedShare = 5e-5;
   std::function<void(int iteration, std::int64_t activePages)> progress;
 };
+bool windowConverged(std::int64_t changesInWindow, std::int64_t activeVoxels, const RunOptions& options);
 
 struct RunStats {
   int iterations = 0;

@@ -165,6 +165,17 @@ TEST(LevelSet, NoisyTorusPhantomIsSegmentedWithDiceAbove95) {
   EXPECT_EQ(gradientOutsideActivePages(ls), 0);
 }
 
+// The rule by hand: ten voxels for a small band, one in 20,000 of a large one, whichever is more;
+// the share switched off leaves the ten.
+TEST(LevelSet, ConvergenceCountsAShareOfTheActiveVoxels) {
+  const RunOptions defaults;
+  EXPECT_TRUE(windowConverged(9, 1000, defaults));
+  EXPECT_FALSE(windowConverged(10, 1000, defaults));
+  EXPECT_TRUE(windowConverged(99, 2'000'000, defaults));
+  EXPECT_FALSE(windowConverged(100, 2'000'000, defaults));
+  EXPECT_FALSE(windowConverged(99, 2'000'000, {.changedShare = 0}));
+}
+
 TEST(LevelSet, PagesAreReleasedBehindTheFrontAndReused) {
   // Small pages, so the growing sphere leaves whole pages of plateau behind it.
   LevelSet ls(uniformVolume({48, 48, 48}, 10), {10, 0.5f, 1}, {.pageSize = 4});
