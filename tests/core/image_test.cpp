@@ -16,7 +16,7 @@ namespace {
 // and RGBA, one row and one column, smooth pixels and pixels of five values (every tie of the Paeth predictor).
 TEST(Image, PngRoundTripIsExact) {
   for (const int channels : {1, 2, 3, 4})
-    for (const auto [width, height] : {std::pair{17, 9}, std::pair{1, 5}, std::pair{6, 1}}) {
+    for (const auto& [width, height] : {std::pair{17, 9}, std::pair{1, 5}, std::pair{6, 1}}) {
       for (const bool fewValues : {false, true}) {  // few values: the predictor's ties, every way
         Image img(width, height, channels);
         std::mt19937 rng(7);
