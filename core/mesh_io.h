@@ -1,7 +1,8 @@
-// Reading and writing meshes through OpenMesh's readers and writers: OFF, PLY (ASCII and binary),
-// OBJ (polygons kept, quads stay quads) and STL (read only). Faces arrive exactly as the file lists
-// them, without OpenMesh's connectivity repairs, so a non-manifold file is seen as it is (see
-// analyzeTopology) instead of being silently split. Throws isoatlas::Error naming the file.
+// Reading and writing meshes through OpenMesh's readers and writers: OFF (ASCII; binary OFF is
+// refused), PLY (ASCII and binary), OBJ (polygons kept, quads stay quads) and STL (read only). Faces
+// arrive exactly as the file lists them, without OpenMesh's connectivity repairs, so a non-manifold
+// file is seen as it is (see analyzeTopology) instead of being silently split. Throws
+// isoatlas::Error naming the file.
 #pragma once
 #include <string>
 

@@ -106,6 +106,14 @@ TEST(MeshBadInput, WrongMagicAndGarbage) {
   EXPECT_NE(errorOf(dir / "junk.mesh").find("unknown mesh format"), std::string::npos);
 }
 
+TEST(MeshBadInput, BinaryOffIsRefusedWithOneLine) {
+  const auto dir = scratchDir();
+  std::string bytes = "OFF BINARY\n";
+  for (int k = 0; k < 12; ++k) bytes += char(k % 4 == 3 ? 1 : 0);  // its counts, 1 1 1 big-endian
+  test::writeBytes(dir / "binary.off", bytes);
+  EXPECT_NE(errorOf(dir / "binary.off").find("binary OFF is not read"), std::string::npos);
+}
+
 TEST(MeshBadInput, CountsLargerThanTheFile) {
   const auto dir = scratchDir();
   test::writeBytes(dir / "huge.off", "OFF\n1000000000 1000000000 0\n0 0 0\n");
