@@ -50,8 +50,8 @@ void appendChunk(std::string& out, const char (&type)[5], const std::uint8_t* da
 
 }  // namespace
 
-// Written here around zlib rather than by stb_image_write, whose own deflate took four times as long
-// for larger files (the model's atlases).
+// Written here around zlib rather than by stb_image_write: its own deflate and its trial of every
+// filter on every row were slow on large images (the model's atlases; bench/RESULTS.md).
 void writePng(const std::string& path, const Image& image) {
   require(image.width > 0 && image.height > 0 && image.pixels.size() == std::size_t(image.width) * image.height * image.channels,
           path + ": image has no pixels or inconsistent size");

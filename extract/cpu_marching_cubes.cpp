@@ -202,10 +202,14 @@ private:
   }
   Word* plane(std::size_t row, int axis) const { return planes_.get() + (row * 3 + std::size_t(axis)) * words_; }
 
+  // The point rows at the corners of cell row r's cells: k = dy + 2 dz for the corner at (y + dy, z + dz).
+  std::array<std::size_t, 4> cornerRows(std::size_t r) const {
+    return {r, r + 1, r + std::size_t(py_), r + std::size_t(py_) + 1};
+  }
   // The cells of cell row r with corners on both sides of iso, in visited blocks: into `out`.
   void crossedCells(std::size_t r, const Word* visited, std::vector<Word>& out) const {
-    const Word *in0 = insideRow(r), *in1 = insideRow(r + 1), *in2 = insideRow(r + std::size_t(py_)),
-               *in3 = insideRow(r + std::size_t(py_) + 1);
+    const auto rows = cornerRows(r);
+    const Word *in0 = insideRow(rows[0]), *in1 = insideRow(rows[1]), *in2 = insideRow(rows[2]), *in3 = insideRow(rows[3]);
     out.resize(3 * words_);
     Word *any = out.data() + words_, *all = any + words_;
     for (std::size_t w = 0; w < words_; ++w) any[w] = in0[w] | in1[w] | in2[w] | in3[w], all[w] = in0[w] & in1[w] & in2[w] & in3[w];
@@ -214,7 +218,7 @@ private:
   }
   // The case of cell i (x = i - 1) of cell row r: corner k in point row k >> 1 of the four, at x + (k & 1).
   int cellCase(std::size_t r, std::size_t i) const {
-    const std::size_t rows[4] = {r, r + 1, r + std::size_t(py_), r + std::size_t(py_) + 1};
+    const auto rows = cornerRows(r);
     int c = 0;
     for (int k = 0; k < 4; ++k) c |= int(twoBitsAt(insideRow(rows[k]), i) << (2 * k));
     return c;
@@ -328,8 +332,9 @@ private:
   void emitTriangles(std::size_t r, std::vector<Word>& scratch, const std::vector<std::uint64_t>& edgeStart,
                      std::uint64_t triangle, std::uint64_t centre, Mesh& mesh) const {
     const std::int64_t y = rowY(r), z = rowZ(r);
-    const RowNumbers rows[4] = {rowNumbers(r, edgeStart), rowNumbers(r + 1, edgeStart), rowNumbers(r + std::size_t(py_), edgeStart),
-                                rowNumbers(r + std::size_t(py_) + 1, edgeStart)};
+    const auto corners = cornerRows(r);
+    RowNumbers rows[4]{};
+    for (int k = 0; k < 4; ++k) rows[k] = rowNumbers(corners[std::size_t(k)], edgeStart);
     crossedCells(r, cellRow(y, z), scratch);  // the row is visited: it has triangles
     std::uint32_t* out = mesh.faceVertices.data() + std::size_t(triangle) * 3;
     for (std::size_t w = 0; w < words_; ++w)
