@@ -80,13 +80,23 @@ TriangleHit locateExactly(const Vec2& p, std::size_t count, const Corners& corne
   return {};
 }
 
-// Triangle t's hit when it holds p strictly inside, where no other triangle of a triangulation can
-// hold it: the same hit locateExactly gives, whatever order it tries them in. Else none.
-template <class Corners>
-TriangleHit strictlyInside(const Vec2& p, std::size_t t, const Corners& corners) {
-  const std::array<Vec2, 3> c = corners(t);
-  const std::array<int, 3> o = sideOrientations(p, c);
-  return o[0] > 0 && o[1] > 0 && o[2] > 0 ? hitIn(p, t, c, o) : TriangleHit{};
+// The triangle that holds p strictly inside, where no other triangle of a triangulation can hold it
+// (so the hit locateExactly gives, whatever order it tries them in), walked to from triangle `from`
+// across a side p lies beyond. across(t, i): the triangle across triangle t's side i (the side
+// facing corner i), or kNoTriangleHit. None when the walk meets p on a side, leaves the triangles or
+// makes `count` moves: the full test decides those.
+template <class Corners, class Across>
+TriangleHit walkStrictlyInside(const Vec2& p, std::size_t from, std::size_t count, const Corners& corners, const Across& across) {
+  std::size_t t = from;
+  for (std::size_t moves = 0; moves < count && t != kNoTriangleHit; ++moves) {
+    const std::array<Vec2, 3> c = corners(t);
+    const std::array<int, 3> o = sideOrientations(p, c);
+    if (o[0] > 0 && o[1] > 0 && o[2] > 0) return hitIn(p, t, c, o);
+    const int side = o[0] < 0 ? 0 : o[1] < 0 ? 1 : o[2] < 0 ? 2 : -1;
+    if (side < 0) break;
+    t = across(t, side);
+  }
+  return {};
 }
 
 }  // namespace isoatlas::multires

@@ -52,6 +52,19 @@ int alongKeptEdge(const std::array<std::uint8_t, 3>& madeCorners, const std::arr
   return -1;
 }
 
+// The face of `count` faces across face f's side i (facing corner i): the one that has that side's
+// corners the other way round.
+template <class Face>
+std::size_t faceAcross(const Face* faces, std::size_t count, std::size_t f, int i) {
+  const auto& c = faces[f].corners;
+  const std::uint8_t a = c[std::size_t(i + 1) % 3], b = c[std::size_t(i + 2) % 3];
+  for (std::size_t g = 0; g < count; ++g) {
+    const auto& d = faces[g].corners;
+    if ((d[0] == b && d[1] == a) || (d[1] == b && d[2] == a) || (d[2] == b && d[0] == a)) return g;
+  }
+  return kNoTriangleHit;
+}
+
 }  // namespace
 
 ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t version, const Bary& bary, Hints* hints) const {
@@ -77,7 +90,9 @@ ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t
     const std::uint32_t stepIndex = made.version;
     TriangleHit hit;
     if (hints)
-      if (const std::size_t face = hints->face(stepIndex); face < step.replacedSize) hit = strictlyInside(p, face, corners);
+      if (const std::size_t face = hints->face(stepIndex); face < step.replacedSize)
+        hit = walkStrictlyInside(p, face, step.replacedSize, corners,
+                                 [&](std::size_t f, int i) { return faceAcross(replaced, step.replacedSize, f, i); });
     if (hit.triangle == kNoTriangleHit) hit = locateExactly(p, step.replacedSize, corners);
     if (hints && hit.triangle != kNoTriangleHit) hints->remember(stepIndex, hit.triangle);
     if (hit.triangle == kNoTriangleHit) {

@@ -51,8 +51,9 @@ public:
   // A miss past this weight is a gap in the map, not rounding.
   static constexpr double kGapWeight = 1e-9;
   // Which face each step found a point in last (a small table by step): points near each other take
-  // the same way back, so that face is tried first. Hints change how fast toDense is, never what it
-  // gives: a hinted face is taken only when it holds the point strictly inside, where no other can.
+  // the same way back, so the walk to the face holding it starts there. Hints change how fast toDense
+  // is, never what it gives: the walk ends only at a face holding the point strictly inside, where no
+  // other can.
   class Hints {
   public:
     std::size_t face(std::uint32_t step) const {

@@ -36,6 +36,10 @@ TEST(ExactOrientation, TheFilterAnswersAsTheExactTest) {
   EXPECT_GT(zeros, 1000) << "the test must reach the exactly collinear case";
 }
 
+bool strictlyHeld(const Vec2& p, const std::array<Vec2, 3>& c) {
+  return exactOrientationSlow(c[0], c[1], p) > 0 && exactOrientationSlow(c[1], c[2], p) > 0 && exactOrientationSlow(c[2], c[0], p) > 0;
+}
+
 // A fan of triangles over a convex polygon on a lattice, and points on the lattice and on its
 // edges: locateExactly finds a triangle that holds the point by the exact test, and finds one
 // exactly when brute force (every triangle, exact test) does.
@@ -57,11 +61,18 @@ TEST(ExactLocation, AgreesWithBruteForce) {
               exactOrientationSlow(c[2], c[0], p) >= 0)
             holding.push_back(t);
         }
-        for (std::size_t t = 0; t < polygon.size(); ++t) {  // strictly inside: held by that triangle alone
-          const TriangleHit strict = strictlyInside(p, t, corners);
-          if (strict.triangle == kNoTriangleHit) continue;
-          ASSERT_EQ(holding, std::vector<std::size_t>{t}) << p.x << ", " << p.y;
-          EXPECT_EQ(strict.bary, locateExactly(p, polygon.size(), corners).bary);
+        // A walk from any triangle ends strictly inside one, held by that triangle alone; the fan's
+        // polygon is convex, so a point strictly inside a triangle is always reached.
+        const std::size_t k = polygon.size();
+        auto across = [&](std::size_t t, int side) { return side == 0 ? kNoTriangleHit : side == 1 ? (t + 1) % k : (t + k - 1) % k; };
+        for (std::size_t from = 0; from < k; ++from) {
+          const TriangleHit strict = walkStrictlyInside(p, from, k, corners, across);
+          if (strict.triangle == kNoTriangleHit) {
+            EXPECT_FALSE(holding.size() == 1 && strictlyHeld(p, corners(holding[0]))) << p.x << ", " << p.y << " from " << from;
+            continue;
+          }
+          ASSERT_EQ(holding, std::vector<std::size_t>{strict.triangle}) << p.x << ", " << p.y;
+          EXPECT_EQ(strict.bary, locateExactly(p, k, corners).bary);
         }
         for (std::size_t hint = 0; hint < polygon.size(); hint += 2) {
           const TriangleHit hit = locateExactly(p, polygon.size(), corners, hint);
