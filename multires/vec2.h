@@ -30,6 +30,7 @@ inline std::array<double, 3> barycentric2(const Vec2& p, const Vec2& a, const Ve
 inline void clampToTriangle(std::array<double, 3>& w) {
   double sum = 0;
   for (double& x : w) sum += (x = x > 0 ? x : 0);
+  if (sum == 1) return;  // dividing by it would change nothing
   for (double& x : w) x /= sum;  // they summed to one, so one at least stays positive
 }
 
