@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <sstream>
 #include <functional>
+#include <future>
 #include <optional>
 
 #include "app/command.h"
@@ -179,37 +180,43 @@ pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup,
   return std::move(*result);
 }
 
-// The edits on a volume tree of the level set's phi (read from its pages), then marching cubes over
-// the edited tree's distances; without edits, marching cubes over the level set's active pages, read
-// where the solver keeps them. The surface keeps its largest component.
-Mesh editAndExtractStages(RunJob& job, const pipeline::Segmentation& s, const pipeline::EditRequest& edits,
-                          const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids) {
-  std::optional<levelset::dvt::VolumeTree> tree;
+// The edits on a volume tree of the level set's phi (read from its pages). Its picture waits for
+// editPicture, which runs beside the model's build.
+struct EditedVolume {
+  std::optional<pipeline::EditedTree> edited;
+  std::optional<levelset::dvt::VolumeTree> tree;  // edited->tree's streams, taken once
+};
+EditedVolume editStage(RunJob& job, const pipeline::Segmentation& s, const pipeline::EditRequest& edits,
+                       const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids) {
+  EditedVolume out;
   if (edits.steps.empty()) {
     job.skipped("edit", "no --union or --subtract given");
-  } else {
-    job.stage("edit", [&] {
-      pipeline::EditedTree edited = pipeline::treeOfLevelSet(*s.levelSet, edits, job.gpu);
-      pipeline::applySteps(edited, edits, solids);
-      tree = edited.tree->tree();
-      writeVolume(job.products.add("mask_edited.nii.gz", "the segmentation after the edits: uint8, 1 inside"), levelset::dvt::sampleMask(*tree));
-      const viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(*tree), 800, 600, {1, 0.3, -0.3})};
-      writePng(job.products.add("edited_tree.png", "the edited segmentation, ray cast straight from the volume tree", true),
-               pipeline::renderEditedTree(edited, *tree, view, job.gpu));
-      job.report["edit"] = edited.figures(*tree);
-      std::string what;
-      for (const pipeline::EditStep& e : edits.steps)
-        what += std::string(what.empty() ? "" : ", ") + (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") + e.shape;
-      job.report["edit"]["edits"] = what;
-      return what + ": " + std::to_string(tree->nodeCount()) + " nodes on the " + edited.backend + ": mask_edited.nii.gz, edited_tree.png";
-    });
+    return out;
   }
+  job.stage("edit", [&] {
+    out.edited = pipeline::treeOfLevelSet(*s.levelSet, edits, job.gpu);
+    pipeline::applySteps(*out.edited, edits, solids);
+    out.tree = out.edited->tree->tree();
+    writeVolume(job.products.add("mask_edited.nii.gz", "the segmentation after the edits: uint8, 1 inside"), levelset::dvt::sampleMask(*out.tree));
+    job.report["edit"] = out.edited->figures(*out.tree);
+    std::string what;
+    for (const pipeline::EditStep& e : edits.steps)
+      what += std::string(what.empty() ? "" : ", ") + (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") + e.shape;
+    job.report["edit"]["edits"] = what;
+    return what + ": " + std::to_string(out.tree->nodeCount()) + " nodes on the " + out.edited->backend + ": mask_edited.nii.gz";
+  });
+  return out;
+}
+
+// Marching cubes over the edited tree's distances; without edits, over the level set's active pages,
+// read where the solver keeps them. The surface keeps its largest component.
+Mesh extractStage(RunJob& job, const pipeline::Segmentation& s, const EditedVolume& edit) {
   Mesh surface;
   job.stage("extract", [&] {
     extract::ExtractStats stats;
     const extract::ExtractOptions options{.iso = 0.0f, .largestComponent = true, .backend = s.backend};
-    surface = tree ? extract::extractSurface(levelset::dvt::sampleField(*tree, tree->frame.voxelDepth()), options, &stats)
-                   : extract::extractLevelSet(*s.levelSet, options, &stats);
+    surface = edit.tree ? extract::extractSurface(levelset::dvt::sampleField(*edit.tree, edit.tree->frame.voxelDepth()), options, &stats)
+                        : extract::extractLevelSet(*s.levelSet, options, &stats);
     writeMesh(job.products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), surface);
     const nlohmann::json& figures = job.report["extract"] = pipeline::surfaceFigures(surface, &stats);
     return std::to_string(surface.faceCount()) + " triangles, genus " + std::to_string(figures["genus"].get<long long>()) + ", " +
@@ -218,10 +225,19 @@ Mesh editAndExtractStages(RunJob& job, const pipeline::Segmentation& s, const pi
   return surface;
 }
 
-// The surface seen from the left (RAS -x) and from above, as a reader of an atlas would look, and the
-// segmentation over the input through the first seed (so the slices cut the structure).
-void renderSurfaceViews(RunJob& job, const Mesh& surface, const pipeline::Segmentation& s, const Vec3& firstSeed) {
+// The edited tree ray cast (the edit's picture), then the surface seen from the left (RAS -x) and
+// from above, as a reader of an atlas would look, and the segmentation over the input through the
+// first seed (so the slices cut the structure). Returns the pictures' names.
+std::string surfacePictures(RunJob& job, const EditedVolume& edit, const Mesh& surface, const pipeline::Segmentation& s,
+                            const Vec3& firstSeed) {
   job.gpu.needGl();
+  std::string names;
+  if (edit.tree) {
+    const viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(*edit.tree), 800, 600, {1, 0.3, -0.3})};
+    writePng(job.products.add("edited_tree.png", "the edited segmentation, ray cast straight from the volume tree", true),
+             pipeline::renderEditedTree(*edit.edited, *edit.tree, view, job.gpu));
+    names = "edited_tree.png, ";
+  }
   writePng(job.products.add("surface_left.png", "the extracted surface seen from the left", true),
            viewer::renderMesh(surface, {.viewDirection = {1, 0, 0}}));
   writePng(job.products.add("surface_top.png", "the extracted surface seen from above (anterior up)", true),
@@ -230,34 +246,83 @@ void renderSurfaceViews(RunJob& job, const Mesh& surface, const pipeline::Segmen
   overlay.mask = &s.mask;
   writePng(job.products.add("segmentation_slices.png", "the segmentation over the input, through the first seed", true),
            viewer::renderSlices(job.volume, job.volume.indexToWorld(firstSeed), overlay));
+  return names + "surface_left.png, surface_top.png, segmentation_slices.png";
 }
 
-// The multiresolution model of the surface (base mesh, atlas), its previews and its accuracy per level.
-atlas::Model modelStage(RunJob& job, const Mesh& surface, pipeline::ModelRequest request, const std::vector<int>& levels) {
-  std::optional<atlas::Model> model;
-  job.stage("build multiresolution model", [&] {
-    nlohmann::json& m = job.report["model"];
-    model = pipeline::buildModel(surface, request, m);
-    pipeline::writeModelFiles(*model, job.products.add("model.isoatlas", "the multiresolution model: base mesh and atlas of charts (isoatlas eval, render)"),
-                              "", m);
-    writePng(job.products.add("position_atlas.png", "the atlas's positions as colours (x, y, z over the surface's box)", true),
-             atlas::positionPreview(model->atlas));
-    writePng(job.products.add("normal_atlas.png", "the atlas's normals as colours", true), atlas::normalPreview(model->atlas));
-    const auto evalStart = std::chrono::steady_clock::now();
-    const std::vector<atlas::LevelFigures> figures = atlas::evaluateLevels(model->base, model->atlas, surface, levels, request.hausdorffFacePoints);
-    m["seconds_eval"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - evalStart).count();
-    m["levels"] = pipeline::levelFiguresJson(figures);
-    writePng(job.products.add("psnr_per_level.png", "the model's accuracy per level: PSNR against the surface (CGAL: from the largest distance, and dashed from the RMS)", true),
-             atlas::psnrPlot({{"model", figures}}));
-    const int shown = std::min(4, atlas::maxLevel(request.chartSize));
-    writePng(job.products.add("model_level" + std::to_string(shown) + "_left.png",
-                              "the model at level " + std::to_string(shown) + " seen from the left (atlas normals)", true),
-             viewer::renderMesh(atlas::reconstructLevel(model->base, model->atlas, shown), {.viewDirection = {1, 0, 0}}));
-    return std::to_string(model->base.vertexCount()) + " base vertices, " + std::to_string(model->atlas.layout.charts) + " charts (" +
-           std::to_string(int(model->atlas.layout.efficiency() * 100)) + " % of the atlas), PSNR " + std::to_string(figures.back().psnrDb) +
-           " dB at level " + std::to_string(figures.back().level) + ": model.isoatlas";
-  });
-  return std::move(*model);
+// The multiresolution model of the surface (base mesh, atlas), its files and previews, made on a
+// thread of its own beside the pictures (so nothing here touches GL or the job): what it wrote is in
+// `products`, its figures in `figures`.
+struct BuiltModel {
+  std::shared_ptr<const atlas::Model> model;
+  nlohmann::json figures;
+  pipeline::RunProducts products;
+  double seconds = 0;
+};
+BuiltModel buildModelFiles(const Mesh& surface, const pipeline::ModelRequest& request, const std::filesystem::path& dir) {
+  const auto start = std::chrono::steady_clock::now();
+  BuiltModel b{.products = {dir, {}}};
+  const auto model = std::make_shared<const atlas::Model>(pipeline::buildModel(surface, request, b.figures));
+  b.model = model;
+  pipeline::writeModelFiles(*model, b.products.add("model.isoatlas", "the multiresolution model: base mesh and atlas of charts (isoatlas eval, render)"),
+                            "", b.figures);
+  writePng(b.products.add("position_atlas.png", "the atlas's positions as colours (x, y, z over the surface's box)", true),
+           atlas::positionPreview(model->atlas));
+  writePng(b.products.add("normal_atlas.png", "the atlas's normals as colours", true), atlas::normalPreview(model->atlas));
+  b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return b;
+}
+
+// The model's accuracy per level (eval's figures) and its plot, on the same thread.
+struct MeasuredLevels {
+  std::vector<atlas::LevelFigures> levels;
+  pipeline::RunProducts products;
+  double seconds = 0;
+};
+MeasuredLevels measureLevels(const atlas::Model& model, const Mesh& surface, const std::vector<int>& levels, std::size_t facePoints,
+                             const std::filesystem::path& dir) {
+  const auto start = std::chrono::steady_clock::now();
+  MeasuredLevels out{.products = {dir, {}}};
+  out.levels = atlas::evaluateLevels(model.base, model.atlas, surface, levels, facePoints);
+  writePng(out.products.add("psnr_per_level.png", "the model's accuracy per level: PSNR against the surface (CGAL: from the largest distance, and dashed from the RMS)", true),
+           atlas::psnrPlot({{"model", out.levels}}));
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+void addProducts(RunJob& job, const pipeline::RunProducts& products) {
+  job.products.all.insert(job.products.all.end(), products.all.begin(), products.all.end());
+}
+
+// The built model into the job, with its picture at level 4 (drawn here, where the GL context is);
+// the stage's seconds are the build's and the picture's.
+void modelStage(RunJob& job, BuiltModel& built, std::uint32_t chartSize) {
+  const auto start = std::chrono::steady_clock::now();
+  job.report["model"] = std::move(built.figures);
+  addProducts(job, built.products);
+  const atlas::Model& model = *built.model;
+  const int shown = std::min(4, atlas::maxLevel(chartSize));
+  job.gpu.needGl();
+  writePng(job.products.add("model_level" + std::to_string(shown) + "_left.png",
+                            "the model at level " + std::to_string(shown) + " seen from the left (atlas normals)", true),
+           viewer::renderMesh(atlas::reconstructLevel(model.base, model.atlas, shown), {.viewDirection = {1, 0, 0}}));
+  const double seconds = built.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  job.stages.push_back({"build multiresolution model", "done",
+                        std::to_string(model.base.vertexCount()) + " base vertices, " + std::to_string(model.atlas.layout.charts) +
+                            " charts (" + std::to_string(int(model.atlas.layout.efficiency() * 100)) +
+                            " % of the atlas): model.isoatlas (built beside the pictures)",
+                        seconds});
+}
+
+// The levels' figures into the job (eval's, in report.json's model).
+void levelsStage(RunJob& job, const MeasuredLevels& measured) {
+  nlohmann::json& m = job.report["model"];
+  m["seconds_eval"] = measured.seconds;
+  m["levels"] = pipeline::levelFiguresJson(measured.levels);
+  addProducts(job, measured.products);
+  const atlas::LevelFigures& top = measured.levels.back();
+  job.stages.push_back({"measure the model's levels", "done",
+                        "PSNR " + std::to_string(top.psnrDb) + " dB at level " + std::to_string(top.level) + ": psnr_per_level.png",
+                        measured.seconds});
 }
 
 // The demo engraves a word on the left hemisphere's lateral surface (fine detail, the paper's Fig. 10).
@@ -338,12 +403,24 @@ void runJob(const std::string& input, const std::string& outDir, const RunOption
     job.skipped("build multiresolution model", "no surface (nothing was segmented)");
   } else {
     const pipeline::Segmentation s = segmentStage(job, setup, options.iterations);
-    const Mesh surface = editAndExtractStages(job, s, setup.edits, solids);
-    renderSurfaceViews(job, surface, s, setup.seeds.front().centre);
+    const EditedVolume edit = editStage(job, s, setup.edits, solids);
+    const Mesh surface = extractStage(job, s, edit);
     pipeline::ModelRequest request = options.model;
     request.chartSize = std::uint32_t(options.chart);
-    const atlas::Model model = modelStage(job, surface, request, levels);
-    job.gpu.needGl();
+    // The model is built and measured on a thread of its own while this one, which holds the GL
+    // context, draws: most of the simplification runs on one core. (Measuring beside the renders
+    // instead gained nothing: each then took as long as both.)
+    std::future<std::pair<BuiltModel, MeasuredLevels>> modelling = std::async(std::launch::async, [&] {
+      BuiltModel b = buildModelFiles(surface, request, dir);
+      MeasuredLevels measured = measureLevels(*b.model, surface, levels, request.hausdorffFacePoints, dir);
+      return std::pair{std::move(b), std::move(measured)};
+    });
+    job.stage("pictures of the edit and the surface (beside the model's build)",
+              [&] { return surfacePictures(job, edit, surface, s, setup.seeds.front().centre); });
+    auto [built, measured] = modelling.get();
+    modelStage(job, built, request.chartSize);
+    levelsStage(job, measured);
+    const atlas::Model& model = *built.model;
     job.stage("render model (tessellation)", [&] { return renderModelViews(model, job.products, r["render"]); });
     if (pipeline::isDemoVolume(input, job.volume)) engraveStage(job, model, surface);
   }
