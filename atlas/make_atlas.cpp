@@ -54,7 +54,8 @@ struct ChartSurface {
 // The way back of one point hints the next's (ParametrisationHistory::Hints).
 class ChartPointCache {
 public:
-  ChartPointCache(const ChartSurface& surface, std::uint32_t chart) : surface_(surface), chart_(chart), slots_(kFirstSlots) {}
+  // slots: the table's first size, a power of two (it grows at half full)
+  ChartPointCache(const ChartSurface& surface, std::uint32_t chart, std::size_t slots = 4096) : surface_(surface), chart_(chart), slots_(slots) {}
   multires::ParametrisationHistory::DensePoint point(const multires::Vec2& q) {
     const Key key{std::bit_cast<std::uint64_t>(q.x), std::bit_cast<std::uint64_t>(q.y)};
     Slot& slot = slotOf(key);
@@ -76,7 +77,6 @@ private:
     bool used = false;
     multires::ParametrisationHistory::DensePoint point;
   };
-  static constexpr std::size_t kFirstSlots = 4096;  // a power of two
   Slot& slotOf(const Key& key) {
     const std::size_t mask = slots_.size() - 1;
     std::size_t at = std::size_t((key[0] * 0x9E3779B97F4A7C15ull ^ key[1]) * 0xC2B2AE3D27D4EB4Full >> 20) & mask;
@@ -116,23 +116,51 @@ double medianEdgeCurvature(const Mesh& dense, const std::vector<Vec3>& normals) 
 
 // Per chart and side, the fractions along the side where its texels sit (relaxSide): computed once
 // per base edge, from its lower chart, and given reversed to the chart across.
+// A side's fractions: relaxSide's, or, where the coarsest relaxed grid (coarsestRelaxedError) would
+// lie farther from the surface so on either chart than with its texels uniform, relaxSide's with
+// those texels kept (a kept grid twice as fine).
 std::vector<std::array<std::vector<double>, 4>> sideFractions(const ChartSurface& surface, const AtlasLayout& layout,
-                                                              const ChartRelaxing& how) {
+                                                              const ChartRelaxing& how,
+                                                              const std::vector<std::vector<ChartVertex>>& chartVertices) {
   const std::uint32_t n = layout.chartSize;
   const auto across = sidesAcross(surface.base);
+  auto verticesOf = [&](std::uint32_t c) { return chartVertices.empty() ? std::span<const ChartVertex>{} : std::span(chartVertices[c]); };
+  std::vector<double> uniform(n);
+  for (std::uint32_t m = 0; m < n; ++m) uniform[m] = double(m) / (n - 1);
+  auto reversed = [&](const std::vector<double>& t) {
+    std::vector<double> back(n);
+    for (std::uint32_t m = 0; m < n; ++m) back[m] = 1 - t[n - 1 - m];
+    back.front() = 0, back.back() = 1;
+    return back;
+  };
+  ChartRelaxing coarser = how;
+  coarser.keptSize = 2 * how.keptSize - 1;
+  const bool guarded = how.sweeps > 0 && coarser.keptSize < n;
+  std::vector<double> uniformError(guarded ? layout.charts : 0);  // per chart, with every side uniform
+  tbb::parallel_for(std::uint32_t(0), std::uint32_t(uniformError.size()), [&](std::uint32_t c) {
+    ChartPointCache cache(surface, c, 256);
+    uniformError[c] = coarsestRelaxedError(n, 0, uniform, [&](const multires::Vec2& q) { return cache.at(q); }, how, verticesOf(c));
+  });
   std::vector<std::array<std::vector<double>, 4>> sides(layout.charts);
   tbb::parallel_for(std::uint32_t(0), layout.charts, [&](std::uint32_t c) {
     ChartPointCache cache(surface, c);
     for (int s = 0; s < 4; ++s) {
       const SideAcross other = across[c][s];
       if (other.tile != kNoTile && other.tile < c) continue;
-      const std::vector<double> t = relaxSide(n, [&](double f) { return cache.at(sidePoint(s, f)); }, how);
-      if (other.tile != kNoTile) {
-        std::vector<double> back(n);
-        for (std::uint32_t m = 0; m < n; ++m) back[m] = 1 - t[n - 1 - m];
-        back.front() = 0, back.back() = 1;
-        sides[other.tile][other.side] = std::move(back);
+      auto alongSide = [&](double f) { return cache.at(sidePoint(s, f)); };
+      std::vector<double> t = relaxSide(n, alongSide, how);
+      if (guarded) {
+        double error = coarsestRelaxedError(n, s, t, [&](const multires::Vec2& q) { return cache.at(q); }, how, verticesOf(c));
+        double uniformTexels = uniformError[c];
+        if (other.tile != kNoTile) {
+          ChartPointCache acrossCache(surface, other.tile, 256);
+          error = std::max(error, coarsestRelaxedError(n, other.side, reversed(t), [&](const multires::Vec2& q) { return acrossCache.at(q); },
+                                                       how, verticesOf(other.tile)));
+          uniformTexels = std::max(uniformTexels, uniformError[other.tile]);
+        }
+        if (error > uniformTexels) t = relaxSide(n, alongSide, coarser);
       }
+      if (other.tile != kNoTile) sides[other.tile][other.side] = reversed(t);
       sides[c][s] = t;
     }
   });
@@ -166,7 +194,7 @@ ChartPoints placeTexels(const ChartSurface& surface, std::uint32_t c, std::uint3
                         const ChartRelaxing& how, std::span<const ChartVertex> vertices) {
   ChartPoints out;
   ChartPointCache cache(surface, c);
-  out.chart = relaxChart(n, [&](const multires::Vec2& q) { return cache.at(q); }, sides, how, &out.nonConvex);
+  out.chart = relaxChart(n, [&](const multires::Vec2& q) { return cache.at(q); }, sides, how, &out.nonConvex, vertices);
   out.dense.resize(out.chart.size());
   for (std::size_t k = 0; k < out.chart.size(); ++k) out.dense[k] = cache.point(out.chart[k]);
   if (how.sweeps <= 0 || vertices.empty()) return out;
@@ -189,7 +217,7 @@ ChartPoints placeTexels(const ChartSurface& surface, std::uint32_t c, std::uint3
 void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, const std::vector<std::vector<ChartVertex>>& chartVertices,
                   Atlas& atlas, std::vector<std::uint8_t>& held, ChartStats& stats) {
   const std::uint32_t n = atlas.layout.chartSize;
-  const auto sides = sideFractions(surface, atlas.layout, how);
+  const auto sides = sideFractions(surface, atlas.layout, how, chartVertices);
   std::atomic<std::uint64_t> folded{0}, gaps{0}, steps{0}, turned{0}, nonConvex{0}, snapped{0};
   Progress progress("atlas: sampling charts", atlas.layout.charts, "charts");
   constexpr std::uint32_t kChunk = 64;  // charts between progress updates (Progress is not thread-safe)

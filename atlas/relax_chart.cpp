@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "atlas/chart_grid.h"
+#include "atlas/reconstruct.h"
 #include "atlas/tile_sides.h"
 #include "core/error.h"
 #include "multires/exact_orientation.h"
@@ -91,7 +93,50 @@ Vec2 crossing(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
   return a + (b - a) * (cross2(c - a, d - c) / across);
 }
 
+// How far grid q's triangles (n a side, cut as reconstructLevel cuts them; p its surface) stray from
+// the surface: the largest distance between a point of them (each triangle's centroid, each edge's
+// middle) and the surface at that point's chart point.
+double largestStray(std::uint32_t n, const std::vector<Vec2>& q, const std::vector<SurfacePoint>& p,
+                    const std::function<SurfacePoint(const Vec2&)>& surfaceAt) {
+  double largest = 0;
+  auto stray = [&](std::initializer_list<std::size_t> texels) {
+    Vec2 chart;
+    Vec3 onGrid;
+    for (const std::size_t k : texels) chart = chart + q[k], onGrid = onGrid + p[k].position;
+    const double w = 1.0 / double(texels.size());
+    largest = std::max(largest, norm(onGrid * w - surfaceAt(chart * w).position));
+  };
+  for (std::uint32_t b = 0; b < n; ++b)
+    for (std::uint32_t a = 0; a < n; ++a) {
+      const std::size_t k = std::size_t(b) * n + a;
+      if (a + 1 < n) stray({k, k + 1});
+      if (b + 1 < n) stray({k, k + n});
+      if (a + 1 == n || b + 1 == n) continue;
+      const std::array<std::size_t, 4> corner{k, k + 1, k + n + 1, k + n};
+      const auto halves = squareTriangles(a, b);
+      stray({corner[std::size_t(halves[0][0])], corner[std::size_t(halves[0][2])]});  // the diagonal
+      for (const auto& t : halves) stray({corner[std::size_t(t[0])], corner[std::size_t(t[1])], corner[std::size_t(t[2])]});
+    }
+  return largest;
+}
+
+// How far the level of grid q lies from the surface: its triangles' largest stray, and the dense
+// vertices' largest distance from it.
+double levelError(std::uint32_t n, const std::vector<Vec2>& q, const std::vector<SurfacePoint>& p,
+                  const std::function<SurfacePoint(const Vec2&)>& surfaceAt, std::span<const ChartVertex> vertices) {
+  std::vector<Vec3> positions(p.size());
+  for (std::size_t k = 0; k < p.size(); ++k) positions[k] = p[k].position;
+  return std::max(largestStray(n, q, p, surfaceAt), largestVertexError(ChartGrid(n, q, positions), vertices));
+}
+
 }  // namespace
+
+double levelError(std::uint32_t n, const std::vector<Vec2>& q, const std::function<SurfacePoint(const Vec2&)>& surfaceAt,
+                  std::span<const ChartVertex> vertices) {
+  std::vector<SurfacePoint> p(q.size());
+  for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
+  return levelError(n, q, p, surfaceAt, vertices);
+}
 
 bool convexChartQuad(const std::vector<Vec2>& q, std::uint32_t n, std::uint32_t i, std::uint32_t j) {
   const std::size_t k = std::size_t(j) * n + i;
@@ -170,8 +215,30 @@ std::vector<Vec2> refineChartGrid(std::uint32_t n, const std::vector<Vec2>& q, c
   return out;
 }
 
+double coarsestRelaxedError(std::uint32_t n, int side, const std::vector<double>& fractions,
+                            const std::function<SurfacePoint(const Vec2&)>& surfaceAt, const ChartRelaxing& how,
+                            std::span<const ChartVertex> vertices) {
+  const std::uint32_t stride = keptStride(n, how);
+  if (how.sweeps <= 0 || stride < 2) return 0;
+  const std::uint32_t size = (n - 1) / (stride / 2) + 1;
+  std::array<std::vector<double>, 4> sides;
+  for (int s = 0; s < 4; ++s) {
+    sides[std::size_t(s)].resize(n);
+    for (std::uint32_t m = 0; m < n; ++m) sides[std::size_t(s)][m] = s == side ? fractions[m] : double(m) / (n - 1);
+  }
+  std::vector<std::array<std::vector<double>, 4>> levels{sides};
+  for (std::uint32_t at = n; at > 2; at = (at + 1) / 2) levels.push_back(coarserSides(levels.back()));
+  std::vector<Vec2> q{{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+  std::uint32_t coarse = 2;
+  for (std::size_t l = levels.size() - 1; l-- > 0 && coarse < size; coarse = 2 * coarse - 1) q = refineChartGrid(coarse, q, levels[l]);
+  std::vector<SurfacePoint> p(q.size());
+  for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
+  return levelError(size, q, p, surfaceAt, vertices);
+}
+
 std::vector<Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(const Vec2&)>& surfaceAt,
-                             const std::array<std::vector<double>, 4>& sides, const ChartRelaxing& how, std::uint32_t* nonConvex) {
+                             const std::array<std::vector<double>, 4>& sides, const ChartRelaxing& how, std::uint32_t* nonConvex,
+                             std::span<const ChartVertex> vertices) {
   // Coarse to fine, as the model's levels take the texels. The sides' fractions of every grid from
   // the tile's corners (2 a side) up to the chart's; the grids up to the kept one are only spanned by
   // their sides (their spacing is too coarse to see the bending), each finer one places its new
@@ -199,7 +266,15 @@ std::vector<Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(c
     p = std::move(finer);
     // 9 a side takes how.sweeps, each finer grid half as many, at least one.
     const int finerThanNine = std::max(0, int(std::log2(double(fine - 1))) - 3);
+    const bool coarsestRelaxed = (n - 1) / (fine - 1) == stride / 2;
+    const std::vector<Vec2> uniform = coarsestRelaxed ? q : std::vector<Vec2>{};
+    const std::vector<SurfacePoint> uniformSurface = coarsestRelaxed ? p : std::vector<SurfacePoint>{};
     smoothNewTexels(fine, surfaceAt, how, std::max(1, how.sweeps >> finerThanNine), q, p);
+    // The coarsest relaxed grid spans the tile with few texels, where the bending at them can pull
+    // its triangles across a crease: it keeps its places only where its level lies no farther from
+    // the surface, both ways.
+    if (coarsestRelaxed && levelError(fine, q, p, surfaceAt, vertices) > levelError(fine, uniform, uniformSurface, surfaceAt, vertices))
+      q = uniform, p = uniformSurface;
   }
   if (nonConvex) {
     *nonConvex = 0;

@@ -13,8 +13,10 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
+#include "atlas/chart_grid.h"
 #include "core/vec.h"
 #include "multires/vec2.h"
 
@@ -25,9 +27,12 @@ struct SurfacePoint {
 };
 
 struct ChartRelaxing {
-  int sweeps = 0;             // on the grid of 9 a side, half as many on each finer one (at least 1); 0: the tile's uniform grid
+  int sweeps = 0;             // on the grids of 5 and 9 a side, half as many on each finer one (at least 1); 0: the tile's uniform grid
   double flatCurvature = 1;   // per unit of length, > 0
-  std::uint32_t keptSize = 5;  // the texels of this coarser grid (2^k + 1) stay on the tile's uniform grid
+  // The texels of this coarser grid (2^k + 1) stay on the tile's uniform grid: 3, its corners and
+  // centre (5 kept levels 0-4's texels uniform: the levels above gained 0.5 to 2.4 dB at level 10
+  // from relaxing them too; bench/RESULTS.md).
+  std::uint32_t keptSize = 3;
 };
 
 // relaxSide: where n texels sit along one tile side, as fractions from its first end (0 and 1 at
@@ -35,6 +40,24 @@ struct ChartRelaxing {
 //   surfaceAt  the surface at fraction t of the side
 // A side is shared by two charts: compute it once and give both the same fractions (one reversed).
 std::vector<double> relaxSide(std::uint32_t n, const std::function<SurfacePoint(double)>& surfaceAt, const ChartRelaxing& how);
+
+// levelError: how far the level of grid q (n a side, each square cut as reconstructLevel cuts it)
+// lies from the surface, both ways: the largest distance between a point of its triangles (each
+// triangle's centroid, each edge's middle) and the surface at that point's chart point, and the dense
+// `vertices`' largest distance from it at their chart points.
+double levelError(std::uint32_t n, const std::vector<multires::Vec2>& q,
+                  const std::function<SurfacePoint(const multires::Vec2&)>& surfaceAt, std::span<const ChartVertex> vertices);
+
+// coarsestRelaxedError: how far the coarsest grid relaxChart relaxes (every (stride / 2)-th texel
+// of the kept grid's, 5 a side by default), spanned by its sides alone, lies from the surface (its
+// triangles' stray and the dense vertices' distance, as relaxChart judges that grid), with tile side
+// `side` at `fractions` (n of them, relaxSide's) and the others uniform. A side's fractions are kept
+// only where this is no worse on the charts on both sides than with the coarsest grid's texels
+// uniform (make_atlas.cpp): relaxing a side by its own bending alone can pull that grid's triangles
+// across a crease beside it.
+double coarsestRelaxedError(std::uint32_t n, int side, const std::vector<double>& fractions,
+                            const std::function<SurfacePoint(const multires::Vec2&)>& surfaceAt, const ChartRelaxing& how,
+                            std::span<const ChartVertex> vertices);
 
 // relaxChart: the n x n chart points of a tile, texel (i, j) at j * n + i, in [0, 1]^2.
 //   surfaceAt  the surface at chart point (u, v), through the parametrisation
@@ -47,11 +70,14 @@ std::vector<double> relaxSide(std::uint32_t n, const std::function<SurfacePoint(
 // mean of its four neighbours on the surface, weighted by each spacing's sqrt(curvature +
 // flatCurvature) (that step taken into the chart through the grid's local derivative, halved), and
 // takes a move only where no quad around the texel stops being strictly convex and
-// counter-clockwise in the chart (exact predicates). Returns the points and, in nonConvex, how many
-// quads are not strictly convex at the end (0 whenever the sides rise from 0 to 1).
+// counter-clockwise in the chart (exact predicates). The coarsest grid relaxed (5 a side by default)
+// spans the tile with few texels, where the bending at them can pull its triangles across a crease:
+// it keeps its relaxed places only where its level lies no farther from the surface (levelError, with
+// the tile's dense `vertices`) than as its sides span it. Returns the points and, in nonConvex, how
+// many quads are not strictly convex at the end (0 whenever the sides rise from 0 to 1).
 std::vector<multires::Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(const multires::Vec2&)>& surfaceAt,
                                        const std::array<std::vector<double>, 4>& sides, const ChartRelaxing& how,
-                                       std::uint32_t* nonConvex = nullptr);
+                                       std::uint32_t* nonConvex = nullptr, std::span<const ChartVertex> vertices = {});
 
 // refineChartGrid: grid q (n a side, texel (i, j) at j * n + i) refined to 2n - 1 a side, as
 // relaxChart refines: the old texels at the even places, new ones at the middles of its edges (the

@@ -28,15 +28,11 @@
 #include <span>
 #include <vector>
 
+#include "atlas/chart_grid.h"
 #include "core/vec.h"
 #include "multires/vec2.h"
 
 namespace isoatlas::atlas {
-
-struct ChartVertex {
-  multires::Vec2 chart;
-  Vec3 position;
-};
 
 std::uint32_t snapTexels(std::uint32_t n, std::span<const ChartVertex> vertices,
                          const std::function<Vec3(const multires::Vec2&)>& surfaceAt, std::vector<multires::Vec2>& q,
