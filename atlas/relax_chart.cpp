@@ -264,7 +264,7 @@ std::vector<Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(c
         finer[std::size_t(j) * fine + i] = measured ? p[std::size_t(j / 2) * coarse + i / 2] : surfaceAt(q[std::size_t(j) * fine + i]);
       }
     p = std::move(finer);
-    // 9 a side takes how.sweeps, each finer grid half as many, at least one.
+    // 5 and 9 a side take how.sweeps, each finer grid half as many, at least one.
     const int finerThanNine = std::max(0, int(std::log2(double(fine - 1))) - 3);
     const bool coarsestRelaxed = (n - 1) / (fine - 1) == stride / 2;
     const std::vector<Vec2> uniform = coarsestRelaxed ? q : std::vector<Vec2>{};
