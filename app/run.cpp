@@ -181,7 +181,7 @@ pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup,
 }
 
 // The edits on a volume tree of the level set's phi (read from its pages). Its picture waits for
-// editPicture, which runs beside the model's build.
+// surfacePictures, which runs beside the model's build.
 struct EditedVolume {
   std::optional<pipeline::EditedTree> edited;
   std::optional<levelset::dvt::VolumeTree> tree;  // edited->tree's streams, taken once
@@ -253,7 +253,7 @@ std::string surfacePictures(RunJob& job, const EditedVolume& edit, const Mesh& s
 // thread of its own beside the pictures (so nothing here touches GL or the job): what it wrote is in
 // `products`, its figures in `figures`.
 struct BuiltModel {
-  std::shared_ptr<const atlas::Model> model;
+  std::optional<atlas::Model> model;
   nlohmann::json figures;
   pipeline::RunProducts products;
   double seconds = 0;
@@ -261,13 +261,12 @@ struct BuiltModel {
 BuiltModel buildModelFiles(const Mesh& surface, const pipeline::ModelRequest& request, const std::filesystem::path& dir) {
   const auto start = std::chrono::steady_clock::now();
   BuiltModel b{.products = {dir, {}}};
-  const auto model = std::make_shared<const atlas::Model>(pipeline::buildModel(surface, request, b.figures));
-  b.model = model;
-  pipeline::writeModelFiles(*model, b.products.add("model.isoatlas", "the multiresolution model: base mesh and atlas of charts (isoatlas eval, render)"),
+  const atlas::Model& model = b.model.emplace(pipeline::buildModel(surface, request, b.figures));
+  pipeline::writeModelFiles(model, b.products.add("model.isoatlas", "the multiresolution model: base mesh and atlas of charts (isoatlas eval, render)"),
                             "", b.figures);
   writePng(b.products.add("position_atlas.png", "the atlas's positions as colours (x, y, z over the surface's box)", true),
-           atlas::positionPreview(model->atlas));
-  writePng(b.products.add("normal_atlas.png", "the atlas's normals as colours", true), atlas::normalPreview(model->atlas));
+           atlas::positionPreview(model.atlas));
+  writePng(b.products.add("normal_atlas.png", "the atlas's normals as colours", true), atlas::normalPreview(model.atlas));
   b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return b;
 }

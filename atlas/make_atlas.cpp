@@ -114,19 +114,17 @@ double medianEdgeCurvature(const Mesh& dense, const std::vector<Vec3>& normals) 
   return curvatures[curvatures.size() / 2];
 }
 
-// Per chart and side, the fractions along the side where its texels sit (relaxSide): computed once
-// per base edge, from its lower chart, and given reversed to the chart across.
-// A side's fractions: relaxSide's, or, where the coarsest relaxed grid (coarsestRelaxedError) would
-// lie farther from the surface so on either chart than with its texels uniform, relaxSide's with
-// those texels kept (a kept grid twice as fine).
+// Per chart and side, the fractions along the side where its texels sit: computed once per base
+// edge, from its lower chart, and given reversed to the chart across. relaxSide's, or, where the
+// coarsest relaxed grid (coarsestRelaxedError) would lie farther from the surface so on either chart
+// than with its texels uniform, relaxSide's with those texels kept (a kept grid twice as fine).
 std::vector<std::array<std::vector<double>, 4>> sideFractions(const ChartSurface& surface, const AtlasLayout& layout,
                                                               const ChartRelaxing& how,
                                                               const std::vector<std::vector<ChartVertex>>& chartVertices) {
   const std::uint32_t n = layout.chartSize;
   const auto across = sidesAcross(surface.base);
   auto verticesOf = [&](std::uint32_t c) { return chartVertices.empty() ? std::span<const ChartVertex>{} : std::span(chartVertices[c]); };
-  std::vector<double> uniform(n);
-  for (std::uint32_t m = 0; m < n; ++m) uniform[m] = double(m) / (n - 1);
+  const std::vector<double> uniform = uniformFractions(n);
   auto reversed = [&](const std::vector<double>& t) {
     std::vector<double> back(n);
     for (std::uint32_t m = 0; m < n; ++m) back[m] = 1 - t[n - 1 - m];

@@ -87,6 +87,13 @@ std::array<std::vector<double>, 4> coarserSides(const std::array<std::vector<dou
   return out;
 }
 
+// The sides of every grid, from the chart's (`sides`, first) down to the tile's corners' (2 a side).
+std::vector<std::array<std::vector<double>, 4>> sidesOfEveryGrid(const std::array<std::vector<double>, 4>& sides) {
+  std::vector<std::array<std::vector<double>, 4>> grids{sides};
+  while (grids.back()[0].size() > 2) grids.push_back(coarserSides(grids.back()));
+  return grids;
+}
+
 // Where segment a-b crosses segment c-d (they cross inside a convex quad whose opposite sides hold them).
 Vec2 crossing(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
   const double across = cross2(b - a, d - c);
@@ -151,9 +158,14 @@ unsigned convexAroundTexel(const std::vector<Vec2>& q, std::uint32_t n, std::uin
          unsigned(convexChartQuad(q, n, i - 1, j)) << 2 | unsigned(convexChartQuad(q, n, i, j)) << 3;
 }
 
-std::vector<double> relaxSide(std::uint32_t n, const std::function<SurfacePoint(double)>& surfaceAt, const ChartRelaxing& how) {
+std::vector<double> uniformFractions(std::uint32_t n) {
   std::vector<double> t(n);
   for (std::uint32_t m = 0; m < n; ++m) t[m] = double(m) / (n - 1);
+  return t;
+}
+
+std::vector<double> relaxSide(std::uint32_t n, const std::function<SurfacePoint(double)>& surfaceAt, const ChartRelaxing& how) {
+  std::vector<double> t = uniformFractions(n);
   const std::uint32_t stride = keptStride(n, how);
   if (how.sweeps <= 0 || stride <= 1) return t;
   // Equidistribution (de Boor) between the kept texels: place the texels at equal steps of the
@@ -222,15 +234,10 @@ double coarsestRelaxedError(std::uint32_t n, int side, const std::vector<double>
   if (how.sweeps <= 0 || stride < 2) return 0;
   const std::uint32_t size = (n - 1) / (stride / 2) + 1;
   std::array<std::vector<double>, 4> sides;
-  for (int s = 0; s < 4; ++s) {
-    sides[std::size_t(s)].resize(n);
-    for (std::uint32_t m = 0; m < n; ++m) sides[std::size_t(s)][m] = s == side ? fractions[m] : double(m) / (n - 1);
-  }
-  std::vector<std::array<std::vector<double>, 4>> levels{sides};
-  for (std::uint32_t at = n; at > 2; at = (at + 1) / 2) levels.push_back(coarserSides(levels.back()));
+  for (int s = 0; s < 4; ++s) sides[std::size_t(s)] = s == side ? fractions : uniformFractions(n);
+  const auto grids = sidesOfEveryGrid(sides);
   std::vector<Vec2> q{{0, 0}, {1, 0}, {0, 1}, {1, 1}};
-  std::uint32_t coarse = 2;
-  for (std::size_t l = levels.size() - 1; l-- > 0 && coarse < size; coarse = 2 * coarse - 1) q = refineChartGrid(coarse, q, levels[l]);
+  for (std::size_t l = grids.size() - 1; l-- > 0 && grids[l + 1][0].size() < size;) q = refineChartGrid(std::uint32_t(grids[l + 1][0].size()), q, grids[l]);
   std::vector<SurfacePoint> p(q.size());
   for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
   return levelError(size, q, p, surfaceAt, vertices);
@@ -244,17 +251,12 @@ std::vector<Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(c
   // their sides (their spacing is too coarse to see the bending), each finer one places its new
   // texels between the coarser ones, so that every level's texels are spread for that level.
   const std::uint32_t stride = keptStride(n, how);
-  std::vector<std::array<std::vector<double>, 4>> levels{sides};
-  std::vector<std::uint32_t> sizes{n};
-  while (sizes.back() > 2) {
-    sizes.push_back((sizes.back() + 1) / 2);
-    levels.push_back(coarserSides(levels.back()));
-  }
+  const auto grids = sidesOfEveryGrid(sides);
   std::vector<Vec2> q{{0, 0}, {1, 0}, {0, 1}, {1, 1}};
   std::vector<SurfacePoint> p;
-  for (std::size_t l = sizes.size() - 1; l-- > 0;) {
-    const std::uint32_t coarse = sizes[l + 1], fine = sizes[l];
-    q = refineChartGrid(coarse, q, levels[l]);
+  for (std::size_t l = grids.size() - 1; l-- > 0;) {
+    const auto coarse = std::uint32_t(grids[l + 1][0].size()), fine = std::uint32_t(grids[l][0].size());
+    q = refineChartGrid(coarse, q, grids[l]);
     const bool relaxed = how.sweeps > 0 && stride > 1 && (n - 1) / (fine - 1) < stride;
     if (!relaxed) continue;
     std::vector<SurfacePoint> finer(q.size());

@@ -35,6 +35,9 @@ struct ChartRelaxing {
   std::uint32_t keptSize = 3;
 };
 
+// uniformFractions: n texels at equal steps along a side, 0 to 1.
+std::vector<double> uniformFractions(std::uint32_t n);
+
 // relaxSide: where n texels sit along one tile side, as fractions from its first end (0 and 1 at
 // the ends, strictly increasing), so that each spacing covers the same bending of the surface.
 //   surfaceAt  the surface at fraction t of the side

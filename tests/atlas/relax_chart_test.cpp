@@ -175,6 +175,17 @@ TEST(RelaxChart, RefiningKeepsAConvexGridConvex) {
     }
 }
 
+// The grid of 5 a side spanned by the sides alone, refined by hand from the tile's corners.
+std::vector<Vec2> spannedGridOfFive(const std::array<std::vector<double>, 4>& sides) {
+  auto every = [&](std::uint32_t step) {
+    std::array<std::vector<double>, 4> out;
+    for (int s = 0; s < 4; ++s)
+      for (std::uint32_t m = 0; m < kN; m += step) out[std::size_t(s)].push_back(sides[std::size_t(s)][m]);
+    return out;
+  };
+  return refineChartGrid(3, refineChartGrid(2, {{0, 0}, {1, 0}, {0, 1}, {1, 1}}, every(16)), every(8));
+}
+
 // The coarsest grid relaxChart moves (5 a side) lies no farther from the surface, by levelError, than
 // the same grid spanned by its sides alone: on some surfaces it keeps its relaxed places, on others
 // it goes back to the spanned ones.
@@ -195,13 +206,7 @@ TEST(RelaxChart, TheCoarsestRelaxedGridIsNoFartherThanItsSidesSpan) {
         return SurfacePoint{{q.x, q.y, -0.5 * std::abs(q.y - 0.1)}, Vec3{0, 0.5 * side, 1} * (1 / std::sqrt(1.25))};
       }};
   const auto sides = uniformSides();
-  auto every = [&](std::uint32_t step) {
-    std::array<std::vector<double>, 4> out;
-    for (int s = 0; s < 4; ++s)
-      for (std::uint32_t m = 0; m < kN; m += step) out[std::size_t(s)].push_back(sides[std::size_t(s)][m]);
-    return out;
-  };
-  const std::vector<Vec2> spanned = refineChartGrid(3, refineChartGrid(2, {{0, 0}, {1, 0}, {0, 1}, {1, 1}}, every(16)), every(8));
+  const std::vector<Vec2> spanned = spannedGridOfFive(sides);
   int keptRelaxed = 0, wentBack = 0;
   for (const auto& surface : surfaces) {
     const auto q = relaxChart(kN, surface, sides, kHow);
@@ -229,13 +234,7 @@ TEST(RelaxChart, ASidesCoarsestErrorIsTheSpannedGridsLevelError) {
   for (const bool relaxed : {false, true}) {
     std::array<std::vector<double>, 4> sides = uniformSides();
     if (relaxed) sides[0] = side;
-    std::array<std::vector<double>, 4> three, five;
-    for (int s = 0; s < 4; ++s) {
-      for (std::uint32_t m = 0; m < kN; m += 16) three[std::size_t(s)].push_back(sides[std::size_t(s)][m]);
-      for (std::uint32_t m = 0; m < kN; m += 8) five[std::size_t(s)].push_back(sides[std::size_t(s)][m]);
-    }
-    const auto spanned = refineChartGrid(3, refineChartGrid(2, {{0, 0}, {1, 0}, {0, 1}, {1, 1}}, three), five);
-    EXPECT_EQ(coarsestRelaxedError(kN, 0, sides[0], bump, kHow, {}), levelError(5, spanned, bump, {})) << relaxed;
+    EXPECT_EQ(coarsestRelaxedError(kN, 0, sides[0], bump, kHow, {}), levelError(5, spannedGridOfFive(sides), bump, {})) << relaxed;
   }
   EXPECT_NE(side[8], 0.25) << "the bump must move the side's coarsest relaxed texels";
 }
