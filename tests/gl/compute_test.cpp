@@ -1,6 +1,7 @@
 // A compute shader with a known result, on whatever GL the machine has (llvmpipe in CI).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "core/gl/context.h"
@@ -46,6 +47,42 @@ TEST(GlCompute, ScrambleMatchesTheCpu) {
   timer.milliseconds();
   const auto out = dst.read<std::uint32_t>(count);
   for (std::uint32_t i = 0; i < count; ++i) ASSERT_EQ(out[i], input[i] * 2654435761u + i + 5u) << "at " << i;
+  checkErrors("test");
+}
+
+// fillZero zeroes the first bytes, rounded up to words, and nothing past them, over sizes that end a
+// work group's quad, split one and pass the end; the caller's program and bindings stay as they were.
+// Both ways: the driver's clear (a software renderer's) and the compute shader's (a GPU's).
+TEST(GlCompute, FillZeroClearsTheFirstWordsAndKeepsTheCallersState) {
+  Context& ctx = test::glContext();
+  const std::uint32_t count = 5000;
+  const std::vector<std::uint32_t> pattern(count, 0xdeadbeefu);
+  for (const bool byShader : {false, true})
+  for (const std::size_t bytes : {std::size_t(0), std::size_t(4), std::size_t(13), std::size_t(16), std::size_t(4100),
+                                  std::size_t(4 * 4097 + 8), std::size_t(4 * count), std::size_t(4 * count + 100)}) {
+    Buffer buffer = Buffer::of(pattern), other = Buffer::of(pattern);
+    const Program& p = ctx.compute(kTestShaders, "tests/gl/shaders/scramble.comp", {{"OFFSET", "5u"}});
+    p.use();
+    other.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
+    if (byShader)
+      buffer.zeroWords(std::min<std::size_t>((bytes + 3) / 4, count));
+    else
+      buffer.fillZero(bytes);
+    GLint program = 0, bound = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &program);
+    glGetIntegeri_v(GL_SHADER_STORAGE_BUFFER_BINDING, 0, &bound);
+    EXPECT_EQ(GLuint(program), p.id());
+    EXPECT_EQ(GLuint(bound), other.id());
+    const auto out = buffer.read<std::uint32_t>(count);
+    const std::size_t zeroed = std::min<std::size_t>((bytes + 3) / 4, count);
+    for (std::size_t i = 0; i < count; ++i) ASSERT_EQ(out[i], i < zeroed ? 0u : 0xdeadbeefu) << "word " << i << " of a fill of " << bytes << " bytes";
+  }
+  // A buffer of a size in bytes that is no multiple of a word: cleared byte by byte.
+  const std::vector<std::uint8_t> bytes(4099, 0xab);
+  Buffer odd = Buffer::of(bytes);
+  odd.fillZero(4098);
+  const auto out = odd.read<std::uint8_t>(bytes.size());
+  for (std::size_t i = 0; i < out.size(); ++i) ASSERT_EQ(out[i], i < 4098 ? 0 : 0xab) << "byte " << i;
   checkErrors("test");
 }
 
