@@ -83,6 +83,12 @@ int maxLevel(const Atlas& atlas) {
 }
 
 Mesh reconstructLevel(const multires::BaseMesh& base, const Atlas& atlas, int level) {
+  std::vector<std::uint32_t> all(atlas.layout.charts);
+  for (std::uint32_t c = 0; c < atlas.layout.charts; ++c) all[c] = c;
+  return reconstructTiles(base, atlas, level, all);
+}
+
+Mesh reconstructTiles(const multires::BaseMesh& base, const Atlas& atlas, int level, const std::vector<std::uint32_t>& tiles) {
   const std::uint32_t n = atlas.layout.chartSize;
   const int coarseTop = maxLevel(n), top = maxLevel(atlas);
   require(level >= 0 && level <= top, "level " + std::to_string(level) + " is outside 0.." + std::to_string(top) +
@@ -135,10 +141,25 @@ Mesh reconstructLevel(const multires::BaseMesh& base, const Atlas& atlas, int le
   // Tiles with detail charts first: the samples they put on a shared side are already numbered (and
   // read from the detail chart) when the coarser tile across fans to them.
   std::vector<std::uint32_t> order;
-  for (std::uint32_t c = 0; c < atlas.layout.charts; ++c)
+  std::vector<bool> listed(atlas.layout.charts, false);
+  for (const std::uint32_t c : tiles) {
+    require(c < atlas.layout.charts, "atlas: no tile " + std::to_string(c));
+    listed[c] = true;
     if (source.detail[c]) order.push_back(c);
-  for (std::uint32_t c = 0; c < atlas.layout.charts; ++c)
+  }
+  for (const std::uint32_t c : tiles)
     if (!source.detail[c]) order.push_back(c);
+  // A detail tile left out still gives its samples to the sides it shares with listed tiles.
+  for (const std::uint32_t c : order)
+    for (int side = 0; side < 4 && local && !source.detail[c]; ++side) {
+      const SideAcross d = across[c][side];
+      if (d.tile == kNoTile || listed[d.tile] || !source.detail[d.tile]) continue;
+      const std::uint32_t last = fine - 1;
+      for (std::uint32_t m = 0; m <= last; m += stepOf(d.tile)) {
+        const Corner p = d.side == 0 ? Corner{m, 0} : d.side == 1 ? Corner{last, m} : d.side == 2 ? Corner{last - m, last} : Corner{0, last - m};
+        vertex.of(d.tile, p.i, p.j);
+      }
+    }
   for (const std::uint32_t c : order) {
     const std::uint32_t step = stepOf(c), squares = (fine - 1) / step;
     const int l = local && !source.detail[c] ? coarseTop : level;

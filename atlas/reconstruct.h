@@ -34,5 +34,8 @@ constexpr std::array<std::array<int, 3>, 2> squareTriangles(std::uint32_t a, std
 int maxLevel(std::uint32_t chartSize);
 int maxLevel(const Atlas& atlas);  // with its detail charts
 Mesh reconstructLevel(const multires::BaseMesh& base, const Atlas& atlas, int level);
+// The faces of `tiles` alone (each tile once) of the mesh reconstructLevel makes, with the same
+// positions and normals: open where a tile left out would join; its vertices numbered apart.
+Mesh reconstructTiles(const multires::BaseMesh& base, const Atlas& atlas, int level, const std::vector<std::uint32_t>& tiles);
 
 }  // namespace isoatlas::atlas

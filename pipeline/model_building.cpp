@@ -8,6 +8,7 @@
 #include "atlas/make_atlas.h"
 #include "atlas/reconstruct.h"
 #include "atlas/stamp_detail.h"
+#include "atlas/tile_sides.h"
 #include "core/error.h"
 #include "core/image.h"
 #include "core/progress.h"
@@ -174,11 +175,38 @@ nlohmann::json levelFiguresJson(const std::vector<atlas::LevelFigures>& levels) 
   return out;
 }
 
+namespace {
+
+// The tiles whose faces at the finest level may start within `reach` of `centre`: those with a detail
+// chart, those beside one (their fans start at its samples), and those with a texel that near (a
+// tile without detail is its chart's texels there).
+std::vector<std::uint32_t> tilesNear(const atlas::Model& model, const Vec3& centre, double reach) {
+  const atlas::Atlas& a = model.atlas;
+  const std::uint32_t n = a.layout.chartSize;
+  std::vector<bool> near(a.layout.charts, false);
+  const auto across = atlas::sidesAcross(model.base);
+  for (const atlas::DetailChart& d : a.details) {
+    near[d.tile] = true;
+    for (const atlas::SideAcross& side : across[d.tile])
+      if (side.tile != atlas::kNoTile) near[side.tile] = true;
+  }
+  for (std::uint32_t c = 0; c < a.layout.charts; ++c)
+    for (std::uint32_t j = 0; j < n && !near[c]; ++j)
+      for (std::uint32_t i = 0; i < n && !near[c]; ++i) near[c] = norm(a.position(c, i, j) - centre) < reach;
+  std::vector<std::uint32_t> tiles;
+  for (std::uint32_t c = 0; c < a.layout.charts; ++c)
+    if (near[c]) tiles.push_back(c);
+  return tiles;
+}
+
+}  // namespace
+
 Image closeUp(const atlas::Model& model, const atlas::StampStats& stamp, double radius) {
-  const Mesh finest = atlas::reconstructLevel(model.base, model.atlas, atlas::maxLevel(model.atlas));
+  const double reach = 1.3 * radius;
+  const Mesh finest = atlas::reconstructTiles(model.base, model.atlas, atlas::maxLevel(model.atlas), tilesNear(model, stamp.centre, reach));
   const Mesh near = selectFaces(finest, [&](std::size_t f) {
     const auto c = finest.face(f);
-    return norm(finest.positions[c[0]] - stamp.centre) < 1.3 * radius;
+    return norm(finest.positions[c[0]] - stamp.centre) < reach;
   });
   const Vec3 worldUp = std::abs(stamp.normal.z) > 0.9 ? Vec3{0, 1, 0} : Vec3{0, 0, 1};
   // selectFaces keeps the normals of the vertices it keeps: the atlas's, stamped.

@@ -3,6 +3,8 @@
 // refining only the stamped tiles; words render with ink.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 
@@ -134,6 +136,38 @@ TEST(StampDetail, BordersStayIdenticalAndEveryLevelClosed) {
       EXPECT_LT(m.faceCount(), coarseFaces + detailFaces + s.base.tiles.size() * 64);
     }
   }
+}
+
+// Tiles reconstructed apart (close-ups draw a few) give exactly their share of the whole level's
+// faces, corner positions and order alike, at a level of the charts and at the detail charts' top.
+TEST(StampDetail, TilesReconstructedApartAreTheirShareOfTheLevel) {
+  const Sphere& s = sphere();
+  Atlas atlas = s.atlas;
+  stampDetail(s.base, atlas, stampAt({0.2, -1, 0.4}, 6, 0.6));
+  using Face = std::array<double, 9>;
+  auto faces = [](const Mesh& m) {
+    std::vector<Face> out;
+    for (std::size_t f = 0; f < m.faceCount(); ++f) {
+      const auto c = m.face(f);
+      Face face;
+      for (int k = 0; k < 3; ++k)
+        for (int x = 0; x < 3; ++x) face[std::size_t(3 * k + x)] = m.positions[c[std::size_t(k)]][x];
+      out.push_back(face);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  for (const int level : {3, maxLevel(atlas)}) {
+    std::vector<std::uint32_t> even, odd;
+    for (std::uint32_t c = 0; c < atlas.layout.charts; ++c) (c % 2 ? odd : even).push_back(c);
+    std::vector<Face> apart = faces(reconstructTiles(s.base, atlas, level, even));
+    const std::vector<Face> other = faces(reconstructTiles(s.base, atlas, level, odd));
+    ASSERT_FALSE(apart.empty() || other.empty());
+    apart.insert(apart.end(), other.begin(), other.end());
+    std::sort(apart.begin(), apart.end());
+    EXPECT_EQ(apart, faces(reconstructLevel(s.base, atlas, level))) << "level " << level;
+  }
+  EXPECT_THROW(reconstructTiles(s.base, atlas, 2, {atlas.layout.charts}), Error);
 }
 
 TEST(StampDetail, ASecondStampAddsToTheDetailCharts) {
