@@ -1,6 +1,7 @@
 // isoatlas build: the multiresolution model of a triangle mesh: stellar simplification with local
 // parametrisation, the triquad base mesh by max-weight matching, one geometry-image chart per tile
 // packed into an atlas, written as one .isoatlas file.
+#include <filesystem>
 #include <limits>
 
 #include "app/command.h"
@@ -44,7 +45,15 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
     const Mesh dense = pipeline::prepareModelInput(readMesh(*input));
     const atlas::Model model = pipeline::buildModel(dense, request, r);
     if (!baseOnly->empty()) writeMesh(*baseOnly, model.base.quadMesh(), {.binary = false, .normals = false});
-    if (!output->empty()) pipeline::writeModelFiles(model, *output, *previews, r);
+    if (!output->empty()) {
+      pipeline::AtlasPreviewPaths pictures;
+      if (!previews->empty()) {
+        std::filesystem::create_directories(*previews);
+        const std::filesystem::path dir(*previews);
+        pictures = {(dir / "position_atlas.png").string(), (dir / "normal_atlas.png").string()};
+      }
+      pipeline::writeModelFiles(model, *output, pictures, r);
+    }
     return 0;
   }, exitCode);
 }

@@ -37,7 +37,7 @@ void addEditDetailCommand(CLI::App& app, int& exitCode) {
     req.at = parsePoint(*at, "--at");
     atlas::Model m = atlas::readModel(*model);
     const atlas::StampStats s = pipeline::stampModel(m, req, r);
-    pipeline::writeModelFiles(m, *output, "", r);
+    pipeline::writeModelFiles(m, *output, {}, r);
     if (!render->empty()) {
       pipeline::Gpu gpu;  // the process's one context, for the render
       gpu.needGl();

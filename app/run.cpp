@@ -262,11 +262,11 @@ BuiltModel buildModelFiles(const Mesh& surface, const pipeline::ModelRequest& re
   const auto start = std::chrono::steady_clock::now();
   BuiltModel b{.products = {dir, {}}};
   const atlas::Model& model = b.model.emplace(pipeline::buildModel(surface, request, b.figures));
-  pipeline::writeModelFiles(model, b.products.add("model.isoatlas", "the multiresolution model: base mesh and atlas of charts (isoatlas eval, render)"),
-                            "", b.figures);
-  writePng(b.products.add("position_atlas.png", "the atlas's positions as colours (x, y, z over the surface's box)", true),
-           atlas::positionPreview(model.atlas));
-  writePng(b.products.add("normal_atlas.png", "the atlas's normals as colours", true), atlas::normalPreview(model.atlas));
+  const std::string path = b.products.add("model.isoatlas", "the multiresolution model: base mesh and atlas of charts (isoatlas eval, render)");
+  const pipeline::AtlasPreviewPaths previews{
+      b.products.add("position_atlas.png", "the atlas's positions as colours (x, y, z over the surface's box)", true),
+      b.products.add("normal_atlas.png", "the atlas's normals as colours", true)};
+  pipeline::writeModelFiles(model, path, previews, b.figures);
   b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return b;
 }
@@ -339,7 +339,7 @@ void engraveStage(RunJob& job, const atlas::Model& model, const Mesh& surface) {
       nlohmann::json& e = job.report["engrave"];
       const atlas::StampStats stamped = pipeline::stampModel(engraved, engrave, e);
       pipeline::writeModelFiles(engraved, job.products.add("model_engraved.isoatlas", "the model with \"isoatlas\" engraved in detail charts (isoatlas edit-detail)"),
-                                "", e);
+                                {}, e);
       writePng(job.products.add("engraved.png", "the engraved word at the model's finest level, close up", true),
                pipeline::closeUp(engraved, stamped, engrave.radius));
       return std::to_string(stamped.detailTiles) + " tiles given detail charts: model_engraved.isoatlas";

@@ -1,5 +1,9 @@
 #include "atlas/quantised_atlas.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -32,7 +36,7 @@ Vec3 decodeOctahedral(const std::array<std::uint8_t, 2>& code) {
 std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas) {
   const std::uint32_t n = atlas.layout.chartSize;
   std::vector<QuantisedChart> charts(atlas.layout.charts);
-  for (std::uint32_t c = 0; c < atlas.layout.charts; ++c) {
+  tbb::parallel_for(std::uint32_t(0), atlas.layout.charts, [&](std::uint32_t c) {  // charts apart: on every core
     QuantisedChart& q = charts[c];
     std::array<float, 3> hi{};
     q.lo = hi = atlas.positions[atlas.layout.texel(c, 0, 0)];
@@ -52,7 +56,7 @@ std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas) {
         q.positions.push_back(code);
         q.normals.push_back(encodeOctahedral(unpackNormal(atlas.normals[at])));
       }
-  }
+  });
   return charts;
 }
 
@@ -61,15 +65,15 @@ void dequantiseAtlas(const std::vector<QuantisedChart>& charts, const multires::
   const std::size_t texels = std::size_t(atlas.layout.width()) * atlas.layout.height();
   atlas.positions.assign(texels, {0, 0, 0});
   atlas.normals.assign(texels, {0, 0, 0});
-  for (std::uint32_t c = 0; c < charts.size(); ++c) {
+  tbb::parallel_for(std::size_t(0), charts.size(), [&](std::size_t c) {  // charts apart: on every core
     const QuantisedChart& q = charts[c];
     for (std::uint32_t j = 0; j < n; ++j)
       for (std::uint32_t i = 0; i < n; ++i) {
-        const std::size_t k = std::size_t(j) * n + i, at = atlas.layout.texel(c, i, j);
+        const std::size_t k = std::size_t(j) * n + i, at = atlas.layout.texel(std::uint32_t(c), i, j);
         for (int a = 0; a < 3; ++a) atlas.positions[at][a] = q.lo[a] + float(q.positions[k][a]) * q.step[a];
         atlas.normals[at] = packNormal(decodeOctahedral(q.normals[k]));
       }
-  }
+  });
   const auto across = sidesAcross(base);
   for (std::uint32_t c = 0; c < charts.size(); ++c)
     for (int s = 0; s < 4; ++s) {
@@ -110,12 +114,16 @@ double largestQuantisationError(const Atlas& atlas, const std::vector<QuantisedC
   Atlas decoded;
   decoded.layout = atlas.layout;
   dequantiseAtlas(charts, base, decoded);
-  double worst = 0;
-  for (std::size_t t = 0; t < atlas.positions.size(); ++t) {
-    const auto &a = atlas.positions[t], &b = decoded.positions[t];
-    worst = std::max(worst, std::hypot(double(a[0]) - b[0], double(a[1]) - b[1], double(a[2]) - b[2]));
-  }
-  return worst;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, atlas.positions.size()), 0.0,
+      [&](const tbb::blocked_range<std::size_t>& r, double worst) {
+        for (std::size_t t = r.begin(); t != r.end(); ++t) {
+          const auto &a = atlas.positions[t], &b = decoded.positions[t];
+          worst = std::max(worst, std::hypot(double(a[0]) - b[0], double(a[1]) - b[1], double(a[2]) - b[2]));
+        }
+        return worst;
+      },
+      [](double a, double b) { return std::max(a, b); });
 }
 
 bool decodesTo(const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base, const Atlas& atlas) {

@@ -1,5 +1,7 @@
 #include "pipeline/model_building.h"
 
+#include <tbb/parallel_invoke.h>
+
 #include <chrono>
 #include <filesystem>
 
@@ -124,16 +126,19 @@ nlohmann::json atlasFigures(const atlas::Model& model) {
           {"gap_texels", model.gapTexels},         {"quantisation_error", model.quantisationError}};
 }
 
-void writeModelFiles(const atlas::Model& model, const std::string& path, const std::string& previewDir, nlohmann::json& r) {
-  r["quantisation_error"] = atlas::writeModel(path, model);
+void writeModelFiles(const atlas::Model& model, const std::string& path, const AtlasPreviewPaths& previews, nlohmann::json& r) {
+  double quantisationError = 0;
+  tbb::parallel_invoke([&] { quantisationError = atlas::writeModel(path, model); },
+                       [&] {
+                         if (!previews.positions.empty()) writePng(previews.positions, atlas::positionPreview(model.atlas));
+                       },
+                       [&] {
+                         if (!previews.normals.empty()) writePng(previews.normals, atlas::normalPreview(model.atlas));
+                       });
+  r["quantisation_error"] = quantisationError;
   r["model_bytes"] = std::filesystem::file_size(path);
   if (r.contains("dense_halfedge_bytes")) r["model_to_dense_halfedge"] = double(r["model_bytes"]) / double(r["dense_halfedge_bytes"]);
   if (r.contains("dense_ply_bytes")) r["model_to_dense_ply"] = double(r["model_bytes"]) / double(r["dense_ply_bytes"]);
-  if (!previewDir.empty()) {
-    std::filesystem::create_directories(previewDir);
-    writePng((std::filesystem::path(previewDir) / "position_atlas.png").string(), atlas::positionPreview(model.atlas));
-    writePng((std::filesystem::path(previewDir) / "normal_atlas.png").string(), atlas::normalPreview(model.atlas));
-  }
 }
 
 std::vector<int> parseLevels(const std::string& text, int maxLevel) {

@@ -41,9 +41,13 @@ Mesh prepareModelInput(Mesh mesh);
 // atlas's figures, as build and eval report them.
 nlohmann::json atlasFigures(const atlas::Model& model);
 
-// Writes the model and the atlas previews (position_atlas.png, normal_atlas.png into
-// `previewDir` unless empty); adds model_bytes to `figures`.
-void writeModelFiles(const atlas::Model& model, const std::string& path, const std::string& previewDir, nlohmann::json& figures);
+// Where the atlas's pictures go (atlasPositionPreview, atlasNormalPreview): an empty path writes none.
+struct AtlasPreviewPaths {
+  std::string positions, normals;
+};
+// Writes the model and the atlas's pictures side by side; adds quantisation_error, model_bytes and
+// the model's ratios to the dense mesh to `figures`.
+void writeModelFiles(const atlas::Model& model, const std::string& path, const AtlasPreviewPaths& previews, nlohmann::json& figures);
 
 // Throws Error (bad input, naming `what`) unless `dense` is the mesh `model` was built from: each base
 // vertex that is a dense vertex sits where that vertex does (welds never move a vertex), to within
