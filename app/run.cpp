@@ -325,29 +325,60 @@ void levelsStage(RunJob& job, const MeasuredLevels& measured) {
 }
 
 // The demo engraves a word on the left hemisphere's lateral surface (fine detail, the paper's Fig. 10).
-// The model stands without it: a failure is a skipped stage.
-void engraveStage(RunJob& job, const atlas::Model& model, const Mesh& surface) {
-  const Box box = boundingBox(surface.positions);
-  const pipeline::DemoEngraving place = pipeline::demoEngraving(box.min, box.max);
-  const pipeline::StampRequest engrave{.text = "isoatlas", .at = place.at, .radius = place.radius, .depth = 1.5,
-                                       .detailSize = std::min(multires::kMaxChartSize, 4 * (model.chartSize - 1) + 1)};
-  const std::string name = "engrave a word (fine detail)";
-  if (engrave.detailSize <= model.chartSize) return job.skipped(name, "the charts are already the finest (--chart 129)");
-  try {
-    job.stage(name, [&] {
-      atlas::Model engraved = model;
-      nlohmann::json& e = job.report["engrave"];
-      const atlas::StampStats stamped = pipeline::stampModel(engraved, engrave, e);
-      pipeline::writeModelFiles(engraved, job.products.add("model_engraved.isoatlas", "the model with \"isoatlas\" engraved in detail charts (isoatlas edit-detail)"),
-                                {}, e);
-      writePng(job.products.add("engraved.png", "the engraved word at the model's finest level, close up", true),
-               pipeline::closeUp(engraved, stamped, engrave.radius));
-      return std::to_string(stamped.detailTiles) + " tiles given detail charts: model_engraved.isoatlas";
-    });
-  } catch (const Error& error) {
-    job.skipped(name, error.what());
-    logInfo(std::string("run: skipping the engraving: ") + error.what());
+// The model stands without it: a failure is a skipped stage. The stamp and the engraved model's file
+// are made on a thread of their own while this one renders the model (llvmpipe draws its geometry on
+// one core); the close-up, which needs the GL context, is drawn here afterwards.
+struct Engraving {
+  std::optional<atlas::Model> model;
+  atlas::StampStats stamped;
+  double radius = 0, seconds = 0;
+  nlohmann::json figures;
+  std::string skipped;  // why not, when it was not made
+  bool failed = false;  // the stamp or the file failed (said on stderr), rather than not wanted
+};
+constexpr const char* kEngraveStage = "engrave a word (fine detail, beside the render)";
+constexpr const char* kEngravedModel = "model_engraved.isoatlas";
+
+std::future<Engraving> startEngraving(const atlas::Model& model, const Mesh& surface, const std::filesystem::path& dir) {
+  return std::async(std::launch::async, [&model, &surface, dir] {
+    const auto start = std::chrono::steady_clock::now();
+    const Box box = boundingBox(surface.positions);
+    const pipeline::DemoEngraving place = pipeline::demoEngraving(box.min, box.max);
+    const pipeline::StampRequest engrave{.text = "isoatlas", .at = place.at, .radius = place.radius, .depth = 1.5,
+                                         .detailSize = std::min(multires::kMaxChartSize, 4 * (model.chartSize - 1) + 1)};
+    Engraving e{.radius = engrave.radius};
+    if (engrave.detailSize <= model.chartSize) {
+      e.skipped = "the charts are already the finest (--chart 129)";
+      return e;
+    }
+    try {
+      atlas::Model& engraved = e.model.emplace(model);
+      e.stamped = pipeline::stampModel(engraved, engrave, e.figures);
+      pipeline::writeModelFiles(engraved, (dir / kEngravedModel).string(), {}, e.figures);
+    } catch (const Error& error) {
+      e.model.reset();
+      e.skipped = error.what();
+      e.failed = true;
+    }
+    e.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return e;
+  });
+}
+
+void finishEngraving(RunJob& job, std::future<Engraving>& engraving) {
+  Engraving e = engraving.get();
+  if (!e.model) {
+    job.skipped(kEngraveStage, e.skipped);
+    if (e.failed) logInfo("run: skipping the engraving: " + e.skipped);
+    return;
   }
+  const auto start = std::chrono::steady_clock::now();
+  job.report["engrave"] = std::move(e.figures);
+  job.products.add(kEngravedModel, "the model with \"isoatlas\" engraved in detail charts (isoatlas edit-detail)");
+  writePng(job.products.add("engraved.png", "the engraved word at the model's finest level, close up", true),
+           pipeline::closeUp(*e.model, e.stamped, e.radius));
+  job.stages.push_back({kEngraveStage, "done", std::to_string(e.stamped.detailTiles) + " tiles given detail charts: " + kEngravedModel,
+                        e.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
 }
 
 // The levels the model's accuracy is measured at: "even" (0, 2, ..., the whole chart) or eval's form.
@@ -420,8 +451,10 @@ void runJob(const std::string& input, const std::string& outDir, const RunOption
     modelStage(job, built, request.chartSize);
     levelsStage(job, measured);
     const atlas::Model& model = *built.model;
+    const bool engrave = pipeline::isDemoVolume(input, job.volume);
+    std::future<Engraving> engraving = engrave ? startEngraving(model, surface, dir) : std::future<Engraving>{};
     job.stage("render model (tessellation)", [&] { return renderModelViews(model, job.products, r["render"]); });
-    if (pipeline::isDemoVolume(input, job.volume)) engraveStage(job, model, surface);
+    if (engrave) finishEngraving(job, engraving);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r["stages"] = pipeline::stagesJson(job.stages);
