@@ -375,8 +375,14 @@ void finishEngraving(RunJob& job, std::future<Engraving>& engraving) {
   const auto start = std::chrono::steady_clock::now();
   job.report["engrave"] = std::move(e.figures);
   job.products.add(kEngravedModel, "the model with \"isoatlas\" engraved in detail charts (isoatlas edit-detail)");
-  writePng(job.products.add("engraved.png", "the engraved word at the model's finest level, close up", true),
-           pipeline::closeUp(*e.model, e.stamped, e.radius));
+  try {
+    writePng(job.products.add("engraved.png", "the engraved word at the model's finest level, close up", true),
+             pipeline::closeUp(*e.model, e.stamped, e.radius));
+  } catch (const Error& error) {
+    job.skipped(kEngraveStage, error.what());
+    logInfo(std::string("run: skipping the engraving's close-up: ") + error.what());
+    return;
+  }
   job.stages.push_back({kEngraveStage, "done", std::to_string(e.stamped.detailTiles) + " tiles given detail charts: " + kEngravedModel,
                         e.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()});
 }
