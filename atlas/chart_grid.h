@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <span>
 #include <vector>
 
@@ -68,12 +69,13 @@ public:
     return p_[k[t[0]]] * best[0] + p_[k[t[1]]] * best[1] + p_[k[t[2]]] * best[2];
   }
 
-  // How far the level's triangles at texel (i, j) stray from the surface: the largest distance
-  // between a point of them (their centroids and the middles of their edges at the texel: what a
-  // move of the texel changes) and the surface at that point's chart point.
-  double strayAround(std::uint32_t i, std::uint32_t j, const std::function<Vec3(const Vec2&)>& surfaceAt) const {
+  // How far the level's triangles stray from the surface: the largest distance between a point of
+  // them (a triangle's centroid, an edge's middle) and the surface at that point's chart point.
+  // strayAround: the triangles at texel (i, j) and their edges there (what a move of the texel
+  // changes); largestStray: every triangle and edge of the grid.
+  using SurfaceAt = std::function<Vec3(const Vec2&)>;
+  double strayAround(std::uint32_t i, std::uint32_t j, const SurfaceAt& surfaceAt) const {
     const std::size_t t = std::size_t(j) * n_ + i;
-    auto stray = [&](const Vec2& x, const Vec3& onLevel) { return norm(onLevel - surfaceAt(x)); };
     double largest = 0;
     std::array<std::size_t, 8> edgesDone{};
     std::size_t edges = 0;
@@ -83,13 +85,29 @@ public:
         for (const auto& h : squareTriangles(a, b)) {
           const std::size_t u = k[h[0]], v = k[h[1]], w = k[h[2]];
           if (u != t && v != t && w != t) continue;
-          largest = std::max(largest, stray((q_[u] + q_[v] + q_[w]) * (1.0 / 3), (p_[u] + p_[v] + p_[w]) * (1.0 / 3)));
+          largest = std::max(largest, strayOf({u, v, w}, surfaceAt));
           for (const std::size_t other : {u, v, w}) {
             if (other == t || std::find(edgesDone.begin(), edgesDone.begin() + edges, other) != edgesDone.begin() + edges) continue;
             edgesDone[edges++] = other;
-            largest = std::max(largest, stray((q_[t] + q_[other]) * 0.5, (p_[t] + p_[other]) * 0.5));
+            largest = std::max(largest, strayOf({t, other}, surfaceAt));
           }
         }
+      }
+    return largest;
+  }
+  double largestStray(const SurfaceAt& surfaceAt) const {
+    double largest = 0;
+    for (std::uint32_t b = 0; b < n_; ++b)
+      for (std::uint32_t a = 0; a < n_; ++a) {
+        const std::size_t k = std::size_t(b) * n_ + a;
+        if (a + 1 < n_) largest = std::max(largest, strayOf({k, k + 1}, surfaceAt));
+        if (b + 1 < n_) largest = std::max(largest, strayOf({k, k + n_}, surfaceAt));
+        if (a + 1 == n_ || b + 1 == n_) continue;
+        const auto corner = texels(a, b);
+        const auto halves = squareTriangles(a, b);
+        largest = std::max(largest, strayOf({corner[std::size_t(halves[0][0])], corner[std::size_t(halves[0][2])]}, surfaceAt));  // the diagonal
+        for (const auto& h : halves)
+          largest = std::max(largest, strayOf({corner[std::size_t(h[0])], corner[std::size_t(h[1])], corner[std::size_t(h[2])]}, surfaceAt));
       }
     return largest;
   }
@@ -101,6 +119,14 @@ public:
   }
 
 private:
+  // The distance between the mean of some texels' level points and the surface at the mean of their chart points.
+  double strayOf(std::initializer_list<std::size_t> texels, const SurfaceAt& surfaceAt) const {
+    Vec2 chart;
+    Vec3 onLevel;
+    for (const std::size_t k : texels) chart = chart + q_[k], onLevel = onLevel + p_[k];
+    const double w = 1.0 / double(texels.size());
+    return norm(onLevel * w - surfaceAt(chart * w));
+  }
   std::array<Vec2, 4> corners(std::uint32_t a, std::uint32_t b) const {
     const auto k = texels(a, b);
     return {q_[k[0]], q_[k[1]], q_[k[2]], q_[k[3]]};

@@ -100,40 +100,14 @@ Vec2 crossing(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
   return a + (b - a) * (cross2(c - a, d - c) / across);
 }
 
-// How far grid q's triangles (n a side, cut as reconstructLevel cuts them; p its surface) stray from
-// the surface: the largest distance between a point of them (each triangle's centroid, each edge's
-// middle) and the surface at that point's chart point.
-double largestStray(std::uint32_t n, const std::vector<Vec2>& q, const std::vector<SurfacePoint>& p,
-                    const std::function<SurfacePoint(const Vec2&)>& surfaceAt) {
-  double largest = 0;
-  auto stray = [&](std::initializer_list<std::size_t> texels) {
-    Vec2 chart;
-    Vec3 onGrid;
-    for (const std::size_t k : texels) chart = chart + q[k], onGrid = onGrid + p[k].position;
-    const double w = 1.0 / double(texels.size());
-    largest = std::max(largest, norm(onGrid * w - surfaceAt(chart * w).position));
-  };
-  for (std::uint32_t b = 0; b < n; ++b)
-    for (std::uint32_t a = 0; a < n; ++a) {
-      const std::size_t k = std::size_t(b) * n + a;
-      if (a + 1 < n) stray({k, k + 1});
-      if (b + 1 < n) stray({k, k + n});
-      if (a + 1 == n || b + 1 == n) continue;
-      const std::array<std::size_t, 4> corner{k, k + 1, k + n + 1, k + n};
-      const auto halves = squareTriangles(a, b);
-      stray({corner[std::size_t(halves[0][0])], corner[std::size_t(halves[0][2])]});  // the diagonal
-      for (const auto& t : halves) stray({corner[std::size_t(t[0])], corner[std::size_t(t[1])], corner[std::size_t(t[2])]});
-    }
-  return largest;
-}
-
 // How far the level of grid q lies from the surface: its triangles' largest stray, and the dense
 // vertices' largest distance from it.
 double levelError(std::uint32_t n, const std::vector<Vec2>& q, const std::vector<SurfacePoint>& p,
                   const std::function<SurfacePoint(const Vec2&)>& surfaceAt, std::span<const ChartVertex> vertices) {
   std::vector<Vec3> positions(p.size());
   for (std::size_t k = 0; k < p.size(); ++k) positions[k] = p[k].position;
-  return std::max(largestStray(n, q, p, surfaceAt), largestVertexError(ChartGrid(n, q, positions), vertices));
+  const ChartGrid grid(n, q, positions);
+  return std::max(grid.largestStray([&](const Vec2& x) { return surfaceAt(x).position; }), largestVertexError(grid, vertices));
 }
 
 }  // namespace
