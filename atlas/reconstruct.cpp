@@ -154,10 +154,9 @@ Mesh reconstructTiles(const multires::BaseMesh& base, const Atlas& atlas, int le
     for (int side = 0; side < 4 && local && !source.detail[c]; ++side) {
       const SideAcross d = across[c][side];
       if (d.tile == kNoTile || listed[d.tile] || !source.detail[d.tile]) continue;
-      const std::uint32_t last = fine - 1;
-      for (std::uint32_t m = 0; m <= last; m += stepOf(d.tile)) {
-        const Corner p = d.side == 0 ? Corner{m, 0} : d.side == 1 ? Corner{last, m} : d.side == 2 ? Corner{last - m, last} : Corner{0, last - m};
-        vertex.of(d.tile, p.i, p.j);
+      for (std::uint32_t m = 0; m < fine; m += stepOf(d.tile)) {
+        const auto [i, j] = sideTexel(d.side, m, fine);
+        vertex.of(d.tile, i, j);
       }
     }
   for (const std::uint32_t c : order) {

@@ -41,7 +41,7 @@ Mesh prepareModelInput(Mesh mesh);
 // atlas's figures, as build and eval report them.
 nlohmann::json atlasFigures(const atlas::Model& model);
 
-// Where the atlas's pictures go (atlasPositionPreview, atlasNormalPreview): an empty path writes none.
+// Where the atlas's pictures go (atlas::positionPreview, atlas::normalPreview): an empty path writes none.
 struct AtlasPreviewPaths {
   std::string positions, normals;
 };

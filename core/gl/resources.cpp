@@ -65,7 +65,8 @@ void Buffer::download(void* data, std::size_t bytes, std::size_t offset) const {
 // On a GPU by a compute shader's stores, not glClearBufferSubData: on an NVIDIA H100 the driver's clear
 // ran at 8 GB/s by bytes and 32 GB/s by words, far below the card's memory (bench/RESULTS.md, "On a
 // real GPU"). On a software renderer by the driver's clear by words, which is faster there. The
-// context's program and the fill's binding point are restored, so a caller's state holds.
+// caller's program is restored and the fill's binding point (the last, which no algorithm binds) is
+// left unbound, so a caller's state holds.
 void Buffer::fillZero() { fillZero(bytes_); }
 
 void Buffer::fillZero(std::size_t bytes) {
@@ -84,13 +85,13 @@ void Buffer::fillZero(std::size_t bytes) {
 }
 
 void Buffer::zeroWords(std::size_t words) {
+  require(words * 4 <= bytes_ && words <= 0xffffffffu, "GL buffer zeroed past its end");
   GLint bindings = 0, previous = 0;
   glGetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &bindings);
   glGetIntegerv(GL_CURRENT_PROGRAM, &previous);
   const GLuint binding = GLuint(bindings - 1);
   const Program& fill = Context::current().compute(kGlShaders, "core/gl/shaders/fill_zero.comp",
                                                    {{"FILL_BINDING", std::to_string(binding)}});
-  require(words * 4 <= bytes_ && words <= 0xffffffffu, "GL buffer zeroed past its end");
   bindBase(GL_SHADER_STORAGE_BUFFER, binding);
   fill.use();
   glUniform1ui(fill.uniform("count"), GLuint(words));
