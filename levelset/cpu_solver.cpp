@@ -7,36 +7,12 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 
-#include "core/cpu_dispatch.h"
+#include "levelset/row_stencil.h"
 
 namespace isoatlas::levelset {
 namespace {
-
-// Speed and rate of change of the voxels x < xEnd of row y of a page, from its apron (the page's
-// values with a one-voxel border, [dz + 1][y + 1][x + 1], side P + 2): the whole row at once, flat
-// voxels too (their rate is 0), one branch-free loop the compiler vectorises, with the update inlined
-// into it (as a call it was not, and the loop stayed scalar). Compiled for AVX2 and the baseline
-// (core/cpu_dispatch.h). Floating-point contraction is off in this file (CMakeLists),
-// so both give the same bits.
-//
-// GCC inlines the update into the loop only when told to (flatten); clang refuses flatten beside
-// target_clones, and inlines it of itself.
-#if defined(__clang__) || defined(ISOATLAS_THREAD_SANITIZER)
-#define ISOATLAS_ROW_LOOP ISOATLAS_CLONES("avx2")
-#else
-#define ISOATLAS_ROW_LOOP ISOATLAS_CLONES("avx2") __attribute__((flatten))
-#endif
-ISOATLAS_ROW_LOOP void evaluateRow(const float* __restrict apron, int side, int y, int xEnd, const float* __restrict intensity,
-                                   SpeedParams params, float* __restrict speed, float* __restrict rate) {
-  for (int x = 0; x < xEnd; ++x) {
-    const VoxelUpdate update = evaluateVoxelAt(
-        [&](int dx, int dy, int dz) { return apron[std::size_t(((dz + 1) * side + y + dy + 1) * side + x + dx + 1)]; }, intensity[x],
-        params);
-    speed[x] = update.speed;
-    rate[x] = update.rate;
-  }
-}
 
 class CpuSolver final : public SolverBackend {
 public:
@@ -73,36 +49,30 @@ public:
 
   IterationResult iterate(const PageManager&, const SpeedParams& params) override {
     std::vector<float>& phi = phi_;
-    // Pass 1: speed and rate of change at every voxel of every active page; the largest speed. Only
-    // voxels that can move (a one-sided difference is nonzero) are listed for pass 2.
+    // Pass 1: speed and rate of change at every voxel of the rows that can change (some voxel differs
+    // from a face neighbour); the largest speed. Only voxels that move are listed for pass 2.
     tbb::combinable<float> maxSpeed(0.0f);
     moving_.resize(pages_.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pages_.size()), [&](const auto& range) {
       float& localMax = maxSpeed.local();
       Apron apron(P_);
-      bool flat[kMaxPageSize];
+      Moving moves[kMaxPageSize * kMaxPageSize];
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         const PageInfo& page = pages_[i];
-        auto& moving = moving_[i];
-        moving.clear();
         apron.load(*this, phi, page);
-        const std::int64_t vz = page.coords[2];
-        for (int y = 0; y < P_; ++y) {
-          const std::int64_t vy = page.coords[1] * P_ + y;
-          if (vy >= dims_[1]) break;  // past the volume's edge: kept outside
-          apron.flatRow(y, flat);
-          const int xEnd = int(std::min<std::int64_t>(P_, dims_[0] - page.coords[0] * P_));
-          if (std::all_of(flat, flat + xEnd, [](bool f) { return f; })) continue;  // no voxel can change
-          // The whole row, which is faster than evaluating only the voxels that can move.
-          const float* intensity = &source_[std::size_t((vz * dims_[1] + vy) * dims_[0] + page.coords[0] * P_)];
-          float speed[kMaxPageSize], rate[kMaxPageSize];
-          evaluateRow(apron.v.data(), apron.side, y, xEnd, intensity, params, speed, rate);
-          for (int x = 0; x < xEnd; ++x) {
-            if (flat[x] || rate[x] == 0) continue;  // flat (every one-sided difference zero) or not moving
-            moving.push_back({std::uint32_t(texelOf(page.neighbourOrigins[13], x, y)), rate[x]});
-            localMax = std::max(localMax, std::fabs(speed[x]));
+        int moved = 0;
+        const int rows = rowsIn(page), xEnd = columnsIn(page);
+        for (int y0 = 0; y0 < rows;) {
+          if (apron.flatRow(y0, xEnd)) {
+            ++y0;
+            continue;
           }
+          int y1 = y0 + 1;
+          while (y1 < rows && !apron.flatRow(y1, xEnd)) ++y1;
+          moved = evaluateRun(apron, page, y0, y1, params, moves, moved, localMax);
+          y0 = y1;
         }
+        moving_[i].assign(moves, moves + moved);
       }
     });
     IterationResult result;
@@ -170,6 +140,11 @@ private:
     Origin neighbourOrigins[27];  // index 13 is the page itself
   };
 
+  struct Moving {
+    std::uint32_t texel;
+    float rate;
+  };
+
   static Origin origin(const PageManager& pm, std::int32_t slot) { return pm.slotOrigin(slot); }
   std::size_t texelOf(const Origin& o, int x, int y) const {
     return std::size_t(o[1] + y) * width_ + std::size_t(o[0] + x);
@@ -188,7 +163,17 @@ private:
     std::array<float, 3 * (kMaxPageSize + 2) * (kMaxPageSize + 2)> v;  // [dz][y + 1][x + 1]
     explicit Apron(int P) : side(P + 2) {}
     void load(const CpuSolver& s, const std::vector<float>& phi, const PageInfo& page) {
-      const int P = side - 2;
+      // Rows of a size known when compiled are copied inline instead of by a library call per row.
+      switch (side - 2) {
+        case 4: return loadRows<4>(s, phi, page);
+        case 8: return loadRows<8>(s, phi, page);
+        case 16: return loadRows<16>(s, phi, page);
+        default: return loadRows<kMaxPageSize>(s, phi, page);
+      }
+    }
+    template <int P>
+    void loadRows(const CpuSolver& s, const std::vector<float>& phi, const PageInfo& page) {
+      static_assert(P <= kMaxPageSize);
       for (int dz = -1; dz <= 1; ++dz)
         for (int y = -1; y <= P; ++y) {
           const int oy = y < 0 ? -1 : (y >= P ? 1 : 0), ly = y - oy * P;
@@ -200,14 +185,48 @@ private:
         }
     }
     const float* row(int y, int dz) const { return &v[std::size_t(((dz + 1) * side + y + 1) * side + 1)]; }
-    // flat[x]: voxel (x, y) equals its six face neighbours. Branch-free, so it vectorises.
-    void flatRow(int y, bool* flat) const {
+    // Whether every voxel x < xEnd of row y equals its six face neighbours. Branch-free, so it vectorises.
+    bool flatRow(int y, int xEnd) const {
       const float *c = row(y, 0), *ym = row(y - 1, 0), *yp = row(y + 1, 0), *zm = row(y, -1), *zp = row(y, 1);
-      for (int x = 0; x < side - 2; ++x)
-        flat[x] = (c[x + 1] == c[x]) & (c[x - 1] == c[x]) & (yp[x] == c[x]) & (ym[x] == c[x]) & (zp[x] == c[x]) &
-                  (zm[x] == c[x]);
+      unsigned differs = 0;  // accumulated in an integer, so that the loop vectorises
+      for (int x = 0; x < xEnd; ++x)
+        differs |= unsigned(c[x + 1] != c[x]) | unsigned(c[x - 1] != c[x]) | unsigned(yp[x] != c[x]) |
+                   unsigned(ym[x] != c[x]) | unsigned(zp[x] != c[x]) | unsigned(zm[x] != c[x]);
+      return differs == 0;
     }
   };
+
+  // Rows inside the volume (those past its edge are kept outside) and columns, of a page.
+  int rowsIn(const PageInfo& page) const { return int(std::min<std::int64_t>(P_, dims_[1] - page.coords[1] * P_)); }
+  int columnsIn(const PageInfo& page) const { return int(std::min<std::int64_t>(P_, dims_[0] - page.coords[0] * P_)); }
+
+  // Speed and rate of rows y0 <= y < y1 of a page (the whole rows, which is faster than only the
+  // voxels that can move). The voxels that move are appended to moves[moved..] with their rate, and
+  // the largest speed among them kept in localMax: a flat voxel's rate is 0 (every one-sided
+  // difference is), so rate alone says which move. Returns the new count.
+  int evaluateRun(const Apron& apron, const PageInfo& page, int y0, int y1, const SpeedParams& params, Moving* moves,
+                  int moved, float& localMax) const {
+    float faces[(kMaxPageSize + 1) * kMaxPageSize], speed[kMaxPageSize * kMaxPageSize], rate[kMaxPageSize * kMaxPageSize];
+    const int xEnd = columnsIn(page);
+    const std::int64_t vy = page.coords[1] * P_ + y0, vz = page.coords[2];
+    const float* intensity = &source_[std::size_t((vz * dims_[1] + vy) * dims_[0] + page.coords[0] * P_)];
+    rowFaceNormals(apron.v.data(), apron.side, y0 - 1, y1, xEnd, faces);
+    evaluateRows(apron.v.data(), apron.side, y0, y1, xEnd, intensity, std::size_t(dims_[0]), params, faces,
+                 std::size_t(kMaxPageSize), speed, rate);
+    for (int y = y0; y < y1; ++y) {
+      const float* s = speed + std::size_t(y - y0) * kMaxPageSize;
+      const float* r = rate + std::size_t(y - y0) * kMaxPageSize;
+      const std::uint32_t rowStart = std::uint32_t(texelOf(page.neighbourOrigins[13], 0, y));
+      std::uint32_t moving = 0;  // bit x: voxel x moves; about a quarter do
+      for (int x = 0; x < xEnd; ++x) moving |= std::uint32_t(r[x] != 0) << x;
+      for (; moving; moving &= moving - 1) {
+        const int x = std::countr_zero(moving);
+        moves[moved++] = {rowStart + std::uint32_t(x), r[x]};
+        localMax = std::max(localMax, std::fabs(s[x]));
+      }
+    }
+    return moved;
+  }
 
   // Which pages must be active next: this one if any voxel differs from a face neighbour; a
   // neighbour page if a voxel on the shared border differs from its voxel across it. Rows are read
@@ -254,10 +273,6 @@ private:
 
   std::vector<float> source_;
   std::array<std::int64_t, 3> dims_;
-  struct Moving {
-    std::uint32_t texel;
-    float rate;
-  };
   std::vector<float> phi_;
   std::vector<std::vector<Moving>> moving_;  // per active page, from pass 1
   int P_ = 16;

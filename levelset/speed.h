@@ -34,6 +34,23 @@ struct VoxelUpdate {
   float rate;   // F |grad phi|_upwind (F includes G_r): phi changes by dt * rate
 };
 
+// The unit normal's component across a voxel face: along, the difference across it; a and b, the
+// central differences along the face (mean of the two voxels').
+inline float faceNormal(float along, float a, float b) {
+  const float len = std::sqrt(along * along + a * a + b * b);
+  return len > 0 ? along / len : 0.0f;
+}
+
+// |grad phi| upwind for a front moving at speed: one square root, of the sum the sign picks.
+inline float upwindGradient(float speed, float dxp, float dxm, float dyp, float dym, float dzp, float dzm) {
+  auto sq = [](float v) { return v * v; };
+  const float sumMax = sq(std::max(dxp, 0.0f)) + sq(std::max(-dxm, 0.0f)) + sq(std::max(dyp, 0.0f)) +
+                       sq(std::max(-dym, 0.0f)) + sq(std::max(dzp, 0.0f)) + sq(std::max(-dzm, 0.0f));
+  const float sumMin = sq(std::min(dxp, 0.0f)) + sq(std::min(-dxm, 0.0f)) + sq(std::min(dyp, 0.0f)) +
+                       sq(std::min(-dym, 0.0f)) + sq(std::min(dzp, 0.0f)) + sq(std::min(-dzm, 0.0f));
+  return std::sqrt(speed > 0 ? sumMax : sumMin);
+}
+
 // at(dx, dy, dz): phi at the neighbour (dx, dy, dz) in {-1, 0, 1}^3; intensity: I at the centre voxel.
 template <class At>
 inline VoxelUpdate evaluateVoxelAt(const At& at, float intensity, const SpeedParams& p) {
@@ -51,16 +68,12 @@ inline VoxelUpdate evaluateVoxelAt(const At& at, float intensity, const SpeedPar
   const float dzAtYp = 0.5f * (at(0, 1, 1) - at(0, 1, -1)), dzAtYm = 0.5f * (at(0, -1, 1) - at(0, -1, -1));
   const float dxAtZp = 0.5f * (at(1, 0, 1) - at(-1, 0, 1)), dxAtZm = 0.5f * (at(1, 0, -1) - at(-1, 0, -1));
   const float dyAtZp = 0.5f * (at(0, 1, 1) - at(0, -1, 1)), dyAtZm = 0.5f * (at(0, 1, -1) - at(0, -1, -1));
-  auto normal = [](float along, float a, float b) {
-    const float len = std::sqrt(along * along + a * a + b * b);
-    return len > 0 ? along / len : 0.0f;
-  };
-  const float nxp = normal(dxp, 0.5f * (dyAtXp + dy), 0.5f * (dzAtXp + dz));
-  const float nxm = normal(dxm, 0.5f * (dyAtXm + dy), 0.5f * (dzAtXm + dz));
-  const float nyp = normal(dyp, 0.5f * (dxAtYp + dx), 0.5f * (dzAtYp + dz));
-  const float nym = normal(dym, 0.5f * (dxAtYm + dx), 0.5f * (dzAtYm + dz));
-  const float nzp = normal(dzp, 0.5f * (dxAtZp + dx), 0.5f * (dyAtZp + dy));
-  const float nzm = normal(dzm, 0.5f * (dxAtZm + dx), 0.5f * (dyAtZm + dy));
+  const float nxp = faceNormal(dxp, 0.5f * (dyAtXp + dy), 0.5f * (dzAtXp + dz));
+  const float nxm = faceNormal(dxm, 0.5f * (dyAtXm + dy), 0.5f * (dzAtXm + dz));
+  const float nyp = faceNormal(dyp, 0.5f * (dxAtYp + dx), 0.5f * (dzAtYp + dz));
+  const float nym = faceNormal(dym, 0.5f * (dxAtYm + dx), 0.5f * (dzAtYm + dz));
+  const float nzp = faceNormal(dzp, 0.5f * (dxAtZp + dx), 0.5f * (dyAtZp + dy));
+  const float nzm = faceNormal(dzm, 0.5f * (dxAtZm + dx), 0.5f * (dyAtZm + dy));
   const float curvature = 0.5f * ((nxp - nxm) + (nyp - nym) + (nzp - nzm));
 
   const float data = p.width - std::fabs(intensity - p.target);
@@ -68,12 +81,7 @@ inline VoxelUpdate evaluateVoxelAt(const At& at, float intensity, const SpeedPar
   const float physical = p.alpha * data + (1.0f - p.alpha) * curvature;
   const float speed = physical + rescale;
 
-  auto sq = [](float v) { return v * v; };
-  const float gradMax = std::sqrt(sq(std::max(dxp, 0.0f)) + sq(std::max(-dxm, 0.0f)) + sq(std::max(dyp, 0.0f)) +
-                                  sq(std::max(-dym, 0.0f)) + sq(std::max(dzp, 0.0f)) + sq(std::max(-dzm, 0.0f)));
-  const float gradMin = std::sqrt(sq(std::min(dxp, 0.0f)) + sq(std::min(-dxm, 0.0f)) + sq(std::min(dyp, 0.0f)) +
-                                  sq(std::min(-dym, 0.0f)) + sq(std::min(dzp, 0.0f)) + sq(std::min(-dzm, 0.0f)));
-  return {physical, speed * (speed > 0 ? gradMax : gradMin)};
+  return {physical, speed * upwindGradient(speed, dxp, dxm, dyp, dym, dzp, dzm)};
 }
 
 // u: the 3x3x3 neighbourhood, u[(dz+1)*9 + (dy+1)*3 + (dx+1)].

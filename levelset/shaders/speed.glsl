@@ -14,6 +14,14 @@ float faceNormal(float along, float a, float b) {
   return len > 0.0 ? along / len : 0.0;
 }
 
+float upwindGradient(float speed, float dxp, float dxm, float dyp, float dym, float dzp, float dzm) {
+  float sumMax = sq(max(dxp, 0.0)) + sq(max(-dxm, 0.0)) + sq(max(dyp, 0.0)) +
+                 sq(max(-dym, 0.0)) + sq(max(dzp, 0.0)) + sq(max(-dzm, 0.0));
+  float sumMin = sq(min(dxp, 0.0)) + sq(min(-dxm, 0.0)) + sq(min(dyp, 0.0)) +
+                 sq(min(-dym, 0.0)) + sq(min(dzp, 0.0)) + sq(min(-dzm, 0.0));
+  return sqrt(speed > 0.0 ? sumMax : sumMin);
+}
+
 VoxelUpdate evaluateVoxel(float u[27], float intensity, float target, float width, float alpha) {
   float c = at(u, 0, 0, 0);
   float dxp = at(u, 1, 0, 0) - c, dxm = c - at(u, -1, 0, 0);
@@ -41,13 +49,9 @@ VoxelUpdate evaluateVoxel(float u[27], float intensity, float target, float widt
   float physical = alpha * data + (1.0 - alpha) * curvature;
   float speed = physical + rescale;
 
-  float gradMax = sqrt(sq(max(dxp, 0.0)) + sq(max(-dxm, 0.0)) + sq(max(dyp, 0.0)) +
-                       sq(max(-dym, 0.0)) + sq(max(dzp, 0.0)) + sq(max(-dzm, 0.0)));
-  float gradMin = sqrt(sq(min(dxp, 0.0)) + sq(min(-dxm, 0.0)) + sq(min(dyp, 0.0)) +
-                       sq(min(-dym, 0.0)) + sq(min(dzp, 0.0)) + sq(min(-dzm, 0.0)));
   VoxelUpdate r;
   r.speed = physical;
-  r.rate = speed * (speed > 0.0 ? gradMax : gradMin);
+  r.rate = speed * upwindGradient(speed, dxp, dxm, dyp, dym, dzp, dzm);
   return r;
 }
 

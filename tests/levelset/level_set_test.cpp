@@ -1,9 +1,11 @@
 // The paged level-set solver against truth: analytic curvature flow and propagation of a sphere, a
 // noisy phantom with known truth (Dice), the page invariants (no gradient outside active pages,
 // pages released and reused, the pool growing without changing the answer), steering, and the GPU
-// against its CPU twin.
+// against its CPU twin; the CPU solver's row stencil against the per-voxel update bit for bit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <memory>
 #include <random>
@@ -11,6 +13,7 @@
 #include "core/error.h"
 #include "levelset/level_set.h"
 #include "levelset/probe.h"
+#include "levelset/row_stencil.h"
 #include "tests/gl_context.h"
 #include "tests/thread_count.h"
 
@@ -93,6 +96,41 @@ std::int64_t gradientOutsideActivePages(const LevelSet& ls) {
         }
       }
   return bad;
+}
+
+// The row stencil shares each face normal between the two voxels of the face; every value must
+// still be evaluateVoxelAt's to the bit, on aprons with a band, clamped plateaus and ties, for runs
+// of rows starting and ending anywhere, and for rows cut short by the volume's edge.
+TEST(RowStencil, RowsGiveEvaluateVoxelAtBitForBit) {
+  std::mt19937 rng(7);
+  const SpeedParams params{112, 14, 0.8f};
+  for (const int P : {16, 8}) {
+    const int side = P + 2;
+    std::vector<float> apron(std::size_t(3 * side * side));
+    std::uniform_real_distribution<float> value(-4, 4), intensityOf(80, 140);
+    for (float& v : apron) {
+      const float u = value(rng);
+      v = std::clamp(std::round(u * 4) / 4 * (u > 0 ? 1.3f : 1.0f), -kClamp, kClamp);  // plateaus at the clamp, ties
+    }
+    std::vector<float> intensity(std::size_t(P * P));
+    for (float& i : intensity) i = intensityOf(rng);
+    auto at = [&](int x, int y, int dz) { return apron[std::size_t(((dz + 1) * side + y + 1) * side + x + 1)]; };
+    for (const auto& [y0, y1, xEnd] : {std::array<int, 3>{0, P, P}, {3, 7, P}, {P - 1, P, P}, {0, P, P - 3}}) {
+      std::vector<float> faces(std::size_t(kMaxPageSize * (kMaxPageSize + 1))), speed(std::size_t(kMaxPageSize * P)),
+          rate(std::size_t(kMaxPageSize * P));
+      rowFaceNormals(apron.data(), side, y0 - 1, y1, xEnd, faces.data());
+      evaluateRows(apron.data(), side, y0, y1, xEnd, intensity.data() + std::size_t(y0 * P), std::size_t(P), params,
+                   faces.data(), std::size_t(kMaxPageSize), speed.data(), rate.data());
+      for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < xEnd; ++x) {
+          const VoxelUpdate want = evaluateVoxelAt([&](int dx, int dy, int dz) { return at(x + dx, y + dy, dz); },
+                                                   intensity[std::size_t(y * P + x)], params);
+          const std::size_t k = std::size_t(y - y0) * kMaxPageSize + std::size_t(x);
+          ASSERT_EQ(std::bit_cast<std::uint32_t>(speed[k]), std::bit_cast<std::uint32_t>(want.speed)) << P << " " << x << " " << y;
+          ASSERT_EQ(std::bit_cast<std::uint32_t>(rate[k]), std::bit_cast<std::uint32_t>(want.rate)) << P << " " << x << " " << y;
+        }
+    }
+  }
 }
 
 TEST(PageManager, ActivateReleaseReuseAndNeighbours) {
