@@ -41,28 +41,36 @@ struct RunOptions {
   double target = 0, width = 1, alpha = 0.8;
   std::string backend = "auto";
   int iterations = 3000;  // the demo converges in under a thousand
+  bool fullResolutionStart = false;
   pipeline::ModelRequest model;
   int chart = 33;
   std::string levels = "even";  // the levels run measures: "even" (0, 2, ..., the whole chart) or eval's form
   std::shared_ptr<std::vector<pipeline::EditStep>> edits = std::make_shared<std::vector<pipeline::EditStep>>();
 };
 
-// A view-window script (docs/view-script.md) doing what run did, seen in the window: the same seeds,
-// parameters and steps (the same solver: the same segmentation), the same edits as brushes, then the
-// model built.
+// A view-window script (docs/view-script.md) doing what run did, seen in the window: the same
+// parameters and segmentation, the same edits as brushes, then the model built. The segmentation is
+// the seeds and steps (the same solver: the same segmentation), or, where it started at half
+// resolution (startedFrom: its mask's file), that mask.
 void writeViewSession(const std::string& path, const std::string& input, const Volume& volume, const levelset::SpeedParams& params,
-                      const std::vector<pipeline::Ball>& seeds, int iterations, const std::vector<pipeline::EditStep>& edits) {
+                      const std::vector<pipeline::Ball>& seeds, int iterations, const std::string& startedFrom,
+                      const std::vector<pipeline::EditStep>& edits) {
   std::ostringstream out;
   out.precision(7);  // floats as they were given; world positions to well under a micrometre
   out << "# isoatlas run's segmentation and edits in the window: isoatlas view --script " << path << "\n"
       << "open " << std::filesystem::absolute(input).string() << "\nset t " << params.target << "\nset eps " << params.width
       << "\nset alpha " << params.alpha << "\n";
   const double mmPerVoxel = std::cbrt(volume.spacing.x * volume.spacing.y * volume.spacing.z);  // as the window's radii
-  for (const pipeline::Ball& b : seeds) {
-    const Vec3 w = volume.indexToWorld(b.centre);
-    out << "seed " << w.x << "," << w.y << "," << w.z << "," << b.radius * mmPerVoxel << "\n";
+  if (startedFrom.empty()) {
+    for (const pipeline::Ball& b : seeds) {
+      const Vec3 w = volume.indexToWorld(b.centre);
+      out << "seed " << w.x << "," << w.y << "," << w.z << "," << b.radius * mmPerVoxel << "\n";
+    }
+    out << "run " << iterations << "\n";
+  } else {
+    out << "# run's segmentation, which started from its solution at half resolution (the window steps at full resolution)\n"
+        << "load-mask " << std::filesystem::absolute(startedFrom).string() << "\n";
   }
-  out << "run " << iterations << "\n";
   for (const pipeline::EditStep& e : edits)
     out << (e.shape.starts_with("mesh:") ? "# (a mesh edit, not a brush) " : "") << "brush "
         << (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") << e.shape << "\n";
@@ -156,7 +164,7 @@ SegmentationSetup segmentationSetup(const RunOptions& options, const std::string
   return s;
 }
 
-pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup, int iterations) {
+pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup, int iterations, bool fullResolutionStart) {
   std::optional<pipeline::Segmentation> result;
   job.stage("segment", [&] {
     result = pipeline::segmentVolume(job.volume, {.params = setup.params,
@@ -165,15 +173,18 @@ pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup,
                                                   .renderer = job.gpu.renderer,
                                                   .maxIterations = iterations,
                                                   .label = "run: segment",
-                                                  .readPhi = true});
+                                                  .readPhi = true,
+                                                  .halfResolutionStart = !fullResolutionStart});
     const pipeline::Segmentation& s = *result;
-    writeVolume(job.products.add("mask.nii.gz", "the segmentation: uint8, 1 inside, on the input's grid"), s.mask);
+    const std::string maskFile = job.products.add("mask.nii.gz", "the segmentation: uint8, 1 inside, on the input's grid");
+    writeVolume(maskFile, s.mask);
     writeVolume(job.products.add("phi.nii.gz", "the level set phi: float, > 0 inside, in voxels"), s.phi);
     job.report["segment"] = s.figures();
     job.report["segment"].update({{"target", setup.params.target}, {"width", setup.params.width}, {"alpha", setup.params.alpha}});
     writeViewSession(job.products.add("view-session.txt", "this segmentation and its edits replayed in the window: isoatlas view --script "
                                                           "view-session.txt (docs/view-script.md)"),
-                     job.input, job.volume, setup.params, setup.seeds, s.stats.iterations, setup.edits.steps);
+                     job.input, job.volume, setup.params, setup.seeds, s.stats.iterations,
+                     s.halfResolution.iterations > 0 ? maskFile : std::string(), setup.edits.steps);
     return std::to_string(s.insideVoxels) + " voxels in " + std::to_string(s.stats.iterations) + " iterations (" +
            (s.stats.converged ? "converged" : "not converged") + "): mask.nii.gz, phi.nii.gz";
   });
@@ -438,7 +449,7 @@ void runJob(const std::string& input, const std::string& outDir, const RunOption
     logInfo("run: skipping segment: give --seed X,Y,Z[,R] --target T --width EPS");
     job.skipped("build multiresolution model", "no surface (nothing was segmented)");
   } else {
-    const pipeline::Segmentation s = segmentStage(job, setup, options.iterations);
+    const pipeline::Segmentation s = segmentStage(job, setup, options.iterations, options.fullResolutionStart);
     const EditedVolume edit = editStage(job, s, setup.edits, solids);
     const Mesh surface = extractStage(job, s, edit);
     pipeline::ModelRequest request = options.model;
@@ -488,6 +499,8 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--backend", options->backend, "gpu, cpu or auto")->capture_default_str();
   sub->add_option("--iterations,-n", options->iterations, "most iterations of the segmentation (it stops once converged)")
       ->capture_default_str();
+  sub->add_flag("--full-resolution-start", options->fullResolutionStart,
+                "segment from the seeds at full resolution, not from the solution at half resolution");
   addEditStepOptions(*sub, options->edits);
   sub->add_option("--base-ratio", options->model.baseRatio, "base vertices of the model as a fraction of the surface's")
       ->capture_default_str();

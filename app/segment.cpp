@@ -16,7 +16,7 @@ struct SegmentOptions {
   std::vector<std::string> seeds;
   double target = 0, width = 0, alpha = 0.5;
   int iterations = levelset::RunOptions{}.maxIterations, page = levelset::LevelSetOptions{}.pageSize;
-  bool converge = false;
+  bool converge = false, fullResolutionStart = false;
 };
 
 void addSegmentCommand(CLI::App& app, int& exitCode) {
@@ -30,6 +30,8 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--alpha,-a", o->alpha, "weight of the intensity term against curvature, in [0, 1]")->capture_default_str();
   sub->add_option("--iterations,-n", o->iterations, "most iterations to run")->capture_default_str();
   sub->add_flag("--converge", o->converge, "stop early once the front stops moving");
+  sub->add_flag("--full-resolution-start", o->fullResolutionStart,
+                "with --converge, start from the seeds at full resolution, not from the solution at half resolution");
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
   sub->add_option("--page", o->page, "page size in voxels (a power of two, 4..32)")->capture_default_str();
   sub->add_option("-o,--output", o->output, "output mask (uint8, 1 inside), e.g. mask.nii.gz")->required()->check(outputFile());
@@ -64,7 +66,8 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
                                                   .pageSize = o->page,
                                                   .maxIterations = o->iterations,
                                                   .untilConverged = o->converge,
-                                                  .readPhi = !o->phi.empty()});
+                                                  .readPhi = !o->phi.empty(),
+                                                  .halfResolutionStart = o->converge && !o->fullResolutionStart});
     writeVolume(o->output, s.mask);
     if (!o->phi.empty()) writeVolume(o->phi, s.phi);
 

@@ -1,6 +1,9 @@
 #include "pipeline/segmentation.h"
 
+#include <chrono>
+
 #include "core/progress.h"
+#include "pipeline/coarse_start.h"
 
 namespace isoatlas::pipeline {
 
@@ -10,13 +13,28 @@ Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& requ
   s.renderer = request.renderer;
   s.levelSet = std::make_unique<levelset::LevelSet>(volume, request.params,
                                                     levelset::LevelSetOptions{.backend = s.backend, .pageSize = request.pageSize});
-  if (request.seedMask) s.levelSet->setMask(*request.seedMask);
-  for (const Ball& b : request.seeds) s.levelSet->addSphere(b.centre, b.radius);
+  const auto start = std::chrono::steady_clock::now();
+  // One progress line a run: iterations out of the most allowed.
+  auto runOptions = [&](Progress& progress) {
+    return levelset::RunOptions{.maxIterations = request.maxIterations,
+                                .untilConverged = request.untilConverged,
+                                .progress = [&progress](int i, std::int64_t) { progress.update(std::uint64_t(i)); }};
+  };
+  if (request.halfResolutionStart && request.untilConverged) {
+    Progress progress(request.label + " at half resolution", std::uint64_t(request.maxIterations), "iterations");
+    CoarseStart coarse = solveAtHalfResolution(volume, request.params, request.seeds, request.seedMask,
+                                               {.backend = s.backend, .pageSize = request.pageSize}, runOptions(progress));
+    progress.finish();
+    s.halfResolution = coarse.stats;
+    s.levelSet->setMask(coarse.mask);
+  } else {
+    if (request.seedMask) s.levelSet->setMask(*request.seedMask);
+    for (const Ball& b : request.seeds) s.levelSet->addSphere(b.centre, b.radius);
+  }
   Progress progress(request.label, std::uint64_t(request.maxIterations), "iterations");
-  s.stats = s.levelSet->run({.maxIterations = request.maxIterations,
-                             .untilConverged = request.untilConverged,
-                             .progress = [&](int i, std::int64_t) { progress.update(std::uint64_t(i)); }});
+  s.stats = s.levelSet->run(runOptions(progress));
   progress.finish();
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (request.readPhi) {
     s.phi = s.levelSet->phi();
     s.mask = levelset::maskOf(s.phi);
@@ -31,11 +49,13 @@ nlohmann::json Segmentation::figures() const {
   return {{"backend", backend == levelset::Backend::Gpu ? "gpu" : "cpu"},
           {"renderer", renderer},
           {"iterations", stats.iterations},
-          {"seconds", stats.seconds},
+          {"seconds", seconds},
           {"converged", stats.converged},
           {"inside_voxels", insideVoxels},
           {"active_pages_peak", levelSet->pages().stats().peakActive},
-          {"physical_bytes_peak", levelSet->physicalBytesPeak()}};
+          {"physical_bytes_peak", levelSet->physicalBytesPeak()},
+          {"half_resolution_iterations", halfResolution.iterations},
+          {"half_resolution_seconds", halfResolution.seconds}};
 }
 
 }  // namespace isoatlas::pipeline

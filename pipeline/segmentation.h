@@ -1,5 +1,6 @@
 // The segmentation `segment` and `run` share: a level set on the chosen backend (its GL context current
-// when it is the GPU), seeded by balls (and a mask), run with progress on stderr, the mask read back
+// when it is the GPU), seeded by balls (and a mask), by default through its solution at half the
+// resolution (pipeline/coarse_start.h), run with progress on stderr, the mask read back
 // once (and phi, when asked for: the mask is then made from it).
 #pragma once
 #include <nlohmann/json.hpp>
@@ -25,17 +26,22 @@ struct SegmentationRequest {
   bool untilConverged = levelset::RunOptions{}.untilConverged;
   std::string label = "segment";  // the progress line's name
   bool readPhi = false;           // read phi back whole (for a phi file)
+  // Start from the solution at half the resolution (pipeline/coarse_start.h) instead of the seeds;
+  // only with untilConverged (a count of steps from the seeds means what it says).
+  bool halfResolutionStart = false;
 };
 
 struct Segmentation {
   std::unique_ptr<levelset::LevelSet> levelSet;  // kept for extraction over its active pages
   levelset::Backend backend = levelset::Backend::Cpu;
   std::string renderer;
-  levelset::RunStats stats;
+  levelset::RunStats stats;            // the full-resolution run
+  levelset::RunStats halfResolution;   // the start's run, when there was one (else 0 iterations)
+  double seconds = 0;                  // the whole segmentation, start included
   Volume phi, mask;  // phi: empty unless asked for
   std::int64_t insideVoxels = 0;
   // backend, renderer, iterations, seconds, converged, inside_voxels, active_pages_peak,
-  // physical_bytes_peak
+  // physical_bytes_peak, half_resolution_iterations, half_resolution_seconds
   nlohmann::json figures() const;
 };
 

@@ -332,15 +332,12 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
       inTruth += truth.value(n) == 1;
     }
     EXPECT_GT(2.0 * double(both) / double(inMask + inTruth), 0.9) << "Dice with the phantom's truth";
-    // The window's script of the same session: its seed in world mm, the steps run took; the window
-    // reads it whole (and the volume it opens) before asking for a display.
+    // The window's script of the same session: run segmented from its solution at half resolution,
+    // so the window takes its mask; the window reads it whole (and the volume it opens) before asking
+    // for a display.
     const std::string session = test::readBytes(out / "view-session.txt");
-    const Vec3 seedWorld = readVolume(torus.string()).indexToWorld({31, 18, 14});
-    std::ostringstream seedLine;
-    seedLine.precision(7);
-    seedLine << "seed " << seedWorld.x << "," << seedWorld.y << "," << seedWorld.z << ",";
-    EXPECT_NE(session.find(seedLine.str()), std::string::npos) << session;
-    EXPECT_NE(session.find("run " + std::to_string(nlohmann::json::parse(test::readBytes(out / "report.json"))["segment"]["iterations"].get<int>())), std::string::npos);
+    EXPECT_NE(session.find("load-mask " + std::filesystem::absolute(out / "mask.nii.gz").string() + "\n"), std::string::npos) << session;
+    EXPECT_GT(nlohmann::json::parse(test::readBytes(out / "report.json"))["segment"]["half_resolution_iterations"].get<int>(), 0);
     const int viewed = std::system(("env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(ISOATLAS_EXE) + " view --script " +
                                     (out / "view-session.txt").string() + " 2>" + (dir / "view.err").string()).c_str());
     EXPECT_EQ(WEXITSTATUS(viewed), 2);
@@ -392,12 +389,23 @@ TEST(Cli, RunEditsTheSegmentationBeforeExtraction) {
   const auto out = dir / "edited";
   // The ring's centre is at (-0.2, -0.6, 1.4) mm and its radius 8 mm: the box cuts the tube at +x.
   const Result r = run("run " + torus.string() + " -o " + out.string() + " --seed 31,18,14,2 --target 200 --width 60 " +
-                       "--backend cpu --samples 5000 --subtract box:4,-4,-20,14,3,20");
+                       "--backend cpu --samples 5000 --subtract box:4,-4,-20,14,3,20 --full-resolution-start");
   ASSERT_EQ(r.code, 0) << r.err;
   const MeshTopology t = analyzeTopology(readMesh((out / "surface.ply").string()));
   EXPECT_TRUE(t.closed && t.manifold) << t.firstProblem;
   EXPECT_EQ(t.genus, 0) << "the ring is cut";
   const auto report = nlohmann::json::parse(test::readBytes(out / "report.json"));
+  // Segmented from the seeds at full resolution, the window's script replays the seed (in world mm)
+  // and the steps run took, then the edit as a brush.
+  EXPECT_EQ(report["segment"]["half_resolution_iterations"], 0);
+  const std::string session = test::readBytes(out / "view-session.txt");
+  const Vec3 seedWorld = readVolume(torus.string()).indexToWorld({31, 18, 14});
+  std::ostringstream seedLine;
+  seedLine.precision(7);
+  seedLine << "seed " << seedWorld.x << "," << seedWorld.y << "," << seedWorld.z << ",";
+  EXPECT_NE(session.find(seedLine.str()), std::string::npos) << session;
+  EXPECT_NE(session.find("run " + std::to_string(report["segment"]["iterations"].get<int>()) + "\n"), std::string::npos) << session;
+  EXPECT_NE(session.find("brush subtract box:4,-4,-20,14,3,20\n"), std::string::npos) << session;
   EXPECT_EQ(report["extract"]["path"], "cpu dense") << "extracted from the edited tree";
   for (const char* key : {"nodes", "leaves", "depth_max", "seconds_write", "bytes", "backend"}) EXPECT_TRUE(report["edit"].contains(key)) << key;
   const Volume before = readVolume((out / "mask.nii.gz").string()), after = readVolume((out / "mask_edited.nii.gz").string());
@@ -485,8 +493,9 @@ TEST(Cli, SegmentFindsTheBallAndKeepsTheGeometry) {
     const auto report = nlohmann::json::parse(test::readBytes(dir / "r.json"));
     for (const char* key : {"backend", "renderer", "iterations", "seconds", "steps_per_second", "converged",
                             "inside_voxels", "active_pages_peak", "active_pages_final", "physical_bytes_peak",
-                            "readback_bytes_per_iteration"})
+                            "readback_bytes_per_iteration", "half_resolution_iterations", "half_resolution_seconds"})
       EXPECT_TRUE(report.contains(key)) << key;
+    EXPECT_GT(report["half_resolution_iterations"].get<int>(), 0) << "--converge starts from half resolution";
     EXPECT_EQ(report["backend"], backend);
     EXPECT_EQ(report["gl_contexts"], std::string(backend) == "gpu" ? 1 : 0);
     EXPECT_EQ(report["inside_voxels"], inside);

@@ -14,6 +14,7 @@
 #include "levelset/level_set.h"
 #include "levelset/probe.h"
 #include "levelset/row_stencil.h"
+#include "pipeline/coarse_start.h"
 #include "tests/gl_context.h"
 #include "tests/thread_count.h"
 
@@ -201,6 +202,67 @@ TEST(LevelSet, NoisyTorusPhantomIsSegmentedWithDiceAbove95) {
   EXPECT_TRUE(stats.converged) << stats.iterations << " iterations";
   EXPECT_GE(dice(ls.mask(), p.truth), 0.95);
   EXPECT_EQ(gradientOutsideActivePages(ls), 0);
+}
+
+// The half-resolution start (pipeline/coarse_start.h): each half voxel is its block's mean (fewer
+// voxels at an odd edge), and lies where its block does.
+TEST(HalfResolutionStart, HalfVoxelsAreTheirBlocksMeansWhereTheBlocksAre) {
+  Volume v = Volume::zeros({5, 4, 3}, ScalarType::Float32);
+  v.spacing = {0.5, 1, 2};
+  v.origin = {1, -2, 3};
+  for (std::size_t n = 0; n < v.voxelCount(); ++n) v.setValue(n, double(n * n % 17));
+  const Volume h = pipeline::halfResolution(v);
+  ASSERT_EQ(h.dims, (std::array<std::int64_t, 3>{3, 2, 2}));
+  for (std::int64_t z = 0; z < 2; ++z)
+    for (std::int64_t y = 0; y < 2; ++y)
+      for (std::int64_t x = 0; x < 3; ++x) {
+        double sum = 0;
+        int n = 0;
+        for (std::int64_t Z = 2 * z; Z < std::min<std::int64_t>(2 * z + 2, 3); ++Z)
+          for (std::int64_t Y = 2 * y; Y < 2 * y + 2; ++Y)
+            for (std::int64_t X = 2 * x; X < std::min<std::int64_t>(2 * x + 2, 5); ++X, ++n) sum += v.at(X, Y, Z);
+        EXPECT_NEAR(h.at(x, y, z), sum / n, 1e-5) << x << " " << y << " " << z;
+        const Vec3 a = h.indexToWorld({double(x), double(y), double(z)});
+        const Vec3 b = v.indexToWorld({2.0 * x + 0.5, 2.0 * y + 0.5, 2.0 * z + 0.5});
+        EXPECT_NEAR(norm(a - b), 0, 1e-9);
+      }
+}
+
+// Started from its solution at half the resolution, the noisy torus settles in fewer full-resolution
+// steps on the segmentation the seeds give (from spheres or from a seed mask alike).
+TEST(HalfResolutionStart, TheTorusFromHalfResolutionIsTheTorusFromTheSeedsInFewerSteps) {
+  const Phantom p = torusPhantom();
+  const SpeedParams params{100, 30, 0.7f};
+  LevelSet full(p.image, params);
+  full.addSphere(p.seedA, 3);
+  full.addSphere(p.seedB, 3);
+  const RunStats fullStats = full.run({.maxIterations = 600});
+  ASSERT_TRUE(fullStats.converged);
+  Volume seedMask = p.image.sameGeometry(ScalarType::UInt8);
+  for (std::int64_t z = 0; z < seedMask.dims[2]; ++z)
+    for (std::int64_t y = 0; y < seedMask.dims[1]; ++y)
+      for (std::int64_t x = 0; x < seedMask.dims[0]; ++x) {
+        const Vec3 q{double(x), double(y), double(z)};
+        seedMask.setValue(seedMask.index(x, y, z), norm(q - p.seedA) < 3 || norm(q - p.seedB) < 3);
+      }
+  for (const bool fromMask : {false, true}) {
+    SCOPED_TRACE(fromMask ? "seed mask" : "seed spheres");
+    const std::vector<pipeline::Ball> seeds = fromMask ? std::vector<pipeline::Ball>{}
+                                                       : std::vector<pipeline::Ball>{{p.seedA, 3}, {p.seedB, 3}};
+    const pipeline::CoarseStart start =
+        pipeline::solveAtHalfResolution(p.image, params, seeds, fromMask ? &seedMask : nullptr, {}, {.maxIterations = 600});
+    EXPECT_TRUE(start.stats.converged);
+    ASSERT_EQ(start.mask.dims, p.image.dims);
+    EXPECT_GE(dice(start.mask, p.truth), 0.93) << "the half-resolution solution, in place on the volume's grid";
+    LevelSet fine(p.image, params);
+    fine.setMask(start.mask);
+    const RunStats stats = fine.run({.maxIterations = 600});
+    EXPECT_TRUE(stats.converged);
+    EXPECT_LT(stats.iterations, fullStats.iterations);
+    EXPECT_GE(dice(fine.mask(), full.mask()), 0.99);
+    EXPECT_GE(dice(fine.mask(), p.truth), 0.95);
+    EXPECT_EQ(gradientOutsideActivePages(fine), 0);
+  }
 }
 
 // The rule by hand: ten voxels for a small band, one in 20,000 of a large one, whichever is more;

@@ -208,10 +208,10 @@ TEST(ViewScript, ReadsEveryActionAndNamesTheLineOfABadOne) {
                                                   "probe 0,0,0   # radius 3 by default\n"
                                                   "seed 0,0,0,6\nunseed 1,2,3,4\nset eps 30\nrun 50\nundo\nredo\n"
                                                   "brush subtract sphere:9,0,0,6\nstroke union 2.5 1,2,3 4,5,6\npaint subtract 3 k 1,2,3\nbuild\nlevels 2 1\nwireframe on\n"
-                                                  "render cubes\nmode mesh\nslice 1,2,3\nview3d volume\nclip -y\nstamp 1,2,3,4,0.5 word\nsave-mask m.nii.gz\n"
+                                                  "render cubes\nmode mesh\nslice 1,2,3\nview3d volume\nclip -y\nstamp 1,2,3,4,0.5 word\nload-mask m.nii.gz\nsave-mask m.nii.gz\n"
                                                   "save-model m.isoatlas\nscreenshot s.png\nframes 3\ntool unseed\nquit\n"));
-  ASSERT_EQ(actions.size(), 26u);
-  EXPECT_EQ(actions[24].word, "unseed");
+  ASSERT_EQ(actions.size(), 27u);
+  EXPECT_EQ(actions[25].word, "unseed");
   EXPECT_EQ(actions[0].verb, "open");
   EXPECT_EQ(actions[0].line, 2);
   EXPECT_EQ(actions[1].numbers, (std::vector<double>{0, 0, 0, 3}));
@@ -228,11 +228,14 @@ TEST(ViewScript, ReadsEveryActionAndNamesTheLineOfABadOne) {
   EXPECT_EQ(actions[10].word, "k");
   EXPECT_EQ(actions[10].numbers, (std::vector<double>{3, 1, 2, 3}));
   EXPECT_EQ(actions[12].numbers, (std::vector<double>{2, 1}));
+  EXPECT_EQ(actions[20].verb, "load-mask");
+  EXPECT_EQ(actions[20].word, "m.nii.gz");
   for (const std::string bad : {"probe 0,0", "seed 0,0,0", "seed 0,0,0,-1", "set T 3", "run -2", "run 2.5", "brush union sphere:1,2",
                                 "brush add sphere:0,0,0,1", "screenshot s.jpg", "levels 2", "mode volume", "teleport 1,2,3",
                                 "open", "quit now", "clip y", "view3d slices", "stamp 1,2,3,4 word", "stamp 1,2,3,4,0 word",
                                 "stroke union 2", "stroke carve 2 1,2,3", "redo now", "paint union 2 1,2,3", "paint union 2 z 1,2,3", "stroke union 0 1,2,3", "stroke subtract 2 1,2",
-                                "run 6e119", "frames 1000001", "levels 2 1e300", "tool hammer", "tool", "tool brush 8"}) {  // the view-script fuzzer's find: no cast of a huge count
+                                "run 6e119", "frames 1000001", "levels 2 1e300", "tool hammer", "tool", "tool brush 8", "load-mask",
+                                "load-mask a.nii b.nii"}) {  // the view-script fuzzer's find: no cast of a huge count
     SCOPED_TRACE(bad);
     const Error e = test::thrownError([&] { readViewScript(writeScript(dir, "frames 1\n\n" + bad + "\n")); }, bad);
     EXPECT_NE(std::string(e.what()).find("actions.txt:3:"), std::string::npos) << e.what();

@@ -90,7 +90,8 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   std::ofstream(script) << "open " << volume << "\nprobe 0,0,0,4.5\nseed 0,0,0,6\nset eps 30\nrun 50\nscreenshot " << p("segment.png") << "\nsave-mask "
                         << p("mask.nii.gz") << "\nview3d volume\nclip +y\nscreenshot " << p("volume.png") << "\nbrush subtract sphere:12,0,0,7.5\nsave-mask " << p("brushed.nii.gz")
                         << "\nstroke union 2.5 -10.3,-7.1,2.2 -2.2,4.3,2.9 6.1,8.8,27.3\nsave-mask " << p("stroked.nii.gz") << "\nundo\nsave-mask "
-                        << p("unstroked.nii.gz") << "\nredo\nsave-mask " << p("restroked.nii.gz") << "\nundo\nmode tree\nscreenshot " << p("tree.png") << "\nmode segment\nbuild\nlevels 2 1\nstamp 0,-27,0,12,1 iso\nscreenshot "
+                        << p("unstroked.nii.gz") << "\nredo\nsave-mask " << p("restroked.nii.gz") << "\nundo\nload-mask " << p("mask.nii.gz")
+                        << "\nsave-mask " << p("reloaded.nii.gz") << "\nundo\nmode tree\nscreenshot " << p("tree.png") << "\nmode segment\nbuild\nlevels 2 1\nstamp 0,-27,0,12,1 iso\nscreenshot "
                         << p("mesh.png") << "\nsave-model " << p("model.isoatlas") << "\nquit\n";
   const int width = 880, height = 520;
   const ViewerReport report = runViewer({.script = script, .width = width, .height = height, .backend = "cpu",
@@ -184,6 +185,7 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   EXPECT_EQ(strokeWrong, 0);
   EXPECT_TRUE(readVolume(p("unstroked.nii.gz")).data == brushed.data) << "undo takes the stroke back";
   EXPECT_TRUE(readVolume(p("restroked.nii.gz")).data == stroked.data) << "redo brings it again";
+  EXPECT_TRUE(readVolume(p("reloaded.nii.gz")).data == mask.data) << "load-mask takes the mask as it was saved";
 
   // The tree view shows the last stroke's tree (the brushed segmentation with the stroke); the mesh
   // view shows the model where it projects.

@@ -14,7 +14,7 @@ namespace {
 
 const char* kUsage =
     "open FILE, mode segment|mesh|tree, tool navigate|probe|seed|unseed|brush, slice X,Y,Z, probe X,Y,Z[,R], seed X,Y,Z,R, unseed X,Y,Z,R, set t|eps|alpha V, run N, "
-    "undo, redo, brush union|subtract SHAPE, stroke union|subtract R X,Y,Z..., paint union|subtract R i|j|k X,Y,Z..., view3d volume|surface, clip +x|-x|+y|-y|+z|-z|off, build, levels CPU GPU, stamp X,Y,Z,R,DEPTH WORD, wireframe on|off, render raycast|cubes, save-mask FILE, "
+    "undo, redo, brush union|subtract SHAPE, stroke union|subtract R X,Y,Z..., paint union|subtract R i|j|k X,Y,Z..., view3d volume|surface, clip +x|-x|+y|-y|+z|-z|off, build, levels CPU GPU, stamp X,Y,Z,R,DEPTH WORD, wireframe on|off, render raycast|cubes, load-mask FILE, save-mask FILE, "
     "save-model FILE, screenshot FILE.png, frames N, quit";
 
 // One line's action, its words checked.
@@ -38,7 +38,7 @@ ViewAction parseAction(const std::vector<std::string>& words, const std::string&
     return n[0];
   };
   const std::string& v = a.verb;
-  if (v == "open" || v == "save-mask" || v == "save-model" || v == "screenshot") {
+  if (v == "open" || v == "load-mask" || v == "save-mask" || v == "save-model" || v == "screenshot") {
     need(1, "a file");
     a.word = words[1];
     if (v == "screenshot" && !a.word.ends_with(".png")) throw Error(where + ": screenshot " + a.word + ": writes a .png");
@@ -193,6 +193,7 @@ void ScriptPlayer::perform(const ViewAction& a, window::Viewer& v, std::string& 
   else if (verb == "clip") v.clip(a.word);
   else if (verb == "wireframe") v.wireframe(a.on);
   else if (verb == "render") v.treeRender(a.word == "cubes");
+  else if (verb == "load-mask") v.loadMask(a.word);
   else if (verb == "save-mask") v.saveMask(a.word);
   else if (verb == "save-model") v.saveModel(a.word);
   else if (verb == "screenshot") screenshot = a.word;

@@ -24,6 +24,7 @@
 //   wireframe on|off          the mesh view's wireframe
 //   stamp X,Y,Z,R,DEPTH WORD  the word pressed DEPTH mm into the model nearest X,Y,Z, in a disc of R mm
 //   render raycast|cubes      the tree view's renderer
+//   load-mask FILE            the segmentation replaced by a mask volume (> 0 inside; the scan's grid)
 //   save-mask FILE            the segmentation as a mask volume
 //   save-model FILE           the built model (.isoatlas)
 //   screenshot FILE.png       the window as it is

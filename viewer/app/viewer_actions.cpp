@@ -184,6 +184,11 @@ void Viewer::treeRender(bool cubes) {
   tree_->cubes = cubes;
 }
 
+void Viewer::loadMask(const std::string& path) {
+  seg().session->replaceMask(readVolume(path));
+  status_ = "loaded " + path;
+}
+
 void Viewer::saveMask(const std::string& path) {
   seg().session->saveMask(path);
   status_ = "saved " + path;

@@ -184,6 +184,7 @@ public:
   // A word pressed `depth` mm into the model's surface nearest `at`, fitting a disc of `radius` mm.
   void stamp(const Vec3& at, const std::string& word, double radius, double depth);
   void treeRender(bool cubes);
+  void loadMask(const std::string& path);  // the segmentation replaced (one undo takes it back)
   void saveMask(const std::string& path);
   void saveModel(const std::string& path);
 
