@@ -41,7 +41,7 @@ struct RunOptions {
   double target = 0, width = 1, alpha = 0.8;
   std::string backend = "auto";
   int iterations = 3000;  // the demo converges in under a thousand
-  bool fullResolutionStart = false;
+  bool halfResolutionStart = false;
   pipeline::ModelRequest model;
   int chart = 33;
   std::string levels = "even";  // the levels run measures: "even" (0, 2, ..., the whole chart) or eval's form
@@ -164,7 +164,7 @@ SegmentationSetup segmentationSetup(const RunOptions& options, const std::string
   return s;
 }
 
-pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup, int iterations, bool fullResolutionStart) {
+pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup, int iterations, bool halfResolutionStart) {
   std::optional<pipeline::Segmentation> result;
   job.stage("segment", [&] {
     result = pipeline::segmentVolume(job.volume, {.params = setup.params,
@@ -174,7 +174,7 @@ pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup,
                                                   .maxIterations = iterations,
                                                   .label = "run: segment",
                                                   .readPhi = true,
-                                                  .halfResolutionStart = !fullResolutionStart});
+                                                  .halfResolutionStart = halfResolutionStart});
     const pipeline::Segmentation& s = *result;
     const std::string maskFile = job.products.add("mask.nii.gz", "the segmentation: uint8, 1 inside, on the input's grid");
     writeVolume(maskFile, s.mask);
@@ -449,7 +449,7 @@ void runJob(const std::string& input, const std::string& outDir, const RunOption
     logInfo("run: skipping segment: give --seed X,Y,Z[,R] --target T --width EPS");
     job.skipped("build multiresolution model", "no surface (nothing was segmented)");
   } else {
-    const pipeline::Segmentation s = segmentStage(job, setup, options.iterations, options.fullResolutionStart);
+    const pipeline::Segmentation s = segmentStage(job, setup, options.iterations, options.halfResolutionStart);
     const EditedVolume edit = editStage(job, s, setup.edits, solids);
     const Mesh surface = extractStage(job, s, edit);
     pipeline::ModelRequest request = options.model;
@@ -499,8 +499,8 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--backend", options->backend, "gpu, cpu or auto")->capture_default_str();
   sub->add_option("--iterations,-n", options->iterations, "most iterations of the segmentation (it stops once converged)")
       ->capture_default_str();
-  sub->add_flag("--full-resolution-start", options->fullResolutionStart,
-                "segment from the seeds at full resolution, not from the solution at half resolution");
+  sub->add_flag("--half-resolution-start", options->halfResolutionStart,
+                "segment from the solution at half resolution instead of the seeds (faster; the window's script then loads the mask)");
   addEditStepOptions(*sub, options->edits);
   sub->add_option("--base-ratio", options->model.baseRatio, "base vertices of the model as a fraction of the surface's")
       ->capture_default_str();

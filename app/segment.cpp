@@ -16,7 +16,7 @@ struct SegmentOptions {
   std::vector<std::string> seeds;
   double target = 0, width = 0, alpha = 0.5;
   int iterations = levelset::RunOptions{}.maxIterations, page = levelset::LevelSetOptions{}.pageSize;
-  bool converge = false, fullResolutionStart = false;
+  bool converge = false, halfResolutionStart = false;
 };
 
 void addSegmentCommand(CLI::App& app, int& exitCode) {
@@ -30,8 +30,8 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--alpha,-a", o->alpha, "weight of the intensity term against curvature, in [0, 1]")->capture_default_str();
   sub->add_option("--iterations,-n", o->iterations, "most iterations to run")->capture_default_str();
   sub->add_flag("--converge", o->converge, "stop early once the front stops moving");
-  sub->add_flag("--full-resolution-start", o->fullResolutionStart,
-                "with --converge, start from the seeds at full resolution, not from the solution at half resolution");
+  sub->add_flag("--half-resolution-start", o->halfResolutionStart,
+                "with --converge, start from the solution at half resolution instead of the seeds (faster)");
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
   sub->add_option("--page", o->page, "page size in voxels (a power of two, 4..32)")->capture_default_str();
   sub->add_option("-o,--output", o->output, "output mask (uint8, 1 inside), e.g. mask.nii.gz")->required()->check(outputFile());
@@ -67,7 +67,7 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
                                                   .maxIterations = o->iterations,
                                                   .untilConverged = o->converge,
                                                   .readPhi = !o->phi.empty(),
-                                                  .halfResolutionStart = o->converge && !o->fullResolutionStart});
+                                                  .halfResolutionStart = o->converge && o->halfResolutionStart});
     writeVolume(o->output, s.mask);
     if (!o->phi.empty()) writeVolume(o->phi, s.phi);
 

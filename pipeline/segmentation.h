@@ -1,5 +1,5 @@
 // The segmentation `segment` and `run` share: a level set on the chosen backend (its GL context current
-// when it is the GPU), seeded by balls (and a mask), by default through its solution at half the
+// when it is the GPU), seeded by balls (and a mask), or when asked through its solution at half the
 // resolution (pipeline/coarse_start.h), run with progress on stderr, the mask read back
 // once (and phi, when asked for: the mask is then made from it).
 #pragma once

@@ -127,7 +127,7 @@ void bindStages(py::module_& m) {
       "mean and standard deviation in a ball (voxel indices, radius in voxels), and the T and eps they suggest");
 
   m.def("segment", [](const py::object& volume, const std::vector<std::vector<double>>& seeds, double target, double width, double alpha,
-                      const std::string& backend, int iterations, bool converge, bool fullResolutionStart, const py::object& progress,
+                      const std::string& backend, int iterations, bool converge, bool halfResolutionStart, const py::object& progress,
                       const py::object& affine) {
         const VolumeArgument argument(volume, affine, "segment");
         const Volume& v = argument.get();
@@ -143,15 +143,15 @@ void bindStages(py::module_& m) {
           py::gil_scoped_release release;
           s = pipeline::segmentVolume(v, {.params = params, .seeds = balls, .backend = gpu.backend, .renderer = gpu.renderer,
                                      .maxIterations = iterations, .untilConverged = converge, .readPhi = true,
-                                     .halfResolutionStart = converge && !fullResolutionStart});
+                                     .halfResolutionStart = converge && halfResolutionStart});
         }
         // Arrays sharing the Volumes' voxels (the Volumes kept alive as their owners).
         return py::make_tuple(ownedArray(std::move(s.mask)), ownedArray(std::move(s.phi)), toDict(s.figures()));
       }, py::arg("volume"), py::arg("seeds"), py::arg("target"), py::arg("width"), py::arg("alpha") = 0.5, py::arg("backend") = "auto",
-      py::arg("iterations") = 1000, py::arg("converge") = false, py::arg("full_resolution_start") = false, py::arg("progress") = py::none(),
+      py::arg("iterations") = 1000, py::arg("converge") = false, py::arg("half_resolution_start") = false, py::arg("progress") = py::none(),
       py::arg("affine") = py::none(),
       "the paged level-set segmentation (isoatlas segment): (mask uint8, phi float32, report), arrays (x, y, z) in the volume's grid; seeds in "
-      "voxel indices; with converge, it starts from its solution at half resolution unless full_resolution_start");
+      "voxel indices; with converge and half_resolution_start, it starts from its solution at half resolution (faster)");
 
   m.def("edit", [](const py::object& volume, const std::vector<std::pair<std::string, std::string>>& steps, std::optional<std::uint32_t> depth,
                    const std::string& backend, const py::object& affine) {

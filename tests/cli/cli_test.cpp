@@ -322,7 +322,7 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
     SCOPED_TRACE(backend);
     const auto out = dir / backend;
     const Result r = run("run " + torus.string() + " -o " + out.string() + " --seed 31,18,14,2 --target 200 --width 60 " +
-                         "--backend " + backend + " --samples 5000");
+                         "--backend " + backend + " --samples 5000 --half-resolution-start");
     ASSERT_EQ(r.code, 0) << r.err;
     const Volume mask = readVolume((out / "mask.nii.gz").string());
     std::int64_t both = 0, inMask = 0, inTruth = 0;
@@ -332,8 +332,8 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
       inTruth += truth.value(n) == 1;
     }
     EXPECT_GT(2.0 * double(both) / double(inMask + inTruth), 0.9) << "Dice with the phantom's truth";
-    // The window's script of the same session: run segmented from its solution at half resolution,
-    // so the window takes its mask; the window reads it whole (and the volume it opens) before asking
+    // The window's script of the same session: run segmented from its solution at half resolution
+    // (--half-resolution-start), so the window takes its mask; the window reads it whole (and the volume it opens) before asking
     // for a display.
     const std::string session = test::readBytes(out / "view-session.txt");
     EXPECT_NE(session.find("load-mask " + std::filesystem::absolute(out / "mask.nii.gz").string() + "\n"), std::string::npos) << session;
@@ -389,7 +389,7 @@ TEST(Cli, RunEditsTheSegmentationBeforeExtraction) {
   const auto out = dir / "edited";
   // The ring's centre is at (-0.2, -0.6, 1.4) mm and its radius 8 mm: the box cuts the tube at +x.
   const Result r = run("run " + torus.string() + " -o " + out.string() + " --seed 31,18,14,2 --target 200 --width 60 " +
-                       "--backend cpu --samples 5000 --subtract box:4,-4,-20,14,3,20 --full-resolution-start");
+                       "--backend cpu --samples 5000 --subtract box:4,-4,-20,14,3,20");
   ASSERT_EQ(r.code, 0) << r.err;
   const MeshTopology t = analyzeTopology(readMesh((out / "surface.ply").string()));
   EXPECT_TRUE(t.closed && t.manifold) << t.firstProblem;
@@ -475,7 +475,7 @@ TEST(Cli, SegmentFindsTheBallAndKeepsTheGeometry) {
   for (const char* backend : {"cpu", "gpu"}) {
     const std::string out = (dir / (std::string(backend) + ".nii.gz")).string();
     const Result r = run("segment " + ball.string() + " --seed 20,18,15,2 --target 200 --width 60 --alpha 0.8 " +
-                         "--iterations 400 --converge --backend " + backend + " -o " + out + " --phi " +
+                         "--iterations 400 --converge --half-resolution-start --backend " + backend + " -o " + out + " --phi " +
                          (dir / "phi.nii").string() + " --report " + (dir / "r.json").string());
     ASSERT_EQ(r.code, 0) << r.err;
     const Volume mask = readVolume(out);
@@ -495,7 +495,7 @@ TEST(Cli, SegmentFindsTheBallAndKeepsTheGeometry) {
                             "inside_voxels", "active_pages_peak", "active_pages_final", "physical_bytes_peak",
                             "readback_bytes_per_iteration", "half_resolution_iterations", "half_resolution_seconds"})
       EXPECT_TRUE(report.contains(key)) << key;
-    EXPECT_GT(report["half_resolution_iterations"].get<int>(), 0) << "--converge starts from half resolution";
+    EXPECT_GT(report["half_resolution_iterations"].get<int>(), 0) << "--half-resolution-start";
     EXPECT_EQ(report["backend"], backend);
     EXPECT_EQ(report["gl_contexts"], std::string(backend) == "gpu" ? 1 : 0);
     EXPECT_EQ(report["inside_voxels"], inside);

@@ -126,15 +126,15 @@ def test_segment_and_extract_equal_the_command(tmp_path):
     np.testing.assert_array_equal(from_volume, mask)
     assert mask.sum() > 1000, "the seed grew"
 
-    # Until converged, both start from the solution at half resolution, which the full-resolution start agrees with.
+    # Until converged from the solution at half resolution, both alike, and the full-resolution start agrees.
     cli("segment", path, "--seed", "18,20,15,3", "--target", "100", "--width", "30", "--alpha", "0.6", "--iterations", "400",
-        "--converge", "--backend", "cpu", "-o", str(tmp_path / "converged.nii.gz"))
+        "--converge", "--half-resolution-start", "--backend", "cpu", "-o", str(tmp_path / "converged.nii.gz"))
     converged, _, report = isoatlas.segment(img, seeds=[(18, 20, 15, 3)], target=100, width=30, alpha=0.6, iterations=400,
-                                            converge=True, backend="cpu")
+                                            converge=True, half_resolution_start=True, backend="cpu")
     np.testing.assert_array_equal(converged, np.asanyarray(nib.load(str(tmp_path / "converged.nii.gz")).dataobj))
     assert report["half_resolution_iterations"] > 0 and report["converged"]
     full, _, full_report = isoatlas.segment(img, seeds=[(18, 20, 15, 3)], target=100, width=30, alpha=0.6, iterations=400,
-                                            converge=True, full_resolution_start=True, backend="cpu")
+                                            converge=True, backend="cpu")
     assert full_report["half_resolution_iterations"] == 0
     dice = 2 * np.logical_and(full, converged).sum() / (full.sum() + converged.sum())
     assert dice >= 0.99, dice
