@@ -31,7 +31,8 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--iterations,-n", o->iterations, "most iterations to run")->capture_default_str();
   sub->add_flag("--converge", o->converge, "stop early once the front stops moving");
   sub->add_flag("--half-resolution-start", o->halfResolutionStart,
-                "with --converge, start from the solution at half resolution instead of the seeds (faster)");
+                "with --converge, start from the solution at half resolution instead of the seeds (faster)")
+      ->needs("--converge");
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
   sub->add_option("--page", o->page, "page size in voxels (a power of two, 4..32)")->capture_default_str();
   sub->add_option("-o,--output", o->output, "output mask (uint8, 1 inside), e.g. mask.nii.gz")->required()->check(outputFile());
@@ -67,7 +68,7 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
                                                   .maxIterations = o->iterations,
                                                   .untilConverged = o->converge,
                                                   .readPhi = !o->phi.empty(),
-                                                  .halfResolutionStart = o->converge && o->halfResolutionStart});
+                                                  .halfResolutionStart = o->halfResolutionStart});
     writeVolume(o->output, s.mask);
     if (!o->phi.empty()) writeVolume(o->phi, s.phi);
 

@@ -134,6 +134,7 @@ void bindStages(py::module_& m) {
         const levelset::SpeedParams params{float(target), float(width), float(alpha)};
         levelset::validateParams(params);
         require(iterations > 0, "iterations must be > 0");
+        require(converge || !halfResolutionStart, "half_resolution_start needs converge=True");
         const std::vector<pipeline::Ball> balls = seedBalls(seeds, v);
         require(!balls.empty(), "segment: give at least one seed");
         pipeline::Gpu& gpu = gpuFor(backend);
@@ -143,7 +144,7 @@ void bindStages(py::module_& m) {
           py::gil_scoped_release release;
           s = pipeline::segmentVolume(v, {.params = params, .seeds = balls, .backend = gpu.backend, .renderer = gpu.renderer,
                                      .maxIterations = iterations, .untilConverged = converge, .readPhi = true,
-                                     .halfResolutionStart = converge && halfResolutionStart});
+                                     .halfResolutionStart = halfResolutionStart});
         }
         // Arrays sharing the Volumes' voxels (the Volumes kept alive as their owners).
         return py::make_tuple(ownedArray(std::move(s.mask)), ownedArray(std::move(s.phi)), toDict(s.figures()));

@@ -187,6 +187,7 @@ TEST(Cli, EveryBadOptionExitsTwoNamingItAndWritesNothing) {
       {seg + "-o " + o + "m.txt", "m.txt"},
       {seg + "-o " + o + "m.nii.gz --alpha 2", "alpha"},
       {seg + "-o " + o + "m.nii.gz --page 5", "--page"},
+      {seg + "-o " + o + "m.nii.gz --half-resolution-start", "--converge"},
       {"segment " + vol + "-T 100 -e 10 --seed 100,0,0 -o " + o + "m.nii.gz", "--seed"},
       {"segment " + vol + "-T 100 -e -1 --seed 10,10,10 -o " + o + "m.nii.gz", "eps"},
       {"extract " + vol + "-o " + o + "s.txt", "s.txt"},

@@ -136,6 +136,8 @@ def test_segment_and_extract_equal_the_command(tmp_path):
     full, _, full_report = isoatlas.segment(img, seeds=[(18, 20, 15, 3)], target=100, width=30, alpha=0.6, iterations=400,
                                             converge=True, backend="cpu")
     assert full_report["half_resolution_iterations"] == 0
+    with pytest.raises(ValueError, match="half_resolution_start needs converge"):
+        isoatlas.segment(img, seeds=[(18, 20, 15, 3)], target=100, width=30, half_resolution_start=True, backend="cpu")
     dice = 2 * np.logical_and(full, converged).sum() / (full.sum() + converged.sum())
     assert dice >= 0.99, dice
 
