@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "core/error.h"
 #include "core/progress.h"
 #include "pipeline/coarse_start.h"
 
@@ -20,7 +21,8 @@ Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& requ
                                 .untilConverged = request.untilConverged,
                                 .progress = [&progress](int i, std::int64_t) { progress.update(std::uint64_t(i)); }};
   };
-  if (request.halfResolutionStart && request.untilConverged) {
+  require(!request.halfResolutionStart || request.untilConverged, "the half-resolution start needs the run until converged (--converge)");
+  if (request.halfResolutionStart) {
     Progress progress(request.label + " at half resolution", std::uint64_t(request.maxIterations), "iterations");
     CoarseStart coarse = solveAtHalfResolution(volume, request.params, request.seeds, request.seedMask,
                                                {.backend = s.backend, .pageSize = request.pageSize}, runOptions(progress));

@@ -27,7 +27,7 @@ struct SegmentationRequest {
   std::string label = "segment";  // the progress line's name
   bool readPhi = false;           // read phi back whole (for a phi file)
   // Start from the solution at half the resolution (pipeline/coarse_start.h) instead of the seeds;
-  // only with untilConverged (a count of steps from the seeds means what it says).
+  // only with untilConverged (a count of steps from the seeds means what it says; Error otherwise).
   bool halfResolutionStart = false;
 };
 

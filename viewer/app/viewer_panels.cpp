@@ -85,6 +85,8 @@ void Viewer::segmentPanel() {
   ImGui::InputText("file", pathField_, sizeof pathField_);
   if (ImGui::Button("save mask")) attempt([&] { saveMask(*pathField_ ? pathField_ : "mask.nii.gz"); });
   ImGui::SameLine();
+  if (ImGui::Button("load mask")) attempt([&] { loadMask(*pathField_ ? pathField_ : "mask.nii.gz"); });
+  ImGui::SameLine();
   if (job_) {
     const auto [task, fraction] = job_->progress();
     ImGui::ProgressBar(float(fraction), ImVec2(-1, 0), task.c_str());
