@@ -220,14 +220,23 @@ Convergence runOurs(const Volume& v, const Case& c, levelset::Backend backend, b
   return conv;
 }
 
+// Our solvers: isoatlas-cpu, isoatlas-gpu, and each with "-half-start".
+bool isHalfStart(const std::string& solver) { return solver.ends_with("-half-start"); }
+bool isOurs(const std::string& solver) {
+  for (const char* s : {"isoatlas-cpu", "isoatlas-gpu"})
+    if (solver == s || solver == std::string(s) + "-half-start") return true;
+  return false;
+}
+// The same backend started from the seeds at full resolution.
+std::string fullStartOf(const std::string& solver) { return solver.substr(0, solver.size() - std::string("-half-start").size()); }
+
 int runOne(const std::string& solver, const Case& c, const std::string& data, const std::string& out) {
   const Volume v = readVolume(data + "/" + c.file);
   Convergence conv;
   const float lower = c.params.target - c.params.width, upper = c.params.target + c.params.width;
-  if (solver == "isoatlas-cpu-half-start") {
-    conv = runOurs(v, c, levelset::Backend::Cpu, true);
-  } else if (solver == "isoatlas-cpu" || solver == "isoatlas-gpu") {
-    conv = runOurs(v, c, solver == "isoatlas-cpu" ? levelset::Backend::Cpu : levelset::Backend::Gpu);
+  if (isOurs(solver)) {
+    conv = runOurs(v, c, solver.rfind("isoatlas-gpu", 0) == 0 ? levelset::Backend::Gpu : levelset::Backend::Cpu,
+                   isHalfStart(solver));
   } else if (solver == "itk-serial") {
     using Filter = itk::ThresholdSegmentationLevelSetImageFilter<Image, Image>;
     auto f = Filter::New();
@@ -292,7 +301,7 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(tmp);
   const std::string self = std::filesystem::canonical("/proc/self/exe").string();
   std::vector<std::string> solvers = {"isoatlas-cpu", "isoatlas-cpu-half-start", "itk-serial", "itk-parallel"};
-  if (std::getenv("ISOATLAS_BENCH_GPU")) solvers.insert(solvers.begin() + 1, "isoatlas-gpu");
+  if (std::getenv("ISOATLAS_BENCH_GPU")) solvers.insert(solvers.begin() + 2, {"isoatlas-gpu", "isoatlas-gpu-half-start"});
   // ISOATLAS_BENCH_SOLVERS=a,b keeps only those (a GPU lease too short for ITK's serial filter, say).
   if (const char* keep = std::getenv("ISOATLAS_BENCH_SOLVERS")) {
     std::vector<std::string> kept;
@@ -332,12 +341,13 @@ int main(int argc, char** argv) {
                       "bandwidth bound: 12 bytes an active voxel at the triad bandwidth measured", boundMs, true);
       }
       // The half-resolution start against the full-resolution one: the Dice against today's result.
-      if (ours == "isoatlas-cpu-half-start" && figures.count("isoatlas-cpu")) {
-        const std::string full = "isoatlas-cpu, started at full resolution";
+      if (isHalfStart(ours) && figures.count(fullStartOf(ours))) {
+        const std::string full = fullStartOf(ours) + ", started at full resolution";
+        const std::string device = figures[ours]["device"].get<std::string>();
         bench::report("levelset", c.name + ", " + ours, "seconds to convergence", figures[ours]["seconds"], full,
-                      figures["isoatlas-cpu"]["seconds"], true);
-        bench::report("levelset", c.name + ", " + ours, "Dice with the peer's result", dice(maskOf(ours), maskOf("isoatlas-cpu")),
-                      full, 1.0, false);
+                      figures[fullStartOf(ours)]["seconds"], true, device);
+        bench::report("levelset", c.name + ", " + ours, "Dice with the peer's result", dice(maskOf(ours), maskOf(fullStartOf(ours))),
+                      full, 1.0, false, device);
       }
       for (const std::string& peer : {std::string("itk-serial"), std::string("itk-parallel")}) {
         if (!figures.count(peer)) continue;
@@ -354,7 +364,7 @@ int main(int argc, char** argv) {
                                         (b["converged"] ? "" : " (peer: capped, not converged; ratio a lower bound)");
         bench::report("levelset", tag, "seconds to convergence" + unconverged, a["seconds"], peerName, b["seconds"], true, device);
         // The half-resolution start's iterations run on two grids and its seconds hold both: no per-iteration rows.
-        if (ours != "isoatlas-cpu-half-start") {
+        if (!isHalfStart(ours)) {
           bench::report("levelset", tag, "ms per iteration", a["ms_per_iteration"], peerName, b["ms_per_iteration"], true, device);
           bench::report("levelset", tag, "iterations to convergence", a["iterations"], peerName, b["iterations"], true, device);
         }
