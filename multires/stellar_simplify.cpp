@@ -29,6 +29,11 @@ constexpr double kMeasureFromTimesTarget = 10;
 constexpr std::size_t kMeasuredTargets = 2;
 constexpr double kQuadricShare = 0.5;
 
+// The welds are taken in batches of up to this many of the cheapest, whose regions do not touch, so
+// that their checks and rankings run side by side. The batches depend on the heap alone, never on the
+// thread count, so neither does the base mesh.
+constexpr std::size_t kBatch = 64;
+
 // A removed dense vertex where it lies: weights of the vertices of the face that holds it. Each face
 // keeps its points together, with their positions, so that a ring's points are read in sequence.
 struct MappedPoint {
@@ -68,11 +73,37 @@ struct WeldOption {
   bool operator<(const WeldOption& o) const { return cost != o.cost ? cost < o.cost : length2 < o.length2; }
 };
 
-// Scratch space of one ranking, one per thread (rankings run in parallel).
+// Scratch space of one ranking or weld check, one per thread (they run in parallel).
 struct RankScratch {
   OneRing ring;
   std::vector<Vec2> plane;
   std::vector<FanPoint> dense;
+  std::vector<std::int32_t> regionIndex;  // per dense vertex, its place in a weld's points; -1 elsewhere
+  std::vector<Vec2> regionPlane;
+};
+
+// A weld checked against the mesh as it stands (a check only reads, so a batch's checks run side by
+// side), with what applying it needs.
+struct CheckedWeld {
+  enum class Outcome { Stale, PointOutside, DenseTriangle, Valid };
+  Candidate candidate;
+  Outcome outcome = Outcome::Stale;
+  OneRing ring;
+  std::vector<Vec2> plane;
+  WeldPlan plan;
+  std::vector<FanPoint> points;
+  std::vector<MappedPoint> region;
+  std::vector<TriangleHit> hits;
+  // Filled by applying it: the fan's faces (each with its corners, and those as ring indices, v's
+  // being k), the operators used, and u and its ring, to be ranked again.
+  struct FanFace {
+    FaceH face;
+    std::array<int, 3> corners;
+    std::array<std::uint8_t, 3> local;
+  };
+  std::vector<FanFace> fan;
+  WeldCounts operators;
+  std::vector<VertexH> changed;
 };
 
 // Per dense vertex, the other two corners of each dense face around it, in the face's order: a weld's
@@ -112,13 +143,17 @@ private:
   void ringPoints(VertexH v, const OneRing& ring, const std::vector<Vec2>& plane, std::vector<FanPoint>& points,
                   std::vector<MappedPoint>* region) const;
   void rankAgain(std::span<const VertexH> vertices);
-  void rankAgain(VertexH v) { rankAgain({&v, 1}); }
-  bool removeVertex(VertexH v, VertexH u);
+  std::size_t takeBatch(std::size_t most);
+  bool touchesBatch(VertexH v, VertexH u);
+  void checkWeld(CheckedWeld& weld, RankScratch& scratch) const;
+  void applyWeld(CheckedWeld& weld);
+  void recordWeld(const CheckedWeld& weld);
+  std::size_t weldBatch(std::size_t taken);
   bool locateInFan(VertexH v, const OneRing& ring, const std::vector<Vec2>& plane, const WeldPlan& plan,
                    const std::vector<FanPoint>& points, const std::vector<MappedPoint>& region,
                    std::vector<TriangleHit>& hits) const;
   bool denseTrianglesTurnLeft(const std::vector<FanPoint>& points, const std::vector<MappedPoint>& region,
-                              const OneRing& ring, const std::vector<Vec2>& plane);
+                              const OneRing& ring, const std::vector<Vec2>& plane, RankScratch& scratch) const;
   void recordStep(const OneRing& ring, const std::vector<Vec2>& plane, VertexH v);
   BaseMesh compact();
 
@@ -130,7 +165,6 @@ private:
   std::vector<std::uint32_t> faceVersion_;              // per face, its version in history_
   std::vector<std::array<int, 3>> faceCorners_;         // per face, its version's corners in order
   std::vector<std::vector<std::uint32_t>> refused_;     // per vertex, targets refused since its ring last changed
-  std::vector<std::int32_t> regionIndex_;               // scratch: per dense vertex, its place in a weld's points
   RefusalCounts refusals_;
   std::vector<Quadric> quadric_;
   bool measuring_ = false;  // ranking by measured distance (near the target size) instead of the quadric
@@ -140,10 +174,12 @@ private:
   WeldCounts operators_;
   tbb::enumerable_thread_specific<RankScratch> rankScratch_;  // reused to avoid allocations
   std::vector<std::pair<Candidate, bool>> rankings_;            // scratch for rankAgain
-  std::vector<Vec2> regionPlane_;
-  std::vector<TriangleHit> hitBuffer_;  // scratch for removeVertex
-  std::vector<VertexH> changedBuffer_;  // scratch for removeVertex
-  std::vector<MappedPoint> regionBuffer_;  // scratch for removeVertex
+  std::vector<Candidate> popped_;                               // scratch for takeBatch
+  std::vector<std::pair<Candidate, bool>> poppedRanked_;        // scratch for takeBatch
+  std::vector<CheckedWeld> batch_;                              // the welds of one batch, reused
+  std::vector<std::uint32_t> batchMark_;                        // per vertex, the last batch whose region held it
+  std::uint32_t batchStamp_ = 0;
+  std::vector<VertexH> changed_;                                // scratch for weldBatch
 };
 
 Vec3 pointOf(const StellarMesh& mesh, VertexH v) { return toVec3(mesh.point(v)); }
@@ -347,7 +383,7 @@ void Simplifier::rankAgain(std::span<const VertexH> vertices) {
     auto& [c, valid] = rankings_[i];
     valid = measuring_ ? evaluate(vertices[i], c, scratch) : bound(vertices[i], c, scratch);
   };
-  constexpr std::size_t kParallelBounds = 1024;  // bounds are cheap: a thread's start costs more
+  constexpr std::size_t kParallelBounds = 256;  // bounds are cheap: a thread's start costs more
   if (vertices.size() > 1 && (measuring_ || vertices.size() >= kParallelBounds))
     tbb::parallel_for(std::size_t(0), vertices.size(), rank);
   else
@@ -360,73 +396,146 @@ void Simplifier::rankAgain(std::span<const VertexH> vertices) {
   }
 }
 
-// Welds v into u when the region passes every check: the plan (evaluate() checked it on this very
-// ring: any change to the ring ranks v again), every dense point of the ring found in the new fan by
-// exact location, and no dense triangle inside the ring clockwise in its layout. Else the target is
-// refused until v's ring changes, and v is ranked again. Returns whether it welded.
-bool Simplifier::removeVertex(VertexH v, VertexH u) {
-  const OneRing ring = oneRing(mesh_, v);
+// Checks the weld of the candidate's vertex v into its target u against the mesh as it stands: u
+// still a neighbour it may weld into (else Stale: v is ranked again), the plan (evaluate() checked it
+// on this very ring: any change to the ring ranks v again), every dense point of the ring found in
+// the new fan by exact location, and no dense triangle inside the ring clockwise in its layout.
+void Simplifier::checkWeld(CheckedWeld& weld, RankScratch& scratch) const {
+  const VertexH v(int(weld.candidate.vertex)), u(int(weld.candidate.target));
+  weld.outcome = CheckedWeld::Outcome::Stale;
+  if (mesh_.status(u).deleted() || !canWeldInto(mesh_, v, u, &degrees_)) return;
+  OneRing& ring = weld.ring;
+  oneRing(mesh_, v, ring);
   const std::size_t k = ring.vertices.size();
-  std::vector<Vec2> plane;
-  exponentialMap(mesh_, v, ring, plane);
+  exponentialMap(mesh_, v, ring, weld.plane);
   const std::size_t t = std::size_t(std::find(ring.vertices.begin(), ring.vertices.end(), u) - ring.vertices.begin());
-  WeldPlan plan;
-  if (t == k || !planWeld(plane, ring.boundary, t, plan))
+  if (t == k || !planWeld(weld.plane, ring.boundary, t, weld.plan))
     throw Error("stellar simplify: a weld ranked valid has no valid plan", ErrorKind::Failure);
-  std::vector<FanPoint> points;
-  std::vector<MappedPoint>& region = regionBuffer_;
-  ringPoints(v, ring, plane, points, &region);
-  std::vector<TriangleHit>& hits = hitBuffer_;
-  const bool located = locateInFan(v, ring, plane, plan, points, region, hits);
-  const bool keepsDenseTriangles = located && denseTrianglesTurnLeft(points, region, ring, plane);
-  if (!keepsDenseTriangles) {
-    ++(located ? refusals_.denseTriangle : refusals_.pointOutside);
-    refused_[v.idx()].push_back(std::uint32_t(u.idx()));
-    rankAgain(v);
-    return false;
-  }
+  ringPoints(v, ring, weld.plane, weld.points, &weld.region);
+  const bool located = locateInFan(v, ring, weld.plane, weld.plan, weld.points, weld.region, weld.hits);
+  if (!located) weld.outcome = CheckedWeld::Outcome::PointOutside;
+  else if (!denseTrianglesTurnLeft(weld.points, weld.region, ring, weld.plane, scratch))
+    weld.outcome = CheckedWeld::Outcome::DenseTriangle;
+  else weld.outcome = CheckedWeld::Outcome::Valid;
+}
 
-  recordStep(ring, plane, v);
+// Applies a valid checked weld to the mesh and gives the new fan's faces their dense points. It
+// writes only v's and u's regions, so the disjoint welds of a batch apply side by side; their history
+// is recorded after (recordWeld), in the batch's order.
+void Simplifier::applyWeld(CheckedWeld& weld) {
+  const VertexH v(int(weld.candidate.vertex)), u(int(weld.candidate.target));
+  const OneRing& ring = weld.ring;
+  const WeldPlan& plan = weld.plan;
+  const std::size_t t = plan.target;
   for (const FaceH f : ring.faces) facePoints_[f.idx()].clear();
   VertexH spokes[kMaxDegree];
   for (std::size_t i = 0; i < plan.flipCount; ++i) spokes[i] = ring.vertices[plan.flips[i]];
-  operators_ += weldInto(mesh_, v, u, &degrees_, {spokes, plan.flipCount});
+  weld.operators = weldInto(mesh_, v, u, &degrees_, {spokes, plan.flipCount});
 
-  // The faces left where the ring was are the plan's fan: each gets a new version in the history.
+  // The faces left where the ring was are the plan's fan, in the ring's order (its history's order).
   std::size_t rimPosition[kMaxDegree];
   for (std::size_t m = 0; m < plan.rimSize; ++m) rimPosition[plan.rim[m]] = m;
   FaceH fan[kMaxDegree];
+  weld.fan.clear();
   for (const FaceH f : ring.faces) {
     if (mesh_.status(f).deleted()) continue;
-    std::array<int, 3> corners{};
-    std::array<std::uint8_t, 3> localCorners{};
+    CheckedWeld::FanFace face{f, {}, {}};
     std::size_t first = kMaxDegree;
     int i = 0;
     for (const VertexH w : mesh_.fv_range(f)) {
-      corners[i] = w.idx();
-      localCorners[i] = layoutIndex(ring, v, w.idx());
-      if (localCorners[i] != t) first = std::min(first, rimPosition[localCorners[i]]);
+      face.corners[i] = w.idx();
+      face.local[i] = layoutIndex(ring, v, w.idx());
+      if (face.local[i] != t) first = std::min(first, rimPosition[face.local[i]]);
       ++i;
     }
     fan[first] = f;
-    faceVersion_[f.idx()] = history_->adds(localCorners);
-    faceCorners_[f.idx()] = corners;
+    weld.fan.push_back(face);
   }
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const std::size_t m = hits[i].triangle;
+  for (std::size_t i = 0; i < weld.points.size(); ++i) {
+    const std::size_t m = weld.hits[i].triangle;
     const FaceH f = fan[m];
-    facePoints_[f.idx()].push_back({region[i].id,
+    facePoints_[f.idx()].push_back({weld.region[i].id,
                                     {u.idx(), ring.vertices[plan.rim[m]].idx(), ring.vertices[plan.rim[m + 1]].idx()},
-                                    hits[i].bary, points[i].position});
+                                    weld.hits[i].bary, weld.points[i].position});
   }
 
   quadric_[u.idx()] += quadric_[v.idx()];
-  std::vector<VertexH>& changed = changedBuffer_;  // u and its ring
-  changed.assign(1, u);
-  for (const VertexH w : mesh_.vv_range(u)) changed.push_back(w);
-  for (const VertexH w : changed) refused_[w.idx()].clear();
-  rankAgain(changed);
-  return true;
+  weld.changed.assign(1, u);
+  for (const VertexH w : mesh_.vv_range(u)) weld.changed.push_back(w);
+  for (const VertexH w : weld.changed) refused_[w.idx()].clear();
+}
+
+// The step of an applied weld into the history: the faces it replaced (their versions still those
+// before it), then a new version for each face of its fan.
+void Simplifier::recordWeld(const CheckedWeld& weld) {
+  recordStep(weld.ring, weld.plane, VertexH(int(weld.candidate.vertex)));
+  for (const CheckedWeld::FanFace& face : weld.fan) {
+    faceVersion_[face.face.idx()] = history_->adds(face.local);
+    faceCorners_[face.face.idx()] = face.corners;
+  }
+  operators_ += weld.operators;
+}
+
+// Whether the weld of v into u reads or writes a vertex that a weld already taken into the batch
+// does (each one's region: v, u and their rings); if not, marks its region for the batch.
+bool Simplifier::touchesBatch(VertexH v, VertexH u) {
+  auto touched = [&](VertexH w) { return batchMark_[w.idx()] == batchStamp_; };
+  const bool withU = !mesh_.status(u).deleted();
+  if (touched(v) || (withU && touched(u))) return true;
+  for (const VertexH w : mesh_.vv_range(v))
+    if (touched(w)) return true;
+  if (withU)
+    for (const VertexH w : mesh_.vv_range(u))
+      if (touched(w)) return true;
+  batchMark_[v.idx()] = batchStamp_;
+  for (const VertexH w : mesh_.vv_range(v)) batchMark_[w.idx()] = batchStamp_;
+  if (withU) {
+    batchMark_[u.idx()] = batchStamp_;
+    for (const VertexH w : mesh_.vv_range(u)) batchMark_[w.idx()] = batchStamp_;
+  }
+  return false;
+}
+
+// Takes up to `most` of the cheapest welds whose regions do not touch into batch_, in the order the
+// welds would come one at a time: the heap's front is popped (vertices only bounded are ranked in
+// full, side by side); a vertex whose full ranking differs from its bound goes back with it, and no
+// weld dearer than one that went back is taken; a weld touching one already taken goes back as it
+// was. Returns how many were taken.
+std::size_t Simplifier::takeBatch(std::size_t most) {
+  popped_.clear();
+  while (popped_.size() < most && !heap_.empty()) popped_.push_back(heap_.pop());
+  poppedRanked_.resize(popped_.size());
+  auto rank = [&](std::size_t i) {
+    auto& [c, valid] = poppedRanked_[i];
+    c = popped_[i];
+    valid = c.ranked || evaluate(VertexH(int(c.vertex)), c, rankScratch_.local());
+  };
+  std::size_t unranked = 0;
+  for (const Candidate& c : popped_) unranked += c.ranked ? 0 : 1;
+  if (unranked > 1)
+    tbb::parallel_for(std::size_t(0), popped_.size(), rank);
+  else
+    for (std::size_t i = 0; i < popped_.size(); ++i) rank(i);
+
+  ++batchStamp_;
+  std::size_t taken = 0;
+  double wentBack = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < popped_.size(); ++i) {
+    const auto& [c, valid] = poppedRanked_[i];
+    if (!valid) continue;  // no valid weld: dropped, as when it is ranked again
+    if (!popped_[i].ranked && c.cost != popped_[i].cost) {
+      heap_.set(c);
+      wentBack = std::min(wentBack, c.cost);
+      continue;
+    }
+    if (c.cost > wentBack || touchesBatch(VertexH(int(c.vertex)), VertexH(int(c.target)))) {
+      heap_.set(c);
+      continue;
+    }
+    if (batch_.size() <= taken) batch_.emplace_back();
+    batch_[taken++].candidate = c;
+  }
+  return taken;
 }
 
 // Where each point a weld maps again lies in the fan the plan leaves around ring vertex t (u):
@@ -477,11 +586,13 @@ bool Simplifier::locateInFan(VertexH v, const OneRing& ring, const std::vector<V
 // vertices mapped into its ring: inside the ring) and all its corners there or on the ring turns
 // counter-clockwise in the ring's layout (exact test).
 bool Simplifier::denseTrianglesTurnLeft(const std::vector<FanPoint>& points, const std::vector<MappedPoint>& region,
-                                        const OneRing& ring, const std::vector<Vec2>& plane) {
-  std::vector<Vec2>& at = regionPlane_;
+                                        const OneRing& ring, const std::vector<Vec2>& plane, RankScratch& scratch) const {
+  std::vector<std::int32_t>& regionIndex = scratch.regionIndex;
+  if (regionIndex.empty()) regionIndex.assign(mesh_.n_vertices(), -1);
+  std::vector<Vec2>& at = scratch.regionPlane;
   at.clear();
   auto mark = [&](std::uint32_t vertex, const Vec2& p) {
-    regionIndex_[vertex] = std::int32_t(at.size());
+    regionIndex[vertex] = std::int32_t(at.size());
     at.push_back(p);
   };
   for (std::size_t i = 0; i < region.size(); ++i) mark(region[i].id, points[i].plane);
@@ -489,7 +600,7 @@ bool Simplifier::denseTrianglesTurnLeft(const std::vector<FanPoint>& points, con
   bool ok = true;
   for (std::size_t i = 0; i < region.size() && ok; ++i)
     for (const auto& [second, third] : denseStars_.of(region[i].id)) {
-      const std::int32_t b = regionIndex_[second], d = regionIndex_[third];
+      const std::int32_t b = regionIndex[second], d = regionIndex[third];
       // Once per face inside: from its corner that comes first among the inner points.
       if (b <= std::int32_t(i) || d <= std::int32_t(i)) continue;
       if (exactOrientation(at[i], at[std::size_t(b)], at[std::size_t(d)]) <= 0) {
@@ -497,8 +608,8 @@ bool Simplifier::denseTrianglesTurnLeft(const std::vector<FanPoint>& points, con
         break;
       }
     }
-  for (const MappedPoint& m : region) regionIndex_[m.id] = -1;
-  for (const VertexH w : ring.vertices) regionIndex_[w.idx()] = -1;
+  for (const MappedPoint& m : region) regionIndex[m.id] = -1;
+  for (const VertexH w : ring.vertices) regionIndex[w.idx()] = -1;
   return ok;
 }
 
@@ -514,6 +625,41 @@ void Simplifier::recordStep(const OneRing& ring, const std::vector<Vec2>& plane,
     const auto& c = faceCorners_[f.idx()];
     history_->replaces(faceVersion_[f.idx()], {layoutIndex(ring, v, c[0]), layoutIndex(ring, v, c[1]), layoutIndex(ring, v, c[2])});
   }
+}
+
+// Welds the batch's first `taken` welds: checked and applied side by side (their regions are
+// disjoint), recorded in the batch's order; a weld refused or gone stale ranks its vertex again, as
+// do the welds' changed vertices. Returns how many welded.
+std::size_t Simplifier::weldBatch(std::size_t taken) {
+  auto inParallel = [&](auto&& f) {
+    if (taken > 1)
+      tbb::parallel_for(std::size_t(0), taken, f);
+    else if (taken == 1)
+      f(0);
+  };
+  inParallel([&](std::size_t i) { checkWeld(batch_[i], rankScratch_.local()); });
+  inParallel([&](std::size_t i) {
+    if (batch_[i].outcome == CheckedWeld::Outcome::Valid) applyWeld(batch_[i]);
+  });
+  std::size_t welded = 0;
+  changed_.clear();
+  for (std::size_t i = 0; i < taken; ++i) {
+    const CheckedWeld& weld = batch_[i];
+    switch (weld.outcome) {
+      case CheckedWeld::Outcome::Valid:
+        recordWeld(weld);
+        changed_.insert(changed_.end(), weld.changed.begin(), weld.changed.end());
+        ++welded;
+        continue;
+      case CheckedWeld::Outcome::PointOutside: ++refusals_.pointOutside; break;
+      case CheckedWeld::Outcome::DenseTriangle: ++refusals_.denseTriangle; break;
+      case CheckedWeld::Outcome::Stale: break;
+    }
+    if (weld.outcome != CheckedWeld::Outcome::Stale) refused_[weld.candidate.vertex].push_back(weld.candidate.target);
+    changed_.push_back(VertexH(int(weld.candidate.vertex)));
+  }
+  rankAgain(changed_);
+  return welded;
 }
 
 BaseMesh Simplifier::run(SimplifyStats& stats) {
@@ -534,7 +680,7 @@ BaseMesh Simplifier::run(SimplifyStats& stats) {
     faceCorners_[f] = {int(c[0]), int(c[1]), int(c[2])};
   }
   refused_.assign(n, {});
-  regionIndex_.assign(n, -1);
+  batchMark_.assign(n, 0);
   facePoints_.assign(mesh_.n_faces(), {});
 
   std::size_t alive = n;
@@ -543,30 +689,16 @@ BaseMesh Simplifier::run(SimplifyStats& stats) {
   measuring_ = n <= measureFrom;
   std::vector<VertexH> all(mesh_.vertices().begin(), mesh_.vertices().end());
   rankAgain(all);
+  std::size_t reported = 0;
   while (alive > target && !heap_.empty()) {
     if (!measuring_ && alive <= measureFrom) {
       measuring_ = true;
       all.assign(mesh_.vertices().begin(), mesh_.vertices().end());
       rankAgain(all);  // by the new cost
     }
-    Candidate c = heap_.pop();
-    if (!c.ranked) {
-      Candidate ranked;
-      if (!evaluate(VertexH(int(c.vertex)), ranked, rankScratch_.local())) continue;
-      if (ranked.cost != c.cost) {
-        heap_.set(ranked);
-        continue;
-      }
-      c = ranked;  // its bound was its cost, and no other vertex's bound lies below: it is the cheapest
-    }
-    const VertexH v(int(c.vertex)), u(int(c.target));
-    if (mesh_.status(u).deleted() || !canWeldInto(mesh_, v, u, &degrees_)) {
-      rankAgain(v);  // its ring changed since it was ranked
-      continue;
-    }
-    if (!removeVertex(v, u)) continue;
-    --alive;
-    if ((n - alive) % 4096 == 0) progress.update(n - alive);
+    // Never past the target, nor past the size where the ranking changes.
+    alive -= weldBatch(takeBatch(std::min(kBatch, alive - (measuring_ ? target : measureFrom))));
+    if ((n - alive) / 4096 != reported) progress.update(n - alive), reported = (n - alive) / 4096;
   }
   progress.update(n - alive);
   progress.finish();

@@ -10,6 +10,10 @@
 // by exact location, and no dense triangle inside the ring turns clockwise there; each step goes
 // into the parametrisation's history (base.history), which maps base points back exactly.
 // Every base vertex is an original vertex; the genus and the boundary loops are kept.
+// The welds are taken in batches of the cheapest whose regions (v, its target and their rings) do
+// not touch: checked, applied to the mesh and ranked again side by side, recorded in the history in
+// the batch's order. A batch depends on the ranking alone, so the base mesh does not depend on the
+// thread count.
 #pragma once
 #include <limits>
 
