@@ -246,6 +246,7 @@ def test_ctrl_c_stops_cleanly_and_the_next_run_goes_on(tmp_path):
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"colour": 1}, [], "unknown setting 'colour'"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"chart_size": 10}, [], "'chart_size' must be 2^k + 1"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"iterations": 0}, [], "'iterations' must be a positive number"),
+    ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"half_resolution_start": "yes"}, [], "'half_resolution_start' must be true or false"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--stages", "build"], "--stages: build needs extract"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--stages", "segment,mesh"], "unknown stage 'mesh'"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--workers", "0"], "--workers must be >= 1"),
@@ -325,6 +326,24 @@ def test_a_segmentation_still_moving_at_its_cap_fails_its_subject(tmp_path):
     assert not os.path.exists(tmp_path / "out" / "ball" / "mask.nii.gz")  # nothing of a failed stage
     with open(tmp_path / "out" / "ball" / "report.json") as f:
         assert json.load(f)["status"] == "failed"
+
+
+def test_the_half_resolution_start_gives_the_commands_mask(tmp_path):
+    """Run in this process (no cluster): with the config's half_resolution_start, the subject's mask is
+    `isoatlas segment --converge --half-resolution-start`'s, voxel for voxel."""
+    from isoatlas.cohort import manifest as manifests, subject
+
+    path = make_study(str(tmp_path / "study"))
+    config = dict(manifests.DEFAULTS, **CONFIG, half_resolution_start=True)
+    ball = next(s for s in manifests.read_manifest(path, config) if s.id == "big-ball")
+    report = subject.run_subject(ball, config, ["segment"], str(tmp_path / "out"), "hash")
+    assert report["status"] == "done", report
+    assert report["figures"]["half_resolution_iterations"] > 0
+    mask = str(tmp_path / "mask.nii.gz")
+    subprocess.run([EXE, "segment", ball.volume, "--seed", "20,20,20,3", "--seed", "24,20,20,2", "-T", "100", "-e", "30", "-a", "0.5",
+                    "-n", "1000", "--converge", "--half-resolution-start", "--backend", "cpu", "-o", mask, "-q"], check=True)
+    ours = np.asanyarray(nib.load(str(tmp_path / "out" / "big-ball" / "mask.nii.gz")).dataobj)
+    assert ours.sum() > 1000 and np.array_equal(ours, np.asanyarray(nib.load(mask).dataobj))
 
 
 def test_the_docs_example_reads_and_its_seeds_lie_in_every_brain():

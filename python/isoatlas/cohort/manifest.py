@@ -29,6 +29,7 @@ DEFAULTS = {
     "alpha": 0.5,          # the segment command's default
     "backend": "auto",
     "iterations": 1000,    # the solver's cap: a subject still moving after this many fails
+    "half_resolution_start": False,  # segment --half-resolution-start: faster, its surface a little different
     "edits": "",
     "base_ratio": 0.01,    # build --base-ratio
     "chart_size": 33,      # build --chart
@@ -101,6 +102,8 @@ def _check_config(c, where):
         raise InputError(f"{where}: 'thumbnail' must be [width, height] in pixels, 16 to 2048")
     if c["backend"] not in ("gpu", "cpu", "auto"):
         raise InputError(f"{where}: 'backend' must be gpu, cpu or auto, not {c['backend']!r}")
+    if not isinstance(c["half_resolution_start"], bool):
+        raise InputError(f"{where}: 'half_resolution_start' must be true or false")
 
 
 def parse_stages(text):

@@ -40,7 +40,7 @@ def input_hash(subject, config, stages):
                 h.update(block)
     except OSError as e:
         h.update(f"unreadable: {e}".encode())
-    settings = {k: config[k] for k in ("iterations", "base_ratio", "chart_size", "samples", "thumbnail")}
+    settings = {k: config[k] for k in ("iterations", "half_resolution_start", "base_ratio", "chart_size", "samples", "thumbnail")}
     h.update(json.dumps([subject.parameters(), settings, stages], sort_keys=True).encode())
     return h.hexdigest()
 
@@ -135,8 +135,11 @@ class _Stages:
                 target = probed["target"] if target is None else target
                 width = probed["width"] if width is None else width
             mask, self.phi, report = isoatlas.segment(volume, seeds=[list(seed) for seed in seeds], target=target, width=width,
-                                                      alpha=s.alpha, backend=s.backend, iterations=c["iterations"], converge=True)
+                                                      alpha=s.alpha, backend=s.backend, iterations=c["iterations"], converge=True,
+                                                      half_resolution_start=c["half_resolution_start"])
         self.figures.update(target=target, width=width, alpha=s.alpha, iterations=report["iterations"], converged=report["converged"])
+        if c["half_resolution_start"]:
+            self.figures.update(half_resolution_iterations=report["half_resolution_iterations"])
         if not report["converged"]:
             raise RuntimeError(f"the segmentation still moved after {c['iterations']} iterations (raise 'iterations' in the config, "
                                "or check the seeds, target and width)")
