@@ -34,6 +34,15 @@ constexpr double kQuadricShare = 0.5;
 // thread count, so neither does the base mesh.
 constexpr std::size_t kBatch = 64;
 
+// f(i) for every i < n: side by side when `parallel` (the results must not depend on the order).
+template <class F>
+void forEach(std::size_t n, bool parallel, const F& f) {
+  if (parallel && n > 1)
+    tbb::parallel_for(std::size_t(0), n, f);
+  else
+    for (std::size_t i = 0; i < n; ++i) f(i);
+}
+
 // A removed dense vertex where it lies: weights of the vertices of the face that holds it. Each face
 // keeps its points together, with their positions, so that a ring's points are read in sequence.
 struct MappedPoint {
@@ -180,6 +189,7 @@ private:
   std::vector<std::uint32_t> batchMark_;                        // per vertex, the last batch whose region held it
   std::uint32_t batchStamp_ = 0;
   std::vector<VertexH> changed_;                                // scratch for weldBatch
+  std::vector<VertexH> region_;                                 // scratch for touchesBatch
 };
 
 Vec3 pointOf(const StellarMesh& mesh, VertexH v) { return toVec3(mesh.point(v)); }
@@ -384,10 +394,7 @@ void Simplifier::rankAgain(std::span<const VertexH> vertices) {
     valid = measuring_ ? evaluate(vertices[i], c, scratch) : bound(vertices[i], c, scratch);
   };
   constexpr std::size_t kParallelBounds = 256;  // bounds are cheap: a thread's start costs more
-  if (vertices.size() > 1 && (measuring_ || vertices.size() >= kParallelBounds))
-    tbb::parallel_for(std::size_t(0), vertices.size(), rank);
-  else
-    for (std::size_t i = 0; i < vertices.size(); ++i) rank(i);
+  forEach(vertices.size(), measuring_ || vertices.size() >= kParallelBounds, rank);
   for (std::size_t i = 0; i < vertices.size(); ++i) {
     if (rankings_[i].second)
       heap_.set(rankings_[i].first);
@@ -479,20 +486,15 @@ void Simplifier::recordWeld(const CheckedWeld& weld) {
 // Whether the weld of v into u reads or writes a vertex that a weld already taken into the batch
 // does (each one's region: v, u and their rings); if not, marks its region for the batch.
 bool Simplifier::touchesBatch(VertexH v, VertexH u) {
-  auto touched = [&](VertexH w) { return batchMark_[w.idx()] == batchStamp_; };
-  const bool withU = !mesh_.status(u).deleted();
-  if (touched(v) || (withU && touched(u))) return true;
-  for (const VertexH w : mesh_.vv_range(v))
-    if (touched(w)) return true;
-  if (withU)
-    for (const VertexH w : mesh_.vv_range(u))
-      if (touched(w)) return true;
-  batchMark_[v.idx()] = batchStamp_;
-  for (const VertexH w : mesh_.vv_range(v)) batchMark_[w.idx()] = batchStamp_;
-  if (withU) {
-    batchMark_[u.idx()] = batchStamp_;
-    for (const VertexH w : mesh_.vv_range(u)) batchMark_[w.idx()] = batchStamp_;
+  region_.clear();
+  for (const VertexH centre : {v, u}) {
+    if (mesh_.status(centre).deleted()) continue;  // a stale target: v's check finds it so
+    region_.push_back(centre);
+    for (const VertexH w : mesh_.vv_range(centre)) region_.push_back(w);
   }
+  for (const VertexH w : region_)
+    if (batchMark_[w.idx()] == batchStamp_) return true;
+  for (const VertexH w : region_) batchMark_[w.idx()] = batchStamp_;
   return false;
 }
 
@@ -510,12 +512,8 @@ std::size_t Simplifier::takeBatch(std::size_t most) {
     c = popped_[i];
     valid = c.ranked || evaluate(VertexH(int(c.vertex)), c, rankScratch_.local());
   };
-  std::size_t unranked = 0;
-  for (const Candidate& c : popped_) unranked += c.ranked ? 0 : 1;
-  if (unranked > 1)
-    tbb::parallel_for(std::size_t(0), popped_.size(), rank);
-  else
-    for (std::size_t i = 0; i < popped_.size(); ++i) rank(i);
+  const auto unranked = std::count_if(popped_.begin(), popped_.end(), [](const Candidate& c) { return !c.ranked; });
+  forEach(popped_.size(), unranked > 1, rank);
 
   ++batchStamp_;
   std::size_t taken = 0;
@@ -631,14 +629,8 @@ void Simplifier::recordStep(const OneRing& ring, const std::vector<Vec2>& plane,
 // disjoint), recorded in the batch's order; a weld refused or gone stale ranks its vertex again, as
 // do the welds' changed vertices. Returns how many welded.
 std::size_t Simplifier::weldBatch(std::size_t taken) {
-  auto inParallel = [&](auto&& f) {
-    if (taken > 1)
-      tbb::parallel_for(std::size_t(0), taken, f);
-    else if (taken == 1)
-      f(0);
-  };
-  inParallel([&](std::size_t i) { checkWeld(batch_[i], rankScratch_.local()); });
-  inParallel([&](std::size_t i) {
+  forEach(taken, true, [&](std::size_t i) { checkWeld(batch_[i], rankScratch_.local()); });
+  forEach(taken, true, [&](std::size_t i) {
     if (batch_[i].outcome == CheckedWeld::Outcome::Valid) applyWeld(batch_[i]);
   });
   std::size_t welded = 0;

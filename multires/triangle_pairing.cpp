@@ -55,6 +55,15 @@ std::vector<std::uint32_t> tilesAround(const BaseMesh& base, const Neighbours& a
   return tiles;
 }
 
+// Vertices in fewer tiles than they may lie in (VertexRoom) when the triangles pair as `mate`.
+std::size_t countShortVertices(const BaseMesh& base, const Neighbours& across, const std::vector<std::uint32_t>& mate) {
+  const VertexRoom room = vertexRoom(base, across);
+  const std::vector<std::uint32_t> tiles = tilesAround(base, across, mate, room);
+  std::size_t count = 0;
+  for (std::uint32_t v = 0; v < base.vertexCount(); ++v) count += tiles[v] < room.fewestTiles[v];
+  return count;
+}
+
 // A pair the matching may take: triangles t and o across t's edge `edge`, the quad's quality.
 struct Candidate {
   std::uint32_t t, o;
@@ -213,9 +222,7 @@ void makeTiles(BaseMesh& base, const Neighbours& across, const std::vector<std::
     if (mate[t] == kNone) throw Error("pairing: a triangle was left unpaired", ErrorKind::Failure);
     if (mate[t] > t) base.tiles.push_back({t, mate[t]});
   }
-  const VertexRoom room = vertexRoom(base, across);
-  const std::vector<std::uint32_t> tiles = tilesAround(base, across, mate, room);
-  for (std::uint32_t v = 0; v < base.vertexCount(); ++v) stats.shortVertices += tiles[v] < room.fewestTiles[v];
+  stats.shortVertices = countShortVertices(base, across, mate);
   double orthoSum = 0;
   for (std::uint32_t i = 0; i < base.tiles.size(); ++i) {
     const BaseMesh::TileCorners c = base.tileCorners(i);
@@ -226,6 +233,12 @@ void makeTiles(BaseMesh& base, const Neighbours& across, const std::vector<std::
 }
 
 }  // namespace
+
+std::size_t shortVertices(const BaseMesh& base) {
+  std::vector<std::uint32_t> mate(base.triangleCount(), kNone);
+  for (const auto& [a, b] : base.tiles) mate[a] = b, mate[b] = a;
+  return countShortVertices(base, base.triangleNeighbours(), mate);
+}
 
 PairingStats pairTriangles(BaseMesh& base, const Mesh& dense) {
   const auto start = std::chrono::steady_clock::now();

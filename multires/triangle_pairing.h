@@ -25,4 +25,8 @@ struct PairingStats {
 // leftover triangle reaches no boundary (impossible on a manifold).
 PairingStats pairTriangles(BaseMesh& base, const Mesh& dense);
 
+// The tiled base mesh's vertices in fewer than 3 tiles (2 on the boundary): PairingStats's
+// shortVertices, from base.tiles.
+std::size_t shortVertices(const BaseMesh& base);
+
 }  // namespace isoatlas::multires

@@ -15,8 +15,8 @@
 // The shader takes sigma = min(cpu spacing, what the view asks of the extent), at least one texel
 // and at least extent / 64, and sets the side's outer level to side / sigma: the paper's second rule,
 // outer levels only from what lies on the border. The inner level comes from the patch alone: its
-// own cpu spacing (half the side when the patch holds an odd-level vertex, c > 0) and its own size
-// on the screen: the paper's first rule.
+// own cpu spacing (half the side when the patch holds an odd-level vertex, c > 0, and at most half
+// for a whole tile: see atlas_common.glsl) and its own size on the screen: the paper's first rule.
 // Tiles with a detail chart (edit-detail) refine on to its texels, r = (M - 1) / (N - 1) per chart
 // texel: the shader counts their spacings in detail texels, r times the above. A side on a tile
 // border whose other tile has no detail chart is marked coarse: there sigma stays at least r (one

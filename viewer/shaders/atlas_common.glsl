@@ -78,7 +78,9 @@ uint sideSpacing(uvec4 p, int k) {
 }
 
 // Rule one: the inner spacing in the patch's texels, from the patch alone (its CPU vertices, its
-// size on the screen).
+// size on the screen). A whole tile takes at most half its side, its centre as CPU level 1 has it: in
+// one cell the driver would cut it along a diagonal of its choosing, and where a corner lies in only
+// two tiles both tiles' other diagonals are one edge, so the two would fold over each other.
 uint innerSpacing(uvec4 p) {
   uint s = patchSide(p), r = patchRatio(p), cpu = (1u << (p.z >> 24)) * r, sigma;
   if (gpuMode == 0) {
@@ -90,5 +92,6 @@ uint innerSpacing(uvec4 p) {
                        max(screenLength(p.x, c00, c01), screenLength(p.x, c10, c11)));
     sigma = min(cpu, spacingFor(s * r, length / gpuPixels));
   }
-  return max(sigma, max(1u, s * r / maxTessLevel));
+  sigma = max(sigma, max(1u, s * r / maxTessLevel));
+  return s == chartSize - 1u ? min(sigma, s * r / 2u) : sigma;
 }
