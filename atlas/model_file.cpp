@@ -1,5 +1,7 @@
 #include "atlas/model_file.h"
 
+#include <tbb/parallel_for.h>
+
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -74,15 +76,20 @@ void readLayout(Reader& r, std::uint32_t chartSize, std::size_t tiles, AtlasLayo
   if (l.charts != tiles) r.fail("the atlas's chart count is not the tile count");
 }
 
-// Version 3: per chart its box and N x N position codes, then N x N octahedral normals.
-void readQuantisedAtlas(Reader& r, std::uint32_t chartSize, const multires::BaseMesh& base, Atlas& atlas,
+// Versions 3 and 4: per chart its box, then its codes: version 3 as they are (N x N positions, then
+// N x N octahedral normals), version 4 packed (packChartCodes: a length, then deflated bytes).
+void readQuantisedAtlas(Reader& r, std::uint32_t version, std::uint32_t chartSize, const multires::BaseMesh& base, Atlas& atlas,
                         std::vector<QuantisedChart>& charts) {
   readLayout(r, chartSize, base.tiles.size(), atlas.layout);
   const std::uint64_t texels = std::uint64_t(chartSize) * chartSize;
-  const std::uint64_t chartBytes = 24 + texels * 8;  // f32 x 6, then u16 x 3 and u8 x 2 a texel
-  r.fits(atlas.layout.charts, chartBytes, "chart");
-  if (atlas.layout.charts * chartBytes != r.left()) r.fail("the charts take " + std::to_string(atlas.layout.charts * chartBytes) +
-                                                           " bytes, the section holds " + std::to_string(r.left()));
+  if (version == 3) {
+    const std::uint64_t chartBytes = 24 + texels * 8;  // f32 x 6, then u16 x 3 and u8 x 2 a texel
+    r.fits(atlas.layout.charts, chartBytes, "chart");
+    if (atlas.layout.charts * chartBytes != r.left()) r.fail("the charts take " + std::to_string(atlas.layout.charts * chartBytes) +
+                                                             " bytes, the section holds " + std::to_string(r.left()));
+  } else {
+    r.fits(atlas.layout.charts, 28, "chart");  // f32 x 6 and a length, at least
+  }
   charts.assign(atlas.layout.charts, {});
   for (QuantisedChart& q : charts) {
     for (float& x : q.lo) x = r.finite<float>();
@@ -90,10 +97,15 @@ void readQuantisedAtlas(Reader& r, std::uint32_t chartSize, const multires::Base
       if ((x = r.finite<float>()) < 0) r.fail("a chart's quantisation step is negative");
     for (int a = 0; a < 3; ++a)
       if (!std::isfinite(q.lo[a] + 65535.0f * q.step[a])) r.fail("a chart's box reaches past the largest float");
-    q.positions.resize(texels);
-    for (auto& p : q.positions) p = {r.get<std::uint16_t>(), r.get<std::uint16_t>(), r.get<std::uint16_t>()};
-    q.normals.resize(texels);
-    for (auto& n : q.normals) n = {r.get<std::uint8_t>(), r.get<std::uint8_t>()};
+    if (version == 3) {
+      q.positions.resize(texels);
+      for (auto& p : q.positions) p = {r.get<std::uint16_t>(), r.get<std::uint16_t>(), r.get<std::uint16_t>()};
+      q.normals.resize(texels);
+      for (auto& n : q.normals) n = {r.get<std::uint8_t>(), r.get<std::uint8_t>()};
+      continue;
+    }
+    const std::uint32_t size = r.get<std::uint32_t>();
+    if (!unpackChartCodes(r.take(size), size, chartSize, q)) r.fail("a chart's codes do not inflate to " + std::to_string(texels) + " texels");
   }
   dequantiseAtlas(charts, base, atlas);
 }
@@ -245,11 +257,13 @@ double writeModel(const std::string& path, const Model& model) {
 
   Writer atlas;
   atlas.put(l.charts), atlas.put(l.columns), atlas.put(l.rows);
-  for (const QuantisedChart& q : charts) {
-    for (const float x : q.lo) atlas.put(x);
-    for (const float x : q.step) atlas.put(x);
-    for (const auto& p : q.positions) atlas.put(p[0]), atlas.put(p[1]), atlas.put(p[2]);
-    for (const auto& n : q.normals) atlas.put(n[0]), atlas.put(n[1]);
+  std::vector<std::vector<std::uint8_t>> packed(charts.size());
+  tbb::parallel_for(std::size_t(0), charts.size(), [&](std::size_t c) { packed[c] = packChartCodes(charts[c], model.chartSize); });
+  for (std::size_t c = 0; c < charts.size(); ++c) {
+    for (const float x : charts[c].lo) atlas.put(x);
+    for (const float x : charts[c].step) atlas.put(x);
+    atlas.put(std::uint32_t(packed[c].size()));
+    for (const std::uint8_t b : packed[c]) atlas.put(b);
   }
   out.section("ATLS", atlas);
 
@@ -288,8 +302,8 @@ Model readModel(const std::string& path, const ModelReadOptions& options) {
   const std::uint32_t version = file.version;
   if (version == 1)
     throw Error(path + ": model format version 1 holds no atlas; build the model again with this isoatlas (isoatlas build)");
-  if (version != 2 && version != kModelVersion)
-    throw Error(path + ": model format version " + std::to_string(version) + " (this isoatlas reads versions 2 and " +
+  if (version != 2 && version != 3 && version != kModelVersion)
+    throw Error(path + ": model format version " + std::to_string(version) + " (this isoatlas reads versions 2, 3 and " +
                 std::to_string(kModelVersion) + ")");
   Model model;
   std::set<std::string> seen;
@@ -321,7 +335,7 @@ Model readModel(const std::string& path, const ModelReadOptions& options) {
         if (r.get<std::uint8_t>() != 0) r.fail("a base vertex's level is not 0");
     } else if (tag == "ATLS") {
       after("HEAD"), after("BASE");
-      if (version >= 3) readQuantisedAtlas(r, model.chartSize, model.base, model.atlas, model.codes);
+      if (version >= 3) readQuantisedAtlas(r, version, model.chartSize, model.base, model.atlas, model.codes);
       else readFloatAtlas(r, model.chartSize, model.base.tiles.size(), model.atlas);
     } else if (tag == "DETL") {
       after("HEAD"), after("BASE");

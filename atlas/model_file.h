@@ -1,7 +1,7 @@
-// The .isoatlas model file, version 3: what `isoatlas build` makes and eval, render and the viewer
+// The .isoatlas model file, version 4: what `isoatlas build` makes and eval, render and the viewer
 // read. Little-endian on every machine (written and read byte by byte), integers unsigned unless
 // said, reals IEEE 754.
-//   magic "ISOATLAS" (8 bytes), format version (u32 = 3), then sections until the end of the file,
+//   magic "ISOATLAS" (8 bytes), format version (u32 = 4), then sections until the end of the file,
 //   each: tag (4 ASCII bytes), payload length (u64), CRC-32 of the payload (u32, zlib's), payload.
 //   HEAD  chart size N (u32, 2^k + 1); the charts' folded_texels and gap_texels (u64 x 2); the
 //         largest distance quantisation moved a position (f64, mm)
@@ -12,17 +12,21 @@
 //         from corner k to k + 1: chart index (u32) and start and end (u, v) in texels (u8 x 4);
 //         then per base vertex its level (u8, 0 at the base). Must agree with BASE's tiles.
 //   ATLS  chart count, columns, rows (u32 x 3; charts = tiles, columns x rows slots hold them),
-//         then per chart (quantised_atlas.h): its box's low corner and step (f32 x 3 each), N x N
-//         position codes (u16 x 3: lo + code * step, row by row), N x N normals (u8 x 2,
-//         octahedral). Shared sides are taken from the lower-numbered chart and corners are
-//         their base vertices, so borders come back identical.
+//         then per chart (quantised_atlas.h): its box's low corner and step (f32 x 3 each), the
+//         length of its packed codes (u32), its packed codes (packChartCodes: zlib's deflate of
+//         N x N position codes, 14 bits in u16 x 3: lo + code * step, row by row, and N x N normals,
+//         u8 x 2, octahedral; each channel's residual from the parallelogram prediction, in byte
+//         planes). Shared sides are taken from the lower-numbered chart and corners are their base
+//         vertices, so borders come back identical.
 //   DETL  (only where detail was stamped) detail chart count and size M (u32 x 2; M = 2^k + 1 above
 //         N), then per detail chart in increasing tile order: its tile (u32), M x M positions
 //         (f32 x 3), M x M normals (i16 x 3)
 //   DENS  (only with --keep-dense) the dense mesh: vertex count (u64), positions (f64 x 3),
 //         triangle count (u64), corners (u32 x 3)
 //   PARA  (with DENS) per dense vertex its base triangle (u32) and barycentric weights (f64 x 3)
-// Unknown tags are skipped (their checksum still checked). Version 2 files (the same, but HEAD
+// Unknown tags are skipped (their checksum still checked). Version 3 files (the same, but each
+// chart's codes as they are: N x N u16 x 3 positions of 16 bits, then N x N u8 x 2 normals) and
+// version 2 files (the same, but HEAD
 // without the quantisation error and ATLS as the whole atlas image: f32 x 3 positions, then i16 x 3
 // signed normalised normals, row-major from the top) are still read. Version 1 files (no atlas) are
 // refused with a line saying to rebuild them.
@@ -36,7 +40,7 @@
 
 namespace isoatlas::atlas {
 
-inline constexpr std::uint32_t kModelVersion = 3;
+inline constexpr std::uint32_t kModelVersion = 4;
 
 struct Model {
   std::uint32_t chartSize = 33;
@@ -45,7 +49,7 @@ struct Model {
   multires::BaseMesh base;  // its parametrisation (denseTriangle, denseBary) only with the dense mesh
   Atlas atlas;
   Mesh dense;  // empty unless kept
-  // The atlas's codes as a version-3 file held them (empty for a model built here): written back
+  // The atlas's codes as a version-3 or 4 file held them (empty for a model built here): written back
   // as they are, with the file's quantisation error, while the atlas is still what they decode to,
   // so that a model read and saved keeps its bytes.
   std::vector<QuantisedChart> codes;

@@ -7,7 +7,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include <zlib.h>
+
 #include "atlas/tile_sides.h"
+#include "core/error.h"
 
 namespace isoatlas::atlas {
 
@@ -45,14 +48,14 @@ std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas) {
         const auto& p = atlas.positions[atlas.layout.texel(c, i, j)];
         for (int a = 0; a < 3; ++a) q.lo[a] = std::min(q.lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
       }
-    for (int a = 0; a < 3; ++a) q.step[a] = (hi[a] - q.lo[a]) / 65535.0f;
+    for (int a = 0; a < 3; ++a) q.step[a] = (hi[a] - q.lo[a]) / float(kLargestPositionCode);
     for (std::uint32_t j = 0; j < n; ++j)
       for (std::uint32_t i = 0; i < n; ++i) {
         const std::size_t at = atlas.layout.texel(c, i, j);
         std::array<std::uint16_t, 3> code{};
         for (int a = 0; a < 3; ++a)
           if (q.step[a] > 0)
-            code[a] = std::uint16_t(std::clamp(std::lround((atlas.positions[at][a] - q.lo[a]) / q.step[a]), 0L, 65535L));
+            code[a] = std::uint16_t(std::clamp(std::lround((atlas.positions[at][a] - q.lo[a]) / q.step[a]), 0L, long(kLargestPositionCode)));
         q.positions.push_back(code);
         q.normals.push_back(encodeOctahedral(unpackNormal(atlas.normals[at])));
       }
@@ -132,6 +135,65 @@ bool decodesTo(const std::vector<QuantisedChart>& charts, const multires::BaseMe
   decoded.layout = atlas.layout;
   dequantiseAtlas(charts, base, decoded);
   return decoded.positions == atlas.positions && decoded.normals == atlas.normals;
+}
+
+namespace {
+
+// Channel c of texel k's code as its left, upper and upper-left neighbours predict it (the
+// parallelogram rule, in the code's own width: it wraps, and the residual unwraps it exactly).
+template <class Code, std::size_t C>
+Code predicted(const std::vector<std::array<Code, C>>& codes, std::uint32_t n, std::size_t k, int c) {
+  const std::size_t i = k % n, j = k / n;
+  const Code left = i > 0 ? codes[k - 1][c] : 0, up = j > 0 ? codes[k - n][c] : 0;
+  return i > 0 && j > 0 ? Code(left + up - codes[k - n - 1][c]) : i > 0 ? left : up;
+}
+
+std::uint16_t zigzag16(std::uint16_t r) { return std::uint16_t((r << 1) ^ (std::int16_t(r) < 0 ? 0xFFFF : 0)); }
+std::uint16_t unzigzag16(std::uint16_t z) { return std::uint16_t((z >> 1) ^ -(z & 1)); }
+std::uint8_t zigzag8(std::uint8_t r) { return std::uint8_t((r << 1) ^ (std::int8_t(r) < 0 ? 0xFF : 0)); }
+std::uint8_t unzigzag8(std::uint8_t z) { return std::uint8_t((z >> 1) ^ -(z & 1)); }
+
+}  // namespace
+
+std::vector<std::uint8_t> packChartCodes(const QuantisedChart& chart, std::uint32_t n) {
+  const std::size_t texels = std::size_t(n) * n;
+  // Planes: the residuals' low bytes of x, y, z, their high bytes, then the normals' two.
+  std::vector<std::uint8_t> planes(texels * 8);
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t k = 0; k < texels; ++k) {
+      const std::uint16_t z = zigzag16(std::uint16_t(chart.positions[k][c] - predicted(chart.positions, n, k, c)));
+      planes[std::size_t(c) * texels + k] = std::uint8_t(z & 0xFF);
+      planes[std::size_t(3 + c) * texels + k] = std::uint8_t(z >> 8);
+    }
+  for (int c = 0; c < 2; ++c)
+    for (std::size_t k = 0; k < texels; ++k) {
+      planes[std::size_t(6 + c) * texels + k] = zigzag8(std::uint8_t(chart.normals[k][c] - predicted(chart.normals, n, k, c)));
+    }
+  uLongf size = compressBound(uLong(planes.size()));
+  std::vector<std::uint8_t> out(size);
+  const int status = compress2(out.data(), &size, planes.data(), uLong(planes.size()), 6);
+  require(status == Z_OK, "model file: zlib could not deflate a chart's codes");
+  out.resize(size);
+  return out;
+}
+
+bool unpackChartCodes(const std::uint8_t* bytes, std::size_t size, std::uint32_t n, QuantisedChart& chart) {
+  const std::size_t texels = std::size_t(n) * n;
+  std::vector<std::uint8_t> planes(texels * 8);
+  uLongf inflated = uLongf(planes.size());
+  if (uncompress(planes.data(), &inflated, bytes, uLong(size)) != Z_OK || inflated != planes.size()) return false;
+  chart.positions.assign(texels, {});
+  chart.normals.assign(texels, {});
+  for (int c = 0; c < 3; ++c)
+    for (std::size_t k = 0; k < texels; ++k) {
+      const std::uint16_t z = std::uint16_t(planes[std::size_t(c) * texels + k] | planes[std::size_t(3 + c) * texels + k] << 8);
+      chart.positions[k][c] = std::uint16_t(predicted(chart.positions, n, k, c) + unzigzag16(z));
+    }
+  for (int c = 0; c < 2; ++c)
+    for (std::size_t k = 0; k < texels; ++k) {
+      chart.normals[k][c] = std::uint8_t(predicted(chart.normals, n, k, c) + unzigzag8(planes[std::size_t(6 + c) * texels + k]));
+    }
+  return true;
 }
 
 }  // namespace isoatlas::atlas

@@ -1,8 +1,10 @@
-// The atlas as the model file stores it (version 3): each chart's positions as 16-bit codes within
-// the chart's own bounding box, and every normal as an octahedral code of two bytes (8 + 8 bits):
-// 8 bytes a texel instead of 18. Decoding gives each border point two values (each chart its own
-// box), so the decoder copies every shared side from the lower-numbered chart into the other and
-// sets every corner to its base vertex: neighbouring charts agree bit for bit again.
+// The atlas as the model file stores it (version 4): each chart's positions as 14-bit codes within
+// the chart's own bounding box (at most a 32766th of the box from the atlas's own along each axis: a
+// fortieth of level 10's largest distance or less on the benchmark meshes, bench/RESULTS.md), and
+// every normal as an octahedral code of two bytes (8 + 8 bits). Decoding gives each border point two values (each chart its own box), so the
+// decoder copies every shared side from the lower-numbered chart into the other and sets every
+// corner to its base vertex: neighbouring charts agree bit for bit again. Version 3 files held 16-bit
+// codes; the decoder takes codes of any width up to 16 bits (position = lo + code * step).
 //   QuantisedChart  one chart's box (lo, step per axis: position = lo + code * step, in f32) and codes
 //   quantiseAtlas   inputs: the atlas (its charts' texels); output: one QuantisedChart per chart
 //   dequantiseAtlas inputs: the charts, the base mesh (for the shared sides), the layout; output: the
@@ -11,8 +13,14 @@
 //   decodesTo       whether charts decode to exactly this atlas: a file's codes, as read, are then
 //                   written back as they are (quantising a decoded atlas again would move it: its
 //                   shared borders hold a neighbour's values, which can widen the chart's box)
+//   packChartCodes / unpackChartCodes  a chart's codes as the file holds them (version 4): each
+//                   channel predicted from its texel's left, upper and upper-left neighbours (the
+//                   parallelogram rule, modulo the code's width), the residuals zigzagged and laid
+//                   out in byte planes, deflated (zlib). unpack returns false for bytes that do not
+//                   inflate to exactly n x n texels' codes.
 #pragma once
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -20,6 +28,8 @@
 #include "multires/base_mesh.h"
 
 namespace isoatlas::atlas {
+
+inline constexpr std::uint16_t kLargestPositionCode = 16383;  // 14 bits
 
 struct QuantisedChart {
   std::array<float, 3> lo{}, step{};
@@ -34,5 +44,8 @@ std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas);
 void dequantiseAtlas(const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base, Atlas& atlas);
 double largestQuantisationError(const Atlas& atlas, const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base);
 bool decodesTo(const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base, const Atlas& atlas);
+
+std::vector<std::uint8_t> packChartCodes(const QuantisedChart& chart, std::uint32_t n);
+bool unpackChartCodes(const std::uint8_t* bytes, std::size_t size, std::uint32_t n, QuantisedChart& chart);
 
 }  // namespace isoatlas::atlas

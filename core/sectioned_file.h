@@ -104,6 +104,13 @@ public:
   }
   bool done() const { return at_ == end_; }
   std::size_t left() const { return end_ - at_; }
+  // The next n bytes as they are (valid while the file's bytes are).
+  const std::uint8_t* take(std::size_t n) {
+    need(n);
+    const auto* at = reinterpret_cast<const std::uint8_t*>(bytes_.data() + at_);
+    at_ += n;
+    return at;
+  }
 
 private:
   const std::string& path_;
