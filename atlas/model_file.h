@@ -24,12 +24,11 @@
 //   DENS  (only with --keep-dense) the dense mesh: vertex count (u64), positions (f64 x 3),
 //         triangle count (u64), corners (u32 x 3)
 //   PARA  (with DENS) per dense vertex its base triangle (u32) and barycentric weights (f64 x 3)
-// Unknown tags are skipped (their checksum still checked). Version 3 files (the same, but each
-// chart's codes as they are: N x N u16 x 3 positions of 16 bits, then N x N u8 x 2 normals) and
-// version 2 files (the same, but HEAD
-// without the quantisation error and ATLS as the whole atlas image: f32 x 3 positions, then i16 x 3
-// signed normalised normals, row-major from the top) are still read. Version 1 files (no atlas) are
-// refused with a line saying to rebuild them.
+// Unknown tags are skipped (their checksum still checked). Still read: version 3 files (the same,
+// but each chart's codes as they are: N x N u16 x 3 positions of 16 bits, then N x N u8 x 2
+// normals) and version 2 files (the same, but HEAD without the quantisation error and ATLS as the
+// whole atlas image: f32 x 3 positions, then i16 x 3 signed normalised normals, row-major from the
+// top). Version 1 files (no atlas) are refused with a line saying to rebuild them.
 #pragma once
 #include <string>
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include <zlib.h>
 
@@ -148,27 +149,47 @@ Code predicted(const std::vector<std::array<Code, C>>& codes, std::uint32_t n, s
   return i > 0 && j > 0 ? Code(left + up - codes[k - n - 1][c]) : i > 0 ? left : up;
 }
 
-std::uint16_t zigzag16(std::uint16_t r) { return std::uint16_t((r << 1) ^ (std::int16_t(r) < 0 ? 0xFFFF : 0)); }
-std::uint16_t unzigzag16(std::uint16_t z) { return std::uint16_t((z >> 1) ^ -(z & 1)); }
-std::uint8_t zigzag8(std::uint8_t r) { return std::uint8_t((r << 1) ^ (std::int8_t(r) < 0 ? 0xFF : 0)); }
-std::uint8_t unzigzag8(std::uint8_t z) { return std::uint8_t((z >> 1) ^ -(z & 1)); }
+// A residual as an unsigned code of the same width, small either side of zero: 0, -1, 1, -2, ...
+template <class Code>
+Code zigzag(Code r) {
+  return Code((r << 1) ^ (std::make_signed_t<Code>(r) < 0 ? Code(~Code(0)) : Code(0)));
+}
+template <class Code>
+Code unzigzag(Code z) {
+  return Code((z >> 1) ^ -(z & 1));
+}
+
+// A chart's codes of one kind (C channels of Code) as sizeof(Code) x C byte planes of n x n, plane
+// b * C + c holding byte b of channel c's zigzagged residuals; fromPlanes undoes it.
+template <class Code, std::size_t C>
+void toPlanes(const std::vector<std::array<Code, C>>& codes, std::uint32_t n, std::uint8_t* planes) {
+  const std::size_t texels = std::size_t(n) * n;
+  for (std::size_t c = 0; c < C; ++c)
+    for (std::size_t k = 0; k < texels; ++k) {
+      const Code z = zigzag(Code(codes[k][c] - predicted(codes, n, k, int(c))));
+      for (std::size_t b = 0; b < sizeof(Code); ++b) planes[(b * C + c) * texels + k] = std::uint8_t(z >> (8 * b));
+    }
+}
+template <class Code, std::size_t C>
+void fromPlanes(const std::uint8_t* planes, std::uint32_t n, std::vector<std::array<Code, C>>& codes) {
+  const std::size_t texels = std::size_t(n) * n;
+  codes.assign(texels, {});
+  for (std::size_t c = 0; c < C; ++c)
+    for (std::size_t k = 0; k < texels; ++k) {
+      Code z = 0;
+      for (std::size_t b = 0; b < sizeof(Code); ++b) z = Code(z | planes[(b * C + c) * texels + k] << (8 * b));
+      codes[k][c] = Code(predicted(codes, n, k, int(c)) + unzigzag(z));
+    }
+}
 
 }  // namespace
 
 std::vector<std::uint8_t> packChartCodes(const QuantisedChart& chart, std::uint32_t n) {
   const std::size_t texels = std::size_t(n) * n;
-  // Planes: the residuals' low bytes of x, y, z, their high bytes, then the normals' two.
+  // Planes: the positions' residuals' low bytes of x, y, z, their high bytes, then the normals' two.
   std::vector<std::uint8_t> planes(texels * 8);
-  for (int c = 0; c < 3; ++c)
-    for (std::size_t k = 0; k < texels; ++k) {
-      const std::uint16_t z = zigzag16(std::uint16_t(chart.positions[k][c] - predicted(chart.positions, n, k, c)));
-      planes[std::size_t(c) * texels + k] = std::uint8_t(z & 0xFF);
-      planes[std::size_t(3 + c) * texels + k] = std::uint8_t(z >> 8);
-    }
-  for (int c = 0; c < 2; ++c)
-    for (std::size_t k = 0; k < texels; ++k) {
-      planes[std::size_t(6 + c) * texels + k] = zigzag8(std::uint8_t(chart.normals[k][c] - predicted(chart.normals, n, k, c)));
-    }
+  toPlanes(chart.positions, n, planes.data());
+  toPlanes(chart.normals, n, planes.data() + 6 * texels);
   uLongf size = compressBound(uLong(planes.size()));
   std::vector<std::uint8_t> out(size);
   const int status = compress2(out.data(), &size, planes.data(), uLong(planes.size()), 6);
@@ -182,17 +203,8 @@ bool unpackChartCodes(const std::uint8_t* bytes, std::size_t size, std::uint32_t
   std::vector<std::uint8_t> planes(texels * 8);
   uLongf inflated = uLongf(planes.size());
   if (uncompress(planes.data(), &inflated, bytes, uLong(size)) != Z_OK || inflated != planes.size()) return false;
-  chart.positions.assign(texels, {});
-  chart.normals.assign(texels, {});
-  for (int c = 0; c < 3; ++c)
-    for (std::size_t k = 0; k < texels; ++k) {
-      const std::uint16_t z = std::uint16_t(planes[std::size_t(c) * texels + k] | planes[std::size_t(3 + c) * texels + k] << 8);
-      chart.positions[k][c] = std::uint16_t(predicted(chart.positions, n, k, c) + unzigzag16(z));
-    }
-  for (int c = 0; c < 2; ++c)
-    for (std::size_t k = 0; k < texels; ++k) {
-      chart.normals[k][c] = std::uint8_t(predicted(chart.normals, n, k, c) + unzigzag8(planes[std::size_t(6 + c) * texels + k]));
-    }
+  fromPlanes(planes.data(), n, chart.positions);
+  fromPlanes(planes.data() + 6 * texels, n, chart.normals);
   return true;
 }
 

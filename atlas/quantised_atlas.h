@@ -1,10 +1,11 @@
 // The atlas as the model file stores it (version 4): each chart's positions as 14-bit codes within
 // the chart's own bounding box (at most a 32766th of the box from the atlas's own along each axis: a
 // fortieth of level 10's largest distance or less on the benchmark meshes, bench/RESULTS.md), and
-// every normal as an octahedral code of two bytes (8 + 8 bits). Decoding gives each border point two values (each chart its own box), so the
-// decoder copies every shared side from the lower-numbered chart into the other and sets every
-// corner to its base vertex: neighbouring charts agree bit for bit again. Version 3 files held 16-bit
-// codes; the decoder takes codes of any width up to 16 bits (position = lo + code * step).
+// every normal as an octahedral code of two bytes (8 + 8 bits). Decoding gives each border point two
+// values (each chart its own box), so the decoder copies every shared side from the lower-numbered
+// chart into the other and sets every corner to its base vertex: neighbouring charts agree bit for
+// bit again. Version 3 files held 16-bit codes; the decoder takes codes of any width up to 16 bits
+// (position = lo + code * step).
 //   QuantisedChart  one chart's box (lo, step per axis: position = lo + code * step, in f32) and codes
 //   quantiseAtlas   inputs: the atlas (its charts' texels); output: one QuantisedChart per chart
 //   dequantiseAtlas inputs: the charts, the base mesh (for the shared sides), the layout; output: the

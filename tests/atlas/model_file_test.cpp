@@ -280,6 +280,28 @@ TEST(ModelFile, AVersionThreeFileIsStillReadAndKeepsItsCodes) {
   EXPECT_TRUE(test::readBytes(dir / "m.isoatlas") == test::readBytes(data + "/torus_v4.isoatlas"));
 }
 
+// Packed codes come back exactly, whatever they are: every code of the full 16 bits (version 3's
+// width), neighbours far apart so that the predictions wrap round, and a chart of constant codes.
+TEST(ModelFile, PackedChartCodesComeBackExactly) {
+  const std::uint32_t n = 17;
+  std::uint64_t state = 12345;
+  auto next = [&] { return state = state * 6364136223846793005ull + 1442695040888963407ull, std::uint32_t(state >> 33); };
+  for (int kind = 0; kind < 2; ++kind) {
+    QuantisedChart chart;
+    for (std::uint32_t k = 0; k < n * n; ++k) {
+      const std::uint32_t r = kind == 0 ? next() : 7;
+      chart.positions.push_back({std::uint16_t(r), std::uint16_t(k % 2 ? 0 : 65535), std::uint16_t(r >> 16)});
+      chart.normals.push_back({std::uint8_t(r >> 8), std::uint8_t(k % 3 ? 255 : 0)});
+    }
+    const std::vector<std::uint8_t> packed = packChartCodes(chart, n);
+    QuantisedChart back;
+    ASSERT_TRUE(unpackChartCodes(packed.data(), packed.size(), n, back));
+    EXPECT_EQ(back.positions, chart.positions) << "kind " << kind;
+    EXPECT_EQ(back.normals, chart.normals) << "kind " << kind;
+    EXPECT_FALSE(unpackChartCodes(packed.data(), packed.size(), n + 1, back)) << "inflates to another chart size";
+  }
+}
+
 TEST_F(ModelFileTest, AModelTheReaderWouldRefuseIsNotWrittenAndTheOldFileStays) {
   test::writeBytes(path_, "kept");
   Model badChart = torusModel(false);
