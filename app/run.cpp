@@ -502,8 +502,8 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   sub->add_flag("--half-resolution-start", options->halfResolutionStart,
                 "segment from the solution at half resolution instead of the seeds (faster; the window's script then loads the mask)");
   addEditStepOptions(*sub, options->edits);
-  sub->add_option("--base-ratio", options->model.baseRatio, "base vertices of the model as a fraction of the surface's")
-      ->capture_default_str();
+  sub->add_option("--base-ratio", options->model.baseRatio,
+                  "base vertices of the model as a fraction of the surface's (default: 2 % up to 1000 vertices, at least 1 %)");
   sub->add_option("--chart", options->chart, "chart size of the model, 2^k + 1")->capture_default_str();
   sub->add_option("--relax-sweeps", options->model.relaxSweeps,
                   "sweeps moving the model's texels to follow the surface's bending (0: a uniform grid per tile)")

@@ -1,6 +1,6 @@
 // bench/multires: isoatlas's stellar simplification + triangle pairing beside CGAL's edge collapse
 // with Garland-Heckbert plane policies and meshoptimizer's simplifier, at the same base size (the
-// face count isoatlas's base mesh reaches at 1 % of the vertices), on bunny00, elephant, fandisk and
+// face count isoatlas's base mesh reaches at its default size), on bunny00, elephant, fandisk and
 // the white-matter surface of ch2better (3 million triangles). Figures: seconds (isoatlas: simplify
 // plus match), base vertices, symmetric Hausdorff distance to the dense mesh and PSNR, all measured
 // by CGAL's approximate_Hausdorff_distance (core/distance/mesh_distance).

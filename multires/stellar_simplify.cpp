@@ -657,9 +657,9 @@ std::size_t Simplifier::weldBatch(std::size_t taken) {
 BaseMesh Simplifier::run(SimplifyStats& stats) {
   const auto start = std::chrono::steady_clock::now();
   const std::size_t n = mesh_.n_vertices();
-  const std::size_t target = options_.targetVertices > 0
-                                 ? options_.targetVertices
-                                 : std::max<std::size_t>(4, std::size_t(std::llround(options_.vertexRatio * double(n))));
+  const std::size_t target = options_.targetVertices > 0 ? options_.targetVertices
+                             : options_.vertexRatio > 0  ? std::max<std::size_t>(4, std::size_t(std::llround(options_.vertexRatio * double(n))))
+                                                         : defaultBaseVertices(n);
   initQuadrics();
   degrees_ = degreeTable(mesh_);
   denseStars_ = DenseStars(dense_);
@@ -762,8 +762,13 @@ BaseMesh Simplifier::compact() {
 
 }  // namespace
 
+std::size_t defaultBaseVertices(std::size_t denseVertices) {
+  const auto share = [&](double ratio) { return std::size_t(std::llround(ratio * double(denseVertices))); };
+  return std::max({std::size_t(4), share(kLargeMeshBaseRatio), std::min(share(kSmallMeshBaseRatio), kSmallMeshMostBaseVertices)});
+}
+
 BaseMesh simplifyStellar(const Mesh& dense, const SimplifyOptions& options, SimplifyStats* stats) {
-  require(options.vertexRatio > 0 && options.vertexRatio <= 1, "simplify: the vertex ratio must be in (0, 1]");
+  require(options.vertexRatio >= 0 && options.vertexRatio <= 1, "simplify: the vertex ratio must be in (0, 1] (0: the default)");
   require(options.maxError > 0, "simplify: the error bound must be positive");
   Simplifier simplifier(dense, options);
   SimplifyStats local;

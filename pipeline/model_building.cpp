@@ -36,7 +36,7 @@ Mesh prepareModelInput(Mesh mesh) {
 }
 
 void checkModelRequest(const ModelRequest& request) {
-  require(request.baseRatio > 0 && request.baseRatio <= 1, "--base-ratio must be in (0, 1]");
+  require(!request.baseRatio || (*request.baseRatio > 0 && *request.baseRatio <= 1), "--base-ratio must be in (0, 1]");
   require(request.maxError >= 0, "--max-error must be positive");
   require(multires::isChartSize(request.chartSize),
           "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
@@ -46,7 +46,7 @@ void checkModelRequest(const ModelRequest& request) {
 atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann::json& r) {
   require(request.baseVertices < dense.vertexCount(), "--base-vertices " + std::to_string(request.baseVertices) +
                                                          ": the mesh has only " + std::to_string(dense.vertexCount()) + " vertices");
-  multires::SimplifyOptions simplify{.vertexRatio = request.baseRatio, .targetVertices = request.baseVertices};
+  multires::SimplifyOptions simplify{.vertexRatio = request.baseRatio.value_or(0), .targetVertices = request.baseVertices};
   if (request.maxError > 0) simplify.maxError = request.maxError;
   multires::SimplifyStats stats;
   atlas::Model model;

@@ -4,6 +4,7 @@
 #pragma once
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 
 #include "atlas/evaluate_levels.h"
@@ -18,8 +19,8 @@
 namespace isoatlas::pipeline {
 
 struct ModelRequest {
-  double baseRatio = 0.01;
-  std::size_t baseVertices = 0;  // instead of baseRatio when set
+  std::optional<double> baseRatio;  // unset: multires::defaultBaseVertices
+  std::size_t baseVertices = 0;     // instead of baseRatio when set
   double maxError = 0;           // 0: unbounded
   std::uint32_t chartSize = 33;
   int relaxSweeps = atlas::kDefaultRelaxSweeps;  // texels follow the surface's bending (0: uniform in each tile)

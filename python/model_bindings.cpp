@@ -47,7 +47,7 @@ void bindModels(py::module_& m) {
            }, "the atlas's texels (rows, columns, xyz in world mm), zero outside the charts")
       .def_readonly("report", &PyModel::figures, "what `isoatlas build` reports (empty for a loaded model)");
 
-  m.def("build", [](const py::object& vertices, const py::object& triangles, double baseRatio, std::uint32_t chartSize, bool hausdorff,
+  m.def("build", [](const py::object& vertices, const py::object& triangles, std::optional<double> baseRatio, std::uint32_t chartSize, bool hausdorff,
                     const py::object& progress, int relaxSweeps) {
         pipeline::ModelRequest request{.baseRatio = baseRatio, .chartSize = chartSize, .relaxSweeps = relaxSweeps, .hausdorff = hausdorff};
         pipeline::checkModelRequest(request);
@@ -61,7 +61,7 @@ void bindModels(py::module_& m) {
         }
         p.figures = toDict(figures);
         return p;
-      }, py::arg("vertices"), py::arg("triangles"), py::arg("base_ratio") = 0.01, py::arg("chart_size") = 33, py::arg("hausdorff") = true,
+      }, py::arg("vertices"), py::arg("triangles"), py::arg("base_ratio") = py::none(), py::arg("chart_size") = 33, py::arg("hausdorff") = true,
       py::arg("progress") = py::none(), py::arg("relax_sweeps") = atlas::kDefaultRelaxSweeps,
       "the multiresolution model of a closed triangle mesh (isoatlas build)");
 

@@ -157,6 +157,18 @@ TEST(StellarSimplify, TorusKeepsGenusAndReachesTheRatio) {
   expectParametrisation(dense, base, 0.5);  // the minor radius is 1
 }
 
+TEST(StellarSimplify, TheDefaultBaseSizeIsTwoPercentUpToAThousandAndNeverUnderOnePercent) {
+  EXPECT_EQ(defaultBaseVertices(2775), 56u);      // 2 %
+  EXPECT_EQ(defaultBaseVertices(50000), 1000u);   // 2 %, at the cap
+  EXPECT_EQ(defaultBaseVertices(80000), 1000u);   // capped, still above 1 %
+  EXPECT_EQ(defaultBaseVertices(385000), 3850u);  // 1 %
+  EXPECT_EQ(defaultBaseVertices(100), 4u);        // never below 4
+  SimplifyStats stats;
+  simplifyStellar(torusMesh(80, 40), {}, &stats);  // 3200 vertices
+  EXPECT_EQ(stats.targetVertices, 64u);
+  EXPECT_TRUE(stats.reachedTarget);
+}
+
 TEST(StellarSimplify, DoubleTorusKeepsGenusTwo) {
   const Mesh dense = test::doubleTorusMesh();
   ASSERT_EQ(analyzeTopology(dense).genus, 2);

@@ -31,7 +31,7 @@ DEFAULTS = {
     "iterations": 1000,    # the solver's cap: a subject still moving after this many fails
     "half_resolution_start": False,  # segment --half-resolution-start: faster, its surface a little different
     "edits": "",
-    "base_ratio": 0.01,    # build --base-ratio
+    "base_ratio": None,    # build --base-ratio; None: build's default
     "chart_size": 33,      # build --chart
     "samples": 200000,     # eval --samples
     "thumbnail": [256, 256],
@@ -90,8 +90,10 @@ def _check_config(c, where):
     def positive(key, kind=(int, float)):
         if not isinstance(c[key], kind) or isinstance(c[key], bool) or c[key] <= 0:
             raise InputError(f"{where}: '{key}' must be a positive number")
-    for key in ("iterations", "chart_size", "samples", "base_ratio"):
-        positive(key, int if key != "base_ratio" else (int, float))
+    for key in ("iterations", "chart_size", "samples"):
+        positive(key, int)
+    if c["base_ratio"] is not None:
+        positive("base_ratio")
     for key in ("allowed_failures", "threads_per_worker"):
         if not isinstance(c[key], int) or isinstance(c[key], bool) or c[key] < 0:
             raise InputError(f"{where}: '{key}' must be a whole number >= 0")
