@@ -8,9 +8,9 @@
 #include <cmath>
 #include <type_traits>
 
-#include <zlib.h>
 
 #include "atlas/tile_sides.h"
+#include "core/deflate.h"
 #include "core/error.h"
 
 namespace isoatlas::atlas {
@@ -190,19 +190,13 @@ std::vector<std::uint8_t> packChartCodes(const QuantisedChart& chart, std::uint3
   std::vector<std::uint8_t> planes(texels * 8);
   toPlanes(chart.positions, n, planes.data());
   toPlanes(chart.normals, n, planes.data() + 6 * texels);
-  uLongf size = compressBound(uLong(planes.size()));
-  std::vector<std::uint8_t> out(size);
-  const int status = compress2(out.data(), &size, planes.data(), uLong(planes.size()), 6);
-  require(status == Z_OK, "model file: zlib could not deflate a chart's codes");
-  out.resize(size);
-  return out;
+  return deflateBytes(planes.data(), planes.size(), 6, "model file: a chart's codes");
 }
 
 bool unpackChartCodes(const std::uint8_t* bytes, std::size_t size, std::uint32_t n, QuantisedChart& chart) {
   const std::size_t texels = std::size_t(n) * n;
   std::vector<std::uint8_t> planes(texels * 8);
-  uLongf inflated = uLongf(planes.size());
-  if (uncompress(planes.data(), &inflated, bytes, uLong(size)) != Z_OK || inflated != planes.size()) return false;
+  if (!inflateExactly(bytes, size, planes.data(), planes.size())) return false;
   fromPlanes(planes.data(), n, chart.positions);
   fromPlanes(planes.data() + 6 * texels, n, chart.normals);
   return true;

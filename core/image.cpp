@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "core/atomic_file.h"
+#include "core/deflate.h"
 #include "core/error.h"
 
 namespace isoatlas {
@@ -58,10 +59,7 @@ void writePng(const std::string& path, const Image& image) {
   static constexpr std::uint8_t kColourType[5] = {0, 0, 4, 2, 6};  // grey, grey + alpha, RGB, RGBA by channels
   require(image.channels >= 1 && image.channels <= 4, path + ": an image has 1 to 4 channels");
   const std::vector<std::uint8_t> scanlines = paethScanlines(image);
-  uLongf packedSize = compressBound(uLong(scanlines.size()));
-  std::vector<std::uint8_t> packed(packedSize);
-  if (compress2(packed.data(), &packedSize, scanlines.data(), uLong(scanlines.size()), Z_BEST_SPEED) != Z_OK)
-    throw Error(path + ": could not compress the PNG's pixels", ErrorKind::Failure);
+  const std::vector<std::uint8_t> packed = deflateBytes(scanlines.data(), scanlines.size(), Z_BEST_SPEED, path);
   std::string png("\x89PNG\r\n\x1a\n", 8);
   std::uint8_t header[13] = {};
   for (int k = 0; k < 4; ++k) {
@@ -71,7 +69,7 @@ void writePng(const std::string& path, const Image& image) {
   header[8] = 8;  // bits a sample; compression, filter method and interlace stay 0
   header[9] = kColourType[image.channels];
   appendChunk(png, "IHDR", header, sizeof header);
-  appendChunk(png, "IDAT", packed.data(), packedSize);
+  appendChunk(png, "IDAT", packed.data(), packed.size());
   appendChunk(png, "IEND", nullptr, 0);
   writeFileAtomically(path, png);
 }
