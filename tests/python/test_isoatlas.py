@@ -390,3 +390,15 @@ def test_meshes_round_trip_and_report_their_figures(tmp_path):
     with pytest.raises(FileNotFoundError, match="none.ply"):
         isoatlas.read_mesh(str(tmp_path / "none.ply"))
     assert not [p for p in os.listdir(tmp_path) if ".partial." in p]
+
+
+def test_build_takes_the_commands_default_base_size():
+    """No base_ratio: the command's default (2 % of the vertices up to 1,000, at least 1 %): 23 of the
+    torus's 1,152; a ratio given is taken as given, and one out of range is refused as the command refuses it."""
+    vertices, triangles = torus_mesh()
+    default = isoatlas.build(vertices, triangles, chart_size=9, hausdorff=False)
+    assert default.report["target_vertices"] == 23
+    given = isoatlas.build(vertices, triangles, base_ratio=0.05, chart_size=9, hausdorff=False)
+    assert given.report["target_vertices"] == 58
+    with pytest.raises(ValueError, match="--base-ratio"):
+        isoatlas.build(vertices, triangles, base_ratio=0, chart_size=9, hausdorff=False)
