@@ -8,7 +8,6 @@
 #include <cmath>
 #include <type_traits>
 
-
 #include "atlas/tile_sides.h"
 #include "core/deflate.h"
 #include "core/error.h"

@@ -23,11 +23,10 @@
 namespace isoatlas::multires {
 
 // The base size when none is asked for: 2 % of the dense vertices up to 1,000 of them, and never
-// fewer than 1 % (the paper's ratio). A small mesh at 1 % keeps too few tiles to follow its shape
-// (elephant: 33 base vertices, level 10 at 39 dB; 2 %: 52 dB), and 2 % still keeps the model smaller
-// than the dense mesh; a large one at 1 % already has thousands of tiles, where 2 % costs a third
-// more time for a gain in RMS but not in the largest distance (bench/RESULTS.md, "the default base
-// size").
+// fewer than 1 % (the paper's ratio). At 1 % a small mesh keeps too few tiles to follow its shape,
+// and 2 % still keeps the model smaller than the dense mesh; a large one at 1 % already has
+// thousands of tiles, where 2 % costs much time for a gain in RMS but not in the largest distance
+// (bench/RESULTS.md, "the default base size").
 inline constexpr double kSmallMeshBaseRatio = 0.02, kLargeMeshBaseRatio = 0.01;
 inline constexpr std::size_t kSmallMeshMostBaseVertices = 1000;
 std::size_t defaultBaseVertices(std::size_t denseVertices);

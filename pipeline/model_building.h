@@ -21,7 +21,7 @@ namespace isoatlas::pipeline {
 struct ModelRequest {
   std::optional<double> baseRatio;  // unset: multires::defaultBaseVertices
   std::size_t baseVertices = 0;     // instead of baseRatio when set
-  double maxError = 0;           // 0: unbounded
+  double maxError = 0;              // 0: unbounded
   std::uint32_t chartSize = 33;
   int relaxSweeps = atlas::kDefaultRelaxSweeps;  // texels follow the surface's bending (0: uniform in each tile)
   bool keepDense = false;  // the model keeps the dense mesh and its parametrisation
