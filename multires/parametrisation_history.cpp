@@ -14,8 +14,23 @@ void ParametrisationHistory::beginStep(std::span<const Vec2> layout) {
 }
 
 void ParametrisationHistory::replaces(std::uint32_t version, const std::array<std::uint8_t, 3>& corners) {
-  replaced_.push_back({version, corners});
-  ++steps_.back().replacedSize;
+  Step& step = steps_.back();
+  require(step.replacedSize < kNoFaceAcross, "parametrisation history: a step replaced more than 254 faces");
+  ReplacedFace face;
+  face.version = version;
+  face.corners = corners;
+  // Side i runs from corner i + 1 to corner i + 2; the face across has it the other way round.
+  const auto from = [](const Face& f, int i) { return f.corners[std::size_t(i + 1) % 3]; };
+  const auto to = [](const Face& f, int i) { return f.corners[std::size_t(i + 2) % 3]; };
+  const auto here = std::uint8_t(step.replacedSize);
+  for (std::uint8_t g = 0; g < step.replacedSize; ++g) {
+    ReplacedFace& other = replaced_[step.replacedBegin + g];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (from(face, i) == to(other, j) && to(face, i) == from(other, j)) face.across[std::size_t(i)] = g, other.across[std::size_t(j)] = here;
+  }
+  replaced_.push_back(face);
+  ++step.replacedSize;
 }
 
 std::uint32_t ParametrisationHistory::adds(const std::array<std::uint8_t, 3>& corners) {
@@ -52,19 +67,6 @@ int alongKeptEdge(const std::array<std::uint8_t, 3>& madeCorners, const std::arr
   return -1;
 }
 
-// The face of `count` faces across face f's side i (facing corner i): the one that has that side's
-// corners the other way round.
-template <class Face>
-std::size_t faceAcross(const Face* faces, std::size_t count, std::size_t f, int i) {
-  const auto& c = faces[f].corners;
-  const std::uint8_t a = c[std::size_t(i + 1) % 3], b = c[std::size_t(i + 2) % 3];
-  for (std::size_t g = 0; g < count; ++g) {
-    const auto& d = faces[g].corners;
-    if ((d[0] == b && d[1] == a) || (d[1] == b && d[2] == a) || (d[2] == b && d[0] == a)) return g;
-  }
-  return kNoTriangleHit;
-}
-
 }  // namespace
 
 ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t version, const Bary& bary, Hints* hints) const {
@@ -73,7 +75,7 @@ ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t
     const Face& made = made_[out.face - denseFaces_];
     const Step& step = steps_[made.version];
     const Vec2* layout = layout_.data() + step.layoutBegin;
-    const Face* replaced = replaced_.data() + step.replacedBegin;
+    const ReplacedFace* replaced = replaced_.data() + step.replacedBegin;
     Bary carried;
     if (const int r = alongKeptEdge(made.corners, out.bary, replaced, step.replacedSize, carried); r >= 0) {
       out.face = replaced[r].version;
@@ -92,7 +94,10 @@ ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t
     if (hints)
       if (const std::size_t face = hints->face(stepIndex); face < step.replacedSize)
         hit = walkStrictlyInside(p, face, step.replacedSize, corners,
-                                 [&](std::size_t f, int i) { return faceAcross(replaced, step.replacedSize, f, i); });
+                                 [&](std::size_t f, int i) {
+                                   const std::uint8_t g = replaced[f].across[std::size_t(i)];
+                                   return g == kNoFaceAcross ? kNoTriangleHit : std::size_t(g);
+                                 });
     if (hit.triangle == kNoTriangleHit) hit = locateExactly(p, step.replacedSize, corners);
     if (hints && hit.triangle != kNoTriangleHit) hints->remember(stepIndex, hit.triangle);
     if (hit.triangle == kNoTriangleHit) {
@@ -110,7 +115,8 @@ ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t
 }
 
 std::size_t ParametrisationHistory::bytes() const {
-  return steps_.size() * sizeof(Step) + layout_.size() * sizeof(Vec2) + (replaced_.size() + made_.size()) * sizeof(Face);
+  return steps_.size() * sizeof(Step) + layout_.size() * sizeof(Vec2) + replaced_.size() * sizeof(ReplacedFace) +
+         made_.size() * sizeof(Face);
 }
 
 }  // namespace isoatlas::multires

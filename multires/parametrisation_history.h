@@ -85,10 +85,17 @@ private:
     std::uint32_t version;  // the replaced face's (in replaced_), or the step (in made_)
     std::array<std::uint8_t, 3> corners;
   };
+  // A face a step replaced, with the step's face across each of its sides (side i faces corner i;
+  // kNoFaceAcross on the ring's border), linked as the faces are recorded: a walk through the step's
+  // faces crosses a side without searching for its neighbour.
+  static constexpr std::uint8_t kNoFaceAcross = 0xff;
+  struct ReplacedFace : Face {
+    std::array<std::uint8_t, 3> across{kNoFaceAcross, kNoFaceAcross, kNoFaceAcross};
+  };
   std::uint32_t denseFaces_;
   std::vector<Step> steps_;
   std::vector<Vec2> layout_;
-  std::vector<Face> replaced_;
+  std::vector<ReplacedFace> replaced_;
   std::vector<Face> made_;  // per version past the dense faces: the step that made it, its corners there
 };
 
