@@ -263,7 +263,7 @@ double writeModel(const std::string& path, const Model& model) {
     for (const float x : charts[c].lo) atlas.put(x);
     for (const float x : charts[c].step) atlas.put(x);
     atlas.put(std::uint32_t(packed[c].size()));
-    for (const std::uint8_t b : packed[c]) atlas.put(b);
+    atlas.putBytes(packed[c]);
   }
   out.section("ATLS", atlas);
 

@@ -1,6 +1,6 @@
 // The atlas as the model file stores it (version 4): each chart's positions as 14-bit codes within
-// the chart's own bounding box (at most a 32766th of the box from the atlas's own along each axis: a
-// fortieth of level 10's largest distance or less on the benchmark meshes, bench/RESULTS.md), and
+// the chart's own bounding box (at most a 32766th of the box from the atlas's own along each axis;
+// bench/RESULTS.md compares it with level 10's largest distance), and
 // every normal as an octahedral code of two bytes (8 + 8 bits). Decoding gives each border point two
 // values (each chart its own box), so the decoder copies every shared side from the lower-numbered
 // chart into the other and sets every corner to its base vertex: neighbouring charts agree bit for

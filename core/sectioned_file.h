@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 #include <type_traits>
+#include <vector>
 #include <bit>
 
 #include "core/error.h"
@@ -31,6 +32,8 @@ public:
     }
   }
   void putVec(const Vec3& v) { put(v.x), put(v.y), put(v.z); }
+  // Bytes as they are (SectionReader::take reads them back).
+  void putBytes(const std::vector<std::uint8_t>& raw) { bytes.append(raw.begin(), raw.end()); }
   std::string bytes;
 };
 

@@ -768,7 +768,7 @@ std::size_t defaultBaseVertices(std::size_t denseVertices) {
 }
 
 BaseMesh simplifyStellar(const Mesh& dense, const SimplifyOptions& options, SimplifyStats* stats) {
-  require(options.vertexRatio >= 0 && options.vertexRatio <= 1, "simplify: the vertex ratio must be in (0, 1] (0: the default)");
+  require(options.vertexRatio >= 0 && options.vertexRatio <= 1, "simplify: the vertex ratio must be in [0, 1] (0: the default size)");
   require(options.maxError > 0, "simplify: the error bound must be positive");
   Simplifier simplifier(dense, options);
   SimplifyStats local;
