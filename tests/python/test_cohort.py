@@ -246,6 +246,7 @@ def test_ctrl_c_stops_cleanly_and_the_next_run_goes_on(tmp_path):
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"colour": 1}, [], "unknown setting 'colour'"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"chart_size": 10}, [], "'chart_size' must be 2^k + 1"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"iterations": 0}, [], "'iterations' must be a positive number"),
+    ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"base_ratio": 2}, [], "'base_ratio' must be null (build's default) or in (0, 1]"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"half_resolution_start": "yes"}, [], "'half_resolution_start' must be true or false"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--stages", "build"], "--stages: build needs extract"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--stages", "segment,mesh"], "unknown stage 'mesh'"),

@@ -92,8 +92,9 @@ def _check_config(c, where):
             raise InputError(f"{where}: '{key}' must be a positive number")
     for key in ("iterations", "chart_size", "samples"):
         positive(key, int)
-    if c["base_ratio"] is not None:
-        positive("base_ratio")
+    ratio = c["base_ratio"]
+    if ratio is not None and (not isinstance(ratio, (int, float)) or isinstance(ratio, bool) or not 0 < ratio <= 1):
+        raise InputError(f"{where}: 'base_ratio' must be null (build's default) or in (0, 1]")
     for key in ("allowed_failures", "threads_per_worker"):
         if not isinstance(c[key], int) or isinstance(c[key], bool) or c[key] < 0:
             raise InputError(f"{where}: '{key}' must be a whole number >= 0")
