@@ -180,6 +180,25 @@ std::vector<std::vector<ChartVertex>> verticesInCharts(const Mesh& dense, const 
   return out;
 }
 
+// ChartRelaxing::levelTwoGuard as a share of level 0's largest distance over the tiles (levelError,
+// which measures at chart points and so overstates the closest distance: the white matter's level 0
+// measures 0.85 of it by CGAL's Hausdorff distance). Below it, level 2 cannot set the model's
+// largest distance, and the centres stay, as the finer levels are relaxed around them.
+constexpr double kLevelTwoGuardShare = 0.8;
+
+// Level 0's largest distance from the surface over the tiles: each tile's two base triangles against
+// the surface and its dense vertices (levelError of the grid of 2).
+double largestLevelZeroError(const ChartSurface& surface, std::uint32_t charts,
+                             const std::vector<std::vector<ChartVertex>>& chartVertices) {
+  const std::vector<multires::Vec2> corners{{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+  std::vector<double> error(charts);
+  tbb::parallel_for(std::uint32_t(0), charts, [&](std::uint32_t c) {
+    ChartPointCache cache(surface, c, 64);
+    error[c] = levelError(2, corners, [&](const multires::Vec2& q) { return cache.at(q); }, chartVertices[c]);
+  });
+  return error.empty() ? 0 : *std::max_element(error.begin(), error.end());
+}
+
 // The chart points of tile c (relaxChart), then its finest texels drawn onto the dense vertices the
 // grid misses (snapTexels; with relaxation only, so that no relaxation keeps the tile's uniform
 // grid), and the dense surface at each.
@@ -348,9 +367,12 @@ Atlas makeAtlas(const Mesh& dense, const multires::BaseMesh& base, std::uint32_t
   const std::vector<Vec3> normals = vertexNormals(dense);
   // Floored at a tenth of a sphere the size of the mesh, for meshes mostly flat (a box's median is 0).
   const double flat = std::max(kFlatCurvatureShare * medianEdgeCurvature(dense, normals), 0.1 / boundingBox(dense.positions).diagonal());
-  const ChartRelaxing how{relaxSweeps, flat};
+  ChartRelaxing how{relaxSweeps, flat};
   const auto chartVertices = verticesInCharts(dense, base);
-  sampleCharts({dense, normals, base}, how, chartVertices, atlas, held, s);
+  const ChartSurface surface{dense, normals, base};
+  if (relaxSweeps > 0 && !chartVertices.empty())
+    how.levelTwoGuard = kLevelTwoGuardShare * largestLevelZeroError(surface, atlas.layout.charts, chartVertices);
+  sampleCharts(surface, how, chartVertices, atlas, held, s);
   // Samples of one point may differ by float rounding (a few ulps of the coordinates), no more.
   const Box box = boundingBox(base.positions);
   const double largest = std::max({std::abs(box.min.x), std::abs(box.min.y), std::abs(box.min.z), std::abs(box.max.x),

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "atlas/chart_grid.h"
 #include "atlas/reconstruct.h"
@@ -108,6 +109,30 @@ double levelError(std::uint32_t n, const std::vector<Vec2>& q, const std::vector
   for (std::size_t k = 0; k < p.size(); ++k) positions[k] = p[k].position;
   const ChartGrid grid(n, q, positions);
   return std::max(grid.largestStray([&](const Vec2& x) { return surfaceAt(x).position; }), largestVertexError(grid, vertices));
+}
+
+// The grid of 3 (q, p its surface) with its centre moved where level 2 lies nearest the surface,
+// when it lies farther than the tile's corners alone and than `guard` (ChartRelaxing::levelTwoGuard).
+void placeLevelTwoCentre(std::vector<Vec2>& q, std::vector<SurfacePoint>& p, const std::function<SurfacePoint(const Vec2&)>& surfaceAt,
+                         std::span<const ChartVertex> vertices, double guard) {
+  double best = levelError(3, q, p, surfaceAt, vertices);
+  if (!(best > guard)) return;
+  const std::vector<Vec2> corners{{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+  if (!(best > levelError(2, corners, surfaceAt, vertices))) return;
+  constexpr int kSteps = 8;  // candidates at the 7 x 7 inner points of a lattice over [0.25, 0.75]^2
+  constexpr std::size_t kCentre = 4;
+  std::vector<Vec2> trial = q;
+  std::vector<SurfacePoint> trialSurface = p;
+  for (int a = 1; a < kSteps; ++a)
+    for (int b = 1; b < kSteps; ++b) {
+      trial[kCentre] = Vec2{0.25 + 0.5 * a / kSteps, 0.25 + 0.5 * b / kSteps};
+      if (!(convexChartQuad(trial, 3, 0, 0) && convexChartQuad(trial, 3, 1, 0) && convexChartQuad(trial, 3, 0, 1) &&
+            convexChartQuad(trial, 3, 1, 1)))
+        continue;
+      trialSurface[kCentre] = surfaceAt(trial[kCentre]);
+      const double error = levelError(3, trial, trialSurface, surfaceAt, vertices);
+      if (error < best) best = error, q[kCentre] = trial[kCentre], p[kCentre] = trialSurface[kCentre];
+    }
 }
 
 }  // namespace
@@ -231,8 +256,16 @@ std::vector<Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(c
   for (std::size_t l = grids.size() - 1; l-- > 0;) {
     const auto coarse = std::uint32_t(grids[l + 1][0].size()), fine = std::uint32_t(grids[l][0].size());
     q = refineChartGrid(coarse, q, grids[l]);
+    if (fine == 3 && how.sweeps > 0 && how.levelTwoGuard < std::numeric_limits<double>::infinity()) {
+      p.resize(q.size());
+      for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
+      placeLevelTwoCentre(q, p, surfaceAt, vertices, how.levelTwoGuard);
+    }
     const bool relaxed = how.sweeps > 0 && stride > 1 && (n - 1) / (fine - 1) < stride;
-    if (!relaxed) continue;
+    if (!relaxed) {
+      p.clear();
+      continue;
+    }
     std::vector<SurfacePoint> finer(q.size());
     for (std::uint32_t j = 0; j < fine; ++j)
       for (std::uint32_t i = 0; i < fine; ++i) {  // the coarser texels stay where they were measured

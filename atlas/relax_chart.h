@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -30,9 +31,17 @@ struct ChartRelaxing {
   int sweeps = 0;             // on the grids of 5 and 9 a side, half as many on each finer one (at least 1); 0: the tile's uniform grid
   double flatCurvature = 1;   // per unit of length, > 0
   // The texels of this coarser grid (2^k + 1) stay on the tile's uniform grid: 3, its corners and
-  // centre (5 kept levels 0-4's texels uniform: the levels above gained 0.5 to 2.4 dB at level 10
-  // from relaxing them too; bench/RESULTS.md).
+  // centre, but for levelTwoGuard below (5 kept levels 0-4's texels uniform: the levels above gained
+  // 0.5 to 2.4 dB at level 10 from relaxing them too; bench/RESULTS.md).
   std::uint32_t keptSize = 3;
+  // Level 2 (the grid of 3) can lie farther from the surface than level 0 where its new texels land
+  // on crests either side of a fold that level 0's flat triangles cut across. Where the grid of 3
+  // lies farther from the surface than the tile's corners alone (levelError, both ways) and farther
+  // than this, its centre texel moves to the candidate place where it lies nearest (a 7 x 7 lattice
+  // over the middle half of the tile, its four squares strictly convex). The centre stays in every
+  // finer grid, so it moves only where level 2 could set the model's largest distance (make_atlas.cpp
+  // passes a share of level 0's largest over the tiles); infinity: never.
+  double levelTwoGuard = std::numeric_limits<double>::infinity();
 };
 
 // uniformFractions: n texels at equal steps along a side, 0 to 1.
@@ -69,7 +78,7 @@ double coarsestRelaxedError(std::uint32_t n, int side, const std::vector<double>
 // Coarse to fine, as the model's levels take the texels: from the tile's corners, each grid is
 // refined to the next (refineChartGrid), its border at the sides' fractions. Up to the grid of
 // keptSize a side that is all (with sweeps 0, up to the chart's: uniform sides give the tile's
-// uniform grid). On each finer grid (9, 17, .. a side) each sweep moves every new texel towards the
+// uniform grid), but for the grid of 3's centre, which moves where how.levelTwoGuard says. On each finer grid (9, 17, .. a side) each sweep moves every new texel towards the
 // mean of its four neighbours on the surface, weighted by each spacing's sqrt(curvature +
 // flatCurvature) (that step taken into the chart through the grid's local derivative, halved), and
 // takes a move only where no quad around the texel stops being strictly convex and

@@ -1,8 +1,9 @@
 // Texels placed over their tile against what the placement promises: a flat, evenly mapped tile
 // keeps its uniform grid; a side's fractions rise from 0 to 1, keep the coarse lattice, read the
 // same from both ends, and gather at a crease; a chart's grid stays strictly convex with its border
-// where the sides put it, evens out a stretched map and gathers at a crease; and on a model with
-// creases the finest level lies closer to the dense surface than the uniform grid's.
+// where the sides put it, evens out a stretched map and gathers at a crease; level 2's centre leaves
+// a spike that would tent it over a bowl; and on a model with creases the finest level lies closer
+// to the dense surface than the uniform grid's.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -237,6 +238,49 @@ TEST(RelaxChart, ASidesCoarsestErrorIsTheSpannedGridsLevelError) {
     EXPECT_EQ(coarsestRelaxedError(kN, 0, sides[0], bump, kHow, {}), levelError(5, spannedGridOfFive(sides), bump, {})) << relaxed;
   }
   EXPECT_NE(side[8], 0.25) << "the bump must move the side's coarsest relaxed texels";
+}
+
+// Level 2's centre on a narrow spike over a bowl: its triangles tent up over the bowl, farther from
+// it than level 0's flat pair. Past the guard, the centre moves off the spike to where level 2 lies
+// nearest, nearer than level 0; below it, the centre stays (the tile's uniform grid of 3).
+TEST(RelaxChart, LevelTwosCentreLeavesASpikeThatTentsItOverABowl) {
+  constexpr double kPi = 3.14159265358979323846;
+  auto surface = [&](const Vec2& q) {
+    const double bowl = -std::sin(kPi * q.x) * std::sin(kPi * q.y);
+    const double spike = 1.2 * std::exp(-((q.x - 0.5) * (q.x - 0.5) + (q.y - 0.5) * (q.y - 0.5)) / 0.0004);
+    return SurfacePoint{{q.x, q.y, bowl + spike}, {0, 0, 1}};  // levelError reads no normals
+  };
+  std::vector<ChartVertex> vertices;  // a lattice that misses the spike, as a coarse dense mesh would
+  for (int j = 0; j < 20; ++j)
+    for (int i = 0; i < 20; ++i) {
+      const Vec2 q{(i + 0.5) / 20, (j + 0.5) / 20};
+      vertices.push_back({q, surface(q).position});
+    }
+  auto levelTwo = [&](const std::vector<Vec2>& q) {
+    std::vector<Vec2> grid;
+    for (std::uint32_t j = 0; j < kN; j += (kN - 1) / 2)
+      for (std::uint32_t i = 0; i < kN; i += (kN - 1) / 2) grid.push_back(q[j * kN + i]);
+    return grid;
+  };
+  const double levelZero = levelError(2, {{0, 0}, {1, 0}, {0, 1}, {1, 1}}, surface, vertices);
+  const std::vector<Vec2> uniform{{0, 0}, {0.5, 0}, {1, 0}, {0, 0.5}, {0.5, 0.5}, {1, 0.5}, {0, 1}, {0.5, 1}, {1, 1}};
+  const double uniformError = levelError(3, uniform, surface, vertices);
+  ASSERT_GT(uniformError, levelZero) << "the spike must tent level 2 over the bowl";
+
+  ChartRelaxing guarded = kHow;
+  guarded.levelTwoGuard = 0.5 * uniformError;
+  std::uint32_t nonConvex = 1;
+  const auto moved = levelTwo(relaxChart(kN, surface, uniformSides(), guarded, &nonConvex, vertices));
+  EXPECT_EQ(nonConvex, 0u);
+  EXPECT_FALSE(moved[4].x == 0.5 && moved[4].y == 0.5) << "the centre must leave the spike";
+  EXPECT_LT(levelError(3, moved, surface, vertices), levelZero);
+
+  guarded.levelTwoGuard = uniformError;  // level 2 no farther than the guard: nothing moves
+  const auto kept = levelTwo(relaxChart(kN, surface, uniformSides(), guarded, nullptr, vertices));
+  for (std::size_t k = 0; k < uniform.size(); ++k) {
+    EXPECT_EQ(kept[k].x, uniform[k].x) << k;
+    EXPECT_EQ(kept[k].y, uniform[k].y) << k;
+  }
 }
 
 // A grid with a ridge: the finest level of the relaxed charts lies closer to the dense surface, by
