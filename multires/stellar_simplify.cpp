@@ -658,8 +658,8 @@ BaseMesh Simplifier::run(SimplifyStats& stats) {
   const auto start = std::chrono::steady_clock::now();
   const std::size_t n = mesh_.n_vertices();
   const std::size_t target = options_.targetVertices > 0 ? options_.targetVertices
-                             : options_.vertexRatio > 0  ? std::max<std::size_t>(4, std::size_t(std::llround(options_.vertexRatio * double(n))))
-                                                         : defaultBaseVertices(n);
+                             : options_.vertexRatio ? std::max<std::size_t>(4, std::size_t(std::llround(*options_.vertexRatio * double(n))))
+                                                    : defaultBaseVertices(n);
   initQuadrics();
   degrees_ = degreeTable(mesh_);
   denseStars_ = DenseStars(dense_);
@@ -768,7 +768,7 @@ std::size_t defaultBaseVertices(std::size_t denseVertices) {
 }
 
 BaseMesh simplifyStellar(const Mesh& dense, const SimplifyOptions& options, SimplifyStats* stats) {
-  require(options.vertexRatio >= 0 && options.vertexRatio <= 1, "simplify: the vertex ratio must be in [0, 1] (0: the default size)");
+  require(!options.vertexRatio || (*options.vertexRatio > 0 && *options.vertexRatio <= 1), "simplify: the vertex ratio must be in (0, 1]");
   require(options.maxError > 0, "simplify: the error bound must be positive");
   Simplifier simplifier(dense, options);
   SimplifyStats local;

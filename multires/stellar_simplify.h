@@ -16,6 +16,7 @@
 // thread count.
 #pragma once
 #include <limits>
+#include <optional>
 
 #include "multires/base_mesh.h"
 #include "multires/stellar_operators.h"
@@ -32,8 +33,8 @@ inline constexpr std::size_t kSmallMeshMostBaseVertices = 1000;
 std::size_t defaultBaseVertices(std::size_t denseVertices);
 
 struct SimplifyOptions {
-  double vertexRatio = 0;          // stop at this fraction of the dense vertices; 0: defaultBaseVertices
-  std::size_t targetVertices = 0;  // when > 0, stop at this many vertices instead
+  std::optional<double> vertexRatio;  // stop at this fraction of the dense vertices, in (0, 1]; unset: defaultBaseVertices
+  std::size_t targetVertices = 0;     // when > 0, stop at this many vertices instead
   double maxError = std::numeric_limits<double>::infinity();  // never weld above this RMS distance (mm)
 };
 

@@ -46,7 +46,7 @@ void checkModelRequest(const ModelRequest& request) {
 atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann::json& r) {
   require(request.baseVertices < dense.vertexCount(), "--base-vertices " + std::to_string(request.baseVertices) +
                                                          ": the mesh has only " + std::to_string(dense.vertexCount()) + " vertices");
-  multires::SimplifyOptions simplify{.vertexRatio = request.baseRatio.value_or(0), .targetVertices = request.baseVertices};
+  multires::SimplifyOptions simplify{.vertexRatio = request.baseRatio, .targetVertices = request.baseVertices};
   if (request.maxError > 0) simplify.maxError = request.maxError;
   multires::SimplifyStats stats;
   atlas::Model model;
