@@ -206,12 +206,17 @@ struct ChartPoints {
   std::vector<multires::Vec2> chart;
   std::vector<multires::ParametrisationHistory::DensePoint> dense;
   std::uint32_t nonConvex = 0, snapped = 0;
+  bool levelTwoCentreMoved = false;  // by ChartRelaxing::levelTwoGuard
 };
 ChartPoints placeTexels(const ChartSurface& surface, std::uint32_t c, std::uint32_t n, const std::array<std::vector<double>, 4>& sides,
                         const ChartRelaxing& how, std::span<const ChartVertex> vertices) {
   ChartPoints out;
   ChartPointCache cache(surface, c);
   out.chart = relaxChart(n, [&](const multires::Vec2& q) { return cache.at(q); }, sides, how, &out.nonConvex, vertices);
+  // The grid of 3's centre, kept by every finer grid, lies at the sides' middles' crossing, (0.5, 0.5),
+  // unless the guard moved it (the sides keep their middles there).
+  const multires::Vec2& centre = out.chart[std::size_t(n / 2) * n + n / 2];
+  out.levelTwoCentreMoved = centre.x != 0.5 || centre.y != 0.5;
   out.dense.resize(out.chart.size());
   for (std::size_t k = 0; k < out.chart.size(); ++k) out.dense[k] = cache.point(out.chart[k]);
   if (how.sweeps <= 0 || vertices.empty()) return out;
@@ -235,7 +240,7 @@ void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, const s
                   Atlas& atlas, std::vector<std::uint8_t>& held, ChartStats& stats) {
   const std::uint32_t n = atlas.layout.chartSize;
   const auto sides = sideFractions(surface, atlas.layout, how, chartVertices);
-  std::atomic<std::uint64_t> folded{0}, gaps{0}, steps{0}, turned{0}, nonConvex{0}, snapped{0};
+  std::atomic<std::uint64_t> folded{0}, gaps{0}, steps{0}, turned{0}, nonConvex{0}, snapped{0}, centresMoved{0};
   Progress progress("atlas: sampling charts", atlas.layout.charts, "charts");
   constexpr std::uint32_t kChunk = 64;  // charts between progress updates (Progress is not thread-safe)
   for (std::uint32_t first = 0; first < atlas.layout.charts; first += kChunk) {
@@ -245,6 +250,7 @@ void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, const s
     const ChartPoints points =
         placeTexels(surface, c, n, sides[c], how, chartVertices.empty() ? std::span<const ChartVertex>{} : chartVertices[c]);
     snapped += points.snapped;
+    centresMoved += points.levelTwoCentreMoved;
     std::vector<std::array<float, 3>> chart;
     std::vector<Vec3> positions, surfaceNormals;
     for (std::uint32_t j = 0; j < n; ++j)
@@ -284,6 +290,7 @@ void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, const s
   progress.finish();
   stats.foldedTexels = folded;
   stats.snappedTexels = snapped;
+  stats.levelTwoCentresMoved = centresMoved;
   stats.gapTexels = gaps;
   stats.turnedTexelQuads = turned;
   stats.nonConvexChartQuads = nonConvex;

@@ -29,6 +29,7 @@ struct ChartStats {
   std::uint64_t turnedTexelQuads = 0;  // texel quads turning against the surface (a shear, not a fold)
   std::uint64_t nonConvexChartQuads = 0;  // texel quads whose chart points are not strictly convex (0 expected)
   std::uint64_t snappedTexels = 0;  // texels moved onto a dense vertex their grid missed (snap_texels.h)
+  std::uint64_t levelTwoCentresMoved = 0;  // charts whose centre moved so that level 2 lies nearer (relax_chart.h)
   double meanHistorySteps = 0;     // the steps a texel walked back through the history
   std::uint64_t sharedSides = 0;   // tile sides averaged with a neighbour's
   std::uint64_t borderDisagreements = 0;  // shared samples from different sheets (one taken, not the mean)

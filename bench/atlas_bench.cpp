@@ -74,6 +74,8 @@ std::vector<atlas::LevelFigures> measure(const std::string& name, const Mesh& de
   bench::report("atlas", caseName, "texel quads turned by shear", double(charts.turnedTexelQuads), "texels", double(charts.texels), false);
   bench::report("atlas", caseName, "texels drawn onto dense vertices the grid missed", double(charts.snappedTexels), "texels",
                 double(charts.texels), false);
+  bench::report("atlas", caseName, "charts whose centre moved for level 2", double(charts.levelTwoCentresMoved), "charts",
+                double(model.atlas.layout.charts), false);
   bench::report("atlas", caseName, "border samples the two charts disagree on", double(charts.borderDisagreements), "texels",
                 double(charts.texels), false);
   bench::report("atlas", caseName, "dense triangles folded drawn straight", double(foldedDense), "dense triangles",
