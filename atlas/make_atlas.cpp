@@ -182,8 +182,8 @@ std::vector<std::vector<ChartVertex>> verticesInCharts(const Mesh& dense, const 
 
 // ChartRelaxing::levelTwoGuard as a share of level 0's largest distance over the tiles (levelError,
 // which measures at chart points and so overstates the closest distance: the white matter's level 0
-// measures 0.85 of it by CGAL's Hausdorff distance). Below it, level 2 cannot set the model's
-// largest distance, and the centres stay, as the finer levels are relaxed around them.
+// measures 0.85 of it by CGAL's Hausdorff distance). A tile's level 2 below it lies well within
+// level 0's largest distance, and its centre stays: the finer levels are relaxed around it.
 constexpr double kLevelTwoGuardShare = 0.8;
 
 // Level 0's largest distance from the surface over the tiles: each tile's two base triangles against

@@ -78,11 +78,12 @@ double coarsestRelaxedError(std::uint32_t n, int side, const std::vector<double>
 // Coarse to fine, as the model's levels take the texels: from the tile's corners, each grid is
 // refined to the next (refineChartGrid), its border at the sides' fractions. Up to the grid of
 // keptSize a side that is all (with sweeps 0, up to the chart's: uniform sides give the tile's
-// uniform grid), but for the grid of 3's centre, which moves where how.levelTwoGuard says. On each finer grid (9, 17, .. a side) each sweep moves every new texel towards the
-// mean of its four neighbours on the surface, weighted by each spacing's sqrt(curvature +
-// flatCurvature) (that step taken into the chart through the grid's local derivative, halved), and
-// takes a move only where no quad around the texel stops being strictly convex and
-// counter-clockwise in the chart (exact predicates). The coarsest grid relaxed (5 a side by default)
+// uniform grid), but for the grid of 3's centre, which moves where how.levelTwoGuard says. On each
+// finer grid (9, 17, .. a side) each sweep moves every new texel towards the mean of its four
+// neighbours on the surface, weighted by each spacing's sqrt(curvature + flatCurvature) (that step
+// taken into the chart through the grid's local derivative, halved), and takes a move only where no
+// quad around the texel stops being strictly convex and counter-clockwise in the chart (exact
+// predicates). The coarsest grid relaxed (5 a side by default)
 // spans the tile with few texels, where the bending at them can pull its triangles across a crease:
 // it keeps its relaxed places only where its level lies no farther from the surface (levelError, with
 // the tile's dense `vertices`) than as its sides span it. Returns the points and, in nonConvex, how
