@@ -190,11 +190,10 @@ constexpr double kLevelTwoGuardShare = 0.8;
 // the surface and its dense vertices (levelError of the grid of 2).
 double largestLevelZeroError(const ChartSurface& surface, std::uint32_t charts,
                              const std::vector<std::vector<ChartVertex>>& chartVertices) {
-  const std::vector<multires::Vec2> corners{{0, 0}, {1, 0}, {0, 1}, {1, 1}};
   std::vector<double> error(charts);
   tbb::parallel_for(std::uint32_t(0), charts, [&](std::uint32_t c) {
     ChartPointCache cache(surface, c, 64);
-    error[c] = levelError(2, corners, [&](const multires::Vec2& q) { return cache.at(q); }, chartVertices[c]);
+    error[c] = levelZeroError([&](const multires::Vec2& q) { return cache.at(q); }, chartVertices[c]);
   });
   return error.empty() ? 0 : *std::max_element(error.begin(), error.end());
 }
@@ -213,10 +212,7 @@ ChartPoints placeTexels(const ChartSurface& surface, std::uint32_t c, std::uint3
   ChartPoints out;
   ChartPointCache cache(surface, c);
   out.chart = relaxChart(n, [&](const multires::Vec2& q) { return cache.at(q); }, sides, how, &out.nonConvex, vertices);
-  // The grid of 3's centre, kept by every finer grid, lies at the sides' middles' crossing, (0.5, 0.5),
-  // unless the guard moved it (the sides keep their middles there).
-  const multires::Vec2& centre = out.chart[std::size_t(n / 2) * n + n / 2];
-  out.levelTwoCentreMoved = centre.x != 0.5 || centre.y != 0.5;
+  out.levelTwoCentreMoved = levelTwoCentreMoved(n, out.chart);
   out.dense.resize(out.chart.size());
   for (std::size_t k = 0; k < out.chart.size(); ++k) out.dense[k] = cache.point(out.chart[k]);
   if (how.sweeps <= 0 || vertices.empty()) return out;

@@ -111,14 +111,34 @@ double levelError(std::uint32_t n, const std::vector<Vec2>& q, const std::vector
   return std::max(grid.largestStray([&](const Vec2& x) { return surfaceAt(x).position; }), largestVertexError(grid, vertices));
 }
 
+}  // namespace
+
+std::vector<Vec2> tileCorners() { return {{0, 0}, {1, 0}, {0, 1}, {1, 1}}; }
+
+double levelError(std::uint32_t n, const std::vector<Vec2>& q, const std::function<SurfacePoint(const Vec2&)>& surfaceAt,
+                  std::span<const ChartVertex> vertices) {
+  std::vector<SurfacePoint> p(q.size());
+  for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
+  return levelError(n, q, p, surfaceAt, vertices);
+}
+
+double levelZeroError(const std::function<SurfacePoint(const Vec2&)>& surfaceAt, std::span<const ChartVertex> vertices) {
+  return levelError(2, tileCorners(), surfaceAt, vertices);
+}
+
+bool levelTwoCentreMoved(std::uint32_t n, const std::vector<Vec2>& q) {
+  const Vec2& centre = q[std::size_t(n / 2) * n + n / 2];
+  return centre.x != 0.5 || centre.y != 0.5;
+}
+
+namespace {
+
 // The grid of 3 (q, p its surface) with its centre moved where level 2 lies nearest the surface,
 // when it lies farther than the tile's corners alone and than `guard` (ChartRelaxing::levelTwoGuard).
 void placeLevelTwoCentre(std::vector<Vec2>& q, std::vector<SurfacePoint>& p, const std::function<SurfacePoint(const Vec2&)>& surfaceAt,
                          std::span<const ChartVertex> vertices, double guard) {
   double best = levelError(3, q, p, surfaceAt, vertices);
-  if (!(best > guard)) return;
-  const std::vector<Vec2> corners{{0, 0}, {1, 0}, {0, 1}, {1, 1}};
-  if (!(best > levelError(2, corners, surfaceAt, vertices))) return;
+  if (!(best > guard) || !(best > levelZeroError(surfaceAt, vertices))) return;
   constexpr int kSteps = 8;  // candidates at the 7 x 7 inner points of a lattice over [0.25, 0.75]^2
   constexpr std::size_t kCentre = 4;
   std::vector<Vec2> trial = q;
@@ -136,13 +156,6 @@ void placeLevelTwoCentre(std::vector<Vec2>& q, std::vector<SurfacePoint>& p, con
 }
 
 }  // namespace
-
-double levelError(std::uint32_t n, const std::vector<Vec2>& q, const std::function<SurfacePoint(const Vec2&)>& surfaceAt,
-                  std::span<const ChartVertex> vertices) {
-  std::vector<SurfacePoint> p(q.size());
-  for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
-  return levelError(n, q, p, surfaceAt, vertices);
-}
 
 bool convexChartQuad(const std::vector<Vec2>& q, std::uint32_t n, std::uint32_t i, std::uint32_t j) {
   const std::size_t k = std::size_t(j) * n + i;
@@ -235,7 +248,7 @@ double coarsestRelaxedError(std::uint32_t n, int side, const std::vector<double>
   std::array<std::vector<double>, 4> sides;
   for (int s = 0; s < 4; ++s) sides[std::size_t(s)] = s == side ? fractions : uniformFractions(n);
   const auto grids = sidesOfEveryGrid(sides);
-  std::vector<Vec2> q{{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+  std::vector<Vec2> q = tileCorners();
   for (std::size_t l = grids.size() - 1; l-- > 0 && grids[l + 1][0].size() < size;) q = refineChartGrid(std::uint32_t(grids[l + 1][0].size()), q, grids[l]);
   std::vector<SurfacePoint> p(q.size());
   for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
@@ -251,7 +264,7 @@ std::vector<Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(c
   // texels between the coarser ones, so that every level's texels are spread for that level.
   const std::uint32_t stride = keptStride(n, how);
   const auto grids = sidesOfEveryGrid(sides);
-  std::vector<Vec2> q{{0, 0}, {1, 0}, {0, 1}, {1, 1}};
+  std::vector<Vec2> q = tileCorners();
   std::vector<SurfacePoint> p;
   for (std::size_t l = grids.size() - 1; l-- > 0;) {
     const auto coarse = std::uint32_t(grids[l + 1][0].size()), fine = std::uint32_t(grids[l][0].size());

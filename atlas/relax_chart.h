@@ -60,6 +60,15 @@ std::vector<double> relaxSide(std::uint32_t n, const std::function<SurfacePoint(
 double levelError(std::uint32_t n, const std::vector<multires::Vec2>& q,
                   const std::function<SurfacePoint(const multires::Vec2&)>& surfaceAt, std::span<const ChartVertex> vertices);
 
+// The grid of 2 a side: the tile's corners, texel (i, j) at j * 2 + i. levelZeroError: how far
+// level 0 (the tile's two base triangles) lies from the surface, as levelError measures the grid of 2.
+std::vector<multires::Vec2> tileCorners();
+double levelZeroError(const std::function<SurfacePoint(const multires::Vec2&)>& surfaceAt, std::span<const ChartVertex> vertices);
+
+// levelTwoCentreMoved: whether relaxChart's points q (n a side) have the grid of 3's centre off the
+// crossing of the sides' middles, (0.5, 0.5), where the sides keep them: only levelTwoGuard moves it.
+bool levelTwoCentreMoved(std::uint32_t n, const std::vector<multires::Vec2>& q);
+
 // coarsestRelaxedError: how far the coarsest grid relaxChart relaxes (every (stride / 2)-th texel
 // of the kept grid's, 5 a side by default), spanned by its sides alone, lies from the surface (its
 // triangles' stray and the dense vertices' distance, as relaxChart judges that grid), with tile side

@@ -657,9 +657,7 @@ std::size_t Simplifier::weldBatch(std::size_t taken) {
 BaseMesh Simplifier::run(SimplifyStats& stats) {
   const auto start = std::chrono::steady_clock::now();
   const std::size_t n = mesh_.n_vertices();
-  const std::size_t target = options_.targetVertices > 0 ? options_.targetVertices
-                             : options_.vertexRatio ? std::max<std::size_t>(4, std::size_t(std::llround(*options_.vertexRatio * double(n))))
-                                                    : defaultBaseVertices(n);
+  const std::size_t target = targetBaseVertices(options_, n);
   initQuadrics();
   degrees_ = degreeTable(mesh_);
   denseStars_ = DenseStars(dense_);
@@ -760,11 +758,20 @@ BaseMesh Simplifier::compact() {
   return base;
 }
 
+// `ratio` of n vertices, rounded.
+std::size_t share(double ratio, std::size_t n) { return std::size_t(std::llround(ratio * double(n))); }
+
 }  // namespace
 
 std::size_t defaultBaseVertices(std::size_t denseVertices) {
-  const auto share = [&](double ratio) { return std::size_t(std::llround(ratio * double(denseVertices))); };
-  return std::max({std::size_t(4), share(kLargeMeshBaseRatio), std::min(share(kSmallMeshBaseRatio), kSmallMeshMostBaseVertices)});
+  return std::max({std::size_t(4), share(kLargeMeshBaseRatio, denseVertices),
+                   std::min(share(kSmallMeshBaseRatio, denseVertices), kSmallMeshMostBaseVertices)});
+}
+
+std::size_t targetBaseVertices(const SimplifyOptions& options, std::size_t denseVertices) {
+  if (options.targetVertices > 0) return options.targetVertices;
+  if (!options.vertexRatio) return defaultBaseVertices(denseVertices);
+  return std::max<std::size_t>(4, share(*options.vertexRatio, denseVertices));
 }
 
 BaseMesh simplifyStellar(const Mesh& dense, const SimplifyOptions& options, SimplifyStats* stats) {

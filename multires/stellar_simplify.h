@@ -38,6 +38,10 @@ struct SimplifyOptions {
   double maxError = std::numeric_limits<double>::infinity();  // never weld above this RMS distance (mm)
 };
 
+// The base size `options` ask of a mesh of denseVertices: targetVertices, else vertexRatio of them
+// (at least 4), else defaultBaseVertices.
+std::size_t targetBaseVertices(const SimplifyOptions& options, std::size_t denseVertices);
+
 // Welds refused when applied, each until the vertex's ring changes: a dense point of the ring that no
 // face of the new fan holds by exact location (it lies within rounding of the ring's border), or a
 // dense triangle inside the ring that turns clockwise in its layout.
