@@ -1,6 +1,7 @@
 #include "multires/parametrisation_history.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include "core/error.h"
 #include "multires/exact_orientation.h"
@@ -9,32 +10,55 @@ namespace isoatlas::multires {
 
 void ParametrisationHistory::beginStep(std::span<const Vec2> layout) {
   require(layout.size() <= 255, "parametrisation history: a ring of more than 255 vertices");
-  steps_.push_back({std::uint32_t(layout_.size()), std::uint32_t(replaced_.size()), std::uint16_t(layout.size()), 0});
-  layout_.insert(layout_.end(), layout.begin(), layout.end());
+  const std::size_t at = (records_.size() + 7) / 8 * 8;
+  require(at + sizeof(StepHeader) + layout.size() * sizeof(Vec2) + 255 * sizeof(ReplacedFace) < std::size_t(~0u),
+          "parametrisation history: more than 4 GiB of steps");
+  lastStep_ = std::uint32_t(at);
+  ++steps_;
+  const StepHeader header{std::uint16_t(layout.size()), 0, 0};
+  records_.resize(at + sizeof header + layout.size() * sizeof(Vec2));
+  std::memcpy(records_.data() + at, &header, sizeof header);
+  std::memcpy(records_.data() + at + sizeof header, layout.data(), layout.size() * sizeof(Vec2));
+}
+
+ParametrisationHistory::StepRecord ParametrisationHistory::record(std::uint32_t at) const {
+  const auto* header = reinterpret_cast<const StepHeader*>(records_.data() + at);
+  const auto* layout = reinterpret_cast<const Vec2*>(records_.data() + at + sizeof(StepHeader));
+  return {header, layout, reinterpret_cast<const ReplacedFace*>(layout + header->layoutSize)};
+}
+
+ParametrisationHistory::StepHeader& ParametrisationHistory::headerOf(std::uint32_t at) {
+  return *reinterpret_cast<StepHeader*>(records_.data() + at);
+}
+
+ParametrisationHistory::ReplacedFace* ParametrisationHistory::replacedFaces(std::uint32_t at) {
+  return reinterpret_cast<ReplacedFace*>(records_.data() + at + sizeof(StepHeader) + headerOf(at).layoutSize * sizeof(Vec2));
 }
 
 void ParametrisationHistory::replaces(std::uint32_t version, const std::array<std::uint8_t, 3>& corners) {
-  Step& step = steps_.back();
-  require(step.replacedSize < kNoFaceAcross, "parametrisation history: a step replaced more than 254 faces");
+  const std::uint16_t here = headerOf(lastStep_).replacedSize;
+  require(here < kNoFaceAcross, "parametrisation history: a step replaced more than 254 faces");
   ReplacedFace face;
   face.version = version;
   face.corners = corners;
   // Side i runs from corner i + 1 to corner i + 2; the face across has it the other way round.
   const auto from = [](const Face& f, int i) { return f.corners[std::size_t(i + 1) % 3]; };
   const auto to = [](const Face& f, int i) { return f.corners[std::size_t(i + 2) % 3]; };
-  const auto here = std::uint8_t(step.replacedSize);
-  for (std::uint8_t g = 0; g < step.replacedSize; ++g) {
-    ReplacedFace& other = replaced_[step.replacedBegin + g];
+  ReplacedFace* replaced = replacedFaces(lastStep_);
+  for (std::uint8_t g = 0; g < here; ++g) {
+    ReplacedFace& other = replaced[g];
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j)
-        if (from(face, i) == to(other, j) && to(face, i) == from(other, j)) face.across[std::size_t(i)] = g, other.across[std::size_t(j)] = here;
+        if (from(face, i) == to(other, j) && to(face, i) == from(other, j))
+          face.across[std::size_t(i)] = g, other.across[std::size_t(j)] = std::uint8_t(here);
   }
-  replaced_.push_back(face);
-  ++step.replacedSize;
+  records_.resize(records_.size() + sizeof face);  // moves the bytes: `replaced` is not used past here
+  std::memcpy(replacedFaces(lastStep_) + here, &face, sizeof face);
+  ++headerOf(lastStep_).replacedSize;
 }
 
 std::uint32_t ParametrisationHistory::adds(const std::array<std::uint8_t, 3>& corners) {
-  made_.push_back({std::uint32_t(steps_.size() - 1), corners});
+  made_.push_back({lastStep_, corners});
   return denseFaces_ + std::uint32_t(made_.size() - 1);
 }
 
@@ -73,11 +97,12 @@ ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t
   DensePoint out{version, bary, 0, 0};
   while (out.face >= denseFaces_) {
     const Face& made = made_[out.face - denseFaces_];
-    const Step& step = steps_[made.version];
-    const Vec2* layout = layout_.data() + step.layoutBegin;
-    const ReplacedFace* replaced = replaced_.data() + step.replacedBegin;
+    const StepRecord step = record(made.version);
+    const Vec2* layout = step.layout;
+    const ReplacedFace* replaced = step.replaced;
+    const std::size_t replacedSize = step.header->replacedSize;
     Bary carried;
-    if (const int r = alongKeptEdge(made.corners, out.bary, replaced, step.replacedSize, carried); r >= 0) {
+    if (const int r = alongKeptEdge(made.corners, out.bary, replaced, replacedSize, carried); r >= 0) {
       out.face = replaced[r].version;
       out.bary = carried;
       ++out.steps;
@@ -89,19 +114,19 @@ ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t
       const auto& c = replaced[i].corners;
       return std::array<Vec2, 3>{layout[c[0]], layout[c[1]], layout[c[2]]};
     };
-    const std::uint32_t stepIndex = made.version;
+    const std::uint32_t stepIndex = made.version;  // where its record starts: the hints' name for the step
     TriangleHit hit;
     if (hints)
-      if (const std::size_t face = hints->face(stepIndex); face < step.replacedSize)
-        hit = walkStrictlyInside(p, face, step.replacedSize, corners,
+      if (const std::size_t face = hints->face(stepIndex); face < replacedSize)
+        hit = walkStrictlyInside(p, face, replacedSize, corners,
                                  [&](std::size_t f, int i) {
                                    const std::uint8_t g = replaced[f].across[std::size_t(i)];
                                    return g == kNoFaceAcross ? kNoTriangleHit : std::size_t(g);
                                  });
-    if (hit.triangle == kNoTriangleHit) hit = locateExactly(p, step.replacedSize, corners);
+    if (hit.triangle == kNoTriangleHit) hit = locateExactly(p, replacedSize, corners);
     if (hints && hit.triangle != kNoTriangleHit) hints->remember(stepIndex, hit.triangle);
     if (hit.triangle == kNoTriangleHit) {
-      hit = locateInTriangles(p, step.replacedSize, corners);
+      hit = locateInTriangles(p, replacedSize, corners);
       if (hit.triangle == kNoTriangleHit) throw Error("parametrisation history: a step replaced only flat faces", ErrorKind::Failure);
       const std::array<Vec2, 3> c = corners(hit.triangle);
       const Bary raw = barycentric2(p, c[0], c[1], c[2]);
@@ -115,8 +140,7 @@ ParametrisationHistory::DensePoint ParametrisationHistory::toDense(std::uint32_t
 }
 
 std::size_t ParametrisationHistory::bytes() const {
-  return steps_.size() * sizeof(Step) + layout_.size() * sizeof(Vec2) + replaced_.size() * sizeof(ReplacedFace) +
-         made_.size() * sizeof(Face);
+  return records_.size() + made_.size() * sizeof(Face);
 }
 
 }  // namespace isoatlas::multires

@@ -15,6 +15,7 @@
 // A version's weights refer to its corners in the order it was recorded with.
 #pragma once
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -56,14 +57,16 @@ public:
   // other can.
   class Hints {
   public:
+    // step: where the step's record starts (toDense's name for it)
     std::size_t face(std::uint32_t step) const {
-      const Entry& e = entries_[step % kEntries];
+      const Entry& e = entries_[slot(step)];
       return e.step == step ? e.face : kNoTriangleHit;
     }
-    void remember(std::uint32_t step, std::size_t face) { entries_[step % kEntries] = {step, std::uint32_t(face)}; }
+    void remember(std::uint32_t step, std::size_t face) { entries_[slot(step)] = {step, std::uint32_t(face)}; }
 
   private:
     static constexpr std::size_t kEntries = 4096;
+    static std::size_t slot(std::uint32_t step) { return std::uint32_t(step * 0x9E3779B1u) >> 20; }  // 12 bits
     struct Entry {
       std::uint32_t step = ~0u, face = 0;
     };
@@ -73,16 +76,19 @@ public:
 
   std::uint32_t denseFaces() const { return denseFaces_; }
   std::uint32_t versions() const { return denseFaces_ + std::uint32_t(made_.size()); }
-  std::size_t steps() const { return steps_.size(); }
+  std::size_t steps() const { return steps_; }
   std::size_t bytes() const;
 
 private:
-  struct Step {
-    std::uint32_t layoutBegin, replacedBegin;
+  // Each step's record lies in one run of bytes, its header, its ring's layout and then the faces it
+  // replaced, so that a walk back reads one place per step besides the made face that leads there:
+  // toDense spends most of its time waiting on memory.
+  struct StepHeader {
     std::uint16_t layoutSize, replacedSize;
+    std::uint32_t unused;
   };
   struct Face {
-    std::uint32_t version;  // the replaced face's (in replaced_), or the step (in made_)
+    std::uint32_t version;  // the replaced face's; for a made face, where its step's record starts in records_
     std::array<std::uint8_t, 3> corners;
   };
   // A face a step replaced, with the step's face across each of its sides (side i faces corner i;
@@ -92,11 +98,21 @@ private:
   struct ReplacedFace : Face {
     std::array<std::uint8_t, 3> across{kNoFaceAcross, kNoFaceAcross, kNoFaceAcross};
   };
+  static_assert(sizeof(StepHeader) == 8 && sizeof(Vec2) == 16 && alignof(ReplacedFace) <= 8);
+  struct StepRecord {
+    const StepHeader* header;
+    const Vec2* layout;
+    const ReplacedFace* replaced;
+  };
+  StepRecord record(std::uint32_t at) const;
+  // The step being recorded, at `at`: its header, its replaced faces.
+  StepHeader& headerOf(std::uint32_t at);
+  ReplacedFace* replacedFaces(std::uint32_t at);
   std::uint32_t denseFaces_;
-  std::vector<Step> steps_;
-  std::vector<Vec2> layout_;
-  std::vector<ReplacedFace> replaced_;
-  std::vector<Face> made_;  // per version past the dense faces: the step that made it, its corners there
+  std::size_t steps_ = 0;
+  std::uint32_t lastStep_ = 0;   // where the step being recorded starts in records_
+  std::vector<std::byte> records_;  // each step's record starting 8-byte aligned
+  std::vector<Face> made_;  // per version past the dense faces: its step's record, its corners there
 };
 
 // The point of the dense surface a DensePoint names.
