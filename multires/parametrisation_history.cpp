@@ -21,10 +21,14 @@ void ParametrisationHistory::beginStep(std::span<const Vec2> layout) {
   std::memcpy(records_.data() + at + sizeof header, layout.data(), layout.size() * sizeof(Vec2));
 }
 
-ParametrisationHistory::StepRecord ParametrisationHistory::record(std::uint32_t at) const {
+std::size_t ParametrisationHistory::replacedOffset(std::uint32_t at) const {
   const auto* header = reinterpret_cast<const StepHeader*>(records_.data() + at);
-  const auto* layout = reinterpret_cast<const Vec2*>(records_.data() + at + sizeof(StepHeader));
-  return {header, layout, reinterpret_cast<const ReplacedFace*>(layout + header->layoutSize)};
+  return at + sizeof(StepHeader) + header->layoutSize * sizeof(Vec2);
+}
+
+ParametrisationHistory::StepRecord ParametrisationHistory::record(std::uint32_t at) const {
+  return {reinterpret_cast<const StepHeader*>(records_.data() + at), reinterpret_cast<const Vec2*>(records_.data() + at + sizeof(StepHeader)),
+          reinterpret_cast<const ReplacedFace*>(records_.data() + replacedOffset(at))};
 }
 
 ParametrisationHistory::StepHeader& ParametrisationHistory::headerOf(std::uint32_t at) {
@@ -32,7 +36,7 @@ ParametrisationHistory::StepHeader& ParametrisationHistory::headerOf(std::uint32
 }
 
 ParametrisationHistory::ReplacedFace* ParametrisationHistory::replacedFaces(std::uint32_t at) {
-  return reinterpret_cast<ReplacedFace*>(records_.data() + at + sizeof(StepHeader) + headerOf(at).layoutSize * sizeof(Vec2));
+  return reinterpret_cast<ReplacedFace*>(records_.data() + replacedOffset(at));
 }
 
 void ParametrisationHistory::replaces(std::uint32_t version, const std::array<std::uint8_t, 3>& corners) {

@@ -85,7 +85,7 @@ private:
   // toDense spends most of its time waiting on memory.
   struct StepHeader {
     std::uint16_t layoutSize, replacedSize;
-    std::uint32_t unused;
+    std::uint32_t padding;  // to 8 bytes, so that the layout's doubles after it are aligned
   };
   struct Face {
     std::uint32_t version;  // the replaced face's; for a made face, where its step's record starts in records_
@@ -105,6 +105,7 @@ private:
     const ReplacedFace* replaced;
   };
   StepRecord record(std::uint32_t at) const;
+  std::size_t replacedOffset(std::uint32_t at) const;  // where step `at`'s replaced faces start in records_
   // The step being recorded, at `at`: its header, its replaced faces.
   StepHeader& headerOf(std::uint32_t at);
   ReplacedFace* replacedFaces(std::uint32_t at);
