@@ -16,18 +16,22 @@ Image renderMesh(const Mesh& mesh, const MeshRenderOptions& o) {
   require(o.width > 0 && o.height > 0 && o.width <= 8192 && o.height <= 8192, "image size out of range");
   gl::Context& ctx = gl::Context::current();
 
-  // Triangles as flat arrays of floats: position and normal per corner.
+  // Each vertex once (position and normal), the triangles as indices: a software renderer then
+  // shades a shared vertex once, not once per corner.
   const std::vector<Vec3> normals = mesh.normals.size() == mesh.vertexCount() ? mesh.normals : vertexNormals(mesh);
   std::vector<float> vertices;
-  forEachFanTriangle(mesh, [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    for (const std::uint32_t v : {a, b, c}) {
-      const Vec3 &p = mesh.positions[v], &n = normals[v];
-      vertices.insert(vertices.end(), {float(p.x), float(p.y), float(p.z), float(n.x), float(n.y), float(n.z)});
-    }
-  });
-  gl::Buffer buffer = gl::Buffer::of(vertices);
+  vertices.reserve(mesh.vertexCount() * 6);
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+    const Vec3 &p = mesh.positions[v], &n = normals[v];
+    vertices.insert(vertices.end(), {float(p.x), float(p.y), float(p.z), float(n.x), float(n.y), float(n.z)});
+  }
+  std::vector<std::uint32_t> corners;
+  corners.reserve(mesh.faceCount() * 3);
+  forEachFanTriangle(mesh, [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) { corners.insert(corners.end(), {a, b, c}); });
+  const gl::Buffer buffer = gl::Buffer::of(vertices), indices = gl::Buffer::of(corners);
   gl::VertexArray vao;
   glVertexArrayVertexBuffer(vao.id(), 0, buffer.id(), 0, 6 * sizeof(float));
+  glVertexArrayElementBuffer(vao.id(), indices.id());
   for (GLuint a = 0; a < 2; ++a) {
     glEnableVertexArrayAttrib(vao.id(), a);
     glVertexArrayAttribFormat(vao.id(), a, 3, GL_FLOAT, GL_FALSE, a * 3 * sizeof(float));
@@ -76,7 +80,7 @@ Image renderMesh(const Mesh& mesh, const MeshRenderOptions& o) {
   glUniform3f(program.uniform("viewDirection"), float(forward.x), float(forward.y), float(forward.z));
   glUniform3f(program.uniform("colour"), float(o.colour.x), float(o.colour.y), float(o.colour.z));
   vao.bind();
-  glDrawArrays(GL_TRIANGLES, 0, GLsizei(vertices.size() / 6));
+  glDrawElements(GL_TRIANGLES, GLsizei(corners.size()), GL_UNSIGNED_INT, nullptr);
   gl::checkErrors("drawing the mesh");
 
   return fbo.readImage();

@@ -15,19 +15,20 @@ uniform vec3 background;
 uniform float radius[MAX_DEPTH + 1];
 uniform vec2 viewportSize;
 
-// The inside-ness at p (world units), within +-band: a coarse uniform leaf says only "at least its
-// radius", which would read as a steep slope beside a fine one.
-float field(vec3 p, float band) {
-  Leaf l = leafAt(p);
-  return clamp(pointers[l.node].value * radius[depthOf(cells[l.node])], -band, band);
+// The inside-ness of leaf `node` (world units), within +-band: a coarse uniform leaf says only "at
+// least its radius", which would read as a steep slope beside a fine one.
+float field(uint node, float band) {
+  return clamp(pointers[node].value * radius[depthOf(cells[node])], -band, band);
 }
 
 // The field interpolated trilinearly between the centres of a lattice of cells of size `cell` (index
 // units) around p, as a volume's texture is: the leaves' values alone are piecewise constant.
 float smoothField(vec3 p, vec3 cell, float band) {
   vec3 u = (p + 0.5) / cell - 0.5, base = floor(u), f = u - base;
+  uint nodes[8];
+  cornerLeaves((base + 0.5) * cell - 0.5, (base + 1.0 + 0.5) * cell - 0.5, nodes);
   float v[8];
-  for (int i = 0; i < 8; ++i) v[i] = field((base + vec3(i & 1, (i >> 1) & 1, i >> 2) + 0.5) * cell - 0.5, band);
+  for (int i = 0; i < 8; ++i) v[i] = field(nodes[i], band);
   vec4 x = vec4(mix(v[0], v[1], f.x), mix(v[2], v[3], f.x), mix(v[4], v[5], f.x), mix(v[6], v[7], f.x));
   vec2 y = vec2(mix(x[0], x[1], f.y), mix(x[2], x[3], f.y));
   return mix(y[0], y[1], f.z);

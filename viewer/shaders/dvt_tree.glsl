@@ -15,21 +15,55 @@ struct Leaf {
   vec3 lo, size;  // the leaf's box in index coordinates
 };
 
+Leaf rootLeaf() { return Leaf(0u, vec3(-0.5), vec3(exp2(float(voxelSplits)))); }
+
+// Node l's half on its split's upper side (or lower), l at depth d: the split halves axis d % 3.
+float splitOf(inout Leaf l, uint d) {
+  l.size[d % 3u] *= 0.5;
+  return l.lo[d % 3u] + l.size[d % 3u];
+}
+void enterHalf(inout Leaf l, uint d, bool upper) {
+  if (upper) l.lo[d % 3u] += l.size[d % 3u];
+  l.node = uint(upper ? pointers[l.node].right : pointers[l.node].left);
+}
+
 // A point on a split plane goes to the half `heading` points into (the upper one for heading >= 0): a
 // ray along a plane, on it, must find the leaves it enters, not the ones it leaves.
 Leaf leafToward(vec3 p, vec3 heading) {
-  Leaf l = Leaf(0u, vec3(-0.5), vec3(exp2(float(voxelSplits))));
+  Leaf l = rootLeaf();
   for (uint d = 0u; !isLeaf(pointers[l.node]); ++d) {
+    float split = splitOf(l, d);
     uint a = d % 3u;
-    l.size[a] *= 0.5;
-    float split = l.lo[a] + l.size[a];
-    bool upper = p[a] > split || (p[a] == split && heading[a] >= 0.0);
-    if (upper) l.lo[a] += l.size[a];
-    l.node = uint(upper ? pointers[l.node].right : pointers[l.node].left);
+    enterHalf(l, d, p[a] > split || (p[a] == split && heading[a] >= 0.0));
   }
   return l;
 }
-Leaf leafAt(vec3 p) { return leafToward(p, vec3(1.0)); }
+
+// The leaves at the eight corners of a box, lo to hi (corner i takes hi on axis a where bit a of i
+// is set), each the one leafToward(corner, +1) gives: the corners walk the tree together down to the
+// node whose split falls between them, then each on alone. nodes[i]: corner i's leaf.
+void cornerLeaves(vec3 lo, vec3 hi, out uint nodes[8]) {
+  Leaf above = rootLeaf();
+  uint d = 0u;
+  for (; !isLeaf(pointers[above.node]); ++d) {
+    Leaf child = above;
+    float split = splitOf(child, d);
+    uint a = d % 3u;
+    bool upper = lo[a] >= split;
+    if (!upper && hi[a] >= split) break;  // the corners part here
+    above = child;
+    enterHalf(above, d, upper);
+  }
+  for (int i = 0; i < 8; ++i) {
+    vec3 p = vec3((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, (i & 4) != 0 ? hi.z : lo.z);
+    Leaf l = above;
+    for (uint e = d; !isLeaf(pointers[l.node]); ++e) {
+      float split = splitOf(l, e);
+      enterHalf(l, e, p[e % 3u] >= split);
+    }
+    nodes[i] = l.node;
+  }
+}
 
 vec3 cellLow(uvec2 cell, out vec3 size) {
   uint depth = depthOf(cell);
