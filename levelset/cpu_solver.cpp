@@ -47,10 +47,12 @@ public:
     }
   }
 
-  IterationResult iterate(const PageManager&, const SpeedParams& params) override {
+  IterationResult iterate(const PageManager&, const SpeedParams& params, const std::vector<std::uint8_t>& evaluate,
+                          float settledChange) override {
     std::vector<float>& phi = phi_;
     // Pass 1: speed and rate of change at every voxel of the rows that can change (some voxel differs
-    // from a face neighbour); the largest speed. Only voxels that move are listed for pass 2.
+    // from a face neighbour) of the pages evaluated; the largest speed. Only voxels that move are
+    // listed for pass 2.
     tbb::combinable<float> maxSpeed(0.0f);
     moving_.resize(pages_.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pages_.size()), [&](const auto& range) {
@@ -58,6 +60,10 @@ public:
       Apron apron(P_);
       Moving moves[kMaxPageSize * kMaxPageSize];
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        if (!evaluate[i]) {  // settled
+          moving_[i].clear();
+          continue;
+        }
         const PageInfo& page = pages_[i];
         apron.load(*this, phi, page);
         int moved = 0;
@@ -79,18 +85,24 @@ public:
     result.maxSpeed = maxSpeed.combine([](float a, float b) { return std::max(a, b); });
     result.dt = timeStep(result.maxSpeed, params.alpha);
 
-    // Pass 2: explicit Euler step, clamped; count sign changes. Pass 1 has read everything, so the
-    // update is in place (the GPU ping-pongs instead) and visits only the voxels that move.
+    // Pass 2: explicit Euler step, clamped; count sign changes; which pages changed by more than
+    // settledChange. Pass 1 has read everything, so the update is in place (the GPU ping-pongs
+    // instead) and visits only the voxels that move.
     std::atomic<std::int64_t> signChanges{0};
+    result.moved.assign(pages_.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pages_.size()), [&](const auto& range) {
       std::int64_t changes = 0;
-      for (std::size_t i = range.begin(); i != range.end(); ++i)
+      for (std::size_t i = range.begin(); i != range.end(); ++i) {
+        bool moved = false;
         for (const Moving& m : moving_[i]) {
           float& value = phi[m.texel];
           const float next = std::clamp(value + result.dt * m.rate, -kClamp, kClamp);
           changes += (next > 0) != (value > 0);
+          moved |= std::fabs(next - value) > settledChange;
           value = next;
         }
+        result.moved[i] = moved;
+      }
       signChanges += changes;
     });
     result.signChanges = signChanges;

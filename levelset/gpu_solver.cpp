@@ -72,14 +72,17 @@ public:
     pageCount_ = std::int32_t(active.size());
     if (entries.size() * sizeof(PageEntry) > pageTable_.bytes()) {
       pageTable_ = gl::Buffer(entries.size() * sizeof(PageEntry) * 2);
-      messages_ = gl::Buffer((entries.size() * 2 + 3) / 4 * 4 + 16);
+      // Room for twice the pages: the messages' bytes, then the moved bytes after them.
+      messages_ = gl::Buffer((entries.size() * 2 + 3) / 4 * 8 + 16);
+      evaluate_ = gl::Buffer((entries.size() * 2 + 3) / 4 * 4 + 16);
     }
     profile_.stage("pages changed: upload page table");
     pageTable_.upload(entries.data(), entries.size() * sizeof(PageEntry));
     profile_.end();
   }
 
-  IterationResult iterate(const PageManager&, const SpeedParams& params) override {
+  IterationResult iterate(const PageManager&, const SpeedParams& params, const std::vector<std::uint8_t>& evaluate,
+                          float settledChange) override {
     requireCurrent();
     IterationResult result;
     // A call is an iteration with what follows it: the page manager's work ("outside these stages")
@@ -90,10 +93,14 @@ public:
     const std::uint32_t zeros[4] = {0, 0, 0, 0};
     counters_.upload(zeros, sizeof zeros);
     const std::size_t messageBytes = (std::size_t(pageCount_) + 3) / 4 * 4;  // a byte per active page
-    messages_.fillZero(messageBytes);
+    messages_.fillZero(2 * messageBytes);  // the messages, then the moved bytes
+    std::vector<std::uint8_t> evaluated(messageBytes, 0);
+    std::copy(evaluate.begin(), evaluate.end(), evaluated.begin());
+    evaluate_.upload(evaluated.data(), messageBytes);
     pageTable_.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
     counters_.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
     messages_.bindBase(GL_SHADER_STORAGE_BUFFER, 2);
+    evaluate_.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
     const auto [groupsX, groupsY] = gl::dispatchGrid(std::uint64_t(pageCount_));
 
     profile_.stage("speed");
@@ -109,6 +116,8 @@ public:
     profile_.stage("update");
     setCommon(*update_);
     glUniform1f(update_->uniform("alpha"), params.alpha);
+    glUniform1f(update_->uniform("settledChange"), settledChange);
+    glUniform1i(update_->uniform("movedOffset"), int(messageBytes / 4));
     glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     glBindImageTexture(2, phi_[1 - current_].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
@@ -120,17 +129,18 @@ public:
     glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
     message_->dispatch(groupsX, groupsY, 1, GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 
-    // The only read back: 16 bytes of counters and one byte per active page.
+    // The only read back: 16 bytes of counters and two bytes per active page.
     profile_.stage("read back counters and messages");
     std::uint32_t counters[4];
     counters_.download(counters, sizeof counters);
-    result.messages.resize(messageBytes);
-    messages_.download(result.messages.data(), messageBytes);
-    result.messages.resize(std::size_t(pageCount_));
+    std::vector<std::uint8_t> bytes(2 * messageBytes);
+    messages_.download(bytes.data(), bytes.size());
+    result.messages.assign(bytes.begin(), bytes.begin() + pageCount_);
+    result.moved.assign(bytes.begin() + std::ptrdiff_t(messageBytes), bytes.begin() + std::ptrdiff_t(messageBytes) + pageCount_);
     std::memcpy(&result.maxSpeed, &counters[0], 4);
     result.signChanges = std::int32_t(counters[1]);
     std::memcpy(&result.dt, &counters[2], 4);
-    result.bytesReadBack = sizeof counters + messageBytes;
+    result.bytesReadBack = sizeof counters + bytes.size();
     profile_.end();
     return result;
   }
@@ -292,7 +302,7 @@ private:
   std::array<std::int64_t, 3> dims_;
   std::vector<std::int64_t> slotPage_;  // per slot: the page whose intensities sourcePool_ holds there
   gl::Texture phi_[2], rate_, sourcePool_;
-  gl::Buffer pageTable_, counters_, messages_;
+  gl::Buffer pageTable_, counters_, messages_, evaluate_;  // evaluate_: a byte per active page, iterate's
   const gl::Program *speed_ = nullptr, *update_ = nullptr, *message_ = nullptr, *writePages_ = nullptr;  // ctx_'s
   std::vector<float> hostPool_;  // phiPoolOnHost's copy
   int current_ = 0, P_ = 0, poolWidth_ = 0, poolHeight_ = 0;

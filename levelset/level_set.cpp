@@ -19,7 +19,7 @@ void validateParams(const SpeedParams& p) {
 }
 
 LevelSet::LevelSet(const Volume& source, const SpeedParams& params, const LevelSetOptions& options)
-    : params_(params) {
+    : params_(params), settledChange_(options.settledChange) {
   validateParams(params);
   require(source.voxelCount() > 0, "the source volume is empty");
   require(source.dims[0] <= (1 << 20) && source.dims[1] <= (1 << 20), "volume too wide for the page table");
@@ -33,6 +33,8 @@ LevelSet::LevelSet(const Volume& source, const SpeedParams& params, const LevelS
   backend_ = options.backend == Backend::Gpu ? makeGpuSolver(std::move(intensities), source.dims)
                                              : makeCpuSolver(std::move(intensities), source.dims);
   mark_.assign(std::size_t(pages_->virtualPageCount()), 0);
+  movedPage_.assign(std::size_t(pages_->virtualPageCount()), 0);
+  wake_.assign(std::size_t(pages_->virtualPageCount()), 0);
   commit({});
 }
 
@@ -41,6 +43,7 @@ LevelSet::~LevelSet() = default;
 void LevelSet::setParams(const SpeedParams& params) {
   validateParams(params);
   params_ = params;
+  wakeAll_ = true;
 }
 
 void LevelSet::commit(const std::vector<std::pair<std::int32_t, float>>& filled) {
@@ -121,6 +124,7 @@ void LevelSet::addSphere(const Vec3& centre, double radius, bool add) {
       }
   }
   backend_->writeSlots(*pages_, slots, values);
+  wakeAll_ = true;
 }
 
 void LevelSet::setMask(const Volume& mask) {
@@ -172,6 +176,7 @@ void LevelSet::setMask(const Volume& mask) {
       }
   }
   backend_->writeSlots(*pages_, slots, values);
+  wakeAll_ = true;
 }
 
 void LevelSet::applyMessages(const IterationResult& r) {
@@ -209,12 +214,46 @@ void LevelSet::applyMessages(const IterationResult& r) {
     if (!pages_->isActive(page)) {
       const float was = pages_->staticSlot(page) == kInsideSlot ? kClamp : -kClamp;
       filled.push_back({pages_->activate(page), was});
+      markMoved(page);
     }
   if (changed || !filled.empty()) commit(filled);
 }
 
+void LevelSet::markMoved(std::int64_t page) {
+  if (!movedPage_[std::size_t(page)]) movedPage_[std::size_t(page)] = 1, movedList_.push_back(page);
+}
+
+std::vector<std::uint8_t> LevelSet::pagesToEvaluate() {
+  const std::vector<std::int64_t>& active = pages_->activePages();
+  std::vector<std::uint8_t> evaluate(active.size(), 1);
+  if (wakeAll_ || !(settledChange_ > 0)) return evaluate;
+  // The moved pages' neighbourhoods marked, then read per active page: the moved pages are the fewer.
+  const auto np = pages_->pages();
+  std::vector<std::int64_t> woken;
+  for (const std::int64_t page : movedList_) {
+    const auto [px, py, pz] = pages_->pageCoords(page);
+    for (std::int64_t z = std::max<std::int64_t>(pz - 1, 0); z <= std::min(pz + 1, np[2] - 1); ++z)
+      for (std::int64_t y = std::max<std::int64_t>(py - 1, 0); y <= std::min(py + 1, np[1] - 1); ++y)
+        for (std::int64_t x = std::max<std::int64_t>(px - 1, 0); x <= std::min(px + 1, np[0] - 1); ++x) {
+          const std::int64_t n = pages_->pageIndex(x, y, z);
+          if (!wake_[std::size_t(n)]) wake_[std::size_t(n)] = 1, woken.push_back(n);
+        }
+  }
+  for (std::size_t i = 0; i < active.size(); ++i) evaluate[i] = wake_[std::size_t(active[i])];
+  for (const std::int64_t n : woken) wake_[std::size_t(n)] = 0;
+  return evaluate;
+}
+
 IterationResult LevelSet::step() {
-  IterationResult r = backend_->iterate(*pages_, params_);
+  const std::vector<std::uint8_t> evaluate = pagesToEvaluate();
+  IterationResult r = backend_->iterate(*pages_, params_, evaluate, settledChange_);
+  wakeAll_ = false;
+  for (const std::int64_t page : movedList_) movedPage_[std::size_t(page)] = 0;
+  movedList_.clear();
+  const std::vector<std::int64_t>& active = pages_->activePages();
+  require(r.moved.size() == active.size(), "level set: the backend reported moves for other pages than the active ones");
+  for (std::size_t i = 0; i < active.size(); ++i)
+    if (r.moved[i]) markMoved(active[i]);
   applyMessages(r);
   ++iterations_;
   simulatedTime_ += r.dt;

@@ -20,6 +20,11 @@ struct LevelSetOptions {
   Backend backend = Backend::Cpu;
   int pageSize = 16;
   std::int32_t initialSlots = 1024;  // the physical pool grows past this when it must
+  // An active page whose voxels changed by no more than this in an iteration, with every page around
+  // it (its 3 x 3 x 3) doing the same, is settled: the next iterations skip it until a page around it
+  // changes by more, is activated, or the speed or phi is changed from outside (speed.h). 0: every
+  // active page every iteration.
+  float settledChange = kSettledChange;
 };
 
 struct RunOptions {
@@ -78,6 +83,10 @@ public:
 
 private:
   void applyMessages(const IterationResult& r);
+  // Which active pages the next iteration evaluates (one byte each, activePages() order): all of
+  // them after a change from outside, else those with a moved page in their 3 x 3 x 3.
+  std::vector<std::uint8_t> pagesToEvaluate();
+  void markMoved(std::int64_t page);
   // A volume of the source's geometry from the pages: static pages as +-kClamp, active ones as read
   // back (one read of the active slots), each value through convert.
   template <class T, class Convert>
@@ -89,6 +98,11 @@ private:
   std::unique_ptr<PageManager> pages_;
   std::unique_ptr<SolverBackend> backend_;
   std::vector<std::uint32_t> mark_;  // per virtual page: the iteration that last requested it
+  float settledChange_;
+  bool wakeAll_ = true;                  // the next iteration evaluates every active page
+  std::vector<std::uint8_t> movedPage_;  // per virtual page: it moved in the last iteration, or was activated
+  std::vector<std::int64_t> movedList_;  // the pages movedPage_ marks
+  std::vector<std::uint8_t> wake_;       // per virtual page, within pagesToEvaluate
   std::uint32_t epoch_ = 0;
   int iterations_ = 0;
   double simulatedTime_ = 0;

@@ -15,6 +15,7 @@ namespace isoatlas::levelset {
 
 struct IterationResult {
   std::vector<std::uint8_t> messages;  // one byte per active page, in PageManager::activePages() order
+  std::vector<std::uint8_t> moved;     // per active page, the same order: 1 where a voxel's phi changed by more than settledChange
   std::int64_t signChanges = 0;        // voxels whose phi changed sign
   float maxSpeed = 0, dt = 0;
   std::uint64_t bytesReadBack = 0;     // GPU -> CPU this iteration
@@ -27,7 +28,11 @@ public:
   // The active set changed: grow storage to pm.capacity(), fill each (slot, value) page with the
   // value, and refresh the per-page neighbour tables.
   virtual void pagesChanged(const PageManager& pm, const std::vector<std::pair<std::int32_t, float>>& filled) = 0;
-  virtual IterationResult iterate(const PageManager& pm, const SpeedParams& params) = 0;
+  // One iteration over the active pages whose `evaluate` byte is 1 (one per active page, in
+  // activePages() order). The others are settled: their phi stays and their speed is left out of the
+  // step's CFL bound, as if no voxel of theirs moved.
+  virtual IterationResult iterate(const PageManager& pm, const SpeedParams& params, const std::vector<std::uint8_t>& evaluate,
+                                  float settledChange) = 0;
   // P*P values per slot, row-major, from the current phi.
   virtual std::vector<float> readSlots(const PageManager& pm, const std::vector<std::int32_t>& slots) = 0;
   virtual void writeSlots(const PageManager& pm, const std::vector<std::int32_t>& slots, const std::vector<float>& values) = 0;

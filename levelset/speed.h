@@ -99,6 +99,10 @@ inline VoxelUpdate evaluateVoxel(const float* u, float intensity, const SpeedPar
 inline constexpr float kCflFraction = 0.5f;      // speed.glsl gets it as CFL_FRACTION
 inline constexpr float kRescaleSpeed = 0.5f;     // speed.glsl: RESCALE_SPEED
 inline constexpr float kCurvatureLimit = 0.25f;  // dt (1 - alpha) within it; speed.glsl: CURVATURE_LIMIT
+// A page whose voxels' phi changed by no more than this (voxels) in an iteration, beside
+// neighbours that did not either, is settled: it is not evaluated again until a page around it
+// changes by more (level_set.h). A front that slow would need a thousand iterations to cross a voxel.
+inline constexpr float kSettledChange = 1e-3f;  // speed.glsl: the settledChange uniform
 inline float timeStep(float maxSpeed, float alpha) {
   float dt = kCflFraction / (maxSpeed + kRescaleSpeed);
   if (alpha < 1) dt = std::min(dt, kCurvatureLimit / (1.0f - alpha));

@@ -1,5 +1,6 @@
 #version 450
-// Pass 2: explicit Euler step of every active voxel into the other phi image, clamped; sign changes.
+// Pass 2: explicit Euler step of every active voxel into the other phi image, clamped; sign changes;
+// a byte per page after the messages', set where a voxel changed by more than settledChange.
 layout(r32f, binding = 0) readonly uniform image2D phi;
 #include "pages.glsl"
 #include "speed.glsl"
@@ -7,13 +8,16 @@ layout(r32f, binding = 0) readonly uniform image2D phi;
 layout(local_size_x = PAGE_SIZE, local_size_y = PAGE_SIZE) in;
 layout(r32f, binding = 1) readonly uniform image2D rate;
 layout(r32f, binding = 2) writeonly uniform image2D next;
-uniform float alpha;
+layout(std430, binding = 2) buffer Messages { uint messages[]; };
+uniform float alpha, settledChange;
+uniform int movedOffset;  // where the moved bytes start in `messages`, in uints
 shared int groupChanges;
+shared uint groupMoved;
 
 void main() {
   int page = pageIndex();
   if (page >= pageCount) return;
-  if (gl_LocalInvocationIndex == 0) groupChanges = 0;
+  if (gl_LocalInvocationIndex == 0) groupChanges = 0, groupMoved = 0u;
   barrier();
   float step = timeStep(uintBitsToFloat(maxSpeedBits), alpha);
   ivec2 local = ivec2(gl_LocalInvocationID.xy);
@@ -25,9 +29,11 @@ void main() {
                                                          : clamp(old + step * imageLoad(rate, texel).r, -kClamp, kClamp);
   imageStore(next, texel, vec4(value));
   if ((value > 0.0) != (old > 0.0)) atomicAdd(groupChanges, 1);
+  if (abs(value - old) > settledChange) atomicOr(groupMoved, 1u);
   barrier();
   if (gl_LocalInvocationIndex == 0) {
     if (groupChanges != 0) atomicAdd(signChanges, groupChanges);
+    if (groupMoved != 0u) atomicOr(messages[movedOffset + (page >> 2)], 1u << (8 * (page & 3)));
     if (page == 0) dt = step;  // one writer for the step the CPU reports
   }
 }

@@ -337,6 +337,44 @@ TEST(LevelSet, SteeringSpheresAndParameters) {
   EXPECT_THROW(ls.setParams({100, 5, 1.5}), Error);
 }
 
+// Settled pages (LevelSetOptions::settledChange): skipping the pages whose phi and whose neighbours'
+// phi no longer move leaves the segmentation as it was.
+TEST(LevelSet, SettledPagesLeaveTheSegmentationAsItWas) {
+  const Phantom p = torusPhantom();
+  auto segment = [&](float settledChange) {
+    LevelSet ls(p.image, {100, 30, 0.7f}, {.settledChange = settledChange});
+    ls.addSphere(p.seedA, 3);
+    ls.addSphere(p.seedB, 3);
+    EXPECT_TRUE(ls.run({.maxIterations = 600}).converged);
+    return ls.mask();
+  };
+  EXPECT_GE(dice(segment(kSettledChange), segment(0)), 0.999);
+}
+
+// Once the front has stopped, every page settles and an iteration changes nothing; a new speed
+// wakes them all: the front, stopped at a bright ball's edge, grows to the dimmer shell around it.
+TEST(LevelSet, ANewSpeedWakesSettledPages) {
+  const std::array<std::int64_t, 3> dims{48, 48, 48};
+  Volume image = Volume::zeros(dims, ScalarType::Float32);
+  for (std::int64_t z = 0; z < dims[2]; ++z)
+    for (std::int64_t y = 0; y < dims[1]; ++y)
+      for (std::int64_t x = 0; x < dims[0]; ++x) {
+        const double r = std::hypot(double(x) - 24, double(y) - 24, double(z) - 24);
+        image.setValue(image.index(x, y, z), r < 8 ? 100 : r < 16 ? 70 : 20);
+      }
+  LevelSet ls(image, {100, 20, 1});  // D > 0 in the bright ball only
+  ls.addSphere({24, 24, 24}, 3);
+  ls.run({.maxIterations = 400});
+  for (int i = 0; i < 200; ++i) ls.step();
+  const Volume settled = ls.phi();
+  ls.step();
+  ASSERT_TRUE(ls.phi().data == settled.data) << "a step after the front stopped still changed phi";
+  EXPECT_NEAR(equivalentRadius(ls), 8, 1);
+  ls.setParams({85, 25, 1});  // D > 0 in the shell too
+  ls.run({.maxIterations = 400});
+  EXPECT_NEAR(equivalentRadius(ls), 16, 1);
+}
+
 TEST(LevelSet, StartsFromAMaskTouchingTheBorder) {
   const Phantom p = torusPhantom();
   Volume seed = p.truth;  // start at the truth itself, plus a block at the volume's corner
