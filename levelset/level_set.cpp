@@ -251,7 +251,8 @@ IterationResult LevelSet::step() {
   for (const std::int64_t page : movedList_) movedPage_[std::size_t(page)] = 0;
   movedList_.clear();
   const std::vector<std::int64_t>& active = pages_->activePages();
-  require(r.moved.size() == active.size(), "level set: the backend reported moves for other pages than the active ones");
+  if (r.moved.size() != active.size())
+    throw Error("level set: the backend reported moves for other pages than the active ones", ErrorKind::Failure);
   for (std::size_t i = 0; i < active.size(); ++i)
     if (r.moved[i]) markMoved(active[i]);
   applyMessages(r);
