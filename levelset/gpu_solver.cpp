@@ -94,9 +94,7 @@ public:
     counters_.upload(zeros, sizeof zeros);
     const std::size_t messageBytes = (std::size_t(pageCount_) + 3) / 4 * 4;  // a byte per active page
     messages_.fillZero(2 * messageBytes);  // the messages, then the moved bytes
-    std::vector<std::uint8_t> evaluated(messageBytes, 0);
-    std::copy(evaluate.begin(), evaluate.end(), evaluated.begin());
-    evaluate_.upload(evaluated.data(), messageBytes);
+    evaluate_.upload(evaluate.data(), evaluate.size());  // the last word's bytes past the pages are never read
     pageTable_.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
     counters_.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
     messages_.bindBase(GL_SHADER_STORAGE_BUFFER, 2);

@@ -102,7 +102,7 @@ inline constexpr float kCurvatureLimit = 0.25f;  // dt (1 - alpha) within it; sp
 // A page whose voxels' phi changed by no more than this (voxels) in an iteration, beside
 // neighbours that did not either, is settled: it is not evaluated again until a page around it
 // changes by more (level_set.h). A front that slow would need a thousand iterations to cross a voxel.
-inline constexpr float kSettledChange = 1e-3f;  // speed.glsl: the settledChange uniform
+inline constexpr float kSettledChange = 1e-3f;  // the default; update.comp gets the LevelSet's as a uniform
 inline float timeStep(float maxSpeed, float alpha) {
   float dt = kCflFraction / (maxSpeed + kRescaleSpeed);
   if (alpha < 1) dt = std::min(dt, kCurvatureLimit / (1.0f - alpha));

@@ -29,5 +29,5 @@ void main() {
   if (local == ivec2(0) && c > 0.0) bits |= 128u;
   if (bits != 0u) atomicOr(groupBits, bits);
   barrier();
-  if (gl_LocalInvocationIndex == 0 && groupBits != 0u) atomicOr(messages[page >> 2], groupBits << (8 * (page & 3)));
+  if (gl_LocalInvocationIndex == 0 && groupBits != 0u) atomicOr(messages[page >> 2], groupBits << pageByteShift(page));
 }

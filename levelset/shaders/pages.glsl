@@ -16,6 +16,9 @@ shared float apron[3][PAGE_SIZE + 2][PAGE_SIZE + 2];
 
 int pageIndex() { return int(gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x); }
 
+// Buffers of a byte per active page hold four pages to a uint: page's is at [page >> 2], this shift.
+uint pageByteShift(int page) { return 8u * uint(page & 3); }
+
 void loadApron(int page) {
   const int side = PAGE_SIZE + 2;
   for (int t = int(gl_LocalInvocationIndex); t < 3 * side * side; t += PAGE_SIZE * PAGE_SIZE) {

@@ -17,7 +17,7 @@ void main() {
   if (page >= pageCount) return;
   ivec2 local = ivec2(gl_LocalInvocationID.xy);
   ivec2 texel = pages[page].origins[13] + local;
-  if (((evaluate[page >> 2] >> (8 * (page & 3))) & 0xffu) == 0u) {  // the whole group returns together
+  if (((evaluate[page >> 2] >> pageByteShift(page)) & 0xffu) == 0u) {  // the whole group returns together
     imageStore(rate, texel, vec4(0.0));
     return;
   }

@@ -33,7 +33,7 @@ void main() {
   barrier();
   if (gl_LocalInvocationIndex == 0) {
     if (groupChanges != 0) atomicAdd(signChanges, groupChanges);
-    if (groupMoved != 0u) atomicOr(messages[movedOffset + (page >> 2)], 1u << (8 * (page & 3)));
+    if (groupMoved != 0u) atomicOr(messages[movedOffset + (page >> 2)], 1u << pageByteShift(page));
     if (page == 0) dt = step;  // one writer for the step the CPU reports
   }
 }

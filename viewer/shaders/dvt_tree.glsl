@@ -17,7 +17,8 @@ struct Leaf {
 
 Leaf rootLeaf() { return Leaf(0u, vec3(-0.5), vec3(exp2(float(voxelSplits)))); }
 
-// Node l's half on its split's upper side (or lower), l at depth d: the split halves axis d % 3.
+// Node l at depth d splits axis d % 3: splitOf halves l's box on that axis and returns the split's
+// place; enterHalf then moves l to its child on the upper side (or the lower).
 float splitOf(inout Leaf l, uint d) {
   l.size[d % 3u] *= 0.5;
   return l.lo[d % 3u] + l.size[d % 3u];
@@ -27,17 +28,18 @@ void enterHalf(inout Leaf l, uint d, bool upper) {
   l.node = uint(upper ? pointers[l.node].right : pointers[l.node].left);
 }
 
-// A point on a split plane goes to the half `heading` points into (the upper one for heading >= 0): a
-// ray along a plane, on it, must find the leaves it enters, not the ones it leaves.
-Leaf leafToward(vec3 p, vec3 heading) {
-  Leaf l = rootLeaf();
-  for (uint d = 0u; !isLeaf(pointers[l.node]); ++d) {
+// The leaf at p below node l (at depth d). A point on a split plane goes to the half `heading` points
+// into (the upper one for heading >= 0): a ray along a plane, on it, must find the leaves it enters,
+// not the ones it leaves.
+Leaf leafBelow(Leaf l, uint d, vec3 p, vec3 heading) {
+  for (; !isLeaf(pointers[l.node]); ++d) {
     float split = splitOf(l, d);
     uint a = d % 3u;
     enterHalf(l, d, p[a] > split || (p[a] == split && heading[a] >= 0.0));
   }
   return l;
 }
+Leaf leafToward(vec3 p, vec3 heading) { return leafBelow(rootLeaf(), 0u, p, heading); }
 
 // The leaves at the eight corners of a box, lo to hi (corner i takes hi on axis a where bit a of i
 // is set), each the one leafToward(corner, +1) gives: the corners walk the tree together down to the
@@ -56,12 +58,7 @@ void cornerLeaves(vec3 lo, vec3 hi, out uint nodes[8]) {
   }
   for (int i = 0; i < 8; ++i) {
     vec3 p = vec3((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, (i & 4) != 0 ? hi.z : lo.z);
-    Leaf l = above;
-    for (uint e = d; !isLeaf(pointers[l.node]); ++e) {
-      float split = splitOf(l, e);
-      enterHalf(l, e, p[e % 3u] >= split);
-    }
-    nodes[i] = l.node;
+    nodes[i] = leafBelow(above, d, p, vec3(1.0)).node;
   }
 }
 
