@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <cstring>
 
 #include "levelset/row_stencil.h"
 
@@ -175,7 +176,8 @@ private:
     std::array<float, 3 * (kMaxPageSize + 2) * (kMaxPageSize + 2)> v;  // [dz][y + 1][x + 1]
     explicit Apron(int P) : side(P + 2) {}
     void load(const CpuSolver& s, const std::vector<float>& phi, const PageInfo& page) {
-      // Rows of a size known when compiled are copied inline instead of by a library call per row.
+      // Rows of a size known when compiled are copied inline instead of by a library call per row
+      // (a memcpy of a fixed size is; copy_n became a call to memmove).
       switch (side - 2) {
         case 4: return loadRows<4>(s, phi, page);
         case 8: return loadRows<8>(s, phi, page);
@@ -192,7 +194,7 @@ private:
           const Origin* row = &page.neighbourOrigins[(dz + 1) * 9 + (oy + 1) * 3];
           float* out = &v[std::size_t(((dz + 1) * side + y + 1) * side)];
           out[0] = phi[s.texelOf(row[0], P - 1, ly)];
-          std::copy_n(&phi[s.texelOf(row[1], 0, ly)], P, out + 1);
+          std::memcpy(out + 1, &phi[s.texelOf(row[1], 0, ly)], P * sizeof(float));
           out[P + 1] = phi[s.texelOf(row[2], 0, ly)];
         }
     }
