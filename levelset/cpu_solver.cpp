@@ -31,12 +31,13 @@ public:
       // New rows are appended; existing slots keep their texels.
       const std::size_t old = phi_.size();
       phi_.resize(texels, 0.0f);
+      edges_.resize(std::size_t(pm.capacity()) * 2 * std::size_t(P_));
       if (old == 0) {
-        fill(phi_, pm, kOutsideSlot, -kClamp);
-        fill(phi_, pm, kInsideSlot, kClamp);
+        fill(pm, kOutsideSlot, -kClamp);
+        fill(pm, kInsideSlot, kClamp);
       }
     }
-    for (const auto& [slot, value] : filled) fill(phi_, pm, slot, value);
+    for (const auto& [slot, value] : filled) fill(pm, slot, value);
     const auto& active = pm.activePages();
     pages_.resize(active.size());
     for (std::size_t i = 0; i < active.size(); ++i) {
@@ -44,7 +45,10 @@ public:
       info.slot = pm.slotOf(active[i]);
       info.coords = pm.pageCoords(active[i]);
       const auto slots = pm.neighbourSlots(active[i]);
-      for (int n = 0; n < 27; ++n) info.neighbourOrigins[n] = origin(pm, slots[std::size_t(n)]);
+      for (int n = 0; n < 27; ++n) {
+        info.neighbourOrigins[n] = origin(pm, slots[std::size_t(n)]);
+        info.neighbourEdges[n] = edgesOf(slots[std::size_t(n)]);
+      }
     }
   }
 
@@ -102,6 +106,7 @@ public:
           moved |= std::fabs(next - value) > settledChange;
           value = next;
         }
+        if (!moving_[i].empty()) refreshEdges(pages_[i].slot, pages_[i].neighbourOrigins[13]);
         result.moved[i] = moved;
       }
       signChanges += changes;
@@ -133,6 +138,7 @@ public:
       const auto o = origin(pm, slots[s]);
       for (int y = 0; y < P_; ++y)
         for (int x = 0; x < P_; ++x) phi_[texelOf(o, x, y)] = values[s * area + std::size_t(y * P_ + x)];
+      refreshEdges(slots[s], o);
     }
   }
 
@@ -141,7 +147,7 @@ public:
   std::uint64_t physicalBytes() const override {
     std::size_t moving = 0;
     for (const auto& m : moving_) moving += m.capacity();
-    return phi_.size() * sizeof(float) + moving * sizeof(Moving) + pages_.size() * sizeof(PageInfo) +
+    return (phi_.size() + edges_.size()) * sizeof(float) + moving * sizeof(Moving) + pages_.size() * sizeof(PageInfo) +
            source_.size() * sizeof(float);
   }
 
@@ -151,6 +157,7 @@ private:
     std::int32_t slot;
     std::array<std::int64_t, 3> coords;
     Origin neighbourOrigins[27];  // index 13 is the page itself
+    std::uint32_t neighbourEdges[27];  // where each one's edge columns start in edges_
   };
 
   struct Moving {
@@ -163,10 +170,25 @@ private:
     return std::size_t(o[1] + y) * width_ + std::size_t(o[0] + x);
   }
 
-  void fill(std::vector<float>& buffer, const PageManager& pm, std::int32_t slot, float value) const {
+  void fill(const PageManager& pm, std::int32_t slot, float value) {
     const Origin o = origin(pm, slot);
     for (int y = 0; y < P_; ++y)
-      for (int x = 0; x < P_; ++x) buffer[texelOf(o, x, y)] = value;
+      for (int x = 0; x < P_; ++x) phi_[texelOf(o, x, y)] = value;
+    refreshEdges(slot, o);
+  }
+
+  // Each slot's first and last columns, copied out of phi_ (P floats each, one after the other): the
+  // pages beside it across x read these, a cache line or two, where the column in place lies across
+  // P lines. Every write to phi_ refreshes the slot's copy.
+  std::uint32_t edgesOf(std::int32_t slot) const { return std::uint32_t(slot) * 2u * std::uint32_t(P_); }
+  const float* firstColumn(std::uint32_t edges) const { return &edges_[edges]; }
+  const float* lastColumn(std::uint32_t edges) const { return &edges_[edges + std::uint32_t(P_)]; }
+  void refreshEdges(std::int32_t slot, const Origin& o) {
+    float* first = &edges_[edgesOf(slot)];
+    for (int y = 0; y < P_; ++y) {
+      first[y] = phi_[texelOf(o, 0, y)];
+      first[P_ + y] = phi_[texelOf(o, P_ - 1, y)];
+    }
   }
 
   // The (P+2) x (P+2) x 3 values around a page, read through its neighbour table only (as the GPU
@@ -191,11 +213,12 @@ private:
       for (int dz = -1; dz <= 1; ++dz)
         for (int y = -1; y <= P; ++y) {
           const int oy = y < 0 ? -1 : (y >= P ? 1 : 0), ly = y - oy * P;
-          const Origin* row = &page.neighbourOrigins[(dz + 1) * 9 + (oy + 1) * 3];
+          const int first = (dz + 1) * 9 + (oy + 1) * 3;  // the row's page at dx = -1
+          const Origin* row = &page.neighbourOrigins[first];
           float* out = &v[std::size_t(((dz + 1) * side + y + 1) * side)];
-          out[0] = phi[s.texelOf(row[0], P - 1, ly)];
+          out[0] = s.lastColumn(page.neighbourEdges[first])[ly];
           std::memcpy(out + 1, &phi[s.texelOf(row[1], 0, ly)], P * sizeof(float));
-          out[P + 1] = phi[s.texelOf(row[2], 0, ly)];
+          out[P + 1] = s.firstColumn(page.neighbourEdges[first + 2])[ly];
         }
     }
     const float* row(int y, int dz) const { return &v[std::size_t(((dz + 1) * side + y + 1) * side + 1)]; }
@@ -249,6 +272,7 @@ private:
   std::uint8_t message(const std::vector<float>& phi, const PageInfo& page) const {
     const Origin* o = page.neighbourOrigins;  // [(dz+1)*9 + (dy+1)*3 + (dx+1)]
     const int P = P_;
+    const float *plusX = firstColumn(page.neighbourEdges[14]), *minusX = lastColumn(page.neighbourEdges[12]);
     unsigned self = 0, px = 0, mx = 0, py = 0, my = 0, pz = 0, mz = 0;
     for (int y = 0; y < P; ++y) {
       const float* c = &phi[texelOf(o[13], 0, y)];
@@ -269,8 +293,8 @@ private:
       mz |= rowMz;
       if (y == P - 1) py = rowYp;
       if (y == 0) my = rowYm;
-      px |= phi[texelOf(o[14], 0, y)] != c[P - 1];
-      mx |= phi[texelOf(o[12], P - 1, y)] != c[0];
+      px |= plusX[y] != c[P - 1];
+      mx |= minusX[y] != c[0];
     }
     self |= px | mx;
     std::uint8_t bits = 0;
@@ -288,6 +312,7 @@ private:
   std::vector<float> source_;
   std::array<std::int64_t, 3> dims_;
   std::vector<float> phi_;
+  std::vector<float> edges_;  // per slot, its first and last columns (refreshEdges)
   std::vector<std::vector<Moving>> moving_;  // per active page, from pass 1
   int P_ = 16;
   std::size_t width_ = 0;
