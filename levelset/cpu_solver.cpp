@@ -248,15 +248,14 @@ private:
     const std::int64_t vy = page.coords[1] * P_ + y0, vz = page.coords[2];
     const float* intensity = &source_[std::size_t((vz * dims_[1] + vy) * dims_[0] + page.coords[0] * P_)];
     rowFaceNormals(apron.v.data(), apron.side, y0 - 1, y1, xEnd, faces);
+    std::uint32_t movingInRow[kMaxPageSize];
     evaluateRows(apron.v.data(), apron.side, y0, y1, xEnd, intensity, std::size_t(dims_[0]), params, faces,
-                 std::size_t(kMaxPageSize), speed, rate);
+                 std::size_t(kMaxPageSize), speed, rate, movingInRow);
     for (int y = y0; y < y1; ++y) {
       const float* s = speed + std::size_t(y - y0) * kMaxPageSize;
       const float* r = rate + std::size_t(y - y0) * kMaxPageSize;
       const std::uint32_t rowStart = std::uint32_t(texelOf(page.neighbourOrigins[13], 0, y));
-      std::uint32_t moving = 0;  // bit x: voxel x moves; about a quarter do
-      for (int x = 0; x < xEnd; ++x) moving |= std::uint32_t(r[x] != 0) << x;
-      for (; moving; moving &= moving - 1) {
+      for (std::uint32_t moving = movingInRow[y - y0]; moving; moving &= moving - 1) {  // about a quarter move
         const int x = std::countr_zero(moving);
         moves[moved++] = {rowStart + std::uint32_t(x), r[x]};
         localMax = std::max(localMax, std::fabs(s[x]));

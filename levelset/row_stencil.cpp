@@ -41,7 +41,7 @@ ISOATLAS_ROW_LOOP void rowFaceNormals(const float* __restrict apron, int side, i
 ISOATLAS_ROW_LOOP void evaluateRows(const float* __restrict apron, int side, int y0, int y1, int xEnd,
                                     const float* __restrict intensity, std::size_t intensityStride, SpeedParams params,
                                     const float* __restrict faces, std::size_t stride, float* __restrict speed,
-                                    float* __restrict rate) {
+                                    float* __restrict rate, std::uint32_t* __restrict moving) {
   for (int y = y0; y < y1; ++y) {
     const float *c = rowAt(apron, side, y, 0), *ym = rowAt(apron, side, y - 1, 0), *yp = rowAt(apron, side, y + 1, 0);
     const float *zm = rowAt(apron, side, y, -1), *zp = rowAt(apron, side, y, 1);
@@ -82,6 +82,9 @@ ISOATLAS_ROW_LOOP void evaluateRows(const float* __restrict apron, int side, int
       rowSpeed[x] = physical;
       rowRate[x] = s * upwindGradient(s, dxp, dxm, dyp, dym, dzp, dzm);
     }
+    std::uint32_t rowMoving = 0;
+    for (int x = 0; x < xEnd; ++x) rowMoving |= std::uint32_t(rowRate[x] != 0.0f) << x;
+    moving[y - y0] = rowMoving;
   }
 }
 

@@ -10,6 +10,7 @@
 // contraction, so both give the same bits.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 
 #include "levelset/page_manager.h"
 #include "levelset/speed.h"
@@ -24,9 +25,10 @@ void rowFaceNormals(const float* apron, int side, int y0, int y1, int xEnd, floa
 
 // Inputs: apron, side, rows y0 <= y < y1 within [0, P - 1], xEnd <= P; intensity: I at voxel (x, y)
 //   at intensity[(y - y0) * intensityStride + x]; params; faces: rowFaceNormals of rows y0 - 1 to y1 - 1.
-// Outputs: speed and rate at [(y - y0) * stride + x] for x < xEnd, as evaluateVoxelAt gives them.
+// Outputs: speed and rate at [(y - y0) * stride + x] for x < xEnd, as evaluateVoxelAt gives them;
+//   moving[y - y0]: bit x set where that rate is not zero (the voxels that move).
 void evaluateRows(const float* apron, int side, int y0, int y1, int xEnd, const float* intensity,
                   std::size_t intensityStride, SpeedParams params, const float* faces, std::size_t stride,
-                  float* speed, float* rate);
+                  float* speed, float* rate, std::uint32_t* moving);
 
 }  // namespace isoatlas::levelset

@@ -119,9 +119,10 @@ TEST(RowStencil, RowsGiveEvaluateVoxelAtBitForBit) {
     for (const auto& [y0, y1, xEnd] : {std::array<int, 3>{0, P, P}, {3, 7, P}, {P - 1, P, P}, {0, P, P - 3}}) {
       std::vector<float> faces(std::size_t(kMaxPageSize * (kMaxPageSize + 1))), speed(std::size_t(kMaxPageSize * P)),
           rate(std::size_t(kMaxPageSize * P));
+      std::vector<std::uint32_t> moving(std::size_t(P), 0u);
       rowFaceNormals(apron.data(), side, y0 - 1, y1, xEnd, faces.data());
       evaluateRows(apron.data(), side, y0, y1, xEnd, intensity.data() + std::size_t(y0 * P), std::size_t(P), params,
-                   faces.data(), std::size_t(kMaxPageSize), speed.data(), rate.data());
+                   faces.data(), std::size_t(kMaxPageSize), speed.data(), rate.data(), moving.data());
       for (int y = y0; y < y1; ++y)
         for (int x = 0; x < xEnd; ++x) {
           const VoxelUpdate want = evaluateVoxelAt([&](int dx, int dy, int dz) { return at(x + dx, y + dy, dz); },
@@ -129,6 +130,7 @@ TEST(RowStencil, RowsGiveEvaluateVoxelAtBitForBit) {
           const std::size_t k = std::size_t(y - y0) * kMaxPageSize + std::size_t(x);
           ASSERT_EQ(std::bit_cast<std::uint32_t>(speed[k]), std::bit_cast<std::uint32_t>(want.speed)) << P << " " << x << " " << y;
           ASSERT_EQ(std::bit_cast<std::uint32_t>(rate[k]), std::bit_cast<std::uint32_t>(want.rate)) << P << " " << x << " " << y;
+          ASSERT_EQ((moving[std::size_t(y - y0)] >> x) & 1u, want.rate != 0 ? 1u : 0u) << P << " " << x << " " << y;
         }
     }
   }
