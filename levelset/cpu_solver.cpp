@@ -106,6 +106,7 @@ public:
           moved |= std::fabs(next - value) > settledChange;
           value = next;
         }
+        // Each page refreshes its own slot's column copy; none is read before pass 3.
         if (!moving_[i].empty()) refreshEdges(pages_[i].slot, pages_[i].neighbourOrigins[13]);
         result.moved[i] = moved;
       }
@@ -181,8 +182,8 @@ private:
   // pages beside it across x read these, a cache line or two, where the column in place lies across
   // P lines. Every write to phi_ refreshes the slot's copy.
   std::uint32_t edgesOf(std::int32_t slot) const { return std::uint32_t(slot) * 2u * std::uint32_t(P_); }
-  const float* firstColumn(std::uint32_t edges) const { return &edges_[edges]; }
-  const float* lastColumn(std::uint32_t edges) const { return &edges_[edges + std::uint32_t(P_)]; }
+  const float* firstColumn(std::uint32_t edgesAt) const { return &edges_[edgesAt]; }
+  const float* lastColumn(std::uint32_t edgesAt) const { return &edges_[edgesAt + std::uint32_t(P_)]; }
   void refreshEdges(std::int32_t slot, const Origin& o) {
     float* first = &edges_[edgesOf(slot)];
     for (int y = 0; y < P_; ++y) {
@@ -192,14 +193,15 @@ private:
   }
 
   // The (P+2) x (P+2) x 3 values around a page, read through its neighbour table only (as the GPU
-  // reads them into shared memory); voxels are then evaluated without further lookups.
+  // reads them into shared memory; the x neighbours' columns from their copies in edges_); voxels
+  // are then evaluated without further lookups.
   struct Apron {
     int side;
     std::array<float, 3 * (kMaxPageSize + 2) * (kMaxPageSize + 2)> v;  // [dz][y + 1][x + 1]
     explicit Apron(int P) : side(P + 2) {}
     void load(const CpuSolver& s, const std::vector<float>& phi, const PageInfo& page) {
-      // Rows of a size known when compiled are copied inline instead of by a library call per row
-      // (a memcpy of a fixed size is; copy_n became a call to memmove).
+      // Rows of a size known when compiled are copied inline instead of by a library call per row:
+      // a fixed-size memcpy is inlined (std::copy_n compiled to a call to memmove).
       switch (side - 2) {
         case 4: return loadRows<4>(s, phi, page);
         case 8: return loadRows<8>(s, phi, page);
@@ -213,12 +215,12 @@ private:
       for (int dz = -1; dz <= 1; ++dz)
         for (int y = -1; y <= P; ++y) {
           const int oy = y < 0 ? -1 : (y >= P ? 1 : 0), ly = y - oy * P;
-          const int first = (dz + 1) * 9 + (oy + 1) * 3;  // the row's page at dx = -1
-          const Origin* row = &page.neighbourOrigins[first];
+          const int west = (dz + 1) * 9 + (oy + 1) * 3;  // the row's page at dx = -1
+          const Origin* row = &page.neighbourOrigins[west];
           float* out = &v[std::size_t(((dz + 1) * side + y + 1) * side)];
-          out[0] = s.lastColumn(page.neighbourEdges[first])[ly];
+          out[0] = s.lastColumn(page.neighbourEdges[west])[ly];
           std::memcpy(out + 1, &phi[s.texelOf(row[1], 0, ly)], P * sizeof(float));
-          out[P + 1] = s.firstColumn(page.neighbourEdges[first + 2])[ly];
+          out[P + 1] = s.firstColumn(page.neighbourEdges[west + 2])[ly];
         }
     }
     const float* row(int y, int dz) const { return &v[std::size_t(((dz + 1) * side + y + 1) * side + 1)]; }
@@ -266,8 +268,9 @@ private:
 
   // Which pages must be active next: this one if any voxel differs from a face neighbour; a
   // neighbour page if a voxel on the shared border differs from its voxel across it. Rows are read
-  // in place through the neighbour table (no apron: only face neighbours are compared), and the
-  // comparisons accumulate in integers so that each row's loop vectorises.
+  // in place through the neighbour table, the x neighbours' columns from their copies (no apron:
+  // only face neighbours are compared), and the comparisons accumulate in integers so that each
+  // row's loop vectorises.
   std::uint8_t message(const std::vector<float>& phi, const PageInfo& page) const {
     const Origin* o = page.neighbourOrigins;  // [(dz+1)*9 + (dy+1)*3 + (dx+1)]
     const int P = P_;

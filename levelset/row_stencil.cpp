@@ -82,6 +82,7 @@ ISOATLAS_ROW_LOOP void evaluateRows(const float* __restrict apron, int side, int
       rowSpeed[x] = physical;
       rowRate[x] = s * upwindGradient(s, dxp, dxm, dyp, dym, dzp, dzm);
     }
+    static_assert(kMaxPageSize <= 32, "a row's moving voxels are bits of a uint32");
     std::uint32_t rowMoving = 0;
     for (int x = 0; x < xEnd; ++x) rowMoving |= std::uint32_t(rowRate[x] != 0.0f) << x;
     moving[y - y0] = rowMoving;
