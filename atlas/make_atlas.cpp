@@ -1,5 +1,6 @@
 #include "atlas/make_atlas.h"
 
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -51,18 +52,31 @@ struct ChartSurface {
 
 // The surface at the points of one chart, each point carried back through the history once:
 // relaxing, placing and snapping the texels ask again for many of the same points (the same bits).
-// The way back of one point hints the next's (ParametrisationHistory::Hints).
+// The way back of one point hints the next's (ParametrisationHistory::Hints). One cache serves a
+// thread from chart to chart (ChartPointCaches): `on` starts a chart without clearing or allocating
+// anything (a chart's table grew to a megabyte, allocated and cleared per chart).
 class ChartPointCache {
 public:
-  // slots: the table's first size, a power of two (it grows at half full)
-  ChartPointCache(const ChartSurface& surface, std::uint32_t chart, std::size_t slots = 4096) : surface_(surface), chart_(chart), slots_(slots) {}
+  explicit ChartPointCache(const ChartSurface& surface) : surface_(surface), slots_(kFirstSlots) {}
+  // Forgets the points of the chart before (unless it is the same one) and serves chart c.
+  ChartPointCache& on(std::uint32_t chart) {
+    if (chart == chart_) return *this;
+    chart_ = chart;
+    points_.clear();
+    if (++generation_ == 0) {  // wrapped: the slots' generations start again
+      std::fill(slots_.begin(), slots_.end(), Slot{});
+      generation_ = 1;
+    }
+    return *this;
+  }
   multires::ParametrisationHistory::DensePoint point(const multires::Vec2& q) {
     const Key key{std::bit_cast<std::uint64_t>(q.x), std::bit_cast<std::uint64_t>(q.y)};
     Slot& slot = slotOf(key);
-    if (slot.used) return slot.point;
+    if (slot.generation == generation_) return points_[slot.point];
     const multires::ParametrisationHistory::DensePoint p = surface_.point(chart_, q, &hints_);
-    slot = {key, true, p};
-    if (++used_ * 2 > slots_.size()) grow();
+    slot = {key, generation_, std::uint32_t(points_.size())};
+    points_.push_back(p);
+    if (points_.size() * 2 > slots_.size()) grow();
     return p;
   }
   SurfacePoint at(const multires::Vec2& q) { return surface_.at(point(q)); }
@@ -70,30 +84,39 @@ public:
 
 private:
   // A table of its own (open addressing, linear probing, at most half full): a node-based map's
-  // allocations cost about what the walks it saved.
+  // allocations cost about what the walks it saved. A slot is used when it has the chart's generation.
+  static constexpr std::size_t kFirstSlots = 4096;
+  static constexpr std::uint32_t kNoChart = ~0u;
   using Key = std::array<std::uint64_t, 2>;
   struct Slot {
     Key key{};
-    bool used = false;
-    multires::ParametrisationHistory::DensePoint point;
+    std::uint32_t generation = 0, point = 0;  // point: its place in points_
   };
   Slot& slotOf(const Key& key) {
     const std::size_t mask = slots_.size() - 1;
     std::size_t at = std::size_t((key[0] * 0x9E3779B97F4A7C15ull ^ key[1]) * 0xC2B2AE3D27D4EB4Full >> 20) & mask;
-    while (slots_[at].used && slots_[at].key != key) at = (at + 1) & mask;
+    while (slots_[at].generation == generation_ && slots_[at].key != key) at = (at + 1) & mask;
     return slots_[at];
   }
   void grow() {
     std::vector<Slot> old(2 * slots_.size());
     old.swap(slots_);
     for (const Slot& slot : old)
-      if (slot.used) slotOf(slot.key) = slot;
+      if (slot.generation == generation_) slotOf(slot.key) = slot;
   }
   const ChartSurface& surface_;
-  const std::uint32_t chart_;
+  std::uint32_t chart_ = kNoChart, generation_ = 1;
   std::vector<Slot> slots_;
-  std::size_t used_ = 0;
+  std::vector<multires::ParametrisationHistory::DensePoint> points_;
   multires::ParametrisationHistory::Hints hints_;
+};
+
+// A ChartPointCache per thread. A chart's work must not run parallel algorithms of its own: the
+// thread could take up another chart midway, and its cache with it.
+struct ChartPointCaches {
+  explicit ChartPointCaches(const ChartSurface& surface) : caches(surface) {}
+  ChartPointCache& on(std::uint32_t chart) { return caches.local().on(chart); }
+  tbb::enumerable_thread_specific<ChartPointCache> caches;
 };
 
 // A typical bending of the dense surface: the median over its edges of |n_a - n_b| / |p_a - p_b|.
@@ -135,13 +158,14 @@ std::vector<std::array<std::vector<double>, 4>> sideFractions(const ChartSurface
   coarser.keptSize = 2 * how.keptSize - 1;
   const bool guarded = how.sweeps > 0 && coarser.keptSize < n;
   std::vector<double> uniformError(guarded ? layout.charts : 0);  // per chart, with every side uniform
+  ChartPointCaches caches(surface), acrossCaches(surface);
   tbb::parallel_for(std::uint32_t(0), std::uint32_t(uniformError.size()), [&](std::uint32_t c) {
-    ChartPointCache cache(surface, c, 256);
+    ChartPointCache& cache = caches.on(c);
     uniformError[c] = coarsestRelaxedError(n, 0, uniform, [&](const multires::Vec2& q) { return cache.at(q); }, how, verticesOf(c));
   });
   std::vector<std::array<std::vector<double>, 4>> sides(layout.charts);
   tbb::parallel_for(std::uint32_t(0), layout.charts, [&](std::uint32_t c) {
-    ChartPointCache cache(surface, c);
+    ChartPointCache& cache = caches.on(c);
     for (int s = 0; s < 4; ++s) {
       const SideAcross other = across[c][s];
       if (other.tile != kNoTile && other.tile < c) continue;
@@ -151,7 +175,7 @@ std::vector<std::array<std::vector<double>, 4>> sideFractions(const ChartSurface
         double error = coarsestRelaxedError(n, s, t, [&](const multires::Vec2& q) { return cache.at(q); }, how, verticesOf(c));
         double uniformTexels = uniformError[c];
         if (other.tile != kNoTile) {
-          ChartPointCache acrossCache(surface, other.tile, 256);
+          ChartPointCache& acrossCache = acrossCaches.on(other.tile);
           error = std::max(error, coarsestRelaxedError(n, other.side, reversed(t), [&](const multires::Vec2& q) { return acrossCache.at(q); },
                                                        how, verticesOf(other.tile)));
           uniformTexels = std::max(uniformTexels, uniformError[other.tile]);
@@ -191,8 +215,9 @@ constexpr double kLevelTwoGuardShare = 0.8;
 double largestLevelZeroError(const ChartSurface& surface, std::uint32_t charts,
                              const std::vector<std::vector<ChartVertex>>& chartVertices) {
   std::vector<double> error(charts);
+  ChartPointCaches caches(surface);
   tbb::parallel_for(std::uint32_t(0), charts, [&](std::uint32_t c) {
-    ChartPointCache cache(surface, c, 64);
+    ChartPointCache& cache = caches.on(c);
     error[c] = levelZeroError([&](const multires::Vec2& q) { return cache.at(q); }, chartVertices[c]);
   });
   return error.empty() ? 0 : *std::max_element(error.begin(), error.end());
@@ -207,10 +232,9 @@ struct ChartPoints {
   std::uint32_t nonConvex = 0, snapped = 0;
   bool levelTwoCentreMoved = false;  // by ChartRelaxing::levelTwoGuard
 };
-ChartPoints placeTexels(const ChartSurface& surface, std::uint32_t c, std::uint32_t n, const std::array<std::vector<double>, 4>& sides,
+ChartPoints placeTexels(const ChartSurface& surface, ChartPointCache& cache, std::uint32_t n, const std::array<std::vector<double>, 4>& sides,
                         const ChartRelaxing& how, std::span<const ChartVertex> vertices) {
   ChartPoints out;
-  ChartPointCache cache(surface, c);
   out.chart = relaxChart(n, [&](const multires::Vec2& q) { return cache.at(q); }, sides, how, &out.nonConvex, vertices);
   out.levelTwoCentreMoved = levelTwoCentreMoved(n, out.chart);
   out.dense.resize(out.chart.size());
@@ -239,12 +263,13 @@ void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, const s
   std::atomic<std::uint64_t> folded{0}, gaps{0}, steps{0}, turned{0}, nonConvex{0}, snapped{0}, centresMoved{0};
   Progress progress("atlas: sampling charts", atlas.layout.charts, "charts");
   constexpr std::uint32_t kChunk = 64;  // charts between progress updates (Progress is not thread-safe)
+  ChartPointCaches caches(surface);
   for (std::uint32_t first = 0; first < atlas.layout.charts; first += kChunk) {
   const std::uint32_t last = std::min(atlas.layout.charts, first + kChunk);
   tbb::parallel_for(first, last, [&](std::uint32_t c) {
     std::uint64_t gapsHere = 0, stepsHere = 0;
     const ChartPoints points =
-        placeTexels(surface, c, n, sides[c], how, chartVertices.empty() ? std::span<const ChartVertex>{} : chartVertices[c]);
+        placeTexels(surface, caches.on(c), n, sides[c], how, chartVertices.empty() ? std::span<const ChartVertex>{} : chartVertices[c]);
     snapped += points.snapped;
     centresMoved += points.levelTwoCentreMoved;
     std::vector<std::array<float, 3>> chart;
