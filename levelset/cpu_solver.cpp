@@ -15,6 +15,10 @@
 namespace isoatlas::levelset {
 namespace {
 
+// A page's neighbour at (dy, dz) in {-1, 0, 1}^2 in the tables of PageInfo (which say its dx).
+constexpr int besideAt(int dy, int dz) { return (dz + 1) * 3 + dy + 1; }
+constexpr int kSelf = besideAt(0, 0);
+
 class CpuSolver final : public SolverBackend {
 public:
   CpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims) : source_(std::move(source)), dims_(dims) {}
@@ -45,10 +49,14 @@ public:
       info.slot = pm.slotOf(active[i]);
       info.coords = pm.pageCoords(active[i]);
       const auto slots = pm.neighbourSlots(active[i]);
-      for (int n = 0; n < 27; ++n) {
-        info.neighbourOrigins[n] = origin(pm, slots[std::size_t(n)]);
-        info.neighbourEdges[n] = edgesOf(slots[std::size_t(n)]);
-      }
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy) {
+          const std::size_t west = std::size_t((dz + 1) * 9 + (dy + 1) * 3);  // neighbourSlots' order
+          const int k = besideAt(dy, dz);
+          info.westEdges[k] = edgesOf(slots[west]);
+          info.origins[k] = origin(pm, slots[west + 1]);
+          info.eastEdges[k] = edgesOf(slots[west + 2]);
+        }
     }
   }
 
@@ -107,7 +115,7 @@ public:
           value = next;
         }
         // Each page refreshes its own slot's column copy; none is read before pass 3.
-        if (!moving_[i].empty()) refreshEdges(pages_[i].slot, pages_[i].neighbourOrigins[13]);
+        if (!moving_[i].empty()) refreshEdges(pages_[i].slot, pages_[i].origins[kSelf]);
         result.moved[i] = moved;
       }
       signChanges += changes;
@@ -157,8 +165,10 @@ private:
   struct PageInfo {
     std::int32_t slot;
     std::array<std::int64_t, 3> coords;
-    Origin neighbourOrigins[27];  // index 13 is the page itself
-    std::uint32_t neighbourEdges[27];  // where each one's edge columns start in edges_
+    // The pages beside it at dx = 0 (origins, the page itself at kSelf), and where those at dx = -1
+    // and +1 keep their edge columns in edges_: the only parts of the 27 that are read.
+    Origin origins[9];
+    std::uint32_t westEdges[9], eastEdges[9];
   };
 
   struct Moving {
@@ -215,12 +225,11 @@ private:
       for (int dz = -1; dz <= 1; ++dz)
         for (int y = -1; y <= P; ++y) {
           const int oy = y < 0 ? -1 : (y >= P ? 1 : 0), ly = y - oy * P;
-          const int west = (dz + 1) * 9 + (oy + 1) * 3;  // the row's page at dx = -1
-          const Origin* row = &page.neighbourOrigins[west];
+          const int k = besideAt(oy, dz);  // the row's page
           float* out = &v[std::size_t(((dz + 1) * side + y + 1) * side)];
-          out[0] = s.lastColumn(page.neighbourEdges[west])[ly];
-          std::memcpy(out + 1, &phi[s.texelOf(row[1], 0, ly)], P * sizeof(float));
-          out[P + 1] = s.firstColumn(page.neighbourEdges[west + 2])[ly];
+          out[0] = s.lastColumn(page.westEdges[k])[ly];
+          std::memcpy(out + 1, &phi[s.texelOf(page.origins[k], 0, ly)], P * sizeof(float));
+          out[P + 1] = s.firstColumn(page.eastEdges[k])[ly];
         }
     }
     const float* row(int y, int dz) const { return &v[std::size_t(((dz + 1) * side + y + 1) * side + 1)]; }
@@ -256,7 +265,7 @@ private:
     for (int y = y0; y < y1; ++y) {
       const float* s = speed + std::size_t(y - y0) * kMaxPageSize;
       const float* r = rate + std::size_t(y - y0) * kMaxPageSize;
-      const std::uint32_t rowStart = std::uint32_t(texelOf(page.neighbourOrigins[13], 0, y));
+      const std::uint32_t rowStart = std::uint32_t(texelOf(page.origins[kSelf], 0, y));
       for (std::uint32_t moving = movingInRow[y - y0]; moving; moving &= moving - 1) {  // about a quarter move
         const int x = std::countr_zero(moving);
         moves[moved++] = {rowStart + std::uint32_t(x), r[x]};
@@ -272,16 +281,16 @@ private:
   // only face neighbours are compared), and the comparisons accumulate in integers so that each
   // row's loop vectorises.
   std::uint8_t message(const std::vector<float>& phi, const PageInfo& page) const {
-    const Origin* o = page.neighbourOrigins;  // [(dz+1)*9 + (dy+1)*3 + (dx+1)]
+    const Origin* o = page.origins;  // [besideAt(dy, dz)]
     const int P = P_;
-    const float *plusX = firstColumn(page.neighbourEdges[14]), *minusX = lastColumn(page.neighbourEdges[12]);
+    const float *plusX = firstColumn(page.eastEdges[kSelf]), *minusX = lastColumn(page.westEdges[kSelf]);
     unsigned self = 0, px = 0, mx = 0, py = 0, my = 0, pz = 0, mz = 0;
     for (int y = 0; y < P; ++y) {
-      const float* c = &phi[texelOf(o[13], 0, y)];
-      const float* zp = &phi[texelOf(o[22], 0, y)];
-      const float* zm = &phi[texelOf(o[4], 0, y)];
-      const float* yp = y + 1 < P ? c + width_ : &phi[texelOf(o[16], 0, 0)];
-      const float* ym = y > 0 ? c - width_ : &phi[texelOf(o[10], 0, P - 1)];
+      const float* c = &phi[texelOf(o[kSelf], 0, y)];
+      const float* zp = &phi[texelOf(o[besideAt(0, 1)], 0, y)];
+      const float* zm = &phi[texelOf(o[besideAt(0, -1)], 0, y)];
+      const float* yp = y + 1 < P ? c + width_ : &phi[texelOf(o[besideAt(1, 0)], 0, 0)];
+      const float* ym = y > 0 ? c - width_ : &phi[texelOf(o[besideAt(-1, 0)], 0, P - 1)];
       unsigned rowSelf = 0, rowPz = 0, rowMz = 0, rowYp = 0, rowYm = 0;
       for (int x = 0; x < P; ++x) {
         rowPz |= zp[x] != c[x];
@@ -307,7 +316,7 @@ private:
     if (my) bits |= kNeedMinusY;
     if (pz) bits |= kNeedPlusZ;
     if (mz) bits |= kNeedMinusZ;
-    if (phi[texelOf(o[13], 0, 0)] > 0) bits |= kInside;
+    if (phi[texelOf(o[kSelf], 0, 0)] > 0) bits |= kInside;
     return bits;
   }
 
