@@ -53,8 +53,8 @@ struct ChartSurface {
 // The surface at the points of one chart, each point carried back through the history once:
 // relaxing, placing and snapping the texels ask again for many of the same points (the same bits).
 // The way back of one point hints the next's (ParametrisationHistory::Hints). One cache serves a
-// thread from chart to chart (ChartPointCaches): `on` starts a chart without clearing or allocating
-// anything (a chart's table grew to a megabyte, allocated and cleared per chart).
+// thread from chart to chart (ChartPointCaches), so that starting a chart (`on`) neither allocates
+// nor clears a table: a generation per chart says which slots are in use.
 class ChartPointCache {
 public:
   explicit ChartPointCache(const ChartSurface& surface) : surface_(surface), slots_(kFirstSlots) {}
@@ -84,7 +84,7 @@ public:
 
 private:
   // A table of its own (open addressing, linear probing, at most half full): a node-based map's
-  // allocations cost about what the walks it saved. A slot is used when it has the chart's generation.
+  // allocations cost about what the walks it saved.
   static constexpr std::size_t kFirstSlots = 4096;
   static constexpr std::uint32_t kNoChart = ~0u;
   using Key = std::array<std::uint64_t, 2>;
