@@ -1,0 +1,35 @@
+#include "core/huge_pages.h"
+
+#include <sys/mman.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <new>
+
+namespace isoatlas {
+namespace {
+
+constexpr std::size_t kHugePage = std::size_t(2) << 20;
+constexpr std::size_t kAdvisedFrom = 2 * kHugePage;
+
+void adviseHugePages(void* block, std::size_t bytes) {
+  const std::uintptr_t begin = (std::uintptr_t(block) + kHugePage - 1) & ~(kHugePage - 1);
+  const std::uintptr_t end = (std::uintptr_t(block) + bytes) & ~(kHugePage - 1);
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);  // advice only
+}
+
+}  // namespace
+
+void* allocateBlock(std::size_t bytes) {
+  for (;;) {
+    if (void* block = std::malloc(bytes ? bytes : 1)) {
+      if (bytes >= kAdvisedFrom) adviseHugePages(block, bytes);
+      return block;
+    }
+    const std::new_handler handler = std::get_new_handler();
+    if (!handler) throw std::bad_alloc();
+    handler();
+  }
+}
+
+}  // namespace isoatlas

@@ -1,0 +1,49 @@
+// core/huge_pages.h: a large block from operator new or new[] lies in memory marked for transparent
+// huge pages (its mapping's VmFlags say "hg") and holds what is written to it.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+// The VmFlags of the mapping holding `address`, from /proc/self/smaps ("" if none holds it).
+std::string vmFlagsAt(const void* address) {
+  std::ifstream smaps("/proc/self/smaps");
+  const auto a = std::uintptr_t(address);
+  bool inside = false;
+  for (std::string line; std::getline(smaps, line);) {
+    std::uintptr_t begin = 0, end = 0;
+    char dash = 0;
+    std::istringstream range(line);
+    if (range >> std::hex >> begin >> dash >> end && dash == '-' && line.find(':') > line.find(' ')) {
+      inside = begin <= a && a < end;
+      continue;
+    }
+    if (inside && line.starts_with("VmFlags:")) return line.substr(8);
+  }
+  return "";
+}
+
+bool advised(const std::string& flags) { return (" " + flags + " ").find(" hg ") != std::string::npos; }
+
+TEST(HugePages, ALargeBlockIsMarkedForHugePagesAndHoldsItsValues) {
+  if (!std::filesystem::exists("/sys/kernel/mm/transparent_hugepage/enabled"))
+    GTEST_SKIP() << "this kernel has no transparent huge pages";
+  constexpr std::size_t kCount = std::size_t(16) << 20;  // 64 MiB of floats
+  std::vector<float> large(kCount);
+  for (std::size_t i = 0; i < kCount; i += 4096) large[i] = float(i);
+  const float* middle = large.data() + kCount / 2;
+  EXPECT_TRUE(advised(vmFlagsAt(middle))) << "VmFlags:" << vmFlagsAt(middle);
+  for (std::size_t i = 0; i < kCount; i += 4096) ASSERT_EQ(large[i], float(i));
+
+  auto array = std::make_unique<std::uint8_t[]>(std::size_t(8) << 20);  // operator new[]
+  EXPECT_TRUE(advised(vmFlagsAt(array.get() + (std::size_t(4) << 20))));
+}
+
+}  // namespace
