@@ -22,7 +22,6 @@
 #include "bench/bench_util.h"
 #include "bench/derived_data.h"
 #include "core/gl/context.h"
-#include "core/huge_pages.h"
 #include "core/volume_io.h"
 #include "extract/extract_surface.h"
 #include "pipeline/demo.h"
@@ -32,7 +31,8 @@
 namespace {
 std::atomic<std::int64_t> g_heap{0}, g_heapPeak{0};
 void* counted(std::size_t n) {
-  void* p = isoatlas::allocateBlock(n);
+  void* p = std::malloc(n ? n : 1);
+  if (!p) throw std::bad_alloc();
   const std::int64_t now = g_heap += std::int64_t(malloc_usable_size(p));
   for (std::int64_t peak = g_heapPeak; now > peak && !g_heapPeak.compare_exchange_weak(peak, now);) {
   }

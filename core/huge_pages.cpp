@@ -3,7 +3,6 @@
 #include <sys/mman.h>
 
 #include <cstdint>
-#include <cstdlib>
 #include <new>
 
 namespace isoatlas {
@@ -20,16 +19,11 @@ void adviseHugePages(void* block, std::size_t bytes) {
 
 }  // namespace
 
-void* allocateBlock(std::size_t bytes) {
-  for (;;) {
-    if (void* block = std::malloc(bytes ? bytes : 1)) {
-      if (bytes >= kAdvisedFrom) adviseHugePages(block, bytes);
-      return block;
-    }
-    const std::new_handler handler = std::get_new_handler();
-    if (!handler) throw std::bad_alloc();
-    handler();
-  }
+void* allocateForHugePages(std::size_t bytes) {
+  void* block = std::malloc(bytes ? bytes : 1);
+  if (!block) throw std::bad_alloc();
+  if (bytes >= kAdvisedFrom) adviseHugePages(block, bytes);
+  return block;
 }
 
 }  // namespace isoatlas

@@ -10,6 +10,7 @@
 #include <bit>
 #include <cstring>
 
+#include "core/huge_pages.h"
 #include "levelset/row_stencil.h"
 
 namespace isoatlas::levelset {
@@ -21,7 +22,8 @@ constexpr int kSelf = besideAt(0, 0);
 
 class CpuSolver final : public SolverBackend {
 public:
-  CpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims) : source_(std::move(source)), dims_(dims) {}
+  CpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims)
+      : source_(source.begin(), source.end()), dims_(dims) {}
 
   std::string name() const override {
     return "cpu (TBB, " + std::to_string(tbb::info::default_concurrency()) + " threads)";
@@ -62,7 +64,7 @@ public:
 
   IterationResult iterate(const PageManager&, const SpeedParams& params, const std::vector<std::uint8_t>& evaluate,
                           float settledChange) override {
-    std::vector<float>& phi = phi_;
+    Pool& phi = phi_;
     // Pass 1: speed and rate of change at every voxel of the rows that can change (some voxel differs
     // from a face neighbour) of the pages evaluated; the largest speed. Only voxels that move are
     // listed for pass 2.
@@ -161,6 +163,8 @@ public:
   }
 
 private:
+  // The pool and the source are read a row here and a row there: huge pages spare the TLB.
+  using Pool = HugePageVector<float>;
   using Origin = std::array<std::int32_t, 2>;
   struct PageInfo {
     std::int32_t slot;
@@ -209,7 +213,7 @@ private:
     int side;
     std::array<float, 3 * (kMaxPageSize + 2) * (kMaxPageSize + 2)> v;  // [dz][y + 1][x + 1]
     explicit Apron(int P) : side(P + 2) {}
-    void load(const CpuSolver& s, const std::vector<float>& phi, const PageInfo& page) {
+    void load(const CpuSolver& s, const Pool& phi, const PageInfo& page) {
       // Rows of a size known when compiled are copied inline instead of by a library call per row:
       // a fixed-size memcpy is inlined (std::copy_n compiled to a call to memmove).
       switch (side - 2) {
@@ -220,7 +224,7 @@ private:
       }
     }
     template <int P>
-    void loadRows(const CpuSolver& s, const std::vector<float>& phi, const PageInfo& page) {
+    void loadRows(const CpuSolver& s, const Pool& phi, const PageInfo& page) {
       static_assert(P <= kMaxPageSize);
       for (int dz = -1; dz <= 1; ++dz)
         for (int y = -1; y <= P; ++y) {
@@ -280,7 +284,7 @@ private:
   // in place through the neighbour table, the x neighbours' columns from their copies (no apron:
   // only face neighbours are compared), and the comparisons accumulate in integers so that each
   // row's loop vectorises.
-  std::uint8_t message(const std::vector<float>& phi, const PageInfo& page) const {
+  std::uint8_t message(const Pool& phi, const PageInfo& page) const {
     const Origin* o = page.origins;  // [besideAt(dy, dz)]
     const int P = P_;
     const float *plusX = firstColumn(page.eastEdges[kSelf]), *minusX = lastColumn(page.westEdges[kSelf]);
@@ -320,9 +324,9 @@ private:
     return bits;
   }
 
-  std::vector<float> source_;
+  Pool source_;
   std::array<std::int64_t, 3> dims_;
-  std::vector<float> phi_;
+  Pool phi_;
   std::vector<float> edges_;  // per slot, its first and last columns (refreshEdges)
   std::vector<std::vector<Moving>> moving_;  // per active page, from pass 1
   int P_ = 16;

@@ -21,6 +21,7 @@
 #include <span>
 #include <vector>
 
+#include "core/huge_pages.h"
 #include "core/mesh.h"
 #include "multires/vec2.h"
 
@@ -112,8 +113,9 @@ private:
   std::uint32_t denseFaces_;
   std::size_t steps_ = 0;
   std::uint32_t lastStep_ = 0;   // where the step being recorded starts in records_
-  std::vector<std::byte> records_;  // each step's record starting 8-byte aligned
-  std::vector<Face> made_;  // per version past the dense faces: its step's record, its corners there
+  // Walks back read both at scattered places, many times over: huge pages spare the TLB.
+  HugePageVector<std::byte> records_;  // each step's record starting 8-byte aligned
+  HugePageVector<Face> made_;  // per version past the dense faces: its step's record, its corners there
 };
 
 // The point of the dense surface a DensePoint names.

@@ -1,15 +1,16 @@
-// core/huge_pages.h: a large block from operator new or new[] lies in memory marked for transparent
-// huge pages (its mapping's VmFlags say "hg") and holds what is written to it.
+// core/huge_pages.h: a large HugePageVector lies in memory marked for transparent huge pages (its
+// mapping's VmFlags say "hg") and holds what is written to it.
+#include "core/huge_pages.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <memory>
 #include <sstream>
 #include <string>
-#include <vector>
 
+namespace isoatlas {
 namespace {
 
 // The VmFlags of the mapping holding `address`, from /proc/self/smaps ("" if none holds it).
@@ -22,7 +23,7 @@ std::string vmFlagsAt(const void* address) {
     char dash = 0;
     std::istringstream range(line);
     if (range >> std::hex >> begin >> dash >> end && dash == '-' && line.find(':') > line.find(' ')) {
-      inside = begin <= a && a < end;
+      inside = begin <= a && a < end;  // a mapping's first line: its address range
       continue;
     }
     if (inside && line.starts_with("VmFlags:")) return line.substr(8);
@@ -32,18 +33,21 @@ std::string vmFlagsAt(const void* address) {
 
 bool advised(const std::string& flags) { return (" " + flags + " ").find(" hg ") != std::string::npos; }
 
-TEST(HugePages, ALargeBlockIsMarkedForHugePagesAndHoldsItsValues) {
+TEST(HugePages, ALargeVectorIsMarkedForHugePagesAndHoldsItsValues) {
   if (!std::filesystem::exists("/sys/kernel/mm/transparent_hugepage/enabled"))
     GTEST_SKIP() << "this kernel has no transparent huge pages";
   constexpr std::size_t kCount = std::size_t(16) << 20;  // 64 MiB of floats
-  std::vector<float> large(kCount);
+  HugePageVector<float> large(kCount);
   for (std::size_t i = 0; i < kCount; i += 4096) large[i] = float(i);
   const float* middle = large.data() + kCount / 2;
   EXPECT_TRUE(advised(vmFlagsAt(middle))) << "VmFlags:" << vmFlagsAt(middle);
   for (std::size_t i = 0; i < kCount; i += 4096) ASSERT_EQ(large[i], float(i));
 
-  auto array = std::make_unique<std::uint8_t[]>(std::size_t(8) << 20);  // operator new[]
-  EXPECT_TRUE(advised(vmFlagsAt(array.get() + (std::size_t(4) << 20))));
+  HugePageVector<std::uint8_t> grown;  // reallocated as it grows: each block marked
+  for (std::size_t i = 0; i < (std::size_t(8) << 20); ++i) grown.push_back(std::uint8_t(i));
+  EXPECT_TRUE(advised(vmFlagsAt(grown.data() + grown.size() / 2)));
+  EXPECT_EQ(grown[12345], std::uint8_t(12345));
 }
 
 }  // namespace
+}  // namespace isoatlas
