@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 
@@ -39,6 +41,11 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
     std::ofstream raw(kNhdrData, std::ios::binary | std::ios::trunc);
     for (int i = 0; i < 4096; ++i) raw.put(char(i * 37));
   }
+  // libFuzzer ends by exit(): the scratch files go with it, not left in /tmp run after run.
+  std::atexit([] {
+    std::remove(scratchPath().c_str());
+    if (std::string(FUZZ_EXT) == ".nhdr") std::remove(kNhdrData);
+  });
   return 0;
 }
 
