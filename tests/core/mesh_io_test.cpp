@@ -77,6 +77,21 @@ TEST(MeshIo, OffCommentsBlankLinesAndFaceColoursAreRead) {
   EXPECT_TRUE(analyzeTopology(m).closed);
 }
 
+TEST(MeshIo, PlyObjInfoLinesAreLeftOutOfWhatOpenMeshReads) {
+  // OpenMesh 9 looped forever on this header (found by fuzzing): its reader took the obj_info words
+  // for keywords.
+  const auto dir = scratchDir();
+  test::writeBytes(dir / "info.ply",
+                   "ply\nformat ascii 1.0\nobj_info float element x\nelement vertex 3\nproperty float x\n"
+                   "property float y\nproperty float z\nobj_info made by hand\nelement face 1\n"
+                   "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  const Mesh m = readMesh((dir / "info.ply").string());
+  ASSERT_EQ(m.vertexCount(), 3u);
+  ASSERT_EQ(m.faceCount(), 1u);
+  EXPECT_EQ(m.positions[1], (Vec3{1, 0, 0}));
+  EXPECT_EQ(m.faceVertices, (std::vector<std::uint32_t>{0, 1, 2}));
+}
+
 std::string errorOf(const std::filesystem::path& path) {
   const Error e = test::thrownError([&] { readMesh(path.string()); }, path.string());
   EXPECT_EQ(e.exitCode(), 2);
