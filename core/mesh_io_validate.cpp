@@ -261,18 +261,34 @@ void checkAsciiPlyBody(const std::string& path, const std::string& text, std::si
   }
 }
 
+// The text without its header's obj_info lines (the header ends at bodyStart). OpenMesh 9's PLY
+// reader reads an obj_info line's words as header keywords, and looped forever on some (found by
+// fuzzing); they say nothing we use.
+std::string withoutObjInfoLines(const std::string& text, std::size_t bodyStart) {
+  std::string out;
+  for (std::size_t pos = 0; pos < bodyStart;) {
+    const std::size_t newline = text.find('\n', pos);
+    const std::size_t end = newline == std::string::npos ? bodyStart : std::min(newline + 1, bodyStart);
+    const std::string line = text.substr(pos, end - pos);
+    std::string firstWord;  // as validatedPly splits a line
+    std::istringstream(line) >> firstWord;
+    if (firstWord != "obj_info") out += line;
+    pos = end;
+  }
+  return out.append(text, bodyStart, std::string::npos);
+}
+
 std::string validatedPly(const std::string& path, const std::string& text) {
   std::size_t pos = 0;
   int number = 0;
   std::string format;
   bool ended = false;
   std::vector<PlyElement> elements;
-  std::string withoutObjInfo;  // the text up to pos, obj_info lines left out
+  bool objInfo = false;
   while (!ended) {
     if (pos >= text.size()) throw Error(path + ": PLY header has no end_header");
     const std::size_t end = std::min(text.find('\n', pos), text.size());
     std::string line = text.substr(pos, end - pos);
-    const std::size_t lineStart = pos;
     pos = end + 1;
     ++number;
     if (number > 10000) throw Error(path + ": PLY header is longer than 10000 lines");
@@ -285,14 +301,8 @@ std::string validatedPly(const std::string& path, const std::string& text) {
       if (w.size() != 1 || w[0] != "ply") throw Error(path + ": not a PLY file (it does not start with \"ply\")");
       continue;
     }
-    // OpenMesh 9's PLY reader reads an obj_info line's words as header keywords (and loops forever on
-    // some, as fuzzing found): they say nothing we use, so OpenMesh is given the text without them.
-    if (!w.empty() && w[0] == "obj_info") {
-      if (withoutObjInfo.empty()) withoutObjInfo = text.substr(0, lineStart);
-      continue;
-    }
-    if (!withoutObjInfo.empty()) withoutObjInfo.append(text, lineStart, std::min(pos, text.size()) - lineStart);
-    if (w.empty() || w[0] == "comment") continue;
+    if (!w.empty() && w[0] == "obj_info") objInfo = true;
+    if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "format") {
       if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian") || w[2] != "1.0")
         fail(path, number, "unknown PLY format \"" + line + "\"");
@@ -331,8 +341,7 @@ std::string validatedPly(const std::string& path, const std::string& text) {
   checkCounts(path, text.size(), vertices, faces, binary ? 12 : 6, binary ? 13 : 8);
   if (binary) checkBinaryPlyBody(path, text, pos, elements, format == "binary_big_endian");
   else checkAsciiPlyBody(path, text, pos, number + 1, elements);
-  if (withoutObjInfo.empty()) return text;
-  return withoutObjInfo.append(text, std::min(pos, text.size()), std::string::npos);
+  return objInfo ? withoutObjInfoLines(text, std::min(pos, text.size())) : text;
 }
 
 // --- OBJ ---------------------------------------------------------------------------------------

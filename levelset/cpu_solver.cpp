@@ -336,8 +336,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<SolverBackend> makeCpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims) {
-  return std::make_unique<CpuSolver>(std::move(source), dims);
+std::unique_ptr<SolverBackend> makeCpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims) {
+  return std::make_unique<CpuSolver>(source, dims);
 }
 
 }  // namespace isoatlas::levelset

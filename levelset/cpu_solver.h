@@ -8,6 +8,6 @@
 
 namespace isoatlas::levelset {
 
-std::unique_ptr<SolverBackend> makeCpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims);
+std::unique_ptr<SolverBackend> makeCpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims);
 
 }  // namespace isoatlas::levelset

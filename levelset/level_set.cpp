@@ -31,7 +31,7 @@ LevelSet::LevelSet(const Volume& source, const SpeedParams& params, const LevelS
   requireFiniteVoxels(source, "the source volume");
   std::vector<float> intensities = source.toFloat();
   backend_ = options.backend == Backend::Gpu ? makeGpuSolver(std::move(intensities), source.dims)
-                                             : makeCpuSolver(std::move(intensities), source.dims);
+                                             : makeCpuSolver(intensities, source.dims);
   mark_.assign(std::size_t(pages_->virtualPageCount()), 0);
   movedPage_.assign(std::size_t(pages_->virtualPageCount()), 0);
   wake_.assign(std::size_t(pages_->virtualPageCount()), 0);
