@@ -71,8 +71,8 @@ inline TriangleHit hitIn(const Vec2& p, std::size_t t, const std::array<Vec2, 3>
 // computed in floating point and rounded onto the triangle. kNoTriangleHit when none holds p. corners(i) gives triangle i's corners.
 template <class Corners>
 TriangleHit locateExactly(const Vec2& p, std::size_t count, const Corners& corners, std::size_t hint = 0) {
-  for (std::size_t m = 0; m < count; ++m) {
-    const std::size_t t = (hint + m) % count;
+  std::size_t t = firstRound(hint, count);
+  for (std::size_t m = 0; m < count; ++m, t = nextRound(t, count)) {
     const std::array<Vec2, 3> c = corners(t);
     const std::array<int, 3> o = sideOrientations(p, c);
     if (o[0] >= 0 && o[1] >= 0 && o[2] >= 0) return hitIn(p, t, c, o);

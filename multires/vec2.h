@@ -34,6 +34,11 @@ inline void clampToTriangle(std::array<double, 3>& w) {
   for (double& x : w) x /= sum;  // they summed to one, so one at least stays positive
 }
 
+// A list of `count` taken round from `hint` on: the first index, and the one after t (no division:
+// the searches call it on every try).
+inline std::size_t firstRound(std::size_t hint, std::size_t count) { return hint < count ? hint : count ? hint % count : 0; }
+inline std::size_t nextRound(std::size_t t, std::size_t count) { return t + 1 == count ? 0 : t + 1; }
+
 // Which of `count` flat triangles holds p best (largest smallest weight; outside all only by
 // rounding), tried from `hint` on and stopping at the first that holds it; the weights are clamped
 // onto that triangle. corners(i) gives triangle i's three corners; flat ones are passed over, and
@@ -46,18 +51,24 @@ struct TriangleHit {
 };
 template <class Corners>
 TriangleHit locateInTriangles(const Vec2& p, std::size_t count, const Corners& corners, std::size_t hint = 0) {
-  TriangleHit hit;
+  // The best so far in locals rather than a TriangleHit: rewriting the struct piecewise stalled the
+  // next read of it.
+  std::size_t best = kNoTriangleHit;
+  std::array<double, 3> bestBary{};
   double bestLowest = -std::numeric_limits<double>::infinity();
-  for (std::size_t m = 0; m < count; ++m) {
-    const std::size_t t = (hint + m) % count;
+  std::size_t t = firstRound(hint, count);
+  for (std::size_t m = 0; m < count; ++m, t = nextRound(t, count)) {
     const std::array<Vec2, 3> c = corners(t);
     if (orient2(c[0], c[1], c[2]) == 0) continue;
     const auto b = barycentric2(p, c[0], c[1], c[2]);
     const double lowest = std::min({b[0], b[1], b[2]});
-    if (lowest > bestLowest) bestLowest = lowest, hit = {t, b, lowest >= 0};
+    if (lowest > bestLowest) bestLowest = lowest, best = t, bestBary = b;
     if (lowest >= 0) break;
   }
-  if (hit.triangle != kNoTriangleHit) clampToTriangle(hit.bary);
+  TriangleHit hit;
+  if (best == kNoTriangleHit) return hit;
+  hit = {best, bestBary, bestLowest >= 0};
+  clampToTriangle(hit.bary);
   return hit;
 }
 

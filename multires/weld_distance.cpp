@@ -28,8 +28,7 @@ double weldDistance2(const FanPoint& apex, std::span<const FanPoint> rim, std::s
   std::size_t pointHint = 0;
   auto measure = [&](const Vec3& sample) {
     double nearest = std::numeric_limits<double>::infinity();
-    for (std::size_t m = 0; m < dense.size(); ++m) {
-      const std::size_t i = (pointHint + m) % dense.size();
+    for (std::size_t m = 0, i = pointHint; m < dense.size(); ++m, i = nextRound(i, dense.size())) {
       nearest = std::min(nearest, dot(dense[i].position - sample, dense[i].position - sample));
       if (nearest <= worst) {
         pointHint = i;
