@@ -5,8 +5,10 @@
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include "core/error.h"
+#include "core/huge_pages.h"
 #include "core/progress.h"
 #include "multires/exact_orientation.h"
 #include "multires/exponential_map.h"
@@ -175,7 +177,7 @@ private:
   std::vector<std::array<int, 3>> faceCorners_;         // per face, its version's corners in order
   std::vector<std::vector<std::uint32_t>> refused_;     // per vertex, targets refused since its ring last changed
   RefusalCounts refusals_;
-  std::vector<Quadric> quadric_;
+  HugePageVector<Quadric> quadric_;  // read for every neighbour of every vertex ranked
   bool measuring_ = false;  // ranking by measured distance (near the target size) instead of the quadric
   std::vector<std::vector<MappedPoint>> facePoints_;  // removed dense vertices mapped into each face
   DegreeTable degrees_;  // kept by weldInto; spares canWeldInto walks round far vertices
@@ -369,6 +371,10 @@ void Simplifier::ringPoints(VertexH v, const OneRing& ring, const std::vector<Ve
   points.assign(1, {pv, {0, 0}});
   if (region) region->assign(1, {std::uint32_t(v.idx()), {v.idx(), v.idx(), v.idx()}, {1, 0, 0}, pv});
   const std::size_t k = ring.vertices.size();
+  // The faces' lists lie far apart in memory: their first lines are fetched all at once.
+  for (const FaceH f : ring.faces) __builtin_prefetch(&facePoints_[f.idx()]);
+  for (const FaceH f : ring.faces)
+    if (!facePoints_[f.idx()].empty()) __builtin_prefetch(facePoints_[f.idx()].data());
   for (std::size_t i = 0; i < ring.faces.size(); ++i) {
     // A point of ring face i is weighted on that face's corners: v, ring vertex i and i + 1.
     auto planeOf = [&](int vertex) {
@@ -593,7 +599,17 @@ bool Simplifier::denseTrianglesTurnLeft(const std::vector<FanPoint>& points, con
     regionIndex[vertex] = std::int32_t(at.size());
     at.push_back(p);
   };
-  for (std::size_t i = 0; i < region.size(); ++i) mark(region[i].id, points[i].plane);
+  // The points' dense vertices lie far apart in the tables: each one's entries are fetched a few
+  // points ahead, and its star as it is marked, ahead of the test below.
+  constexpr std::size_t kAhead = 8;
+  for (std::size_t i = 0; i < region.size(); ++i) {
+    if (i + kAhead < region.size()) {
+      __builtin_prefetch(&regionIndex[region[i + kAhead].id], 1);
+      __builtin_prefetch(&denseStars_.offsets[region[i + kAhead].id]);
+    }
+    __builtin_prefetch(denseStars_.of(region[i].id).data());
+    mark(region[i].id, points[i].plane);
+  }
   for (std::size_t i = 0; i < ring.vertices.size(); ++i) mark(std::uint32_t(ring.vertices[i].idx()), plane[i]);
   bool ok = true;
   for (std::size_t i = 0; i < region.size() && ok; ++i)
@@ -639,7 +655,6 @@ std::size_t Simplifier::weldBatch(std::size_t taken) {
     const CheckedWeld& weld = batch_[i];
     switch (weld.outcome) {
       case CheckedWeld::Outcome::Valid:
-        recordWeld(weld);
         changed_.insert(changed_.end(), weld.changed.begin(), weld.changed.end());
         ++welded;
         continue;
@@ -650,7 +665,14 @@ std::size_t Simplifier::weldBatch(std::size_t taken) {
     if (weld.outcome != CheckedWeld::Outcome::Stale) refused_[weld.candidate.vertex].push_back(weld.candidate.target);
     changed_.push_back(VertexH(int(weld.candidate.vertex)));
   }
-  rankAgain(changed_);
+  // The history is recorded, in the batch's order, while the changed vertices are ranked again:
+  // the rankings never read the history, nor the recording the mesh.
+  tbb::parallel_invoke(
+      [&] {
+        for (std::size_t i = 0; i < taken; ++i)
+          if (batch_[i].outcome == CheckedWeld::Outcome::Valid) recordWeld(batch_[i]);
+      },
+      [&] { rankAgain(changed_); });
   return welded;
 }
 
