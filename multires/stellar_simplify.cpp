@@ -150,12 +150,14 @@ private:
   void initQuadrics();
   bool evaluate(VertexH v, Candidate& best, RankScratch& scratch) const;
   bool bound(VertexH v, Candidate& lower, RankScratch& scratch) const;
+  std::size_t weldOptions(VertexH v, const OneRing& ring, const Vec3* points, WeldOption* options) const;
   std::size_t rankTargets(VertexH v, const OneRing& ring, const Vec3* points, WeldOption* options) const;
   void ringPoints(VertexH v, const OneRing& ring, const std::vector<Vec2>& plane, std::vector<FanPoint>& points,
                   std::vector<MappedPoint>* region) const;
   void rankAgain(std::span<const VertexH> vertices);
   std::size_t takeBatch(std::size_t most);
-  bool touchesBatch(VertexH v, VertexH u);
+  void weldRegion(VertexH v, VertexH u, std::vector<VertexH>& region) const;
+  bool touchesBatch(const std::vector<VertexH>& region);
   void checkWeld(CheckedWeld& weld, RankScratch& scratch) const;
   void applyWeld(CheckedWeld& weld);
   void recordWeld(const CheckedWeld& weld);
@@ -186,12 +188,16 @@ private:
   tbb::enumerable_thread_specific<RankScratch> rankScratch_;  // reused to avoid allocations
   std::vector<std::pair<Candidate, bool>> rankings_;            // scratch for rankAgain
   std::vector<Candidate> popped_;                               // scratch for takeBatch
-  std::vector<std::pair<Candidate, bool>> poppedRanked_;        // scratch for takeBatch
+  struct PoppedWeld {
+    Candidate candidate;  // ranked in full
+    bool valid = false;
+    std::vector<VertexH> region;
+  };
+  std::vector<PoppedWeld> poppedRanked_;                        // scratch for takeBatch
   std::vector<CheckedWeld> batch_;                              // the welds of one batch, reused
   std::vector<std::uint32_t> batchMark_;                        // per vertex, the last batch whose region held it
   std::uint32_t batchStamp_ = 0;
   std::vector<VertexH> changed_;                                // scratch for weldBatch
-  std::vector<VertexH> region_;                                 // scratch for touchesBatch
 };
 
 Vec3 pointOf(const StellarMesh& mesh, VertexH v) { return toVec3(mesh.point(v)); }
@@ -239,9 +245,9 @@ void Simplifier::initQuadrics() {
   }
 }
 
-// The targets v may weld into (on a boundary, its boundary neighbours), cheapest first, within the
-// error bound; `points` holds the ring's positions. Returns how many.
-std::size_t Simplifier::rankTargets(VertexH v, const OneRing& ring, const Vec3* points, WeldOption* options) const {
+// The targets v may weld into (on a boundary, its boundary neighbours) within the error bound, in
+// the ring's order; `points` holds the ring's positions. Returns how many.
+std::size_t Simplifier::weldOptions(VertexH v, const OneRing& ring, const Vec3* points, WeldOption* options) const {
   const std::size_t k = ring.vertices.size();
   const Vec3 pv = pointOf(mesh_, v);
   std::size_t count = 0;
@@ -258,6 +264,12 @@ std::size_t Simplifier::rankTargets(VertexH v, const OneRing& ring, const Vec3* 
   } else {
     for (std::size_t t = 0; t < k; ++t) rank(t);
   }
+  return count;
+}
+
+// weldOptions, cheapest first.
+std::size_t Simplifier::rankTargets(VertexH v, const OneRing& ring, const Vec3* points, WeldOption* options) const {
+  const std::size_t count = weldOptions(v, ring, points, options);
   std::sort(options, options + count);
   return count;
 }
@@ -272,8 +284,11 @@ bool Simplifier::bound(VertexH v, Candidate& lower, RankScratch& scratch) const 
   Vec3 points[kMaxDegree];
   for (std::size_t i = 0; i < k; ++i) points[i] = pointOf(mesh_, ring.vertices[i]);
   WeldOption options[kMaxDegree];
-  if (rankTargets(v, ring, points, options) == 0) return false;
-  lower = {options[0].cost, std::uint32_t(v.idx()), std::uint32_t(ring.vertices[options[0].t].idx()), false};
+  const std::size_t count = weldOptions(v, ring, points, options);
+  if (count == 0) return false;
+  // Only the cheapest is needed (no sort); its target is a guess, replaced by the full ranking.
+  const WeldOption& cheapest = *std::min_element(options, options + count);
+  lower = {cheapest.cost, std::uint32_t(v.idx()), std::uint32_t(ring.vertices[cheapest.t].idx()), false};
   return true;
 }
 
@@ -489,50 +504,53 @@ void Simplifier::recordWeld(const CheckedWeld& weld) {
   operators_ += weld.operators;
 }
 
-// Whether the weld of v into u reads or writes a vertex that a weld already taken into the batch
-// does (each one's region: v, u and their rings); if not, marks its region for the batch.
-bool Simplifier::touchesBatch(VertexH v, VertexH u) {
-  region_.clear();
+// The vertices the weld of v into u reads or writes: v, u and their rings.
+void Simplifier::weldRegion(VertexH v, VertexH u, std::vector<VertexH>& region) const {
+  region.clear();
   for (const VertexH centre : {v, u}) {
     if (mesh_.status(centre).deleted()) continue;  // a stale target: v's check finds it so
-    region_.push_back(centre);
-    for (const VertexH w : mesh_.vv_range(centre)) region_.push_back(w);
+    region.push_back(centre);
+    for (const VertexH w : mesh_.vv_range(centre)) region.push_back(w);
   }
-  for (const VertexH w : region_)
+}
+
+// Whether a weld's region holds a vertex of a weld already taken into the batch; if not, marks it
+// for the batch.
+bool Simplifier::touchesBatch(const std::vector<VertexH>& region) {
+  for (const VertexH w : region)
     if (batchMark_[w.idx()] == batchStamp_) return true;
-  for (const VertexH w : region_) batchMark_[w.idx()] = batchStamp_;
+  for (const VertexH w : region) batchMark_[w.idx()] = batchStamp_;
   return false;
 }
 
 // Takes up to `most` of the cheapest welds whose regions do not touch into batch_, in the order the
 // welds would come one at a time: the heap's front is popped (vertices only bounded are ranked in
-// full, side by side); a vertex whose full ranking differs from its bound goes back with it, and no
-// weld dearer than one that went back is taken; a weld touching one already taken goes back as it
-// was. Returns how many were taken.
+// full, side by side, and each weld's region found); a vertex whose full ranking differs from its
+// bound goes back with it, and no weld dearer than one that went back is taken; a weld touching one
+// already taken goes back as it was. Returns how many were taken.
 std::size_t Simplifier::takeBatch(std::size_t most) {
   popped_.clear();
   while (popped_.size() < most && !heap_.empty()) popped_.push_back(heap_.pop());
   poppedRanked_.resize(popped_.size());
-  auto rank = [&](std::size_t i) {
-    auto& [c, valid] = poppedRanked_[i];
+  forEach(popped_.size(), true, [&](std::size_t i) {
+    auto& [c, valid, region] = poppedRanked_[i];
     c = popped_[i];
     valid = c.ranked || evaluate(VertexH(int(c.vertex)), c, rankScratch_.local());
-  };
-  const auto unranked = std::count_if(popped_.begin(), popped_.end(), [](const Candidate& c) { return !c.ranked; });
-  forEach(popped_.size(), unranked > 1, rank);
+    if (valid) weldRegion(VertexH(int(c.vertex)), VertexH(int(c.target)), region);
+  });
 
   ++batchStamp_;
   std::size_t taken = 0;
   double wentBack = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < popped_.size(); ++i) {
-    const auto& [c, valid] = poppedRanked_[i];
+    const auto& [c, valid, region] = poppedRanked_[i];
     if (!valid) continue;  // no valid weld: dropped, as when it is ranked again
     if (!popped_[i].ranked && c.cost != popped_[i].cost) {
       heap_.set(c);
       wentBack = std::min(wentBack, c.cost);
       continue;
     }
-    if (c.cost > wentBack || touchesBatch(VertexH(int(c.vertex)), VertexH(int(c.target)))) {
+    if (c.cost > wentBack || touchesBatch(region)) {
       heap_.set(c);
       continue;
     }
