@@ -21,6 +21,12 @@ void ParametrisationHistory::beginStep(std::span<const Vec2> layout) {
   std::memcpy(records_.data() + at + sizeof header, layout.data(), layout.size() * sizeof(Vec2));
 }
 
+void ParametrisationHistory::reserve(std::size_t steps) {
+  constexpr std::size_t kRing = 8;  // layout points, and faces replaced; made faces two fewer
+  records_.reserve(steps * (sizeof(StepHeader) + (kRing + 1) * sizeof(Vec2) + kRing * sizeof(ReplacedFace)));
+  made_.reserve(steps * (kRing - 2));
+}
+
 std::size_t ParametrisationHistory::replacedOffset(std::uint32_t at) const {
   const auto* header = reinterpret_cast<const StepHeader*>(records_.data() + at);
   return at + sizeof(StepHeader) + header->layoutSize * sizeof(Vec2);

@@ -36,6 +36,9 @@ public:
   // (a version, with its corners as local indices in that version's corner order), then each face
   // it makes (corners as local indices); adds returns the new version.
   void beginStep(std::span<const Vec2> layout);
+  // Room for about `steps` steps (rings of up to 8 vertices), so that recording them seldom moves the
+  // records: a move copies them and clears fresh huge pages. Pages are only touched when written.
+  void reserve(std::size_t steps);
   void replaces(std::uint32_t version, const std::array<std::uint8_t, 3>& corners);
   std::uint32_t adds(const std::array<std::uint8_t, 3>& corners);
 

@@ -702,6 +702,7 @@ BaseMesh Simplifier::run(SimplifyStats& stats) {
   degrees_ = degreeTable(mesh_);
   denseStars_ = DenseStars(dense_);
   history_ = std::make_shared<ParametrisationHistory>(std::uint32_t(dense_.faceCount()));
+  history_->reserve(n > target ? n - target : 0);
   faceVersion_.resize(mesh_.n_faces());
   faceCorners_.resize(mesh_.n_faces());
   for (std::uint32_t f = 0; f < dense_.faceCount(); ++f) {
