@@ -154,6 +154,8 @@ private:
   std::size_t rankTargets(VertexH v, const OneRing& ring, const Vec3* points, WeldOption* options) const;
   void ringPoints(VertexH v, const OneRing& ring, const std::vector<Vec2>& plane, std::vector<FanPoint>& points,
                   std::vector<MappedPoint>* region) const;
+  template <class VertexAt>
+  void fetchAhead(std::size_t i, std::size_t n, const VertexAt& vertexAt) const;
   void rankAgain(std::span<const VertexH> vertices);
   std::size_t takeBatch(std::size_t most);
   void weldRegion(VertexH v, VertexH u, std::vector<VertexH>& region) const;
@@ -403,6 +405,16 @@ void Simplifier::ringPoints(VertexH v, const OneRing& ring, const std::vector<Ve
   }
 }
 
+// The vertices a batch ranks or checks lie far apart: while vertex i of n is worked on, the records
+// a walk round the next ones starts from are fetched, two ahead the vertex's, one ahead its first
+// halfedge's (whose handle the vertex's holds).
+template <class VertexAt>
+void Simplifier::fetchAhead(std::size_t i, std::size_t n, const VertexAt& vertexAt) const {
+  if (i + 2 < n) __builtin_prefetch(&mesh_.vertex(vertexAt(i + 2)));
+  if (i + 1 < n)
+    if (const HalfedgeH h = mesh_.halfedge_handle(vertexAt(i + 1)); h.is_valid()) __builtin_prefetch(&mesh_.halfedge(h));
+}
+
 // Ranks the vertices again (bounds them, while ranking by the quadric): each one's entry in the heap
 // is replaced, or dropped when no weld of it is valid. The rankings only read the mesh, so measured
 // ones (and long lists) run in parallel; the heap then changes in the list's order, so the welds do
@@ -410,6 +422,7 @@ void Simplifier::ringPoints(VertexH v, const OneRing& ring, const std::vector<Ve
 void Simplifier::rankAgain(std::span<const VertexH> vertices) {
   rankings_.resize(vertices.size());
   auto rank = [&](std::size_t i) {
+    fetchAhead(i, vertices.size(), [&](std::size_t j) { return vertices[j]; });
     RankScratch& scratch = rankScratch_.local();
     auto& [c, valid] = rankings_[i];
     valid = measuring_ ? evaluate(vertices[i], c, scratch) : bound(vertices[i], c, scratch);
@@ -533,6 +546,7 @@ std::size_t Simplifier::takeBatch(std::size_t most) {
   while (popped_.size() < most && !heap_.empty()) popped_.push_back(heap_.pop());
   poppedRanked_.resize(popped_.size());
   forEach(popped_.size(), true, [&](std::size_t i) {
+    fetchAhead(i, popped_.size(), [&](std::size_t j) { return VertexH(int(popped_[j].vertex)); });
     auto& [c, valid, region] = poppedRanked_[i];
     c = popped_[i];
     valid = c.ranked || evaluate(VertexH(int(c.vertex)), c, rankScratch_.local());
@@ -663,7 +677,10 @@ void Simplifier::recordStep(const OneRing& ring, const std::vector<Vec2>& plane,
 // disjoint), recorded in the batch's order; a weld refused or gone stale ranks its vertex again, as
 // do the welds' changed vertices. Returns how many welded.
 std::size_t Simplifier::weldBatch(std::size_t taken) {
-  forEach(taken, true, [&](std::size_t i) { checkWeld(batch_[i], rankScratch_.local()); });
+  forEach(taken, true, [&](std::size_t i) {
+    fetchAhead(i, taken, [&](std::size_t j) { return VertexH(int(batch_[j].candidate.vertex)); });
+    checkWeld(batch_[i], rankScratch_.local());
+  });
   forEach(taken, true, [&](std::size_t i) {
     if (batch_[i].outcome == CheckedWeld::Outcome::Valid) applyWeld(batch_[i]);
   });
