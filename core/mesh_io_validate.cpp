@@ -301,8 +301,11 @@ std::string validatedPly(const std::string& path, const std::string& text) {
       if (w.size() != 1 || w[0] != "ply") throw Error(path + ": not a PLY file (it does not start with \"ply\")");
       continue;
     }
-    if (!w.empty() && w[0] == "obj_info") objInfo = true;
-    if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
+    if (w.empty() || w[0] == "comment") continue;
+    if (w[0] == "obj_info") {
+      objInfo = true;
+      continue;
+    }
     if (w[0] == "format") {
       if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian") || w[2] != "1.0")
         fail(path, number, "unknown PLY format \"" + line + "\"");

@@ -65,9 +65,8 @@ TriangleHit locateInTriangles(const Vec2& p, std::size_t count, const Corners& c
     if (lowest > bestLowest) bestLowest = lowest, best = t, bestBary = b;
     if (lowest >= 0) break;
   }
-  TriangleHit hit;
-  if (best == kNoTriangleHit) return hit;
-  hit = {best, bestBary, bestLowest >= 0};
+  if (best == kNoTriangleHit) return {};
+  TriangleHit hit{best, bestBary, bestLowest >= 0};
   clampToTriangle(hit.bary);
   return hit;
 }
