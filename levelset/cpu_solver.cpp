@@ -10,6 +10,7 @@
 #include <bit>
 #include <cstring>
 
+#include "core/error.h"
 #include "core/huge_pages.h"
 #include "levelset/row_stencil.h"
 
@@ -22,15 +23,16 @@ constexpr int kSelf = besideAt(0, 0);
 
 class CpuSolver final : public SolverBackend {
 public:
-  CpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims)
-      : source_(source.begin(), source.end()), dims_(dims) {}
+  CpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims, int pageSize)
+      : dims_(dims), pagesX_((dims[0] + pageSize - 1) / pageSize), pagesY_((dims[1] + pageSize - 1) / pageSize),
+        source_(pageBlocked(source, pageSize)), P_(pageSize) {}
 
   std::string name() const override {
     return "cpu (TBB, " + std::to_string(tbb::info::default_concurrency()) + " threads)";
   }
 
   void pagesChanged(const PageManager& pm, const std::vector<std::pair<std::int32_t, float>>& filled) override {
-    P_ = pm.pageSize();
+    require(pm.pageSize() == P_, "the CPU solver was made for pages of " + std::to_string(P_));
     width_ = std::size_t(pm.poolPagesX()) * std::size_t(P_);
     const std::size_t texels = width_ * std::size_t(pm.capacity() / pm.poolPagesX()) * std::size_t(P_);
     if (texels > phi_.size()) {
@@ -163,7 +165,7 @@ public:
   }
 
 private:
-  // The pool and the source are read a row here and a row there: huge pages spare the TLB.
+  // The pool and the source are read a page here and a page there: huge pages spare the TLB.
   using Pool = HugePageVector<float>;
   using Origin = std::array<std::int32_t, 2>;
   struct PageInfo {
@@ -260,11 +262,11 @@ private:
                   int moved, float& localMax) const {
     float faces[(kMaxPageSize + 1) * kMaxPageSize], speed[kMaxPageSize * kMaxPageSize], rate[kMaxPageSize * kMaxPageSize];
     const int xEnd = columnsIn(page);
-    const std::int64_t vy = page.coords[1] * P_ + y0, vz = page.coords[2];
-    const float* intensity = &source_[std::size_t((vz * dims_[1] + vy) * dims_[0] + page.coords[0] * P_)];
+    const std::size_t sourceAt = sourcePage(page.coords[0], page.coords[1], page.coords[2]);
+    const float* intensity = &source_[(sourceAt * std::size_t(P_) + std::size_t(y0)) * std::size_t(P_)];
     rowFaceNormals(apron.v.data(), apron.side, y0 - 1, y1, xEnd, faces);
     std::uint32_t movingInRow[kMaxPageSize];
-    evaluateRows(apron.v.data(), apron.side, y0, y1, xEnd, intensity, std::size_t(dims_[0]), params, faces,
+    evaluateRows(apron.v.data(), apron.side, y0, y1, xEnd, intensity, std::size_t(P_), params, faces,
                  std::size_t(kMaxPageSize), speed, rate, movingInRow);
     for (int y = y0; y < y1; ++y) {
       const float* s = speed + std::size_t(y - y0) * kMaxPageSize;
@@ -324,8 +326,24 @@ private:
     return bits;
   }
 
-  Pool source_;
+  // The source's intensities, page by page as the pool's pages (pageBlocked).
+  HugePageVector<float> pageBlocked(const std::vector<float>& volume, int P) const {
+    const std::size_t side = std::size_t(P);
+    HugePageVector<float> out(std::size_t(pagesX_ * pagesY_ * dims_[2]) * side * side, 0.0f);
+    for (std::int64_t z = 0; z < dims_[2]; ++z)
+      for (std::int64_t y = 0; y < dims_[1]; ++y)
+        for (std::int64_t x = 0; x < dims_[0]; ++x)
+          out[(sourcePage(x / P, y / P, z) * side + std::size_t(y % P)) * side + std::size_t(x % P)] =
+              volume[std::size_t((z * dims_[1] + y) * dims_[0] + x)];
+    return out;
+  }
+  std::size_t sourcePage(std::int64_t px, std::int64_t py, std::int64_t z) const {
+    return std::size_t((z * pagesY_ + py) * pagesX_ + px);
+  }
+
   std::array<std::int64_t, 3> dims_;
+  std::int64_t pagesX_, pagesY_;
+  Pool source_;
   Pool phi_;
   std::vector<float> edges_;  // per slot, its first and last columns (refreshEdges)
   std::vector<std::vector<Moving>> moving_;  // per active page, from pass 1
@@ -336,8 +354,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<SolverBackend> makeCpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims) {
-  return std::make_unique<CpuSolver>(source, dims);
+std::unique_ptr<SolverBackend> makeCpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims, int pageSize) {
+  return std::make_unique<CpuSolver>(source, dims, pageSize);
 }
 
 }  // namespace isoatlas::levelset

@@ -27,11 +27,12 @@ LevelSet::LevelSet(const Volume& source, const SpeedParams& params, const LevelS
   geometry_.spacing = source.spacing;
   geometry_.origin = source.origin;
   geometry_.direction = source.direction;
-  pages_ = std::make_unique<PageManager>(source.dims, options.pageSize, options.initialSlots);
+  pages_ = std::make_unique<PageManager>(source.dims, options.pageSize, options.initialSlots,
+                                         options.backend == Backend::Gpu ? PoolLayout::Texture : PoolLayout::Contiguous);
   requireFiniteVoxels(source, "the source volume");
   std::vector<float> intensities = source.toFloat();
   backend_ = options.backend == Backend::Gpu ? makeGpuSolver(std::move(intensities), source.dims)
-                                             : makeCpuSolver(intensities, source.dims);
+                                             : makeCpuSolver(intensities, source.dims, options.pageSize);
   mark_.assign(std::size_t(pages_->virtualPageCount()), 0);
   movedPage_.assign(std::size_t(pages_->virtualPageCount()), 0);
   wake_.assign(std::size_t(pages_->virtualPageCount()), 0);

@@ -6,14 +6,14 @@
 
 namespace isoatlas::levelset {
 
-PageManager::PageManager(std::array<std::int64_t, 3> dims, int pageSize, std::int32_t initialSlots)
+PageManager::PageManager(std::array<std::int64_t, 3> dims, int pageSize, std::int32_t initialSlots, PoolLayout layout)
     : dims_(dims), pageSize_(pageSize) {
   require(isPageSize(pageSize),
           "page size " + std::to_string(pageSize) + " must be a power of two from 4 to " + std::to_string(kMaxPageSize));
   for (int a = 0; a < 2; ++a) pages_[a] = (dims[a] + pageSize - 1) / pageSize;
   pages_[2] = dims[2];
-  // A 4096-texel-wide pool: rows of slots are appended as it grows.
-  poolPagesX_ = std::max(1, 4096 / pageSize);
+  // Rows of slots are appended as the pool grows.
+  poolPagesX_ = layout == PoolLayout::Texture ? textureSlotsPerRow(pageSize) : 1;
   capacity_ = 0;
   pageTable_.assign(std::size_t(virtualPageCount()), kOutsideSlot);
   initialSlots = std::max(initialSlots, poolPagesX_);

@@ -4,6 +4,10 @@
 //   physical space: a 2D pool of page slots, poolPagesX slots per row; slot s has its texel origin
 //                   at ((s % poolPagesX) * P, (s / poolPagesX) * P). Slots 0 and 1 are the static
 //                   outside (phi = -clamp) and inside (phi = +clamp) pages every inactive page maps to.
+//                   The GPU's pool is a texture 4096 texels wide (PoolLayout::Texture); the CPU's
+//                   has one slot a row (PoolLayout::Contiguous), so that a page's P x P texels lie
+//                   together in memory, its rows in neighbouring cache lines rather than a texture
+//                   row apart.
 //   page table:     virtual page -> slot; inverse page table: slot -> virtual page (or -1)
 //   free stack:     unused slots; when it runs empty the pool grows by whole rows (slot origins stay
 //                   put, so backends grow their storage by appending rows). An active page is never
@@ -22,10 +26,16 @@ inline bool isPageSize(int p) { return p >= 4 && p <= kMaxPageSize && (p & (p - 
 
 constexpr std::int32_t kOutsideSlot = 0, kInsideSlot = 1;
 
+enum class PoolLayout { Texture, Contiguous };
+// Slots a row of the GPU's pool texture (PoolLayout::Texture): 4096 texels wide.
+inline std::int32_t textureSlotsPerRow(int pageSize) { return 4096 / pageSize; }
+
 class PageManager {
 public:
-  // dims: volume size in voxels; pageSize: P; initialSlots: pool size to start with (grows).
-  PageManager(std::array<std::int64_t, 3> dims, int pageSize, std::int32_t initialSlots = 1024);
+  // dims: volume size in voxels; pageSize: P; initialSlots: pool size to start with (grows); layout:
+  // how the slots lie in the pool.
+  PageManager(std::array<std::int64_t, 3> dims, int pageSize, std::int32_t initialSlots = 1024,
+              PoolLayout layout = PoolLayout::Texture);
 
   int pageSize() const { return pageSize_; }
   std::array<std::int64_t, 3> dims() const { return dims_; }

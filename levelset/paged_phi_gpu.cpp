@@ -1,5 +1,8 @@
 #include "levelset/paged_phi_gpu.h"
 
+#include <algorithm>
+#include <vector>
+
 #include "kLevelsetShaders.h"
 #include "levelset/level_set.h"
 
@@ -11,12 +14,33 @@ PagedPhiGpu::PagedPhiGpu(const PageManager& pages, unsigned poolTexture)
     : pageTable_(gl::Buffer::of(pages.pageTable())), pool_(poolTexture), poolPagesX_(pages.poolPagesX()),
       pageSize_(pages.pageSize()), pages_(pages.pages()) {}
 
+namespace {
+
+// The host pool's slots laid out as in the GPU's pool texture (PoolLayout::Texture): a contiguous
+// pool of thousands of slots is far taller than a texture may be.
+std::vector<float> textureLayout(const PageManager& pm, const float* pool) {
+  const std::size_t P = std::size_t(pm.pageSize()), perRow = std::size_t(textureSlotsPerRow(pm.pageSize()));
+  const std::size_t slots = std::size_t(pm.capacity()), rows = (slots + perRow - 1) / perRow, width = perRow * P;
+  std::vector<float> out(rows * P * width, 0.0f);
+  for (std::size_t s = 0; s < slots; ++s) {
+    const auto from = pm.slotOrigin(std::int32_t(s));
+    for (std::size_t y = 0; y < P; ++y)
+      std::copy_n(pool + (std::size_t(from[1]) + y) * std::size_t(pm.poolPagesX()) * P + std::size_t(from[0]), P,
+                  out.data() + ((s / perRow) * P + y) * width + (s % perRow) * P);
+  }
+  return out;
+}
+
+}  // namespace
+
 PagedPhiGpu::PagedPhiGpu(const LevelSet& levelSet) : PagedPhiGpu(levelSet.pages(), levelSet.phiPoolTexture()) {
   if (pool_) return;
   const PageManager& pm = levelSet.pages();
-  const int width = pm.poolPagesX() * pm.pageSize(), height = pm.capacity() / pm.poolPagesX() * pm.pageSize();
+  poolPagesX_ = textureSlotsPerRow(pm.pageSize());
+  const int width = poolPagesX_ * pm.pageSize(), height = (pm.capacity() + poolPagesX_ - 1) / poolPagesX_ * pm.pageSize();
   uploaded_ = gl::Texture::texture2D(GL_R32F, width, height);
-  glTextureSubImage2D(uploaded_.id(), 0, 0, 0, width, height, GL_RED, GL_FLOAT, levelSet.phiPoolOnHost());
+  const std::vector<float> texels = textureLayout(pm, levelSet.phiPoolOnHost());
+  glTextureSubImage2D(uploaded_.id(), 0, 0, 0, width, height, GL_RED, GL_FLOAT, texels.data());
   pool_ = uploaded_.id();
 }
 

@@ -1,8 +1,8 @@
 // PagedPhiGpu: a level set's phi for shaders outside the solver, read straight from its pages
 // (levelset/shaders/paged_phi.glsl; Lefohn's thesis, sec. 3.4: no dense copy). It holds the page
-// table on the GPU and the pool texture: the GPU solver's own, or the CPU solver's pool uploaded (the
-// host pool is the same layout). Made again after the level set changes. Needs the GL context the
-// texture lives in current.
+// table on the GPU and the pool texture: the GPU solver's own, or the CPU solver's pool uploaded (its
+// contiguous slots laid out as the texture's). Made again after the level set changes. Needs the GL
+// context the texture lives in current.
 #pragma once
 #include "core/gl/program.h"
 #include "core/gl/resources.h"

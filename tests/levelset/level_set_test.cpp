@@ -162,6 +162,15 @@ TEST(PageManager, ActivateReleaseReuseAndNeighbours) {
   EXPECT_GT(big.stats().growths, 0);
   EXPECT_EQ(big.stats().active, big.virtualPageCount());
   EXPECT_EQ(big.slotOrigin(big.slotOf(0)), firstOrigin);
+  // The CPU's contiguous pool: slot s's P x P texels are texels s P^2 to (s + 1) P^2 - 1, x fastest,
+  // also after the pool has grown.
+  PageManager contiguous({200, 200, 10}, 4, 8, PoolLayout::Contiguous);
+  for (std::int64_t p = 0; p < contiguous.virtualPageCount(); ++p) contiguous.activate(p);
+  EXPECT_EQ(contiguous.poolPagesX(), 1);
+  const std::int64_t last = contiguous.virtualPageCount() - 1;
+  const auto [lx, ly, lz] = contiguous.pageCoords(last);
+  EXPECT_EQ(contiguous.poolTexel(lx * 4 + 3, ly * 4 + 2, lz), std::size_t(contiguous.slotOf(last)) * 16 + 2 * 4 + 3);
+  EXPECT_GE(contiguous.capacity(), contiguous.virtualPageCount() + 2);
 }
 
 TEST(LevelSet, CurvatureFlowShrinksASphereAsTheAnalyticLaw) {
