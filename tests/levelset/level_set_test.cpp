@@ -532,5 +532,28 @@ TEST(LevelSet, TheCpuSolverGivesTheSameLevelSetOnOneTwoOrEightThreads) {
   EXPECT_TRUE(test::onThreads(8, segment) == one);
 }
 
+// The CPU solver keeps a source of whole numbers from 0 to 255 as bytes, any other as floats: the
+// same intensities read either way give the same phi bit for bit (the torus rounded to whole numbers,
+// and the same raised by 256 with the target raised alike, so |I - T| is the same in floats; 58
+// voxels wide, so that the +x edge cuts pages).
+TEST(LevelSet, TheCpuSolverReadsASourceOfBytesAsItsFloats) {
+  const Phantom p = torusPhantom(58);
+  Volume bytes = p.image, raised = p.image;
+  for (std::size_t i = 0; i < std::size_t(p.image.voxelCount()); ++i) {
+    const double v = std::clamp(std::round(p.image.value(i)), 0.0, 255.0);
+    bytes.setValue(i, v);
+    raised.setValue(i, v + 256);
+  }
+  auto segment = [&](const Volume& image, float target) {
+    LevelSet ls(image, {target, 30, 0.7f});
+    ls.addSphere(p.seedA, 3);
+    ls.run({.maxIterations = 60});
+    return ls.phi().data;
+  };
+  const auto fromBytes = segment(bytes, 100);
+  EXPECT_TRUE(fromBytes == segment(raised, 356));
+  EXPECT_FALSE(fromBytes == segment(raised, 357)) << "the comparison sees a change of target";
+}
+
 }  // namespace
 }  // namespace isoatlas::levelset
