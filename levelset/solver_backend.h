@@ -1,7 +1,8 @@
 // SolverBackend: one iteration of the paged solver over the active pages, on the CPU (cpu_solver) or
-// the GPU (gpu_solver). Both keep phi in the same physical layout (see PageManager): a pool image
-// of poolPagesX * P texels per row, slots 0/1 the static pages. The GPU ping-pongs two copies; the
-// CPU updates one in place (its pass 1 has read everything before pass 2 writes).
+// the GPU (gpu_solver). Both keep phi in the PageManager's physical layout: a pool image of
+// poolPagesX * P texels per row (a texture's width on the GPU, one slot on the CPU), slots 0/1 the
+// static pages. The GPU ping-pongs two copies; the CPU updates one in place (its pass 1 has read
+// everything before pass 2 writes).
 #pragma once
 #include <cstdint>
 #include <string>
