@@ -75,12 +75,15 @@ public:
   std::array<std::int32_t, 2> slotOrigin(std::int32_t slot) const {
     return {(slot % poolPagesX_) * pageSize_, (slot / poolPagesX_) * pageSize_};
   }
-  // Where voxel (x, y, z) lies in the pool, rows of poolPagesX * P texels: through the page table, so
-  // an inactive page's voxels read its static slot.
+  // Where texel (x, y) of slot `slot` (0 <= x, y < P) lies in the pool, rows of poolPagesX * P texels.
+  std::size_t slotTexel(std::int32_t slot, std::int64_t x, std::int64_t y) const {
+    const auto origin = slotOrigin(slot);
+    return std::size_t(origin[1] + y) * std::size_t(poolPagesX_) * std::size_t(pageSize_) + std::size_t(origin[0] + x);
+  }
+  // Where voxel (x, y, z) lies in the pool: through the page table, so an inactive page's voxels read
+  // its static slot.
   std::size_t poolTexel(std::int64_t x, std::int64_t y, std::int64_t z) const {
-    const auto origin = slotOrigin(slotOf(pageIndex(x / pageSize_, y / pageSize_, z)));
-    return std::size_t(origin[1] + y % pageSize_) * std::size_t(poolPagesX_) * std::size_t(pageSize_) +
-           std::size_t(origin[0] + x % pageSize_);
+    return slotTexel(slotOf(pageIndex(x / pageSize_, y / pageSize_, z)), x % pageSize_, y % pageSize_);
   }
 
   struct Stats {

@@ -22,12 +22,9 @@ std::vector<float> textureLayout(const PageManager& pm, const float* pool) {
   const std::size_t P = std::size_t(pm.pageSize()), perRow = std::size_t(textureSlotsPerRow(pm.pageSize()));
   const std::size_t slots = std::size_t(pm.capacity()), rows = (slots + perRow - 1) / perRow, width = perRow * P;
   std::vector<float> out(rows * P * width, 0.0f);
-  for (std::size_t s = 0; s < slots; ++s) {
-    const auto from = pm.slotOrigin(std::int32_t(s));
+  for (std::size_t s = 0; s < slots; ++s)
     for (std::size_t y = 0; y < P; ++y)
-      std::copy_n(pool + (std::size_t(from[1]) + y) * std::size_t(pm.poolPagesX()) * P + std::size_t(from[0]), P,
-                  out.data() + ((s / perRow) * P + y) * width + (s % perRow) * P);
-  }
+      std::copy_n(pool + pm.slotTexel(std::int32_t(s), 0, std::int64_t(y)), P, out.data() + ((s / perRow) * P + y) * width + (s % perRow) * P);
   return out;
 }
 
