@@ -33,6 +33,7 @@ LevelSet::LevelSet(const Volume& source, const SpeedParams& params, const LevelS
   std::vector<float> intensities = source.toFloat();
   backend_ = options.backend == Backend::Gpu ? makeGpuSolver(std::move(intensities), source.dims)
                                              : makeCpuSolver(intensities, source.dims, options.pageSize);
+  renumberPages_ = options.renumberPages && options.backend != Backend::Gpu;
   mark_.assign(std::size_t(pages_->virtualPageCount()), 0);
   movedPage_.assign(std::size_t(pages_->virtualPageCount()), 0);
   wake_.assign(std::size_t(pages_->virtualPageCount()), 0);
@@ -218,6 +219,24 @@ void LevelSet::applyMessages(const IterationResult& r) {
       markMoved(page);
     }
   if (changed || !filled.empty()) commit(filled);
+  renumberWhenScattered();
+}
+
+// Slots are handed out where they were freed, so as the band moves, the pages beside each other
+// scatter over the pool, and the CPU's passes (each page reads its neighbours' rows) wait on memory.
+// Once the band has changed by a share of its pages, they are given slots in page order again: a
+// copy of the pool, phi the same bit for bit. Not on the GPU, whose pool is a texture and whose
+// reads of neighbours are not the bottleneck.
+void LevelSet::renumberWhenScattered() {
+  constexpr std::int64_t kChangesPerActivePage = 16;  // renumber after active / 16 activations and releases
+  const auto active = std::int64_t(pages_->activePages().size());
+  if (!renumberPages_ || pages_->changesSinceRenumbering() * kChangesPerActivePage < active) return;
+  const auto moves = pages_->renumberInPageOrder();
+  if (moves.empty()) return;
+  std::vector<std::int32_t> from, to;
+  for (const auto& [a, b] : moves) from.push_back(a), to.push_back(b);
+  backend_->writeSlots(*pages_, to, backend_->readSlots(*pages_, from));
+  commit({});
 }
 
 void LevelSet::markMoved(std::int64_t page) {

@@ -25,6 +25,10 @@ struct LevelSetOptions {
   // changes by more, is activated, or the speed or phi is changed from outside (speed.h). 0: every
   // active page every iteration.
   float settledChange = kSettledChange;
+  // CPU backend only: as the band moves, give the active pages slots in page order again
+  // (PageManager::renumberInPageOrder), so that each page's neighbours lie near it in the pool. phi is
+  // the same either way; false only to compare.
+  bool renumberPages = true;
 };
 
 struct RunOptions {
@@ -92,6 +96,7 @@ private:
   template <class T, class Convert>
   Volume dense(ScalarType type, Convert convert) const;
   void commit(const std::vector<std::pair<std::int32_t, float>>& filled);
+  void renumberWhenScattered();
 
   Volume geometry_;  // the source's geometry, no data
   SpeedParams params_;
@@ -100,6 +105,7 @@ private:
   std::vector<std::uint32_t> mark_;  // per virtual page: the iteration that last requested it
   float settledChange_;
   bool wakeAll_ = true;                  // the next iteration evaluates every active page
+  bool renumberPages_ = false;           // the CPU backend's pool: slots kept in page order (renumberWhenScattered)
   std::vector<std::uint8_t> movedPage_;  // per virtual page: it moved in the last iteration, or was activated
   std::vector<std::int64_t> movedList_;  // the pages movedPage_ marks
   std::vector<std::uint8_t> wake_;       // per virtual page, within pagesToEvaluate

@@ -64,6 +64,26 @@ void PageManager::release(std::int64_t page, bool inside) {
   stats_.active = std::int64_t(active_.size());
 }
 
+std::vector<std::pair<std::int32_t, std::int32_t>> PageManager::renumberInPageOrder() {
+  renumberedAt_ = stats_.activations + stats_.releases;
+  ++stats_.renumberings;
+  std::sort(active_.begin(), active_.end());
+  std::vector<std::pair<std::int32_t, std::int32_t>> moves;
+  std::fill(inverseTable_.begin(), inverseTable_.end(), -1);
+  std::fill(activePosition_.begin(), activePosition_.end(), -1);
+  for (std::size_t k = 0; k < active_.size(); ++k) {
+    const std::int64_t page = active_[k];
+    const std::int32_t to = kInsideSlot + 1 + std::int32_t(k), from = slotOf(page);
+    if (from != to) moves.push_back({from, to});
+    pageTable_[std::size_t(page)] = to;
+    inverseTable_[std::size_t(to)] = page;
+    activePosition_[std::size_t(to)] = std::int32_t(k);
+  }
+  freeStack_.clear();  // the slots past the active ones, low ones first, as grow() stacks them
+  for (std::int32_t s = capacity_ - 1; s > kInsideSlot + std::int32_t(active_.size()); --s) freeStack_.push_back(s);
+  return moves;
+}
+
 void PageManager::setStatic(std::int64_t page, bool inside) {
   if (!isActive(page)) pageTable_[std::size_t(page)] = inside ? kInsideSlot : kOutsideSlot;
 }

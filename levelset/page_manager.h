@@ -12,9 +12,12 @@
 //   free stack:     unused slots; when it runs empty the pool grows by whole rows (slot origins stay
 //                   put, so backends grow their storage by appending rows). An active page is never
 //                   dropped to make room.
+//   renumbering:    renumberInPageOrder gives the active pages the lowest slots in page order again,
+//                   moving their values (the CPU's level set, as the band moves and slots scatter).
 #pragma once
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace isoatlas::levelset {
@@ -63,7 +66,17 @@ public:
   // Marks an inactive page as inside or outside (e.g. when a seed covers it whole).
   void setStatic(std::int64_t page, bool inside);
 
-  // Active pages, in a stable order that changes only through activate/release (swap-remove).
+  // Gives the active pages slots kInsideSlot + 1, + 2, ... in the order of their virtual page index
+  // (x fastest, then y, then z), and lists them in that order. A pass over the pages then reads the
+  // pool from one end to the other, and the pages beside each one (within a row of pages, a slice of
+  // them) a short way off: activation hands out slots wherever they were freed. Returns the moves,
+  // {old slot, new slot}, that the backend must make to its storage (values kept).
+  std::vector<std::pair<std::int32_t, std::int32_t>> renumberInPageOrder();
+  // Activations and releases since the last renumbering (or since the manager was made).
+  std::int64_t changesSinceRenumbering() const { return stats_.activations + stats_.releases - renumberedAt_; }
+
+  // Active pages, in a stable order that changes only through activate/release (swap-remove) and
+  // renumberInPageOrder.
   const std::vector<std::int64_t>& activePages() const { return active_; }
 
   // Slots of the 3x3x3 pages around `page` (index (dz+1)*9 + (dy+1)*3 + (dx+1)); pages outside the
@@ -87,7 +100,7 @@ public:
   }
 
   struct Stats {
-    std::int64_t active = 0, peakActive = 0, activations = 0, releases = 0, growths = 0;
+    std::int64_t active = 0, peakActive = 0, activations = 0, releases = 0, growths = 0, renumberings = 0;
   };
   const Stats& stats() const { return stats_; }
 
@@ -102,6 +115,7 @@ private:
   std::vector<std::int64_t> active_;
   std::vector<std::int32_t> activePosition_;  // per slot: index in active_
   Stats stats_;
+  std::int64_t renumberedAt_ = 0;  // activations + releases at the last renumbering
 };
 
 }  // namespace isoatlas::levelset

@@ -7,8 +7,11 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <random>
+#include <set>
+#include <utility>
 
 #include "core/error.h"
 #include "levelset/level_set.h"
@@ -171,6 +174,41 @@ TEST(PageManager, ActivateReleaseReuseAndNeighbours) {
   const auto [lx, ly, lz] = contiguous.pageCoords(last);
   EXPECT_EQ(contiguous.poolTexel(lx * 4 + 3, ly * 4 + 2, lz), std::size_t(contiguous.slotOf(last)) * 16 + 2 * 4 + 3);
   EXPECT_GE(contiguous.capacity(), contiguous.virtualPageCount() + 2);
+}
+
+TEST(PageManager, RenumberingGivesTheActivePagesSlotsInPageOrder) {
+  PageManager pm({64, 64, 6}, 16, 8, PoolLayout::Contiguous);
+  const std::vector<std::int64_t> pages = {pm.pageIndex(3, 2, 5), pm.pageIndex(0, 1, 0), pm.pageIndex(2, 2, 2),
+                                           pm.pageIndex(1, 0, 4), pm.pageIndex(0, 0, 1)};
+  for (const std::int64_t page : pages) pm.activate(page);
+  pm.release(pages[2], true);  // a hole in the slots, and the list reordered by swap-remove
+  std::map<std::int64_t, std::int32_t> slotBefore;
+  for (const std::int64_t page : pm.activePages()) slotBefore[page] = pm.slotOf(page);
+  const auto moves = pm.renumberInPageOrder();
+  const std::vector<std::int64_t> sorted = {pages[1], pages[4], pages[3], pages[0]};  // by page index
+  ASSERT_EQ(pm.activePages(), sorted);
+  for (std::size_t k = 0; k < sorted.size(); ++k) {
+    const std::int32_t slot = kInsideSlot + 1 + std::int32_t(k);
+    EXPECT_EQ(pm.slotOf(sorted[k]), slot);
+    EXPECT_EQ(pm.pageOfSlot(slot), sorted[k]);
+    // Every page whose slot changed has a move from its old slot to its new one, and only those.
+    const bool moved = std::find(moves.begin(), moves.end(), std::pair{slotBefore[sorted[k]], slot}) != moves.end();
+    EXPECT_EQ(moved, slotBefore[sorted[k]] != slot) << k;
+  }
+  EXPECT_EQ(moves.size(), std::size_t(std::count_if(sorted.begin(), sorted.end(), [&](std::int64_t p) { return slotBefore[p] != pm.slotOf(p); })));
+  EXPECT_EQ(pm.slotOf(pages[2]), kInsideSlot) << "a released page stays static";
+  EXPECT_EQ(pm.pageOfSlot(kInsideSlot + 5), -1) << "the slot past the active ones is free";
+  EXPECT_EQ(pm.changesSinceRenumbering(), 0);
+  EXPECT_EQ(pm.activate(pm.pageIndex(1, 1, 1)), kInsideSlot + 5) << "the next activation takes the first free slot";
+  pm.release(sorted[0], false);
+  EXPECT_EQ(pm.changesSinceRenumbering(), 2);
+  EXPECT_EQ(pm.activate(pm.pageIndex(2, 1, 1)), kInsideSlot + 1) << "a freed slot is reused first";
+  for (std::int64_t page = 0; page < pm.virtualPageCount(); ++page) pm.activate(page);  // the free slots run out: the pool grows
+  EXPECT_EQ(pm.stats().active, pm.virtualPageCount());
+  std::set<std::int32_t> slots;
+  for (const std::int64_t page : pm.activePages()) slots.insert(pm.slotOf(page));
+  EXPECT_EQ(slots.size(), std::size_t(pm.virtualPageCount())) << "no slot handed out twice";
+  EXPECT_GT(*slots.begin(), kInsideSlot);
 }
 
 TEST(LevelSet, CurvatureFlowShrinksASphereAsTheAnalyticLaw) {
@@ -553,6 +591,26 @@ TEST(LevelSet, TheCpuSolverReadsASourceOfBytesAsItsFloats) {
   const auto fromBytes = segment(bytes, 100);
   EXPECT_TRUE(fromBytes == segment(raised, 356));
   EXPECT_FALSE(fromBytes == segment(raised, 357)) << "the comparison sees a change of target";
+}
+
+TEST(LevelSet, RenumberingThePagesKeepsPhiBitForBit) {
+  // The CPU backend renumbers its pages' slots as the band moves; phi must not see it.
+  const Phantom p = torusPhantom(58);
+  auto segment = [&](bool renumber, float target, std::int64_t* renumberings) {
+    LevelSetOptions options;
+    options.renumberPages = renumber;
+    LevelSet ls(p.image, {target, 30, 0.7f}, options);
+    ls.addSphere(p.seedA, 3);
+    ls.run({.maxIterations = 60});
+    *renumberings = ls.pages().stats().renumberings;
+    return ls.phi().data;
+  };
+  std::int64_t renumbered = 0, notRenumbered = 0, other = 0;
+  const auto withRenumbering = segment(true, 100, &renumbered);
+  EXPECT_GT(renumbered, 1) << "the band grows through many pages: it must have been renumbered";
+  EXPECT_TRUE(withRenumbering == segment(false, 100, &notRenumbered));
+  EXPECT_EQ(notRenumbered, 0);
+  EXPECT_FALSE(withRenumbering == segment(false, 101, &other)) << "the comparison sees a change of target";
 }
 
 }  // namespace
