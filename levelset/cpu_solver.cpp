@@ -70,8 +70,9 @@ public:
     }
   }
 
-  IterationResult iterate(const PageManager&, const SpeedParams& params, const std::vector<std::uint8_t>& evaluate,
+  IterationResult iterate(const PageManager& pm, const SpeedParams& params, const std::vector<std::uint8_t>& evaluate,
                           float settledChange) override {
+    requireTablesFollow(pm);
     Pool& phi = phi_;
     // Pass 1: speed and rate of change at every voxel of the rows that can change (some voxel differs
     // from a face neighbour) of the pages evaluated; the largest speed. Only voxels that move are
@@ -189,6 +190,14 @@ private:
   };
 
   static Origin origin(const PageManager& pm, std::int32_t slot) { return pm.slotOrigin(slot); }
+  // The per-page tables are in the active list's order as pagesChanged last saw it: a list reordered
+  // or a slot moved since, without pagesChanged, would credit each page with another's results.
+  void requireTablesFollow(const PageManager& pm) const {
+    const auto& active = pm.activePages();
+    bool follow = pages_.size() == active.size();
+    for (std::size_t i = 0; i < pages_.size() && follow; ++i) follow = pages_[i].slot == pm.slotOf(active[i]);
+    if (!follow) throw Error("CPU level set: the active pages changed without pagesChanged", ErrorKind::Failure);
+  }
   std::size_t texelOf(const Origin& o, int x, int y) const {
     return std::size_t(o[1] + y) * width_ + std::size_t(o[0] + x);
   }

@@ -230,13 +230,12 @@ void LevelSet::applyMessages(const IterationResult& r) {
 void LevelSet::renumberWhenScattered() {
   constexpr std::int64_t kChangesPerActivePage = 16;  // renumber after active / 16 activations and releases
   const auto active = std::int64_t(pages_->activePages().size());
-  if (!renumberPages_ || pages_->changesSinceRenumbering() * kChangesPerActivePage < active) return;
+  if (!renumberPages_ || active == 0 || pages_->changesSinceRenumbering() * kChangesPerActivePage < active) return;
   const auto moves = pages_->renumberInPageOrder();
-  if (moves.empty()) return;
-  std::vector<std::int32_t> from, to;
-  for (const auto& [a, b] : moves) from.push_back(a), to.push_back(b);
-  backend_->writeSlots(*pages_, to, backend_->readSlots(*pages_, from));
-  commit({});
+  std::vector<std::int32_t> oldSlots, newSlots;
+  for (const auto& [oldSlot, newSlot] : moves) oldSlots.push_back(oldSlot), newSlots.push_back(newSlot);
+  if (!moves.empty()) backend_->writeSlots(*pages_, newSlots, backend_->readSlots(*pages_, oldSlots));
+  commit({});  // the active list is sorted even where no slot moved: the backend's per-page tables follow it
 }
 
 void LevelSet::markMoved(std::int64_t page) {

@@ -12,8 +12,8 @@
 //   free stack:     unused slots; when it runs empty the pool grows by whole rows (slot origins stay
 //                   put, so backends grow their storage by appending rows). An active page is never
 //                   dropped to make room.
-//   renumbering:    renumberInPageOrder gives the active pages the lowest slots in page order again,
-//                   moving their values (the CPU's level set, as the band moves and slots scatter).
+//   renumbering:    renumberInPageOrder gives the active pages the lowest slots in page order again;
+//                   the backend moves their values (the CPU's level set, as slots scatter).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -66,11 +66,12 @@ public:
   // Marks an inactive page as inside or outside (e.g. when a seed covers it whole).
   void setStatic(std::int64_t page, bool inside);
 
-  // Gives the active pages slots kInsideSlot + 1, + 2, ... in the order of their virtual page index
-  // (x fastest, then y, then z), and lists them in that order. A pass over the pages then reads the
-  // pool from one end to the other, and the pages beside each one (within a row of pages, a slice of
-  // them) a short way off: activation hands out slots wherever they were freed. Returns the moves,
-  // {old slot, new slot}, that the backend must make to its storage (values kept).
+  // Activation hands out slots wherever they were freed, so as a band moves, neighbouring pages
+  // scatter over the pool. This gives the active pages slots kInsideSlot + 1, + 2, ... in the order
+  // of their virtual page index (x fastest, then y, then z) and lists them in that order: a pass over
+  // the pages then reads the pool from one end to the other, each page's neighbours (a row of pages,
+  // a slice of them away) a short way off. Returns the moves, {old slot, new slot}, that the backend
+  // must make to its storage. The list's order can change with no move: tell the backend either way.
   std::vector<std::pair<std::int32_t, std::int32_t>> renumberInPageOrder();
   // Activations and releases since the last renumbering (or since the manager was made).
   std::int64_t changesSinceRenumbering() const { return stats_.activations + stats_.releases - renumberedAt_; }

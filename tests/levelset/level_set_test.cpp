@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "levelset/cpu_solver.h"
 #include "levelset/level_set.h"
 #include "levelset/probe.h"
 #include "levelset/row_stencil.h"
@@ -203,6 +204,15 @@ TEST(PageManager, RenumberingGivesTheActivePagesSlotsInPageOrder) {
   pm.release(sorted[0], false);
   EXPECT_EQ(pm.changesSinceRenumbering(), 2);
   EXPECT_EQ(pm.activate(pm.pageIndex(2, 1, 1)), kInsideSlot + 1) << "a freed slot is reused first";
+  // A page released and activated again takes its slot back but joins the end of the list: renumbering
+  // moves no value then, yet sorts the list.
+  pm.renumberInPageOrder();
+  const std::vector<std::int64_t> inOrder = pm.activePages();
+  pm.release(inOrder[1], false);
+  pm.activate(inOrder[1]);
+  ASSERT_NE(pm.activePages(), inOrder);
+  EXPECT_TRUE(pm.renumberInPageOrder().empty());
+  EXPECT_EQ(pm.activePages(), inOrder);
   for (std::int64_t page = 0; page < pm.virtualPageCount(); ++page) pm.activate(page);  // the free slots run out: the pool grows
   EXPECT_EQ(pm.stats().active, pm.virtualPageCount());
   std::set<std::int32_t> slots;
@@ -593,6 +603,29 @@ TEST(LevelSet, TheCpuSolverReadsASourceOfBytesAsItsFloats) {
   EXPECT_FALSE(fromBytes == segment(raised, 357)) << "the comparison sees a change of target";
 }
 
+TEST(LevelSet, TheCpuSolverRefusesAnActiveListItWasNotToldOf) {
+  // A page released and activated again joins the end of the list with its old slot; renumbering then
+  // sorts the list back without moving a slot. A backend whose tables still follow the order before
+  // would credit each page with another's results: it must refuse to iterate, not answer wrongly.
+  PageManager pm({64, 16, 4}, 16, 8, PoolLayout::Contiguous);
+  const auto solver = makeCpuSolver(std::vector<float>(64 * 16 * 4, 10.0f), pm.dims(), 16);
+  for (std::int64_t x = 0; x < 3; ++x) pm.activate(pm.pageIndex(x, 0, 1));
+  pm.renumberInPageOrder();  // slots 2, 3, 4 (the pages hold no values yet)
+  solver->pagesChanged(pm, {});
+  const std::vector<std::uint8_t> all(3, 1);
+  const SpeedParams params{10, 30, 0.7f};
+  EXPECT_NO_THROW(solver->iterate(pm, params, all, 0));
+  const std::int64_t first = pm.activePages()[0];
+  pm.release(first, false);
+  pm.activate(first);
+  solver->pagesChanged(pm, {});
+  EXPECT_NO_THROW(solver->iterate(pm, params, all, 0));
+  EXPECT_TRUE(pm.renumberInPageOrder().empty());
+  EXPECT_THROW(solver->iterate(pm, params, all, 0), Error);
+  solver->pagesChanged(pm, {});
+  EXPECT_NO_THROW(solver->iterate(pm, params, all, 0));
+}
+
 TEST(LevelSet, RenumberingThePagesKeepsPhiBitForBit) {
   // The CPU backend renumbers its pages' slots as the band moves; phi must not see it.
   const Phantom p = torusPhantom(58);
@@ -601,7 +634,7 @@ TEST(LevelSet, RenumberingThePagesKeepsPhiBitForBit) {
     options.renumberPages = renumber;
     LevelSet ls(p.image, {target, 30, 0.7f}, options);
     ls.addSphere(p.seedA, 3);
-    ls.run({.maxIterations = 60});
+    ls.run({.maxIterations = 1000});  // to convergence, where pages at the band's edge come and go
     *renumberings = ls.pages().stats().renumberings;
     return ls.phi().data;
   };
