@@ -225,8 +225,8 @@ void LevelSet::applyMessages(const IterationResult& r) {
 // Slots are handed out where they were freed, so as the band moves, the pages beside each other
 // scatter over the pool, and the CPU's passes (each page reads its neighbours' rows) wait on memory.
 // Once the band has changed by a share of its pages, they are given slots in page order again: a
-// copy of the pool, phi the same bit for bit. Not on the GPU, whose pool is a texture and whose
-// reads of neighbours are not the bottleneck.
+// copy of the pool, phi the same bit for bit. Not on the GPU: its pool is a texture, which the copy
+// would read back (not measured there).
 void LevelSet::renumberWhenScattered() {
   constexpr std::int64_t kChangesPerActivePage = 16;  // renumber after active / 16 activations and releases
   const auto active = std::int64_t(pages_->activePages().size());
