@@ -15,6 +15,7 @@
 
 #include "core/cpu_dispatch.h"
 #include "core/error.h"
+#include "core/huge_pages.h"
 
 namespace isoatlas::extract {
 namespace {
@@ -73,8 +74,8 @@ private:
   // Passes 1 and 2: each row's edge planes and counts, then their exclusive sums.
   RowStarts countRows() {
     // Every word of these is written by the count pass: no zeroing first.
-    planes_.reset(new Word[rows_ * 3 * words_]);
-    wordStart_.reset(new std::uint32_t[rows_ * words_]);
+    planes_ = makeHugePageArray<Word>(rows_ * 3 * words_);
+    wordStart_ = makeHugePageArray<std::uint32_t>(rows_ * words_);
     RowStarts s{std::vector<std::uint64_t>(rows_ + 1, 0), std::vector<std::uint64_t>(rows_ + 1, 0),
                 std::vector<std::uint64_t>(rows_ + 1, 0)};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows_), [&](const auto& range) {
@@ -98,10 +99,14 @@ private:
   Mesh emitRows(const RowStarts& s) const {
     Mesh mesh;
     const std::uint64_t edgeVertices = s.edges[rows_];
-    // Each array is zeroed as it is sized: the three side by side.
-    tbb::parallel_invoke([&] { mesh.positions.resize(std::size_t(edgeVertices + s.centres[rows_])); },
-                         [&] { mesh.faceVertices.resize(std::size_t(s.triangles[rows_]) * 3); },
-                         [&] { mesh.faceOffsets.resize(std::size_t(s.triangles[rows_]) + 1); });
+    // Each array is zeroed as it is sized: the three side by side, in huge pages.
+    auto size = [](auto& array, std::uint64_t n) {
+      reserveForHugePages(array, std::size_t(n));
+      array.resize(std::size_t(n));
+    };
+    tbb::parallel_invoke([&] { size(mesh.positions, edgeVertices + s.centres[rows_]); },
+                         [&] { size(mesh.faceVertices, s.triangles[rows_] * 3); },
+                         [&] { size(mesh.faceOffsets, s.triangles[rows_] + 1); });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows_), [&](const auto& range) {
       std::vector<Word> scratch;
       for (std::size_t r = range.begin(); r != range.end(); ++r) {
@@ -185,7 +190,7 @@ private:
   // Inside is value > iso; points in the padding are outside. Unless everyRow, the rows no visited
   // cell touches are left 0.
   void markInside(bool everyRow) {
-    inside_.reset(new Word[rows_ * words_]);
+    inside_ = makeHugePageArray<Word>(rows_ * words_);
     const float iso = iso_;
     tbb::parallel_for(std::int64_t(-1), d_[2] + 1, [&](std::int64_t z) {
       std::vector<float> scratch;
@@ -405,9 +410,10 @@ private:
   std::vector<char> visited_;                         // per block of cells
   std::vector<Word> cellMasks_;                       // per row of blocks (markCells)
   std::vector<std::uint8_t> blockRowVisited_;
-  std::unique_ptr<Word[]> inside_;                    // per point row (markInside)
-  std::unique_ptr<Word[]> planes_;                    // per point row: the x, y and z planes (countRow)
-  std::unique_ptr<std::uint32_t[]> wordStart_;        // per point row and word: the row's vertices before it
+  // Written whole by each run, so in huge pages (core/huge_pages.h): fewer faults to fill them.
+  HugePageArray<Word> inside_;                    // per point row (markInside)
+  HugePageArray<Word> planes_;                    // per point row: the x, y and z planes (countRow)
+  HugePageArray<std::uint32_t> wordStart_;        // per point row and word: the row's vertices before it
   std::uint32_t caseTriangles_[256] = {}, caseCentres_[256] = {};
   // Per case: the cell edges its polygons cross, and, when it has no centre vertex, its triangles
   // fanned from their apexes, three edges each, in the order the polygons give them.

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace isoatlas {
 namespace {
@@ -47,6 +48,27 @@ TEST(HugePages, ALargeVectorIsMarkedForHugePagesAndHoldsItsValues) {
   for (std::size_t i = 0; i < (std::size_t(8) << 20); ++i) grown.push_back(std::uint8_t(i));
   EXPECT_TRUE(advised(vmFlagsAt(grown.data() + grown.size() / 2)));
   EXPECT_EQ(grown[12345], std::uint8_t(12345));
+}
+
+TEST(HugePages, AReservedVectorAndAnArrayAreMarkedForHugePages) {
+  if (!std::filesystem::exists("/sys/kernel/mm/transparent_hugepage/enabled"))
+    GTEST_SKIP() << "this kernel has no transparent huge pages";
+  constexpr std::size_t kCount = std::size_t(4) << 20;  // 16 MiB of each
+  std::vector<std::uint32_t> reserved;
+  reserveForHugePages(reserved, kCount);
+  reserved.resize(kCount, 7u);
+  EXPECT_TRUE(advised(vmFlagsAt(reserved.data() + kCount / 2)));
+  EXPECT_EQ(reserved[kCount - 1], 7u);
+
+  const HugePageArray<float> array = makeHugePageArray<float>(kCount);
+  for (std::size_t i = 0; i < kCount; ++i) array[i] = float(i);
+  EXPECT_TRUE(advised(vmFlagsAt(array.get() + kCount / 2)));
+  EXPECT_EQ(array[kCount - 1], float(kCount - 1));
+
+  std::vector<std::uint8_t> small;  // under 4 MiB: left as it is
+  reserveForHugePages(small, 1u << 20);
+  small.resize(1u << 20);
+  EXPECT_FALSE(advised(vmFlagsAt(small.data() + small.size() / 2)));
 }
 
 }  // namespace
