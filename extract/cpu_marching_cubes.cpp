@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <array>
 #include <limits>
-#include <memory>
 
 #include "core/cpu_dispatch.h"
 #include "core/error.h"
@@ -99,14 +98,15 @@ private:
   Mesh emitRows(const RowStarts& s) const {
     Mesh mesh;
     const std::uint64_t edgeVertices = s.edges[rows_];
-    // Each array is zeroed as it is sized: the three side by side, in huge pages.
-    auto size = [](auto& array, std::uint64_t n) {
+    // Each array is zeroed as it is sized: the three side by side, each marked for huge pages first
+    // (when 4 MiB or more), since each is then written whole.
+    auto sizeInHugePages = [](auto& array, std::uint64_t n) {
       reserveForHugePages(array, std::size_t(n));
       array.resize(std::size_t(n));
     };
-    tbb::parallel_invoke([&] { size(mesh.positions, edgeVertices + s.centres[rows_]); },
-                         [&] { size(mesh.faceVertices, s.triangles[rows_] * 3); },
-                         [&] { size(mesh.faceOffsets, s.triangles[rows_] + 1); });
+    tbb::parallel_invoke([&] { sizeInHugePages(mesh.positions, edgeVertices + s.centres[rows_]); },
+                         [&] { sizeInHugePages(mesh.faceVertices, s.triangles[rows_] * 3); },
+                         [&] { sizeInHugePages(mesh.faceOffsets, s.triangles[rows_] + 1); });
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rows_), [&](const auto& range) {
       std::vector<Word> scratch;
       for (std::size_t r = range.begin(); r != range.end(); ++r) {
@@ -410,10 +410,10 @@ private:
   std::vector<char> visited_;                         // per block of cells
   std::vector<Word> cellMasks_;                       // per row of blocks (markCells)
   std::vector<std::uint8_t> blockRowVisited_;
-  // Written whole by each run, so in huge pages (core/huge_pages.h): fewer faults to fill them.
-  HugePageArray<Word> inside_;                    // per point row (markInside)
-  HugePageArray<Word> planes_;                    // per point row: the x, y and z planes (countRow)
-  HugePageArray<std::uint32_t> wordStart_;        // per point row and word: the row's vertices before it
+  // Written whole by each run, so marked for huge pages when 4 MiB or more (core/huge_pages.h).
+  HugePageArray<Word> inside_;                        // per point row (markInside)
+  HugePageArray<Word> planes_;                        // per point row: the x, y and z planes (countRow)
+  HugePageArray<std::uint32_t> wordStart_;            // per point row and word: the row's vertices before it
   std::uint32_t caseTriangles_[256] = {}, caseCentres_[256] = {};
   // Per case: the cell edges its polygons cross, and, when it has no centre vertex, its triangles
   // fanned from their apexes, three edges each, in the order the polygons give them.

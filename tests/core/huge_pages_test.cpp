@@ -1,8 +1,10 @@
-// core/huge_pages.h: a large HugePageVector lies in memory marked for transparent huge pages (its
-// mapping's VmFlags say "hg") and holds what is written to it.
+// core/huge_pages.h: a large HugePageVector, a vector reserved with reserveForHugePages and a
+// HugePageArray lie in memory marked for transparent huge pages (their mapping's VmFlags say "hg")
+// and hold what is written to them; a block under 4 MiB is not marked.
 #include "core/huge_pages.h"
 
 #include <gtest/gtest.h>
+#include <sys/mman.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -65,10 +67,22 @@ TEST(HugePages, AReservedVectorAndAnArrayAreMarkedForHugePages) {
   EXPECT_TRUE(advised(vmFlagsAt(array.get() + kCount / 2)));
   EXPECT_EQ(array[kCount - 1], float(kCount - 1));
 
-  std::vector<std::uint8_t> small;  // under 4 MiB: left as it is
-  reserveForHugePages(small, 1u << 20);
-  small.resize(1u << 20);
-  EXPECT_FALSE(advised(vmFlagsAt(small.data() + small.size() / 2)));
+}
+
+TEST(HugePages, ABlockUnder4MiBIsLeftAsItIs) {
+  // A mapping of its own, so no earlier block's advice can lie under it (malloc's heap may reuse one).
+  constexpr std::size_t kMapped = std::size_t(8) << 20;
+  void* mapped = mmap(nullptr, kMapped, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  ASSERT_NE(mapped, MAP_FAILED);
+  auto* bytes = static_cast<std::uint8_t*>(mapped);
+  // 3 MiB from a 2 MiB boundary: a huge page's worth of interior, which only the size keeps unmarked.
+  constexpr std::uintptr_t kHugePage = std::uintptr_t(2) << 20;
+  auto* aligned = reinterpret_cast<std::uint8_t*>((reinterpret_cast<std::uintptr_t>(bytes) + kHugePage - 1) & ~(kHugePage - 1));
+  adviseHugePages(aligned, std::size_t(3) << 20);
+  EXPECT_FALSE(advised(vmFlagsAt(aligned + (std::size_t(1) << 20))));
+  adviseHugePages(bytes, kMapped);  // the same block, 8 MiB: its aligned interior is marked
+  EXPECT_TRUE(advised(vmFlagsAt(bytes + kMapped / 2)));
+  munmap(mapped, kMapped);
 }
 
 }  // namespace
