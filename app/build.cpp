@@ -22,14 +22,20 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
   sub->add_option("mesh", *input, "a 2-manifold mesh (.off, .ply, .obj, .stl), closed or with boundaries")->required();
   sub->add_option("-o,--output", *output, "the model file (.isoatlas)")->check(outputFile());
   sub->add_option("--base-ratio", o->baseRatio,
-                  "base vertices as a fraction of the dense ones (default: 2 % up to 1000 vertices, at least 1 %)");
+                  "base vertices as a fraction of the dense ones (default: 2 % up to 1000 vertices, at least 1 %)")
+      ->check(inRange(1e-6, 1));
   sub->add_option("--base-vertices", o->baseVertices, "base vertex count (instead of --base-ratio), at least 4")
-      ->check(CLI::Range(std::size_t(4), std::numeric_limits<std::size_t>::max()));
-  sub->add_option("--max-error", o->maxError, "never weld where the quadric RMS distance exceeds this (mm)");
-  sub->add_option("--chart", *chart, "chart size in texels per side, 2^k + 1")->capture_default_str();
+      ->check(inRange(4, 1e9));
+  sub->add_option("--max-error", o->maxError, "never weld where the quadric RMS distance exceeds this (mm; 0: no bound)")
+      ->capture_default_str()
+      ->check(inRange(0, kMaxMillimetres));
+  sub->add_option("--chart", *chart, "chart size in texels per side, 2^k + 1")
+      ->capture_default_str()
+      ->check(inRange(3, multires::kMaxChartSize));
   sub->add_option("--relax-sweeps", o->relaxSweeps,
                   "sweeps moving the texels over each tile to follow the surface's bending (0: a uniform grid per tile)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(inRange(0, 1000));
   sub->add_flag("--keep-dense", o->keepDense, "keep the dense mesh and its parametrisation in the model");
   sub->add_option("--previews", *previews, "write position_atlas.png and normal_atlas.png into this folder");
   sub->add_option("--base-only", *baseOnly, "also write the triquad base mesh as an OBJ of quads")->check(outputFile());

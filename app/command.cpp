@@ -3,6 +3,7 @@
 #include "app/options.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 
@@ -16,15 +17,28 @@ void writeJsonFile(const std::string& path, const nlohmann::json& json) {
   writeFileAtomically(path, json.dump(2) + "\n");
 }
 
-void bindAction(CLI::App& sub, const Action& action, int& exitCode) {
+namespace {
+
+// Whether `path` is a file directly in `folder`, by their absolute, normalised names.
+bool liesIn(const std::string& path, const std::string& folder) {
+  namespace fs = std::filesystem;
+  return fs::absolute(path).lexically_normal().parent_path() == fs::absolute(fs::path(folder) / "").lexically_normal().parent_path();
+}
+
+}  // namespace
+
+void bindAction(CLI::App& sub, const Action& action, int& exitCode, std::shared_ptr<const std::string> madeFolder) {
   auto common = std::make_shared<CommonOptions>();
-  sub.add_option("--report", common->report, "write the figures of this run as JSON")->check(outputFile());
+  CLI::Option* report = sub.add_option("--report", common->report, "write the figures of this run as JSON");
+  if (!madeFolder) report->check(outputFile());
   sub.add_flag("--quiet,-q", common->quiet, "no progress or informational lines on stderr");
-  sub.callback([&sub, action, common, &exitCode] {
+  sub.callback([&sub, action, common, &exitCode, madeFolder] {
     Progress::setQuiet(common->quiet);
     nlohmann::json report;
     report["command"] = sub.get_name();
     try {
+      if (madeFolder && !common->report.empty() && !liesIn(common->report, *madeFolder))
+        requireOutputFolder(common->report);  // as the option's check would, now that -o is known
       exitCode = action(report);
       if (!common->report.empty()) writeJsonFile(common->report, report);
     } catch (const Error& e) {
@@ -38,6 +52,20 @@ void bindAction(CLI::App& sub, const Action& action, int& exitCode) {
       exitCode = 1;
     }
   });
+}
+
+void addCommands(CLI::App& app, int& exitCode) {
+  addInfoCommand(app, exitCode);
+  addProbeCommand(app, exitCode);
+  addSegmentCommand(app, exitCode);
+  addEditCommand(app, exitCode);
+  addExtractCommand(app, exitCode);
+  addBuildCommand(app, exitCode);
+  addEvalCommand(app, exitCode);
+  addEditDetailCommand(app, exitCode);
+  addRenderCommand(app, exitCode);
+  addViewCommand(app, exitCode);
+  addRunCommand(app, exitCode);
 }
 
 }  // namespace isoatlas::app

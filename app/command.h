@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <functional>
-
+#include <memory>
 #include <string>
 
 namespace isoatlas::app {
@@ -19,8 +19,13 @@ struct CommonOptions {
 using Action = std::function<int(nlohmann::json& report)>;
 
 // Adds --report and --quiet to `sub` and makes it run `action` when chosen: errors become one line on
-// stderr and exit 2 (bad input) or 1 (failure); the report is written on success.
-void bindAction(CLI::App& sub, const Action& action, int& exitCode);
+// stderr and exit 2 (bad input) or 1 (failure); the report is written on success. --report's folder
+// must exist, unless it lies directly in `madeFolder` (run's -o): a folder the action makes once every
+// input has been checked, so `run -o out/demo --report out/demo/r.json` works on a clean clone.
+void bindAction(CLI::App& sub, const Action& action, int& exitCode, std::shared_ptr<const std::string> madeFolder = nullptr);
+
+// Every subcommand, in the order --help lists them (main.cpp, and the tests that walk the options).
+void addCommands(CLI::App& app, int& exitCode);
 
 void writeJsonFile(const std::string& path, const nlohmann::json& json);
 

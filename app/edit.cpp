@@ -54,22 +54,27 @@ void addEditCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("edit", "boolean brush and mesh edits of a segmentation in a dynamic volume tree");
   auto o = std::make_shared<EditCommandOptions>();
   sub->add_option("input", o->input, "a mask or phi volume, a closed mesh (.ply/.off/.obj/.stl) or a tree (.dvt)")->required();
-  sub->add_option("--depth", o->depth, "tree depth of the edits (3 per halving of the voxels; default: the input's voxels, 24 for a mesh)");
+  sub->add_option("--depth", o->depth, "tree depth of the edits (3 per halving of the voxels; default: the input's voxels, 24 for a mesh)")
+      ->check(inRange(1, dvt::kMaxDepth));
   addEditStepOptions(*sub, o->steps);
   sub->add_flag("--flat", o->flat, "rasterise every shape at the full depth (no hierarchical rasterisation)");
-  sub->add_option("--collapse-every", o->collapseEvery, "also collapse after every K writes (the input's conversion is the first; the tree is collapsed at the end anyway)");
-  sub->add_option("--node-limit", o->nodeLimit, "most nodes the tree may grow to")->capture_default_str();
+  sub->add_option("--collapse-every", o->collapseEvery, "also collapse after every K writes (the input's conversion is the first; the tree is collapsed at the end anyway; 0: only then)")
+      ->capture_default_str()
+      ->check(inRange(0, 1e6));
+  sub->add_option("--node-limit", o->nodeLimit, "most nodes the tree may grow to")->capture_default_str()->check(inRange(1, 1e12));
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
   sub->add_option("--render", o->render, "also draw the edited tree to this PNG")->check(outputFile());
   sub->add_option("--render-mode", o->renderMode, "raycast (rays through the tree, sub-voxel surface) or cubes (one per inside leaf)")
       ->capture_default_str();
-  sub->add_option("--size", o->size, "the picture's width,height")->delimiter(',')->expected(2)->capture_default_str();
+  sub->add_option("--size", o->size, "the picture's width,height")
+      ->delimiter(',')
+      ->expected(2)
+      ->capture_default_str()
+      ->check(inRange(1, 8192));
   sub->add_option("-o,--output", o->output, "a mask (.nii.gz, the input's geometry), a mesh (.ply/.off/.obj) or a tree (.dvt)")->required()->check(outputFile());
   bindAction(*sub, [o](nlohmann::json& r) {
     const bool toTree = endsWith(o->output, ".dvt"), toMesh = isMeshPath(o->output) && !endsWith(o->output, ".stl");
     require(toTree || toMesh || isVolumePath(o->output), o->output + ": write a mask (.nii.gz, .nrrd, ...), a mesh (.ply, .off, .obj) or a tree (.dvt)");
-    require(o->nodeLimit >= 1, "--node-limit must be >= 1");
-    require(o->collapseEvery >= 0, "--collapse-every must be >= 0");
     require(o->renderMode == "raycast" || o->renderMode == "cubes", "--render-mode must be raycast or cubes, not " + o->renderMode);
     require(o->render.empty() || endsWith(o->render, ".png"), o->render + ": --render writes a PNG");
     const pipeline::EditRequest request{.depth = o->depth, .steps = *o->steps, .hierarchical = !o->flat, .nodeLimit = o->nodeLimit,

@@ -24,10 +24,11 @@ void addEditDetailCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--text", request->text, "a word to engrave, rendered with --font");
   sub->add_option("--font", request->font, "a TrueType font for --text")->capture_default_str();
   sub->add_option("--at", *at, "X,Y,Z: a point at or near the surface (world mm); the stamp's centre is the nearest")->required();
-  sub->add_option("--radius", request->radius, "the stamp's radius (mm)")->required();
-  sub->add_option("--depth", request->depth, "how deep the ink is pressed (mm; negative raises it)")->required();
+  sub->add_option("--radius", request->radius, "the stamp's radius (mm)")->required()->check(inRange(1e-3, kMaxMillimetres));
+  sub->add_option("--depth", request->depth, "how deep the ink is pressed (mm; negative raises it)")->required()->check(inRange(-kMaxMillimetres, kMaxMillimetres));
   sub->add_option("--detail", request->detailSize, "texels per side of the detail charts, 2^k + 1 above the chart size")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(inRange(5, multires::kMaxChartSize));
   sub->add_option("-o,--output", *output, "the stamped model (.isoatlas)")->required()->check(outputFile());
   sub->add_option("--render", *render, "a close-up of the stamp at the finest level, as a PNG")->check(outputFile());
   bindAction(*sub, [=](nlohmann::json& r) {

@@ -22,12 +22,12 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--dense", *dense, "the dense mesh the models were built from")->required();
   sub->add_option("--levels", *levelText, "levels to measure: 0-10, 4, or 0,4,10 (default: every level)");
   sub->add_option("--out-mesh-level", *outMesh, "write the first model's mesh at level L to FILE (.ply, .obj, .off, .stl)")
-      ->type_name("L FILE");
+      ->type_name("L FILE")
+      ->check(inRange(0, kMaxLevel).application_index(0));
   sub->add_option("--plot", *plot, "PSNR against level for every model, as a PNG")->check(outputFile());
-  sub->add_option("--samples", *samples, "Hausdorff face samples per mesh")->capture_default_str();
+  sub->add_option("--samples", *samples, "Hausdorff face samples per mesh")->capture_default_str()->check(inRange(kMinSamples, kMaxSamples));
   bindAction(*sub, [=](nlohmann::json& r) {
     require(plot->empty() || plot->ends_with(".png"), *plot + ": --plot writes a .png");
-    require(*samples >= 1000, "--samples must be at least 1000");
     const Mesh denseMesh = pipeline::prepareModelInput(readMesh(*dense));
     std::vector<std::pair<std::string, std::vector<atlas::LevelFigures>>> measured;
     for (std::size_t m = 0; m < models->size(); ++m) {

@@ -23,15 +23,17 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("extract", "closed, manifold marching cubes over a level set, mask or scalar volume");
   auto o = std::make_shared<ExtractCommandOptions>();
   sub->add_option("input", o->input, "a mask, a phi volume (isoatlas segment --phi) or any scalar volume")->required();
-  sub->add_option("--iso", o->iso, "isovalue (default: 0.5 for a mask, else the middle of the value range; give 0 for a phi volume)");
+  sub->add_option("--iso", o->iso, "isovalue (default: 0.5 for a mask, else the middle of the value range; give 0 for a phi volume)")
+      ->check(inRange(-kMaxIntensity, kMaxIntensity));
   sub->add_flag("--largest", o->largest, "keep only the largest component");
-  sub->add_option("--min-component", o->minComponent, "drop components of fewer triangles than this");
-  sub->add_option("--smooth", o->smooth, "Taubin smoothing iterations")->capture_default_str();
+  sub->add_option("--min-component", o->minComponent, "drop components of fewer triangles than this (0: keep every one)")
+      ->capture_default_str()
+      ->check(inRange(0, 1e12));
+  sub->add_option("--smooth", o->smooth, "Taubin smoothing iterations (0: none)")->capture_default_str()->check(inRange(0, 1000));
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
   sub->add_option("-o,--output", o->output, "output mesh (.ply, .off or .obj)")->required()->check(outputFile());
   bindAction(*sub, [o](nlohmann::json& r) {
     require(isMeshPath(o->output) && !endsWith(o->output, ".stl"), o->output + ": write the mesh as .ply, .off or .obj");
-    require(o->smooth >= 0, "--smooth must be >= 0");
     const Volume v = readVolume(o->input);
     const pipeline::Gpu backend = pipeline::chooseBackend(o->backend);
     const bool gpu = backend.backend == levelset::Backend::Gpu;

@@ -16,17 +16,7 @@ int main(int argc, char** argv) {
   // while exit handlers do: LeakSanitizer's tracer crashed now and then on threads still alive then.
   oneapi::tbb::task_scheduler_handle workers{oneapi::tbb::attach{}};
 
-  addInfoCommand(app, exitCode);
-  addProbeCommand(app, exitCode);
-  addSegmentCommand(app, exitCode);
-  addEditCommand(app, exitCode);
-  addExtractCommand(app, exitCode);
-  addBuildCommand(app, exitCode);
-  addEvalCommand(app, exitCode);
-  addEditDetailCommand(app, exitCode);
-  addRenderCommand(app, exitCode);
-  addViewCommand(app, exitCode);
-  addRunCommand(app, exitCode);
+  addCommands(app, exitCode);
 
   if (argc > 1 && argv[1][0] != '-') {
     bool known = false;

@@ -2,7 +2,10 @@
 
 #include "core/atomic_file.h"
 
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 #include <vector>
 
@@ -37,6 +40,23 @@ CLI::Validator outputFile() {
         return std::string();
       },
       "FILE");
+}
+
+CLI::Validator inRange(double lo, double hi) {
+  // %g keeps the help short (1e+06 rather than 1000000.000000); the test parses it back.
+  char range[64];
+  std::snprintf(range, sizeof range, "in [%g, %g]", lo, hi);
+  return CLI::Validator(
+      [lo, hi, text = std::string(range)](std::string& value) {
+        char* end = nullptr;
+        errno = 0;
+        const double v = std::strtod(value.c_str(), &end);
+        if (value.empty() || end != value.c_str() + value.size() || errno == ERANGE || !std::isfinite(v))
+          return "'" + value + "' is not a finite number";
+        if (v < lo || v > hi) return "'" + value + "' is not " + text;
+        return std::string();
+      },
+      range, "range");
 }
 
 void addEditStepOptions(CLI::App& sub, const std::shared_ptr<std::vector<pipeline::EditStep>>& steps) {

@@ -1,4 +1,5 @@
-// Parsing helpers shared by subcommands: balls "X,Y,Z[,R]", sizes "W,H", output files and the edit steps.
+// Parsing helpers shared by subcommands: balls "X,Y,Z[,R]", sizes "W,H", output files, numeric ranges
+// and the edit steps.
 #pragma once
 #include <CLI/CLI.hpp>
 
@@ -22,6 +23,20 @@ std::array<int, 2> parseSize(const std::string& text);
 // An option that names a file to write: its folder must exist, known while parsing, before any work
 // (exit 2, naming the option and the file). Folders an option makes (run's --output) take none.
 CLI::Validator outputFile();
+
+// A numeric option's range, declared with the option (`->check(inRange(0, 1))`): CLI11 refuses, while
+// parsing and so before any work, a value outside [lo, hi], NaN, an infinity or text that is no
+// number, with one line naming the option (exit 2). Every numeric option of the command has one; the
+// help shows it, and tests/cli/options_test.cpp reads it back (the validator's name is "range").
+CLI::Validator inRange(double lo, double hi);
+
+// Ranges several subcommands share.
+inline constexpr double kMaxIntensity = 1e12;  // |T|, eps and isovalues: past any scanner's values
+inline constexpr double kMinWidth = 1e-6;      // eps must be > 0
+inline constexpr double kMaxIterations = 100000;
+inline constexpr double kMinSamples = 1000, kMaxSamples = 1e8;  // Hausdorff face samples per mesh
+inline constexpr double kMaxLevel = 14;  // atlas::maxLevel of the finest charts (129 texels)
+inline constexpr double kMaxMillimetres = 1e6;  // lengths in world mm (radii, depths, errors): a kilometre
 
 // --union SHAPE and --subtract SHAPE on `sub`, each adding a step in command-line order.
 void addEditStepOptions(CLI::App& sub, const std::shared_ptr<std::vector<pipeline::EditStep>>& steps);

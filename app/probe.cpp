@@ -6,6 +6,7 @@
 #include "app/options.h"
 #include "core/volume_io.h"
 #include "levelset/probe.h"
+#include "pipeline/segmentation.h"
 
 namespace isoatlas::app {
 
@@ -13,10 +14,10 @@ void addProbeCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("probe", "mean and spread of a volume inside a sphere, and the T and eps they suggest");
   auto volume = std::make_shared<std::string>();
   auto at = std::make_shared<std::string>();
-  auto radius = std::make_shared<double>(3);
+  auto radius = std::make_shared<double>(pipeline::kDefaultSeedRadius);
   sub->add_option("volume", *volume, "input volume")->required();
   sub->add_option("--at", *at, "centre X,Y,Z[,R] in voxel indices (R overrides --radius)")->required();
-  sub->add_option("--radius", *radius, "radius in voxels")->capture_default_str();
+  sub->add_option("--radius", *radius, "radius in voxels")->capture_default_str()->check(inRange(0.5, 1000));
   bindAction(*sub, [volume, at, radius](nlohmann::json& r) {
     const Volume v = readVolume(*volume);
     const pipeline::Ball ball = parseBall(*at, "--at", *radius);

@@ -91,12 +91,7 @@ Plan plan(const RenderOptions& o) {
   require(o.output.ends_with(".png"), o.output + ": -o writes a .png");
   require(o.cpuLevel < 0 || o.cpuError == 0, "give --cpu-level or --cpu-error, not both");
   require(o.gpuLevel < 0 || o.gpuPixels == 0, "give --gpu-level or --gpu-pixels, not both");
-  require(o.cpuError >= 0, "--cpu-error must be positive");
-  require(o.gpuPixels >= 0, "--gpu-pixels must be positive");
   require(o.models.size() == 1 || !o.scene.empty(), "several models are drawn only in a --scene");
-  require(o.turntable >= 0 && o.turntable <= 3600, "--turntable takes 0 to 3600 frames");
-  require(o.frames >= 1 && o.frames <= 1000, "--frames takes 1 to 1000");
-  require(o.smooth >= 0 && o.smooth <= 32, "--smooth takes OpenSubdiv's tessellation level, 1 to 32");
   require(o.smooth == 0 || o.models.size() == 1, "--smooth draws one model (in a --scene, its instances)");
   require(o.smooth > 0 || !o.limitOnly, "--limit-only goes with --smooth");
   Plan p;
@@ -145,8 +140,13 @@ int render(const RenderOptions& o, nlohmann::json& r) {
   for (const std::string& path : o.models) {
     models.push_back(atlas::readModel(path));
     const int top = atlas::maxLevel(models.back().chartSize);
-    require(o.cpuLevel <= top, "--cpu-level must lie between 0 and " + std::to_string(top) + " for " + path + " (charts of " +
-                                   std::to_string(models.back().chartSize) + " texels)");
+    const std::string charts = " for " + path + " (charts of " + std::to_string(models.back().chartSize) + " texels)";
+    require(o.cpuLevel <= top, "--cpu-level must lie between 0 and " + std::to_string(top) + charts);
+    // A halving past the chart's texels would draw nothing finer: refused rather than clamped.
+    require(o.gpuLevel < 0 || std::max(o.cpuLevel, 0) + 2 * o.gpuLevel <= top,
+            "--gpu-level " + std::to_string(o.gpuLevel) + ": with --cpu-level " + std::to_string(std::max(o.cpuLevel, 0)) +
+                " this asks for level " + std::to_string(std::max(o.cpuLevel, 0) + 2 * o.gpuLevel) + ", past the finest, " +
+                std::to_string(top) + charts);
   }
   pipeline::Gpu gpu;  // the process's one context
   gpu.needGl();
@@ -213,20 +213,32 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--clip", seg->clip, "a volume's --view volume: cut away the side +x, -x, +y, -y, +z or -z of the slice point")
       ->capture_default_str();
   sub->add_flag("--inside-only", seg->insideOnly, "a volume's --view volume: the scan only inside the segmentation");
-  sub->add_option("--opacity", seg->opacity, "a volume's --view volume: opacity per voxel at the window's top")->capture_default_str();
-  auto* level = sub->add_option("--cpu-level", o->cpuLevel, "CPU level L everywhere (in a grid: for the nearest; lower with distance)");
-  sub->add_option("--cpu-error", o->cpuError, "CPU: split where the surface moves more than E pixels (default 2)")->excludes(level);
-  auto* halvings = sub->add_option("--gpu-level", o->gpuLevel, "GPU: T more halvings of every CPU edge, up to the chart's texels");
-  sub->add_option("--gpu-pixels", o->gpuPixels, "GPU: segments of about P pixels on the screen (default 8)")->excludes(halvings);
+  sub->add_option("--opacity", seg->opacity, "a volume's --view volume: opacity per voxel at the window's top")
+      ->capture_default_str()
+      ->check(inRange(1e-4, 1));
+  auto* level = sub->add_option("--cpu-level", o->cpuLevel, "CPU level L everywhere (0: the base mesh's tiles; in a grid: for the nearest, lower with distance)")
+                    ->check(inRange(0, kMaxLevel));
+  sub->add_option("--cpu-error", o->cpuError, "CPU: split where the surface moves more than E pixels (default 2)")
+      ->excludes(level)
+      ->check(inRange(0.01, 1e4));
+  auto* halvings = sub->add_option("--gpu-level", o->gpuLevel, "GPU: T more halvings of every CPU edge (two levels each; 0: none), up to the chart's texels")
+                       ->check(inRange(0, kMaxLevel / 2));
+  sub->add_option("--gpu-pixels", o->gpuPixels, "GPU: segments of about P pixels on the screen (default 8)")
+      ->excludes(halvings)
+      ->check(inRange(0.1, 1e4));
   sub->add_option("--camera", o->camera, "EX,EY,EZ,TX,TY,TZ,FOV: eye, target (world mm), vertical field of view (degrees); default: the whole model");
   sub->add_option("--size", o->size, "W,H: image size in pixels")->capture_default_str();
   sub->add_flag("--wire", o->wire, "a wireframe over the surface: tile borders brown, inside the tiles blue");
   sub->add_flag("--chart-colours", o->chartColours, "colour each tile's chart apart");
-  sub->add_option("--turntable", o->turntable, "N frames around the vertical axis: IMAGE_000.png ...");
-  sub->add_option("--frames", o->frames, "draw this many frames and report the median times")->capture_default_str();
+  sub->add_option("--turntable", o->turntable, "N frames around the vertical axis: IMAGE_000.png ... (0: one still image)")
+      ->capture_default_str()
+      ->check(inRange(0, 3600));
+  sub->add_option("--frames", o->frames, "draw this many frames and report the median times")->capture_default_str()->check(inRange(1, 1000));
   sub->add_option("--scene", o->scene, "grid:NxN: N x N instances, CPU level by distance, GPU level by view");
   sub->add_option("--smooth", o->smooth, "smooth mode: the base mesh as a Catmull-Clark cage, OpenSubdiv's limit surface at "
-                                        "tessellation level T with the atlas's detail along its normal");
+                                        "tessellation level T with the atlas's detail along its normal (0: the atlas mode, not smooth)")
+      ->capture_default_str()
+      ->check(inRange(0, 32));
   sub->add_flag("--limit-only", o->limitOnly, "with --smooth: OpenSubdiv's limit surface alone, no detail");
   sub->add_option("-o,--output", o->output, "the image (.png)")->required()->check(outputFile());
   sub->add_option("--capture", o->capture, "the triangles the GPU made (transform feedback), welded, world mm (.ply, .obj, .off, .stl)")->check(outputFile());

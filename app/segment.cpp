@@ -14,7 +14,7 @@ namespace isoatlas::app {
 struct SegmentOptions {
   std::string volume, seedMask, output, phi, backend = "auto";
   std::vector<std::string> seeds;
-  double target = 0, width = 0, alpha = 0.5;
+  double target = 0, width = 0, alpha = pipeline::kDefaultAlpha;
   int iterations = levelset::RunOptions{}.maxIterations, page = levelset::LevelSetOptions{}.pageSize;
   bool converge = false, halfResolutionStart = false;
 };
@@ -23,24 +23,27 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("segment", "segment a structure with the paged narrow-band level-set solver");
   auto o = std::make_shared<SegmentOptions>();
   sub->add_option("volume", o->volume, "input volume")->required();
-  sub->add_option("--seed", o->seeds, "seed sphere X,Y,Z[,R] in voxel indices, R in voxels (default 3); repeatable");
+  sub->add_option("--seed", o->seeds, "seed sphere X,Y,Z[,R] in voxel indices, R in voxels (default " + std::to_string(int(pipeline::kDefaultSeedRadius)) + "); repeatable");
   sub->add_option("--seed-mask", o->seedMask, "start from this mask (same grid; voxels > 0 inside)");
-  sub->add_option("--target,-T", o->target, "T: the intensity to segment (isoatlas probe suggests it)")->required();
-  sub->add_option("--width,-e", o->width, "eps: intensities within T +- eps grow the model")->required();
-  sub->add_option("--alpha,-a", o->alpha, "weight of the intensity term against curvature, in [0, 1]")->capture_default_str();
-  sub->add_option("--iterations,-n", o->iterations, "most iterations to run")->capture_default_str();
+  sub->add_option("--target,-T", o->target, "T: the intensity to segment (isoatlas probe suggests it)")->required()->check(inRange(-kMaxIntensity, kMaxIntensity));
+  sub->add_option("--width,-e", o->width, "eps: intensities within T +- eps grow the model")->required()->check(inRange(kMinWidth, kMaxIntensity));
+  sub->add_option("--alpha,-a", o->alpha, "weight of the intensity term against curvature (1: intensity only)")
+      ->capture_default_str()
+      ->check(inRange(0, 1));
+  sub->add_option("--iterations,-n", o->iterations, "iterations to run (with --converge, the most; run stops at convergence always, so its cap is higher)")
+      ->capture_default_str()
+      ->check(inRange(1, kMaxIterations));
   sub->add_flag("--converge", o->converge, "stop early once the front stops moving");
   sub->add_flag("--half-resolution-start", o->halfResolutionStart,
                 "with --converge, start from the solution at half resolution instead of the seeds (faster)")
       ->needs("--converge");
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
-  sub->add_option("--page", o->page, "page size in voxels (a power of two, 4..32)")->capture_default_str();
+  sub->add_option("--page", o->page, "page size in voxels (a power of two, 4..32)")->capture_default_str()->check(inRange(4, 32));
   sub->add_option("-o,--output", o->output, "output mask (uint8, 1 inside), e.g. mask.nii.gz")->required()->check(outputFile());
   sub->add_option("--phi", o->phi, "also write the level set phi (float, > 0 inside, voxel units)")->check(outputFile());
   bindAction(*sub, [o](nlohmann::json& r) {
     volumeFormatOf(o->output);  // throws for a name that is no volume format, before any work
     if (!o->phi.empty()) volumeFormatOf(o->phi);
-    require(o->iterations > 0, "--iterations must be > 0");
     require(!o->seeds.empty() || !o->seedMask.empty(), "give at least one --seed X,Y,Z[,R] or a --seed-mask");
     require(levelset::isPageSize(o->page), "--page " + std::to_string(o->page) + ": a power of two from 4 to " +
                                                std::to_string(levelset::kMaxPageSize));
@@ -49,7 +52,7 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
     const Volume volume = readVolume(o->volume);
     std::vector<pipeline::Ball> seeds;
     for (const std::string& s : o->seeds) {
-      seeds.push_back(parseBall(s, "--seed", 3));
+      seeds.push_back(parseBall(s, "--seed", pipeline::kDefaultSeedRadius));
       pipeline::requireInside(volume, seeds.back().centre, "--seed " + s);
     }
     Volume seedMask;

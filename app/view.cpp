@@ -11,7 +11,9 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   auto o = std::make_shared<viewer::ViewerOptions>();
   sub->add_option("files", o->files, "volumes (to segment), models (.isoatlas) and volume trees (.dvt), opened in turn");
   sub->add_option("--script", o->script, "replay the actions in this text file (docs/view-script.md)");
-  sub->add_option("--frames", o->frames, "draw this many frames and close (0: until the window is closed)")->capture_default_str();
+  sub->add_option("--frames", o->frames, "draw this many frames and close (0: until the window is closed)")
+      ->capture_default_str()
+      ->check(inRange(0, 1e7));
   sub->add_option("--screenshot", o->screenshot, "with --frames: save the last frame as this PNG");
   sub->add_option("--backend", o->backend, "the segmentation's solver: gpu, cpu or auto (the CPU where GL is a software rasteriser)")
       ->capture_default_str();

@@ -15,6 +15,12 @@
 
 namespace isoatlas::pipeline {
 
+// The defaults `segment`, `run`, Python and the cohort share for a volume of the user's (the demo volume
+// has its own tuned ones, pipeline/demo.h): the intensity term's weight against curvature, and a seed
+// ball's radius in voxels when --seed gives none.
+inline constexpr double kDefaultAlpha = 0.5;
+inline constexpr double kDefaultSeedRadius = 3;
+
 struct SegmentationRequest {
   levelset::SpeedParams params;
   std::vector<Ball> seeds;

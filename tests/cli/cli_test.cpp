@@ -189,7 +189,9 @@ TEST(Cli, EveryBadOptionExitsTwoNamingItAndWritesNothing) {
       {seg + "-o " + o + "m.nii.gz --page 5", "--page"},
       {seg + "-o " + o + "m.nii.gz --half-resolution-start", "--converge"},
       {"segment " + vol + "-T 100 -e 10 --seed 100,0,0 -o " + o + "m.nii.gz", "--seed"},
-      {"segment " + vol + "-T 100 -e -1 --seed 10,10,10 -o " + o + "m.nii.gz", "eps"},
+      {"segment " + vol + "-T 100 -e -1 --seed 10,10,10 -o " + o + "m.nii.gz", "--width"},
+      {"run " + vol + "-o " + o + "run --report " + o + "run/r.json --seed 100,0,0 -T 100 -e 10", "--seed"},
+      {"run " + vol + "-o " + o + "run --report " + o + "elsewhere/r.json --seed 10,10,10 -T 100 -e 10", "elsewhere/r.json: its folder does not exist"},
       {"extract " + vol + "-o " + o + "s.txt", "s.txt"},
       {"extract " + vol + "-o " + o + "s.ply --smooth -1", "--smooth"},
       {"probe " + vol + "--at 100,100,100", "--at"},
@@ -323,8 +325,10 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
     SCOPED_TRACE(backend);
     const auto out = dir / backend;
     const Result r = run("run " + torus.string() + " -o " + out.string() + " --seed 31,18,14,2 --target 200 --width 60 " +
-                         "--backend " + backend + " --samples 5000 --half-resolution-start");
+                         "--backend " + backend + " --samples 5000 --half-resolution-start --report " + (out / "run-report.json").string());
     ASSERT_EQ(r.code, 0) << r.err;
+    // --report inside run's own -o folder, which did not exist before the run (a clean clone's demo).
+    EXPECT_EQ(nlohmann::json::parse(test::readBytes(out / "run-report.json"))["command"], "run");
     const Volume mask = readVolume((out / "mask.nii.gz").string());
     std::int64_t both = 0, inMask = 0, inTruth = 0;
     for (std::size_t n = 0; n < mask.voxelCount(); ++n) {
@@ -364,8 +368,8 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
       EXPECT_NE(html.find(std::string("href=\"") + file + "\""), std::string::npos) << file << " is not in index.html";
       EXPECT_GT(std::filesystem::file_size(out / file), 100u) << file;
     }
-    EXPECT_EQ(named.size(), std::size_t(std::distance(std::filesystem::directory_iterator(out), {})) - 2)
-        << "every file but report.json and index.html is a named product";
+    EXPECT_EQ(named.size(), std::size_t(std::distance(std::filesystem::directory_iterator(out), {})) - 3)
+        << "every file but report.json, index.html and the --report is a named product";
     // The model of the surface, measured at the even levels: closed like the surface, each finer
     // level at least as close as the base mesh.
     const auto& model = report["model"];
@@ -512,8 +516,8 @@ TEST(Cli, SegmentRejectsBadInput) {
   const auto dir = test::scratchDir();
   const std::string ball = ballVolume(dir).string(), out = " -o " + (dir / "m.nii.gz").string();
   expectBadInput("segment " + ball + " --seed 80,18,15 --target 200 --width 60" + out, "lies outside the volume");
-  expectBadInput("segment " + ball + " --seed 20,18,15 --target 200 --width 0" + out, "eps must be > 0");
-  expectBadInput("segment " + ball + " --seed 20,18,15 --target 200 --width 60 --alpha 1.5" + out, "alpha must lie in [0, 1]");
+  expectBadInput("segment " + ball + " --seed 20,18,15 --target 200 --width 0" + out, "--width: '0' is not in [1e-06");
+  expectBadInput("segment " + ball + " --seed 20,18,15 --target 200 --width 60 --alpha 1.5" + out, "--alpha: '1.5' is not in [0, 1]");
   expectBadInput("segment " + ball + " --seed 20,18 --target 200 --width 60" + out, "expected X,Y,Z");
   expectBadInput("segment " + ball + " --target 200 --width 60" + out, "give at least one --seed");
   expectBadInput("segment " + ball + " --seed 20,18,15 --target 200 --width 60 -o m.png", "unknown volume format");
@@ -556,7 +560,7 @@ TEST(Cli, ExtractRejectsBadInput) {
   const std::string ball = ballVolume(dir).string();
   expectBadInput("extract " + (dir / "missing.nii").string() + " -o a.ply", "no such file");
   expectBadInput("extract " + ball + " -o a.png", "write the mesh as .ply, .off or .obj");
-  expectBadInput("extract " + ball + " --smooth -2 -o " + (dir / "a.ply").string(), "--smooth must be >= 0");
+  expectBadInput("extract " + ball + " --smooth -2 -o " + (dir / "a.ply").string(), "--smooth: '-2' is not in [0, 1000]");
   const Result r = run("extract " + ball + " --iso 1000 -o " + (dir / "a.ply").string());
   EXPECT_EQ(r.code, 1) << "no surface at that isovalue: the work fails";
   EXPECT_NE(r.err.find("no surface"), std::string::npos) << r.err;
@@ -660,8 +664,9 @@ TEST(Cli, BuildRejectsBadInput) {
   expectBadInput("build " + bowtie + out, "not 2-manifold");
   expectBadInput("build " + (dir / "missing.off").string() + out, "no such file");
   expectBadInput("build " + torus + out + " --chart 32", "--chart must be 2^k + 1");
-  expectBadInput("build " + torus + out + " --chart 257", "--chart must be 2^k + 1");
-  expectBadInput("build " + torus + out + " --base-ratio 0", "--base-ratio must be in (0, 1]");
+  expectBadInput("build " + torus + out + " --chart 257", "--chart: '257' is not in [3, 129]");
+  expectBadInput("build " + torus + out + " --chart 31", "--chart must be 2^k + 1");
+  expectBadInput("build " + torus + out + " --base-ratio 0", "--base-ratio: '0' is not in [1e-06, 1]");
   expectBadInput("build " + torus + " -o " + (dir / "m.obj").string(), "must end in .isoatlas");
   expectBadInput("build " + torus, "give -o MODEL.isoatlas");
 }
@@ -875,7 +880,7 @@ TEST(Cli, EditAppliesBrushesOnBothBackendsAsADenseReferenceSays) {
 
   expectBadInput("edit " + input + " --union sphere:1,2,3 -o " + back, "sphere takes 4 numbers");
   expectBadInput("edit " + input + " --subtract cube:1,2,3,4 -o " + back, "a shape is sphere:");
-  expectBadInput("edit " + input + " --depth 60 --union sphere:1,2,3,4 -o " + back, "past the tree's limit");
+  expectBadInput("edit " + input + " --depth 60 --union sphere:1,2,3,4 -o " + back, "--depth: '60' is not in [1, 48]");
   expectBadInput("edit " + input + " --union sphere:1,2,3,4 -o x.png", "write a mask");
   // Depths whose voxels no memory holds: refused before any work, naming what to change.
   expectBadInput("edit " + torus + " --depth 45 -o " + surface, "choose a smaller --depth");
