@@ -1,4 +1,4 @@
-// bench_dvt: the torus drawing of Jung et al. (Fig. 7) beside OpenVDB's CSG on narrow-band level sets.
+// bench_dvt: the torus drawing of Keller et al. (Fig. 7) beside OpenVDB's CSG on narrow-band level sets.
 //   A sphere brush of radius 0.04 moves 120 steps of 3 degrees around a circle of radius 0.3 in the unit
 //   cube (a union each step), then a brush of radius 0.02 carves a groove along the top of the tube
 //   (a subtraction each step). Voxel size 5 % of the brush (1/512 of the cube) and 1.25 % (1/2048).

@@ -1,5 +1,5 @@
 // Pictures of a dynamic volume tree (levelset/dvt), drawn in the current GL context straight from the
-// tree's pointer and node streams (Jung et al., sec. 5.1):
+// tree's pointer and node streams (Keller et al., sec. 5.1):
 //   Cubes:   one instanced cube per inside leaf (the vertex stage drops every other node), flat shaded.
 //   RayCast: a ray per pixel walks the tree from leaf to leaf (coarse empty leaves are skipped whole)
 //            to the first zero of the sub-voxel distances interpolated between the leaves, and is

@@ -1,6 +1,6 @@
 // DynamicVolumeTree: the tree (volume_tree.h) on a backend (tree_passes.h), changed by writes of
 // input voxels (rasterise.h, volume_input.h) until nothing changes, and collapsed on demand or every
-// k writes (Jung et al., Alg. 3.1 and sec. 4.3).
+// k writes (Keller et al., Alg. 3.1 and sec. 4.3).
 //   Union: every cell the input holds inside becomes inside (leaf values: the larger); subtract: every
 //   cell it holds inside becomes outside (the smaller of the leaf and the input's complement). A leaf
 //   coarser than an input voxel is split down to it (unless the write cannot change it); a subtree

@@ -1,4 +1,4 @@
-// TreePasses: the data-parallel passes a DVT write and collapse are made of (Jung et al., Alg. 3.1),
+// TreePasses: the data-parallel passes a DVT write and collapse are made of (Keller et al., Alg. 3.1),
 // on the CPU (cpu_tree_passes, TBB) or the GPU (gpu_tree_passes, GL 4.5 compute). Both apply
 // tree_rules.h to pre-order streams (volume_tree.h) with a mark per node: the GPU to the one pointer
 // and node stream, the CPU to each brick of a tree it keeps cut into bricks, in a compact stream of

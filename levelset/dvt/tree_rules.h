@@ -1,4 +1,4 @@
-// The per-node rules of a DVT write and collapse (Jung et al., sec. 4.2-4.3), shared by the CPU passes
+// The per-node rules of a DVT write and collapse (Keller et al., sec. 4.2-4.3), shared by the CPU passes
 // (cpu_tree_passes) and, through the defines of ruleDefines(), their GLSL twin
 // levelset/dvt/shaders/tree_rules.glsl, so the two backends make the same streams bit for bit.
 #pragma once

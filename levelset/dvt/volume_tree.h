@@ -1,4 +1,4 @@
-// VolumeTree: the dynamic volume tree (DVT) of Jung et al., as streams in pre-order.
+// VolumeTree: the dynamic volume tree (DVT) of Keller et al., as streams in pre-order.
 //
 // Space: a fixed box, split in halves along x, y, z in turn (depth 0 splits x, depth 1 y, depth 2 z,
 // ...), so a node's cell follows from its depth and its integer coordinates along each axis. The box

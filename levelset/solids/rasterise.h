@@ -1,4 +1,4 @@
-// rasterise: a solid (solid.h) as DVT input voxels down to a target depth (Jung et al., Alg. 4.1).
+// rasterise: a solid (solid.h) as DVT input voxels down to a target depth (Keller et al., Alg. 4.1).
 // Hierarchical: from the root, cells wholly inside become one voxel at their own depth, cells wholly
 // outside are dropped, crossed cells are split until the target depth, where they keep their band
 // value. Not hierarchical (the paper's variant without it): every cell with some inside is split down

@@ -1,4 +1,4 @@
-// Solids a DVT write takes (Jung et al., sec. 4.4): implicit brushes (sphere, box, capsule, torus),
+// Solids a DVT write takes (Keller et al., sec. 4.4): implicit brushes (sphere, box, capsule, torus),
 // closed triangle meshes (mesh_solid.h) and segmentations (volume_solid.h). A cell's centre is inside
 // a solid when the solid's inside-ness there is > 0.
 #pragma once
