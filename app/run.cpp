@@ -32,7 +32,8 @@ using pipeline::kDemoSeedRadius;
 
 struct RunOptions {
   std::vector<std::string> seeds;
-  double target = 0, width = 1, alpha = pipeline::kDefaultAlpha;
+  std::optional<double> target, width;  // required with --seed, as segment requires them
+  double alpha = pipeline::kDefaultAlpha;
   std::string backend = "auto";
   // A cap, as run always stops at convergence: higher than segment's count, which it runs whole
   // without --converge. The demo converges in under a thousand.
@@ -48,7 +49,7 @@ struct RunOptions {
 // demo's when the input is the demo volume and no seed is given (then the demo's edit too, unless
 // the user gave edits).
 SegmentationSetup segmentationSetup(const RunOptions& options, const std::string& input, const Volume& volume) {
-  SegmentationSetup s{{}, {float(options.target), float(options.width), float(options.alpha)}, {.steps = *options.edits}};
+  SegmentationSetup s{{}, {float(options.target.value_or(0)), float(options.width.value_or(1)), float(options.alpha)}, {.steps = *options.edits}};
   for (const std::string& text : options.seeds) {
     s.seeds.push_back(parseBall(text, "--seed", pipeline::kDefaultSeedRadius));
     pipeline::requireInside(volume, s.seeds.back().centre, "--seed " + text);
@@ -70,6 +71,7 @@ std::vector<int> runLevels(const std::string& text, int topLevel) {
 }
 
 void checkRunOptions(const RunOptions& o) {
+  require(o.seeds.empty() || (o.target && o.width), "--seed needs --target T and --width EPS (isoatlas probe suggests them)");
   pipeline::ModelRequest model = o.model;  // --base-ratio, --chart, --relax-sweeps: as build checks them
   model.chartSize = o.chart > 0 ? std::uint32_t(o.chart) : 0;
   pipeline::checkModelRequest(model);
@@ -154,10 +156,9 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   sub->add_option("volume", *input, "input volume")->capture_default_str();
   sub->add_option("-o,--output", *outDir, "folder for every product and index.html")->capture_default_str();
   sub->add_option("--seed", options->seeds, "seed X,Y,Z[,R] in voxel indices, R in voxels (default " + std::to_string(int(pipeline::kDefaultSeedRadius)) + "); the demo volume has its own");
-  sub->add_option("--target,-T", options->target, "T for the segmentation (the demo volume has its own)")
+  sub->add_option("--target,-T", options->target, "T for the segmentation, required with --seed (without --seed, the demo volume has its own)")
       ->check(inRange(-kMaxIntensity, kMaxIntensity));
-  sub->add_option("--width,-e", options->width, "eps for the segmentation (the demo volume has its own)")
-      ->capture_default_str()
+  sub->add_option("--width,-e", options->width, "eps for the segmentation, required with --seed (without --seed, the demo volume has its own)")
       ->check(inRange(kMinWidth, kMaxIntensity));
   sub->add_option("--alpha,-a", options->alpha, "alpha for the segmentation, as segment's (the demo volume has its own, 0.8)")
       ->capture_default_str()

@@ -14,7 +14,7 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--frames", o->frames, "draw this many frames and close (0: until the window is closed)")
       ->capture_default_str()
       ->check(inRange(0, 1e7));
-  sub->add_option("--screenshot", o->screenshot, "with --frames: save the last frame as this PNG");
+  sub->add_option("--screenshot", o->screenshot, "with --frames: save the last frame as this PNG")->check(outputFile());
   sub->add_option("--backend", o->backend, "the segmentation's solver: gpu, cpu or auto (the CPU where GL is a software rasteriser)")
       ->capture_default_str();
   auto size = std::make_shared<std::string>("1280,800");

@@ -197,6 +197,7 @@ TEST(Cli, EveryBadOptionExitsTwoNamingItAndWritesNothing) {
       {"probe " + vol + "--at 100,100,100", "--at"},
       {"extract " + vol + "-o " + o + "no-such-folder/s.ply", "no-such-folder/s.ply: its folder does not exist"},
       {"run " + vol + "-o " + o + "run --chart 30", "--chart"},
+      {"run " + vol + "-o " + o + "run --seed 10,10,10", "--seed needs --target"},
       {"run " + vol + "-o " + o + "run --relax-sweeps 5000", "--relax-sweeps"},
       {"run " + vol + "-o " + o + "run --seed 100,0,0 -T 100 -e 10", "--seed"},
   };
