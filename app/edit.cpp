@@ -14,7 +14,7 @@
 #include "levelset/dvt/dvt_file.h"
 #include "levelset/dvt/gpu_tree_passes.h"
 #include "levelset/solids/volume_solid.h"
-#include "viewer/dvt_render.h"
+#include "render/dvt_render.h"
 
 namespace isoatlas::app {
 namespace dvt = levelset::dvt;
@@ -106,8 +106,8 @@ void addEditCommand(CLI::App& app, int& exitCode) {
       writeVolume(o->output, dvt::sampleMask(tree));
     }
     if (!o->render.empty()) {
-      viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(tree), o->size[0], o->size[1], {0.6, 1, -0.5}),
-                           .mode = o->renderMode == "cubes" ? viewer::DvtRenderMode::Cubes : viewer::DvtRenderMode::RayCast};
+      render::DvtView view{.camera = render::Camera::framing(render::insideBounds(tree), o->size[0], o->size[1], {0.6, 1, -0.5}),
+                           .mode = o->renderMode == "cubes" ? render::DvtRenderMode::Cubes : render::DvtRenderMode::RayCast};
       writePng(o->render, pipeline::renderEditedTree(edited, tree, view, gpu));
       r["render"] = o->render;
     }

@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/text.h"
-#include "viewer/mesh_render.h"
+#include "render/mesh_render.h"
 
 namespace isoatlas::app {
 

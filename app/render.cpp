@@ -9,8 +9,8 @@
 #include "app/command.h"
 #include "pipeline/segmentation_views.h"
 #include "levelset/dvt/dvt_file.h"
-#include "viewer/orbit.h"
-#include "viewer/dvt_render.h"
+#include "render/orbit.h"
+#include "render/dvt_render.h"
 #include "app/options.h"
 #include "atlas/reconstruct.h"
 #include "core/error.h"
@@ -18,8 +18,8 @@
 #include "core/mesh_io.h"
 #include "core/mesh_topology.h"
 #include "core/progress.h"
-#include "viewer/scene.h"
-#include "viewer/smooth_render.h"
+#include "render/scene.h"
+#include "render/smooth_render.h"
 
 namespace isoatlas::app {
 namespace {
@@ -46,10 +46,10 @@ struct RenderOptions {
   bool limitOnly = false;
 };
 
-viewer::Camera parseCamera(const std::string& text, int width, int height) {
+render::Camera parseCamera(const std::string& text, int width, int height) {
   const std::vector<double> v = parseNumbers(text, "--camera", "EX,EY,EZ,TX,TY,TZ,FOV");
   require(v.size() == 7, "--camera " + text + ": expected EX,EY,EZ,TX,TY,TZ,FOV (eye, target, vertical field of view in degrees)");
-  viewer::Camera c;
+  render::Camera c;
   c.eye = {v[0], v[1], v[2]};
   c.target = {v[3], v[4], v[5]};
   c.fovDegrees = v[6];
@@ -83,9 +83,9 @@ double median(std::vector<double> v) {
 // The options checked before anything is read or a GL context made.
 struct Plan {
   int width = 0, height = 0, grid = 0;
-  viewer::CpuRefinement cpu;
-  viewer::GpuRefinement gpu;
-  std::optional<viewer::Camera> camera;
+  render::CpuRefinement cpu;
+  render::GpuRefinement gpu;
+  std::optional<render::Camera> camera;
 };
 Plan plan(const RenderOptions& o) {
   require(o.output.ends_with(".png"), o.output + ": -o writes a .png");
@@ -98,10 +98,10 @@ Plan plan(const RenderOptions& o) {
   const auto size = parseSize(o.size);
   p.width = size[0], p.height = size[1];
   p.grid = o.scene.empty() ? 0 : parseGrid(o.scene);
-  if (o.cpuLevel >= 0) p.cpu = {viewer::CpuRefinement::Mode::Level, o.cpuLevel};
-  else if (o.cpuError > 0) p.cpu = {viewer::CpuRefinement::Mode::Pixels, 0, o.cpuError};
-  if (o.gpuLevel >= 0) p.gpu = {viewer::GpuRefinement::Mode::Level, o.gpuLevel};
-  else if (o.gpuPixels > 0) p.gpu = {viewer::GpuRefinement::Mode::Pixels, 0, o.gpuPixels};
+  if (o.cpuLevel >= 0) p.cpu = {render::CpuRefinement::Mode::Level, o.cpuLevel};
+  else if (o.cpuError > 0) p.cpu = {render::CpuRefinement::Mode::Pixels, 0, o.cpuError};
+  if (o.gpuLevel >= 0) p.gpu = {render::GpuRefinement::Mode::Level, o.gpuLevel};
+  else if (o.gpuPixels > 0) p.gpu = {render::GpuRefinement::Mode::Pixels, 0, o.gpuPixels};
   if (!o.camera.empty()) p.camera = parseCamera(o.camera, p.width, p.height);
   return p;
 }
@@ -110,9 +110,9 @@ Plan plan(const RenderOptions& o) {
 struct FrameLog {
   std::vector<double> cpuMs, gpuMs, frameMs;
   std::vector<std::string> images;
-  viewer::FrameReport last;
+  render::FrameReport last;
   std::size_t uploadBytes = 0, splits = 0, welds = 0;
-  void add(const viewer::FrameReport& f) {
+  void add(const render::FrameReport& f) {
     last = f;
     cpuMs.push_back(f.cpu.ms), gpuMs.push_back(f.gpu.gpuMs), frameMs.push_back(f.ms);
     uploadBytes += f.cpu.uploadBytes, splits += f.cpu.splits, welds += f.cpu.welds;
@@ -152,24 +152,24 @@ int render(const RenderOptions& o, nlohmann::json& r) {
   gpu.needGl();
   std::vector<const atlas::Model*> pointers;
   for (const atlas::Model& m : models) pointers.push_back(&m);
-  viewer::Scene scene(pointers);
+  render::Scene scene(pointers);
   if (p.grid) scene.grid(p.grid);
-  const viewer::Camera first = p.camera ? *p.camera : scene.defaultCamera(p.width, p.height);
-  viewer::DrawStyle style;
+  const render::Camera first = p.camera ? *p.camera : scene.defaultCamera(p.width, p.height);
+  render::DrawStyle style;
   style.wireframe = o.wire;
   style.colourByChart = o.chartColours;
 
-  const viewer::AtlasRenderer renderer;
-  std::unique_ptr<viewer::SmoothSurface> smooth;
-  if (o.smooth) smooth = std::make_unique<viewer::SmoothSurface>(models.front(), scene.textures(0));
+  const render::AtlasRenderer renderer;
+  std::unique_ptr<render::SmoothSurface> smooth;
+  if (o.smooth) smooth = std::make_unique<render::SmoothSurface>(models.front(), scene.textures(0));
   const gl::Framebuffer target(p.width, p.height);
   const int images = std::max(o.turntable, 1), frames = std::max(images, o.frames);
   FrameLog log;
   Progress progress("render", std::size_t(frames));
   for (int f = 0; f < frames; ++f) {
-    const viewer::Camera camera = o.turntable > 0 ? first.turned(2 * 3.14159265358979 * (f % images) / images) : first;
-    log.add(smooth ? viewer::drawSmoothFrame(scene, *smooth, o.smooth, !o.limitOnly, camera, style, target)
-                   : viewer::drawFrame(scene, renderer, p.cpu, p.gpu, camera, style, target));
+    const render::Camera camera = o.turntable > 0 ? first.turned(2 * 3.14159265358979 * (f % images) / images) : first;
+    log.add(smooth ? render::drawSmoothFrame(scene, *smooth, o.smooth, !o.limitOnly, camera, style, target)
+                   : render::drawFrame(scene, renderer, p.cpu, p.gpu, camera, style, target));
     if (f < images) {
       log.images.push_back(framePath(o.output, f, images));
       writePng(log.images.back(), target.readImage());
@@ -188,7 +188,7 @@ int render(const RenderOptions& o, nlohmann::json& r) {
   r["renderer"] = gpu.needGl().info().renderer;
   r["mode"] = o.smooth ? (o.limitOnly ? "smooth limit (OpenSubdiv)" : "smooth with the atlas's detail (OpenSubdiv)") : "atlas";
   r["instances"] = scene.instances().size();
-  if (p.cpu.mode == viewer::CpuRefinement::Mode::Level) r["cpu_levels"] = {log.last.cpu.minLevel, log.last.cpu.maxLevel};
+  if (p.cpu.mode == render::CpuRefinement::Mode::Level) r["cpu_levels"] = {log.last.cpu.minLevel, log.last.cpu.maxLevel};
   r["size"] = {p.width, p.height};
   logInfo("render: " + std::to_string(log.last.gpu.patches) + " patches, " + std::to_string(log.last.gpu.triangles) +
           " triangles, frame " + std::to_string(median(log.frameMs)) + " ms (CPU " + std::to_string(median(log.cpuMs)) +
@@ -251,10 +251,10 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
       const auto [width, height] = parseSize(o->size);
       pipeline::Gpu gpu;
       gpu.needGl();
-      const viewer::Camera camera = o->camera.empty() ? viewer::Orbit{}.camera(viewer::insideBounds(tree), width, height)
+      const render::Camera camera = o->camera.empty() ? render::Orbit{}.camera(render::insideBounds(tree), width, height)
                                                       : parseCamera(o->camera, width, height);
-      writePng(o->output, viewer::renderTree(tree, {.camera = camera, .mode = seg->view == "cubes" ? viewer::DvtRenderMode::Cubes
-                                                                                                 : viewer::DvtRenderMode::RayCast}));
+      writePng(o->output, render::renderTree(tree, {.camera = camera, .mode = seg->view == "cubes" ? render::DvtRenderMode::Cubes
+                                                                                                 : render::DvtRenderMode::RayCast}));
       r["images"] = {o->output};
       r["nodes"] = tree.nodeCount();
       return 0;

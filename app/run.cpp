@@ -23,7 +23,7 @@
 #include "pipeline/run_page.h"
 #include "pipeline/segmentation.h"
 #include "pipeline/volume_editing.h"
-#include "viewer/slice_render.h"
+#include "render/slice_render.h"
 
 namespace isoatlas::app {
 namespace {
@@ -103,7 +103,7 @@ void runJob(const std::string& input, const std::string& outDir, const RunOption
                         secondsRead});
   job.stage("render input slices", [&] {
     writePng(job.products.add("input_slices.png", "the input: axial, coronal and sagittal slices through its centre", true),
-             viewer::renderSlices(job.volume, viewer::volumeCentre(job.volume)));
+             render::renderSlices(job.volume, render::volumeCentre(job.volume)));
     return std::string("input_slices.png");
   });
 

@@ -12,9 +12,9 @@
 #include "extract/extract_surface.h"
 #include "levelset/solids/volume_solid.h"
 #include "pipeline/surface_figures.h"
-#include "viewer/dvt_render.h"
-#include "viewer/mesh_render.h"
-#include "viewer/slice_render.h"
+#include "render/dvt_render.h"
+#include "render/mesh_render.h"
+#include "render/slice_render.h"
 
 namespace isoatlas::app {
 
@@ -87,19 +87,19 @@ std::string surfacePictures(RunJob& job, const EditedVolume& edit, const Mesh& s
   job.gpu.needGl();
   std::string names;
   if (edit.tree) {
-    const viewer::DvtView view{.camera = viewer::Camera::framing(viewer::insideBounds(*edit.tree), 800, 600, {1, 0.3, -0.3})};
+    const render::DvtView view{.camera = render::Camera::framing(render::insideBounds(*edit.tree), 800, 600, {1, 0.3, -0.3})};
     writePng(job.products.add("edited_tree.png", "the edited segmentation, ray cast straight from the volume tree", true),
              pipeline::renderEditedTree(*edit.edited, *edit.tree, view, job.gpu));
     names = "edited_tree.png, ";
   }
   writePng(job.products.add("surface_left.png", "the extracted surface seen from the left", true),
-           viewer::renderMesh(surface, {.viewDirection = {1, 0, 0}}));
+           render::renderMesh(surface, {.viewDirection = {1, 0, 0}}));
   writePng(job.products.add("surface_top.png", "the extracted surface seen from above (anterior up)", true),
-           viewer::renderMesh(surface, {.viewDirection = {0, 0, -1}, .up = {0, 1, 0}}));
-  viewer::SliceOptions overlay;
+           render::renderMesh(surface, {.viewDirection = {0, 0, -1}, .up = {0, 1, 0}}));
+  render::SliceOptions overlay;
   overlay.mask = &s.mask;
   writePng(job.products.add("segmentation_slices.png", "the segmentation over the input, through the first seed", true),
-           viewer::renderSlices(job.volume, job.volume.indexToWorld(firstSeed), overlay));
+           render::renderSlices(job.volume, job.volume.indexToWorld(firstSeed), overlay));
   return names + "surface_left.png, surface_top.png, segmentation_slices.png";
 }
 
@@ -140,7 +140,7 @@ void modelStage(RunJob& job, BuiltModel& built, std::uint32_t chartSize) {
   job.gpu.needGl();
   writePng(job.products.add("model_level" + std::to_string(shown) + "_left.png",
                             "the model at level " + std::to_string(shown) + " seen from the left (atlas normals)", true),
-           viewer::renderMesh(atlas::reconstructLevel(model.base, model.atlas, shown), {.viewDirection = {1, 0, 0}}));
+           render::renderMesh(atlas::reconstructLevel(model.base, model.atlas, shown), {.viewDirection = {1, 0, 0}}));
   const double seconds = built.seconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   job.stages.push_back({"build multiresolution model", "done",
                         std::to_string(model.base.vertexCount()) + " base vertices, " + std::to_string(model.atlas.layout.charts) +

@@ -1,8 +1,8 @@
-// isoatlas view: the window (viewer/app/viewer_app.h), building models with `build`'s stage.
+// isoatlas view: the window (viewer/viewer_app.h), building models with `build`'s stage.
 #include "app/command.h"
 #include "pipeline/model_building.h"
 #include "app/options.h"
-#include "viewer/app/viewer_app.h"
+#include "viewer/viewer_app.h"
 
 namespace isoatlas::app {
 

@@ -24,8 +24,8 @@
 #include "core/mesh_io.h"
 #include "core/mesh_topology.h"
 #include "core/text.h"
-#include "viewer/scene.h"
-#include "viewer/smooth_render.h"
+#include "render/scene.h"
+#include "render/smooth_render.h"
 
 using namespace isoatlas;
 
@@ -50,11 +50,11 @@ struct Timed {
   double frameMs = 0, gpuMs = 0;
   std::uint64_t triangles = 0;
 };
-Timed timed(const std::function<viewer::FrameReport()>& frame) {
+Timed timed(const std::function<render::FrameReport()>& frame) {
   std::vector<double> ms, gpu;
   std::uint64_t triangles = 0;
   for (int k = 0; k < 6; ++k) {
-    const viewer::FrameReport f = frame();
+    const render::FrameReport f = frame();
     if (k == 0) continue;  // programs compiled, patch lists made and sent
     ms.push_back(f.ms), gpu.push_back(f.gpu.gpuMs), triangles = f.gpu.triangles;
   }
@@ -62,19 +62,19 @@ Timed timed(const std::function<viewer::FrameReport()>& frame) {
 }
 
 void speed(const std::string& name, const atlas::Model& model, int grid) {
-  viewer::Scene scene({&model});
+  render::Scene scene({&model});
   scene.grid(grid);
-  const viewer::Camera camera = scene.defaultCamera(1920, 1080);
+  const render::Camera camera = scene.defaultCamera(1920, 1080);
   const gl::Framebuffer target(camera.width, camera.height);
-  const viewer::AtlasRenderer renderer;
-  const viewer::CpuRefinement cpu{viewer::CpuRefinement::Mode::Level, 6};
+  const render::AtlasRenderer renderer;
+  const render::CpuRefinement cpu{render::CpuRefinement::Mode::Level, 6};
   auto ours = [&](double pixels) {
-    return viewer::drawFrame(scene, renderer, cpu, {viewer::GpuRefinement::Mode::Pixels, 0, pixels}, camera, {}, target);
+    return render::drawFrame(scene, renderer, cpu, {render::GpuRefinement::Mode::Pixels, 0, pixels}, camera, {}, target);
   };
   // OpenSubdiv's uniform level nearest our cascade at 8-pixel segments; then our segment length
   // set (bisection) so that we draw as many triangles as it does.
   const std::uint64_t first = ours(8).gpu.triangles;
-  const viewer::SmoothSurface smooth(model, scene.textures(0));
+  const render::SmoothSurface smooth(model, scene.textures(0));
   const double perLevel = 8.0 * double(smooth.baseFaces() * scene.instances().size());
   const int level = std::clamp(int(std::lround(std::sqrt(double(first) / perLevel) / 2)) * 2, 2, 32);
   const double wanted = perLevel * level * level;
@@ -86,15 +86,15 @@ void speed(const std::string& name, const atlas::Model& model, int grid) {
     (got > wanted ? low : high) = pixels;
   }
   const Timed a = timed([&] { return ours(pixels); });
-  auto theirs = [&](const viewer::DrawStyle& style) {
-    return timed([&] { return viewer::drawSmoothFrame(scene, smooth, level, false, camera, style, target); });
+  auto theirs = [&](const render::DrawStyle& style) {
+    return timed([&] { return render::drawSmoothFrame(scene, smooth, level, false, camera, style, target); });
   };
   const Timed b = theirs({});
   // The same pipeline for both: OpenSubdiv's evaluation through our geometry stage, as ours always
   // goes (with the wireframe, which both then draw).
-  viewer::DrawStyle wire;
+  render::DrawStyle wire;
   wire.wireframe = true;
-  const Timed aWire = timed([&] { return viewer::drawFrame(scene, renderer, cpu, {viewer::GpuRefinement::Mode::Pixels, 0, pixels}, camera, wire, target); });
+  const Timed aWire = timed([&] { return render::drawFrame(scene, renderer, cpu, {render::GpuRefinement::Mode::Pixels, 0, pixels}, camera, wire, target); });
   const Timed bWire = theirs(wire);
   char segments[64];
   std::snprintf(segments, sizeof segments, "%.1f", pixels);
@@ -126,17 +126,17 @@ Image sideBySide(const std::vector<Image>& images) {
 }
 
 void accuracy(const std::string& name, const atlas::Model& model, const Mesh& dense) {
-  viewer::Scene scene({&model});
-  const viewer::Camera camera = scene.defaultCamera(480, 360);
-  const viewer::AtlasRenderer renderer;
-  const viewer::SmoothSurface smooth(model, scene.textures(0));
+  render::Scene scene({&model});
+  const render::Camera camera = scene.defaultCamera(480, 360);
+  const render::AtlasRenderer renderer;
+  const render::SmoothSurface smooth(model, scene.textures(0));
   const double diagonal = boundingBox(dense.positions).diagonal();
   const gl::Framebuffer target(camera.width, camera.height);
   std::vector<Image> pictures;
   for (const int level : {4, 6, 8}) {
     const int t = 1 << (level / 2 - 1);  // 8 T^2 = 2 * 4^(level / 2): equal triangles a tile
-    scene.refine({viewer::CpuRefinement::Mode::Level, level}, camera);
-    const Mesh atlasMesh = renderer.capture(scene.items(), camera, scene.bounds(), {viewer::GpuRefinement::Mode::Level, 0});
+    scene.refine({render::CpuRefinement::Mode::Level, level}, camera);
+    const Mesh atlasMesh = renderer.capture(scene.items(), camera, scene.bounds(), {render::GpuRefinement::Mode::Level, 0});
     const Mesh detailed = smooth.capture({{0, 0, 0}}, camera, scene.bounds(), t, true);
     const Mesh limit = smooth.capture({{0, 0, 0}}, camera, scene.bounds(), t, false);
     const double psnrAtlas = psnrDb(diagonal, hausdorffDistance(atlasMesh, dense).symmetric());
@@ -159,7 +159,7 @@ void accuracy(const std::string& name, const atlas::Model& model, const Mesh& de
         drawText(picture, 12, 10, text, 18, {40, 40, 40});
         pictures.push_back(std::move(picture));
       };
-      renderer.draw(scene.items(), camera, scene.bounds(), {viewer::GpuRefinement::Mode::Level, 0}, {}, target);
+      renderer.draw(scene.items(), camera, scene.bounds(), {render::GpuRefinement::Mode::Level, 0}, {}, target);
       labelled("atlas, level 6", psnrAtlas);
       smooth.draw({{0, 0, 0}}, camera, scene.bounds(), t, true, {}, target);
       labelled("smooth + detail, T 4", psnrDetailed);

@@ -18,7 +18,7 @@
 #include "multires/folded_dense_triangles.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
-#include "viewer/mesh_render.h"
+#include "render/mesh_render.h"
 
 namespace isoatlas::pipeline {
 
@@ -216,7 +216,7 @@ Image closeUp(const atlas::Model& model, const atlas::StampStats& stamp, double 
   });
   const Vec3 worldUp = std::abs(stamp.normal.z) > 0.9 ? Vec3{0, 1, 0} : Vec3{0, 0, 1};
   // selectFaces keeps the normals of the vertices it keeps: the atlas's, stamped.
-  return viewer::renderMesh(near, {.viewDirection = stamp.normal * -1, .up = worldUp});
+  return render::renderMesh(near, {.viewDirection = stamp.normal * -1, .up = worldUp});
 }
 
 atlas::StampStats stampModel(atlas::Model& model, const StampRequest& request, nlohmann::json& r) {

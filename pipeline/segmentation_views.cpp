@@ -5,9 +5,9 @@
 #include "core/error.h"
 #include "core/volume_io.h"
 #include "levelset/level_set.h"
-#include "viewer/orbit.h"
-#include "viewer/slice_render.h"
-#include "viewer/volume_render.h"
+#include "render/orbit.h"
+#include "render/slice_render.h"
+#include "render/volume_render.h"
 
 namespace isoatlas::pipeline {
 
@@ -20,7 +20,7 @@ Image renderSegmentationView(const SegmentationViewRequest& request, nlohmann::j
           "--clip " + r.clip + ": expected +x, -x, +y, -y, +z, -z or off");
   require(r.opacity > 0 && r.opacity <= 1, "--opacity must lie in (0, 1]");
   const Volume volume = readVolume(r.volume);
-  const Vec3 at = r.at.value_or(viewer::volumeCentre(volume));
+  const Vec3 at = r.at.value_or(render::volumeCentre(volume));
   requireInside(volume, volume.worldToIndex(at), "--at");
   // The segmentation as a level set (CPU, no steps): its pages are what the window reads.
   levelset::LevelSet levelSet(volume, {}, {});
@@ -34,20 +34,20 @@ Image renderSegmentationView(const SegmentationViewRequest& request, nlohmann::j
     levelSet.setMask(mask);
     for (std::size_t n = 0; n < mask.voxelCount(); ++n) inside += mask.value(n) > 0;
   }
-  const viewer::IntensityWindow window = viewer::percentileWindow(volume, 1, 99.5);
+  const render::IntensityWindow window = render::percentileWindow(volume, 1, 99.5);
   figures["view"] = r.view;
   figures["inside_voxels"] = inside;
 
   Gpu gpu;  // the process's one context, for the volume rendering
   if (r.view == "slices") {
     const int panel = std::max(16, std::min(r.width / 3, r.height));
-    viewer::SliceOptions o{.panelSize = panel, .window = window, .crosshair = true};
-    if (!r.segmentation.empty()) o.phi = viewer::pagedField(levelSet);
+    render::SliceOptions o{.panelSize = panel, .window = window, .crosshair = true};
+    if (!r.segmentation.empty()) o.phi = render::pagedField(levelSet);
     figures["size"] = {3 * panel, panel};
-    return viewer::renderSlices(volume, at, o);
+    return render::renderSlices(volume, at, o);
   }
   gpu.needGl();
-  viewer::VolumeRenderView view{.camera = r.camera.value_or(viewer::Orbit{}.camera(viewer::gridBounds(volume), r.width, r.height)),
+  render::VolumeRenderView view{.camera = r.camera.value_or(render::Orbit{}.camera(render::gridBounds(volume), r.width, r.height)),
                                 .window = window,
                                 .opacity = r.opacity,
                                 .insideOnly = r.insideOnly,
@@ -55,10 +55,10 @@ Image renderSegmentationView(const SegmentationViewRequest& request, nlohmann::j
   if (clipped) {
     Vec3 normal{0, 0, 0};
     normal[r.clip[1] - 'x'] = r.clip[0] == '+' ? 1 : -1;
-    view.clip = viewer::ClipPlane{at, normal};
+    view.clip = render::ClipPlane{at, normal};
   }
   figures["size"] = {r.width, r.height};
-  return viewer::renderVolume(volume, levelSet, view);
+  return render::renderVolume(volume, levelSet, view);
 }
 
 }  // namespace isoatlas::pipeline

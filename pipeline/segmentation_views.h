@@ -9,7 +9,7 @@
 #include <string>
 
 #include "core/image.h"
-#include "viewer/camera.h"
+#include "render/camera.h"
 
 namespace isoatlas::pipeline {
 
@@ -21,7 +21,7 @@ struct SegmentationViewRequest {
   bool insideOnly = false;
   double opacity = 0.08;
   int width = 800, height = 600;
-  std::optional<viewer::Camera> camera;
+  std::optional<render::Camera> camera;
 };
 
 // Reads and checks everything before any GL work; adds view, inside_voxels and size to `figures`.

@@ -171,10 +171,10 @@ void applySteps(EditedTree& e, const EditRequest& request, const std::vector<std
   ++e.collapses;
 }
 
-Image renderEditedTree(const EditedTree& e, const dvt::VolumeTree& streams, const viewer::DvtView& view, Gpu& gpu) {
+Image renderEditedTree(const EditedTree& e, const dvt::VolumeTree& streams, const render::DvtView& view, Gpu& gpu) {
   gpu.needGl();
-  if (e.backend != "gpu") return viewer::renderTree(streams, view);
-  return viewer::renderTree(dvt::gpuTreeBuffers(e.tree->passes()), e.tree->nodeCount(), e.tree->frame(), view);
+  if (e.backend != "gpu") return render::renderTree(streams, view);
+  return render::renderTree(dvt::gpuTreeBuffers(e.tree->passes()), e.tree->nodeCount(), e.tree->frame(), view);
 }
 
 

@@ -14,7 +14,7 @@
 #include "core/mesh.h"
 #include "levelset/dvt/dynamic_volume_tree.h"
 #include "levelset/solids/solid.h"
-#include "viewer/dvt_render.h"
+#include "render/dvt_render.h"
 
 namespace isoatlas::pipeline {
 
@@ -75,6 +75,6 @@ EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest&
 EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& gpu);
 void applySteps(EditedTree& edited, const EditRequest& request, const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids);
 // A picture of the edited tree: from the GPU tree's own buffers, else `streams` uploaded.
-Image renderEditedTree(const EditedTree& edited, const levelset::dvt::VolumeTree& streams, const viewer::DvtView& view, Gpu& gpu);
+Image renderEditedTree(const EditedTree& edited, const levelset::dvt::VolumeTree& streams, const render::DvtView& view, Gpu& gpu);
 
 }  // namespace isoatlas::pipeline

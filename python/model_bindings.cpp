@@ -14,7 +14,7 @@
 #include "core/gl/context.h"
 #include "core/gl/resources.h"
 #include "python/bindings.h"
-#include "viewer/scene.h"
+#include "render/scene.h"
 
 namespace isoatlas::python {
 namespace {
@@ -105,18 +105,18 @@ void bindModels(py::module_& m) {
         require(cpuLevel >= 0 && cpuLevel <= atlas::maxLevel(p.model.chartSize), "cpu_level: 0 .. the chart's finest level");
         require(gpuLevel >= 0, "gpu_level must be >= 0");
         gpuFor("auto", false).needGl();
-        viewer::Scene scene({&p.model});
-        viewer::Camera view = scene.defaultCamera(width, height);
+        render::Scene scene({&p.model});
+        render::Camera view = scene.defaultCamera(width, height);
         if (camera) {
           require(camera->size() == 7, "camera: (eye x, y, z, target x, y, z, vertical field of view in degrees)");
           const auto& c = *camera;
           view.eye = {c[0], c[1], c[2]}, view.target = {c[3], c[4], c[5]}, view.fovDegrees = c[6];
           view.check();
         }
-        const viewer::AtlasRenderer renderer;
+        const render::AtlasRenderer renderer;
         const gl::Framebuffer target(width, height);
-        viewer::drawFrame(scene, renderer, {.mode = viewer::CpuRefinement::Mode::Level, .level = cpuLevel},
-                          {.mode = viewer::GpuRefinement::Mode::Level, .halvings = gpuLevel}, view,
+        render::drawFrame(scene, renderer, {.mode = render::CpuRefinement::Mode::Level, .level = cpuLevel},
+                          {.mode = render::GpuRefinement::Mode::Level, .halvings = gpuLevel}, view,
                           {.wireframe = wireframe}, target);
         const Image image = target.readImage();
         py::array_t<std::uint8_t> a({py::ssize_t(height), py::ssize_t(width), py::ssize_t(3)});

@@ -12,7 +12,7 @@ namespace isoatlas::levelset::dvt {
 
 std::unique_ptr<TreePasses> makeGpuTreePasses();  // in gl::Context::current()
 
-// The GL buffers of a GPU tree, for renderers in the same context (viewer/dvt_render): the pointer
+// The GL buffers of a GPU tree, for renderers in the same context (render/dvt_render): the pointer
 // stream (16 bytes per node) and the node stream (8 bytes per node), nodeCount() nodes.
 struct GpuTreeBuffers {
   unsigned pointers = 0, cells = 0;

@@ -10,7 +10,7 @@
 #include "levelset/level_set.h"
 #include "tests/gl_context.h"
 #include "tests/test_util.h"
-#include "viewer/mesh_render.h"
+#include "render/mesh_render.h"
 
 namespace isoatlas {
 namespace {
@@ -30,7 +30,7 @@ TEST(OneContext, SolverExtractionFromItsPagesAndRender) {
   const MeshTopology t = analyzeTopology(surface);
   EXPECT_TRUE(t.closed && t.manifold);
   EXPECT_EQ(t.genus, 0);
-  Image picture = viewer::renderMesh(surface, {.width = 64, .height = 48});
+  Image picture = render::renderMesh(surface, {.width = 64, .height = 48});
   // The sphere covers the middle of the picture and leaves the corner white.
   EXPECT_NE(picture.at(32, 24)[2], 255);
   EXPECT_EQ(picture.at(0, 0)[0], 255);
@@ -39,7 +39,7 @@ TEST(OneContext, SolverExtractionFromItsPagesAndRender) {
   // changed the context's bindings.
   const int compiled = ctx.programsCompiled();
   const Mesh again = extract::extractLevelSet(ls, {.backend = levelset::Backend::Gpu});
-  viewer::renderMesh(again, {.width = 64, .height = 48});
+  render::renderMesh(again, {.width = 64, .height = 48});
   ls.step();
   EXPECT_EQ(ctx.programsCompiled(), compiled);
   EXPECT_EQ(again.faceCount(), surface.faceCount());

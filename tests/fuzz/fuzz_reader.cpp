@@ -19,7 +19,7 @@
 #include "levelset/dvt/dvt_file.h"
 #include "levelset/solids/volume_solid.h"
 #ifdef FUZZ_VIEW_SCRIPT
-#include "viewer/app/view_script.h"
+#include "viewer/view_script.h"
 #endif
 
 namespace {

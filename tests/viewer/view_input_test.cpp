@@ -17,10 +17,10 @@
 #include "tests/test_util.h"
 #include "tests/viewer/fake_input.h"
 #include "tests/viewer/head_phantom.h"
-#include "tests/viewer/test_models.h"
+#include "tests/render/test_models.h"
 #include "atlas/model_file.h"
-#include "viewer/app/viewer_app.h"
-#include "viewer/slice_render.h"
+#include "viewer/viewer_app.h"
+#include "render/slice_render.h"
 
 namespace isoatlas::viewer {
 namespace {
@@ -101,7 +101,7 @@ TEST(ViewWindowInput, MouseAndKeysOnTheSlicesAndTheThreeDView) {
   EXPECT_EQ(insideVoxels(undone), 0) << "Ctrl+Z undid the seed";
   EXPECT_GT(insideVoxels(redone), 500) << "Ctrl+Y seeded again";
   // The drag carved the ball along its path and nowhere else.
-  const SliceLayout layout(head.image, volumeCentre(head.image), n);
+  const render::SliceLayout layout(head.image, render::volumeCentre(head.image), n);
   const Vec3 from = layout.world(0, 30, 50), to = layout.world(0, 70, 50);
   std::int64_t carved = 0;
   bool middleCarved = false;
@@ -122,7 +122,7 @@ TEST(ViewWindowInput, MouseAndKeysOnTheSlicesAndTheThreeDView) {
   // The click on the coronal slice set x and z; the wheel then moved z two voxels up.
   const Vec3 clicked = layout.world(1, 30, 40);
   EXPECT_NEAR(report.slicePoint.x, clicked.x, 1e-9);
-  EXPECT_NEAR(report.slicePoint.y, volumeCentre(head.image).y, 1e-9);
+  EXPECT_NEAR(report.slicePoint.y, render::volumeCentre(head.image).y, 1e-9);
   EXPECT_NEAR(report.slicePoint.z, clicked.z + 2 * 1.5, 1e-9);
   // The ctrl-click probed a point of the segmentation the 3D view shows.
   ASSERT_EQ(report.status.rfind("probe at ", 0), 0u) << report.status;

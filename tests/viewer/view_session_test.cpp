@@ -10,9 +10,9 @@
 #include "levelset/probe.h"
 #include "tests/test_util.h"
 #include "tests/viewer/head_phantom.h"
-#include "viewer/app/brush_edit.h"
-#include "viewer/app/segmentation_session.h"
-#include "viewer/app/view_script.h"
+#include "viewer/brush_edit.h"
+#include "viewer/segmentation_session.h"
+#include "viewer/view_script.h"
 
 namespace isoatlas::viewer {
 namespace {

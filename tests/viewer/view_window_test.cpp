@@ -17,16 +17,16 @@
 #include "tests/multires/mesh_shapes.h"
 #include "tests/test_util.h"
 #include "tests/viewer/head_phantom.h"
-#include "tests/viewer/test_models.h"
-#include "viewer/orbit.h"
-#include "viewer/scene.h"
-#include "viewer/slice_render.h"
+#include "tests/render/test_models.h"
+#include "render/orbit.h"
+#include "render/scene.h"
+#include "render/slice_render.h"
 #include "atlas/model_file.h"
 #include "core/gl/context.h"
 #include "core/gl/resources.h"
 #include "core/progress.h"
-#include "viewer/app/model_job.h"
-#include "viewer/app/viewer_app.h"
+#include "viewer/model_job.h"
+#include "viewer/viewer_app.h"
 
 namespace isoatlas::viewer {
 namespace {
@@ -115,12 +115,12 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   const Image seg = readPng(p("segment.png"));
   ASSERT_EQ(seg.width, width);
   const int n = slicePanelSize(width, height);
-  const SliceLayout layout(head.image, volumeCentre(head.image), n);
+  const render::SliceLayout layout(head.image, render::volumeCentre(head.image), n);
   std::int64_t contour = 0, onBoundary = 0;
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < 3 * n; ++x) {
       const std::uint8_t* c = seg.at(x, y);
-      if (c[0] != kContourColour[0] || c[1] != kContourColour[1] || c[2] != kContourColour[2]) continue;
+      if (c[0] != render::kContourColour[0] || c[1] != render::kContourColour[1] || c[2] != render::kContourColour[2]) continue;
       ++contour;
       const Vec3 ijk = head.image.worldToIndex(layout.world(x / n, x % n + 0.5, y + 0.5));
       bool in = false, out = false;
@@ -200,11 +200,11 @@ TEST(ViewWindow, ReplaysAScriptedSession) {
   const Image mesh = readPng(p("mesh.png"));
   auto context = gl::Context::headless();
   const int viewWidth = width - kControlsWidth;
-  Scene scene({&model});
-  AtlasRenderer renderer;
+  render::Scene scene({&model});
+  render::AtlasRenderer renderer;
   gl::Framebuffer target(viewWidth, height);
-  drawFrame(scene, renderer, {.mode = CpuRefinement::Mode::Level, .level = 2}, {.mode = GpuRefinement::Mode::Level, .halvings = 1},
-            Orbit{}.camera(scene.bounds(), viewWidth, height), {}, target);
+  render::drawFrame(scene, renderer, {.mode = render::CpuRefinement::Mode::Level, .level = 2}, {.mode = render::GpuRefinement::Mode::Level, .halvings = 1},
+            render::Orbit{}.camera(scene.bounds(), viewWidth, height), {}, target);
   const Image expected = target.readImage();
   std::int64_t inBoth = 0, inEither = 0;
   for (int y = 0; y < height; ++y)

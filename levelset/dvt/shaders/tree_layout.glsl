@@ -1,5 +1,5 @@
 // The DVT's streams as GLSL sees them (volume_tree.h): a node's pointers and its packed cell, for the
-// tree's passes (tree_rules.glsl) and its renderers (viewer/shaders/dvt_*).
+// tree's passes (tree_rules.glsl) and its renderers (render/shaders/dvt_*).
 struct Pointer {
   int parent, left, right;
   float value;

@@ -1,0 +1,235 @@
+// The window's actions (viewer_state.h): each changes the state the next frame draws.
+#include "viewer/viewer_state.h"
+
+#include <cstdio>
+
+#include "atlas/stamp_detail.h"
+#include "core/gz_file.h"
+#include "core/text.h"
+#include "core/volume_io.h"
+#include "extract/extract_surface.h"
+#include "levelset/dvt/dvt_file.h"
+
+namespace isoatlas::viewer::window {
+namespace {
+
+std::string formatPoint(const Vec3& p) {
+  char text[96];
+  std::snprintf(text, sizeof text, "%.1f,%.1f,%.1f", p.x, p.y, p.z);
+  return text;
+}
+
+}  // namespace
+
+Loaded load(const std::string& file) {
+  Loaded l{.file = file};
+  if (endsWith(file, ".isoatlas"))
+    l.model = atlas::readModel(file);
+  else if (endsWith(file, ".dvt"))
+    l.tree = dvt::readDvt(file);
+  else
+    l.volume = readVolume(file);
+  return l;
+}
+
+Viewer::Viewer(const ViewerOptions& options)
+    : softwareGl_(gl::Context::current().info().software()), options_(options), backend_(levelset::backendFor(options.backend, softwareGl_)) {}
+
+void Viewer::show(Loaded loaded) {
+  if (loaded.volume) {
+    segment_.emplace();
+    segment_->file = loaded.file;
+    segment_->range = valueRange(*loaded.volume);
+    segment_->point = render::volumeCentre(*loaded.volume);
+    segment_->session = std::make_unique<SegmentationSession>(std::move(*loaded.volume), backend_);
+    segment_->window = segment_->session->window();
+    segment_->volume = std::make_unique<render::VolumeRenderer>();
+    segment_->volume->setSource(segment_->session->source());
+    segment_->volumeRendering = !softwareGl_;  // llvmpipe takes seconds a picture
+    mode_ = Mode::Segment;
+  } else if (loaded.model) {
+    showModel(std::move(*loaded.model), loaded.file);
+  } else if (loaded.tree) {
+    showTree(std::move(*loaded.tree), loaded.file);
+  }
+}
+
+void Viewer::setMode(const std::string& name) {
+  const Mode m = name == "segment" ? Mode::Segment : name == "mesh" ? Mode::Mesh : Mode::Tree;
+  require(m != Mode::Segment || segment_, "mode segment: open a volume first");
+  require(m != Mode::Mesh || model_, "mode mesh: open a model (.isoatlas) or build one from the segmentation first");
+  require(m != Mode::Tree || tree_, "mode tree: open a tree (.dvt) or brush the segmentation first");
+  mode_ = m;
+}
+
+void Viewer::slice(const Vec3& p) {
+  seg().point = p;
+  seg().slicesDirty = seg().view3dDirty = true;
+}
+
+void Viewer::probe(const Vec3& p, double radius) {
+  const auto r = seg().session->probe(p, radius);
+  status_ = "probe at " + formatPoint(p) + ": T " + std::to_string(r.mean) + ", eps " + std::to_string(r.std);
+}
+
+void Viewer::seed(const Vec3& p, double radius, bool add) {
+  seg().session->seed(p, radius, add);
+  status_ = std::string(add ? "seed" : "unseed") + " at " + formatPoint(p);
+}
+
+void Viewer::set(const std::string& parameter, double value) {
+  levelset::SpeedParams p = seg().session->params();
+  (parameter == "t" ? p.target : parameter == "eps" ? p.width : p.alpha) = float(value);
+  seg().session->setParams(p);
+}
+
+void Viewer::setTool(const std::string& name) {
+  const std::optional<Tool> tool = toolNamed(name);
+  require(tool.has_value(), "tool " + name + ": navigate, probe, seed, unseed or brush");
+  seg().tool = *tool;
+}
+
+void Viewer::undo() {
+  require(seg().session->canUndo(), "undo: nothing to undo");
+  seg().session->undo();
+}
+
+void Viewer::redo() {
+  require(seg().session->canRedo(), "redo: nothing to redo");
+  seg().session->redo();
+}
+
+void Viewer::beginStroke(bool add, int levels) {
+  seg().session->pause();  // the stroke's mask replaces the segmentation as it was when the stroke began
+  seg().stroke = std::make_unique<BrushStroke>(seg().session->levelSet(), add ? dvt::Op::Union : dvt::Op::Subtract,
+                                               backend_, levels);
+}
+
+void Viewer::strokeWith(const dvt::Solid& shape) {
+  seg().stroke->apply(shape);
+  seg().slicesDirty = true;
+}
+
+void Viewer::strokeTo(const Vec3& at, double radius) {
+  seg().stroke->dabTo(at, radius);
+  seg().slicesDirty = true;
+}
+
+void Viewer::endStroke() {
+  SegmentView& s = seg();
+  const std::unique_ptr<BrushStroke> stroke = std::move(s.stroke);
+  const std::size_t dabs = stroke->dabs();
+  BrushResult r = stroke->finish();
+  s.session->replaceMask(r.mask);
+  showTree(r.tree->tree(), "brushed segmentation");
+  mode_ = Mode::Segment;
+  s.slicesDirty = true;
+  status_ = "brush stroke of " + std::to_string(dabs) + (dabs == 1 ? " dab: " : " dabs: ") + std::to_string(tree_->tree.nodeCount()) + " nodes";
+}
+
+void Viewer::brush(const std::string& shape, bool add, int levels) {
+  const auto solid = dvt::parseBrush(shape);
+  beginStroke(add, levels);
+  strokeWith(*solid);
+  endStroke();
+  status_ = std::string(add ? "union " : "subtract ") + shape + ": " + std::to_string(tree_->tree.nodeCount()) + " nodes";
+}
+
+void Viewer::stroke(const std::vector<Vec3>& points, double radius, bool add, int sliceAxis) {
+  beginStroke(add, 0);
+  if (sliceAxis >= 0) seg().stroke->keepToSlice(sliceAxis, points.front());
+  for (const Vec3& p : points) strokeTo(p, radius);
+  endStroke();
+}
+
+void Viewer::build() {
+  require(bool(options_.buildModel), "build: this window was opened without the model builder");
+  require(!job_, "build: a model is being built already");
+  SegmentationSession& s = *seg().session;
+  require(s.activePages() > 0, "build: the segmentation is empty (seed it first)");
+  Mesh surface = extract::extractLevelSet(s.levelSet(), {.largestComponent = true, .backend = backend_});
+  require(surface.faceCount() > 0, "build: the segmentation has no surface");
+  job_ = std::make_unique<ModelJob>(std::move(surface), options_.buildModel);
+  status_ = "building the model";
+}
+
+void Viewer::view3d(bool volume) {
+  seg().volumeRendering = volume;
+  seg().view3dDirty = true;
+}
+
+void Viewer::clip(const std::string& how) {
+  SegmentView& s = seg();
+  s.clipAxis = how == "off" ? -1 : how[1] - 'x';
+  s.clipAbove = how[0] == '+';
+  s.view3dDirty = true;
+}
+
+void Viewer::levels(int cpu, int gpu) {
+  mod().cpuLevel = cpu, mod().gpuHalvings = gpu;
+  mod().viewDependent = false;
+}
+
+void Viewer::stamp(const Vec3& at, const std::string& word, double radius, double depth) {
+  ModelView& m = mod();
+  const atlas::StampStats st =
+      atlas::stampDetail(m.model.base, m.model.atlas, {.image = renderText(word, 128), .at = at, .radius = radius, .depth = depth});
+  require(st.texelsChanged + st.detailTexelsChanged > 0, "stamp: the word reaches no part of the surface there");
+  m.rebuild();
+  status_ = "stamped \"" + word + "\" on " + std::to_string(st.detailTiles) + " tiles";
+}
+
+void Viewer::treeRender(bool cubes) {
+  require(bool(tree_), "render: no tree is open");
+  tree_->cubes = cubes;
+}
+
+void Viewer::loadMask(const std::string& path) {
+  seg().session->replaceMask(readVolume(path));
+  status_ = "loaded " + path;
+}
+
+void Viewer::saveMask(const std::string& path) {
+  seg().session->saveMask(path);
+  status_ = "saved " + path;
+}
+
+void Viewer::saveModel(const std::string& path) {
+  atlas::writeModel(path, mod().model);
+  status_ = "saved " + path;
+}
+
+void Viewer::update() {
+  if (job_ && job_->done()) {
+    std::unique_ptr<ModelJob> job = std::move(job_);
+    try {
+      showModel(job->take(), "built from " + seg().file);
+      status_ = "model built in " + std::to_string(int(job->seconds())) + " s";
+    } catch (const std::exception& e) {
+      buildError_ = e.what();
+      status_ = std::string("build failed: ") + e.what();
+    }
+  }
+  if (segment_) segment_->session->advance(25);
+}
+
+void Viewer::showModel(atlas::Model model, const std::string& name) {
+  model_.reset();
+  model_.emplace();
+  model_->name = name;
+  model_->model = std::move(model);
+  model_->rebuild();
+  mode_ = Mode::Mesh;
+}
+
+void Viewer::showTree(dvt::VolumeTree tree, const std::string& name) {
+  tree_.emplace();
+  tree_->name = name;
+  tree_->tree = std::move(tree);
+  tree_->box = render::insideBounds(tree_->tree);
+  tree_->pointers = std::make_unique<gl::Buffer>(gl::Buffer::of(tree_->tree.pointers));
+  tree_->cells = std::make_unique<gl::Buffer>(gl::Buffer::of(tree_->tree.cells));
+  mode_ = Mode::Tree;
+}
+
+}  // namespace isoatlas::viewer::window
