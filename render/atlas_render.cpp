@@ -24,10 +24,18 @@ gl::ProgramSource atlasProgram(bool direct) {
   return {gl::kRenderShaders, paths, {}, {"worldPosition"}};
 }
 
-// On llvmpipe a tessellated draw without a geometry stage slows more than linearly with the
-// vertices it makes (bunny00's 4 x 4 grid at 1920 x 1080: 1.25 s a frame in one draw an instance,
-// 0.24 s in draws of 16 patches): plain frames go there in draws of this many patches.
-constexpr std::size_t kSoftwareChunk = 16;
+// On llvmpipe every draw goes in chunks of patches:
+// - with the geometry stage (the wireframe, the capture), its draw module numbers a draw's
+//   tessellated vertices in 16 bits: past 65,536 vertices in one draw, triangles took earlier
+//   vertices (bunny00's capture at level 8 had 62,663 distinct positions for 192,514, and was not a
+//   manifold). A chunk holds at most 65,536 of the most vertices a patch can make;
+// - without it, a draw slows more than linearly with the vertices it makes (bunny00's 4 x 4 grid at
+//   1920 x 1080: 1.25 s a frame in one draw an instance, 0.24 s in draws of 16 patches).
+constexpr std::size_t kSoftwareVertices = 65536, kSoftwareChunk = 16;
+std::size_t softwareChunk(int maxTessLevel) {
+  const std::size_t mostPerPatch = std::size_t(maxTessLevel + 1) * std::size_t(maxTessLevel + 1);
+  return std::clamp<std::size_t>(kSoftwareVertices / mostPerPatch, 1, kSoftwareChunk);
+}
 
 // The largest power of two the driver's tessellator accepts (GL 4.5 guarantees 64).
 unsigned powerOfTwoAtMost(int limit) {
@@ -121,7 +129,7 @@ std::size_t PatchBuffer::update(const std::vector<GpuPatch>& patches) {
 AtlasRenderer::AtlasRenderer()
     : program_(&gl::Context::current().program(atlasProgram(false))),
       direct_(&gl::Context::current().program(atlasProgram(true))),
-      chunk_(gl::Context::current().info().software() ? kSoftwareChunk : 0),
+      chunk_(gl::Context::current().info().software() ? softwareChunk(gl::Context::current().info().maxTessellationLevel) : 0),
       maxTessLevel_(powerOfTwoAtMost(gl::Context::current().info().maxTessellationLevel)) {}
 
 const gl::Program& AtlasRenderer::prepare(const Camera& camera, const Box& scene, const GpuRefinement& gpu, const DrawStyle& style,
@@ -152,7 +160,7 @@ const gl::Program& AtlasRenderer::prepare(const Camera& camera, const Box& scene
 // Draws with the program prepare() set up (also while transform feedback is active, when the
 // program may not change).
 void AtlasRenderer::drawItems(const gl::Program& p, const std::vector<DrawItem>& items) const {
-  const std::size_t chunk = &p == direct_ && chunk_ ? chunk_ : ~std::size_t(0);
+  const std::size_t chunk = chunk_ ? chunk_ : ~std::size_t(0);  // every program: see softwareChunk
   for (const DrawItem& item : items) {
     if (item.patches->count() == 0) continue;
     const float model[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, float(item.offset.x), float(item.offset.y), float(item.offset.z), 1};

@@ -108,7 +108,7 @@ private:
                              bool capturing) const;
   void drawItems(const gl::Program& program, const std::vector<DrawItem>& items) const;
   const gl::Program *program_, *direct_;
-  std::size_t chunk_;  // patches a plain draw (0: all)
+  std::size_t chunk_;  // patches a draw (0: all; on llvmpipe, softwareChunk)
   unsigned maxTessLevel_;
   gl::VertexArray vao_;  // none of its attributes are used: the patches come from a storage buffer
 };
