@@ -309,7 +309,7 @@ void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, const s
   progress.update(last);
   }
   progress.finish();
-  stats.foldedTexels = folded;
+  stats.coincidentTexels = folded;
   stats.snappedTexels = snapped;
   stats.levelTwoCentresMoved = centresMoved;
   stats.gapTexels = gaps;

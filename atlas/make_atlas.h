@@ -24,9 +24,9 @@ namespace isoatlas::atlas {
 
 struct ChartStats {
   std::uint64_t texels = 0;        // sampled (charts x N x N)
-  std::uint64_t foldedTexels = 0;  // landing exactly where another texel of their chart lands (a broken record would)
+  std::uint64_t coincidentTexels = 0;  // landing exactly where another texel of their chart lands (a broken record would)
   std::uint64_t gapTexels = 0;     // found outside a step's ring by more than rounding, sent to the nearest face
-  std::uint64_t turnedTexelQuads = 0;  // texel quads turning against the surface (a shear, not a fold)
+  std::uint64_t turnedTexelQuads = 0;  // texel quads turning against the surface by their first corner, as sampled (before the borders are averaged; atlas/backfacing_quads.h measures the final atlas as drawn)
   std::uint64_t nonConvexChartQuads = 0;  // texel quads whose chart points are not strictly convex (0 expected)
   std::uint64_t snappedTexels = 0;  // texels moved onto a dense vertex their grid missed (snap_texels.h)
   std::uint64_t levelTwoCentresMoved = 0;  // charts whose centre moved so that level 2 lies nearer (relax_chart.h)

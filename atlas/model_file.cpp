@@ -235,7 +235,7 @@ double writeModel(const std::string& path, const Model& model) {
   const bool keepCodes = decodesTo(model.codes, b, model.atlas);
   const std::vector<QuantisedChart> charts = keepCodes ? model.codes : quantiseAtlas(model.atlas);
   const double quantisationError = keepCodes ? model.quantisationError : largestQuantisationError(model.atlas, charts, b);
-  head.put(model.chartSize), head.put(model.foldedTexels), head.put(model.gapTexels), head.put(quantisationError);
+  head.put(model.chartSize), head.put(model.coincidentTexels), head.put(model.gapTexels), head.put(quantisationError);
   out.section("HEAD", head);
 
   Writer base;
@@ -317,7 +317,7 @@ Model readModel(const std::string& path, const ModelReadOptions& options) {
     if (tag == "HEAD") {
       model.chartSize = r.get<std::uint32_t>();
       if (!multires::isChartSize(model.chartSize)) r.fail("chart size " + std::to_string(model.chartSize));
-      model.foldedTexels = r.get<std::uint64_t>(), model.gapTexels = r.get<std::uint64_t>();
+      model.coincidentTexels = r.get<std::uint64_t>(), model.gapTexels = r.get<std::uint64_t>();
       if (version >= 3 && (model.quantisationError = r.finite<double>()) < 0) r.fail("a negative quantisation error");
     } else if (tag == "BASE") {
       readBase(r, model.base);

@@ -3,7 +3,7 @@
 // said, reals IEEE 754.
 //   magic "ISOATLAS" (8 bytes), format version (u32 = 4), then sections until the end of the file,
 //   each: tag (4 ASCII bytes), payload length (u64), CRC-32 of the payload (u32, zlib's), payload.
-//   HEAD  chart size N (u32, 2^k + 1); the charts' folded_texels and gap_texels (u64 x 2); the
+//   HEAD  chart size N (u32, 2^k + 1); the charts' coincident_texels and gap_texels (u64 x 2); the
 //         largest distance quantisation moved a position (f64, mm)
 //   BASE  base vertex count (u64), per vertex position (f64 x 3) and dense vertex (i64, -1 when
 //         made by a split); triangle count (u64), corners (u32 x 3, counter-clockwise); tile count
@@ -43,7 +43,7 @@ inline constexpr std::uint32_t kModelVersion = 4;
 
 struct Model {
   std::uint32_t chartSize = 33;
-  std::uint64_t foldedTexels = 0, gapTexels = 0;  // as makeAtlas counted them
+  std::uint64_t coincidentTexels = 0, gapTexels = 0;  // as makeAtlas counted them
   double quantisationError = 0;  // as the file's writer measured it (0 for a version 2 file)
   multires::BaseMesh base;  // its parametrisation (denseTriangle, denseBary) only with the dense mesh
   Atlas atlas;

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "atlas/backfacing_quads.h"
 #include "atlas/evaluate_levels.h"
 #include "atlas/make_atlas.h"
 #include "atlas/model_file.h"
@@ -60,18 +61,21 @@ std::vector<atlas::LevelFigures> measure(const std::string& name, const Mesh& de
   const std::string path = (std::filesystem::temp_directory_path() / "bench_atlas.isoatlas").string();
   atlas::writeModel(path, model);
   const double modelBytes = double(std::filesystem::file_size(path));
+  const atlas::BackFacingQuads backFacing = atlas::countBackFacingQuads(model.atlas);
   std::filesystem::remove(path);
   std::fprintf(stderr,
                "bench atlas: %s: simplify %.2f s (peak RSS %.0f MiB), match %.3f s (%.0f MiB), chart + pack %.2f s (%.0f MiB); "
-               "%u charts, %llu folded and %llu gap texels of %llu, %llu texel quads turned, %zu dense triangles folded drawn straight\n",
+               "%u charts, %llu coincident and %llu gap texels of %llu, %llu texel quads turned as sampled, %llu drawn backwards, %zu dense triangles folded drawn straight\n",
                caseName.c_str(), simplify, simplifyRss, match, matchRss, chart, chartRss, model.atlas.layout.charts,
-               (unsigned long long)charts.foldedTexels, (unsigned long long)charts.gapTexels, (unsigned long long)charts.texels,
-               (unsigned long long)charts.turnedTexelQuads, foldedDense);
+               (unsigned long long)charts.coincidentTexels, (unsigned long long)charts.gapTexels, (unsigned long long)charts.texels,
+               (unsigned long long)charts.turnedTexelQuads, (unsigned long long)backFacing.quads, foldedDense);
   for (const auto& [stage, seconds] : {std::pair{"simplify", simplify}, {"match", match}, {"chart + pack", chart}})
     bench::report("atlas", caseName, std::string("seconds ") + stage, seconds, "seconds, whole model", simplify + match + chart, false);
-  bench::report("atlas", caseName, "folded texels", double(charts.foldedTexels), "texels", double(charts.texels), false);
+  bench::report("atlas", caseName, "coincident texels", double(charts.coincidentTexels), "texels", double(charts.texels), false);
   bench::report("atlas", caseName, "gap texels", double(charts.gapTexels), "texels", double(charts.texels), false);
-  bench::report("atlas", caseName, "texel quads turned by shear", double(charts.turnedTexelQuads), "texels", double(charts.texels), false);
+  bench::report("atlas", caseName, "texel quads turned as sampled (first corner)", double(charts.turnedTexelQuads), "texels", double(charts.texels), false);
+  bench::report("atlas", caseName, "texel quads drawn backwards (backfacing_texel_quads)", double(backFacing.quads), "texel quads",
+                double(backFacing.total), false);
   bench::report("atlas", caseName, "texels drawn onto dense vertices the grid missed", double(charts.snappedTexels), "texels",
                 double(charts.texels), false);
   bench::report("atlas", caseName, "charts whose centre moved for level 2", double(charts.levelTwoCentresMoved), "charts",

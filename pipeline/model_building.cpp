@@ -7,6 +7,7 @@
 
 #include "atlas/atlas_previews.h"
 #include "core/distance/mesh_distance.h"
+#include "atlas/backfacing_quads.h"
 #include "atlas/make_atlas.h"
 #include "atlas/reconstruct.h"
 #include "atlas/stamp_detail.h"
@@ -61,11 +62,11 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   r["folded_dense_triangles"] = multires::countFoldedTriangles(dense, base);
   atlas::ChartStats charts;
   model.atlas = atlas::makeAtlas(dense, base, request.chartSize, &charts, request.relaxSweeps);
-  model.foldedTexels = charts.foldedTexels, model.gapTexels = charts.gapTexels;
+  model.coincidentTexels = charts.coincidentTexels, model.gapTexels = charts.gapTexels;
   const atlas::AtlasLayout& layout = model.atlas.layout;
   logInfo("build: " + std::to_string(layout.charts) + " charts in a " + std::to_string(layout.width()) + " x " +
           std::to_string(layout.height()) + " atlas (" + std::to_string(layout.efficiency() * 100) + " % full), " +
-          std::to_string(charts.foldedTexels) + " folded texels, " + std::to_string(charts.seconds) + " s");
+          std::to_string(charts.coincidentTexels) + " coincident texels, " + std::to_string(charts.seconds) + " s");
 
   r["dense_vertices"] = dense.vertexCount();
   r["dense_triangles"] = dense.faceCount();
@@ -121,10 +122,13 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
 
 nlohmann::json atlasFigures(const atlas::Model& model) {
   const atlas::AtlasLayout& l = model.atlas.layout;
+  const atlas::BackFacingQuads back = atlas::countBackFacingQuads(model.atlas);
   return {{"chart_size", model.chartSize},          {"charts", l.charts},
           {"atlas_width", l.width()},               {"atlas_height", l.height()},
-          {"atlas_efficiency", l.efficiency()},     {"folded_texels", model.foldedTexels},
-          {"gap_texels", model.gapTexels},         {"quantisation_error", model.quantisationError}};
+          {"atlas_efficiency", l.efficiency()},     {"coincident_texels", model.coincidentTexels},
+          {"gap_texels", model.gapTexels},         {"quantisation_error", model.quantisationError},
+          {"backfacing_texel_quads", back.quads},  {"backfacing_texel_quad_charts", back.charts},
+          {"backfacing_worst_chart", back.worstChart}, {"backfacing_worst_chart_quads", back.worstChartQuads}};
 }
 
 void writeModelFiles(const atlas::Model& model, const std::string& path, const AtlasPreviewPaths& previews, nlohmann::json& r) {

@@ -38,8 +38,9 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
 // takes any manifold polygon mesh a scanner or modeller writes.
 Mesh prepareModelInput(Mesh mesh);
 
-// chart_size, charts, atlas_width, atlas_height, atlas_efficiency, folded_texels, gap_texels: the
-// atlas's figures, as build and eval report them.
+// chart_size, charts, atlas_width, atlas_height, atlas_efficiency, coincident_texels, gap_texels,
+// quantisation_error, and backfacing_texel_quads (atlas/backfacing_quads.h) with the charts that hold
+// them and the worst one: the atlas's figures, as build and eval report them.
 nlohmann::json atlasFigures(const atlas::Model& model);
 
 // Where the atlas's pictures go (atlas::positionPreview, atlas::normalPreview): an empty path writes none.

@@ -27,7 +27,7 @@ Model torusModel(bool keepDense) {
   multires::pairTriangles(m.base, dense);
   ChartStats stats;
   m.atlas = makeAtlas(dense, m.base, m.chartSize, &stats);
-  m.foldedTexels = stats.foldedTexels + 7, m.gapTexels = stats.gapTexels + 3;  // non-zero, to be kept
+  m.coincidentTexels = stats.coincidentTexels + 7, m.gapTexels = stats.gapTexels + 3;  // non-zero, to be kept
   if (keepDense) {
     m.dense = dense;
   } else {
@@ -41,7 +41,7 @@ Model torusModel(bool keepDense) {
 // along each axis), normals within the octahedral codes' angle, borders identical again.
 void expectSame(const Model& a, const Model& b) {
   EXPECT_EQ(b.chartSize, a.chartSize);
-  EXPECT_EQ(b.foldedTexels, a.foldedTexels);
+  EXPECT_EQ(b.coincidentTexels, a.coincidentTexels);
   EXPECT_EQ(b.gapTexels, a.gapTexels);
   EXPECT_EQ(b.base.positions, a.base.positions);
   EXPECT_EQ(b.base.denseVertex, a.base.denseVertex);

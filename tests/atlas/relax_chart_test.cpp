@@ -303,7 +303,7 @@ TEST(RelaxChart, TheFinestLevelFollowsCreasesCloser) {
     ChartStats stats;
     const Atlas atlas = makeAtlas(dense, base, 17, &stats, sweeps);
     EXPECT_EQ(stats.nonConvexChartQuads, 0u);
-    EXPECT_EQ(stats.foldedTexels + stats.gapTexels + stats.borderDisagreements, 0u);
+    EXPECT_EQ(stats.coincidentTexels + stats.gapTexels + stats.borderDisagreements, 0u);
     return hausdorffDistance(reconstructLevel(base, atlas, maxLevel(17u)), dense, 20000).symmetric();
   };
   const double uniform = finestError(0), relaxed = finestError(kDefaultRelaxSweeps);

@@ -582,7 +582,7 @@ TEST(Cli, BuildMakesATriquadBaseMeshAndAModel) {
                           "seconds_simplify", "seconds_match", "hausdorff_base", "psnr_base_db",
                           "hausdorff_dense_to_base", "hausdorff_base_to_dense", "bounding_box_diagonal",
                           "folded_dense_triangles", "refused_welds", "history_steps", "vertices_above_target",
-                          "charts", "atlas_width", "atlas_height", "atlas_efficiency", "folded_texels", "gap_texels",
+                          "charts", "atlas_width", "atlas_height", "atlas_efficiency", "coincident_texels", "gap_texels",
                           "seconds_chart", "model_bytes", "dense_halfedge_bytes"})
     EXPECT_TRUE(j.contains(key)) << key;
   // One chart per tile, packed into the slots the width and height hold.
@@ -604,7 +604,7 @@ TEST(Cli, BuildMakesATriquadBaseMeshAndAModel) {
   EXPECT_EQ(j["tiles"].get<int>() * 2, j["base_triangles"].get<int>());
   EXPECT_LT(j["hausdorff_base"].get<double>(), 0.5);
   // The charts sample through the exact history: no gaps, no place of the surface claimed twice.
-  EXPECT_EQ(j["folded_texels"], 0);
+  EXPECT_EQ(j["coincident_texels"], 0);
   EXPECT_EQ(j["gap_texels"], 0);
   EXPECT_EQ(j["border_disagreements"], 0);
   EXPECT_EQ(j["history_steps"].get<int>(), 1800 - 54);
@@ -629,7 +629,7 @@ TEST(Cli, EvalMeasuresEveryLevelAgainstTheDenseMesh) {
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(test::readBytes(report));
   for (const char* key : {"atlas_efficiency", "atlas_width", "atlas_height", "charts", "model_bytes", "dense_halfedge_bytes",
-                          "folded_texels", "gap_texels", "quantisation_error", "dense_ply_bytes", "model_to_dense_halfedge"})
+                          "coincident_texels", "gap_texels", "quantisation_error", "dense_ply_bytes", "model_to_dense_halfedge"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["model_to_dense_halfedge"].get<double>(), j["model_bytes"].get<double>() / j["dense_halfedge_bytes"].get<double>());
   ASSERT_EQ(j["levels"].size(), 7u);  // chart 9: levels 0..6

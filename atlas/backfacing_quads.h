@@ -1,0 +1,28 @@
+// countBackFacingQuads: the texel quads of an atlas's charts that turn against the surface as the
+// finest level draws them. Each quad is cut into two triangles as squareTriangles cuts it (the
+// reconstruction eval writes, and the CPU stage of the renderer); a quad counts when either
+// triangle's normal points against the dense surface's normal there (the mean of its corners'
+// atlas normals, which are the dense surface's). Such a triangle is a fold of the drawn surface: a
+// hole under back-face culling, a dark line under two-sided shading.
+//   Not counted here: quads whose image overlaps another quad's without turning, and zero-area
+//   triangles (their corners coincide: ChartStats::coincidentTexels counts those texels).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "atlas/atlas.h"
+
+namespace isoatlas::atlas {
+
+struct BackFacingQuads {
+  std::uint64_t quads = 0;        // texel quads turned against the surface
+  std::uint64_t total = 0;        // texel quads looked at (charts x (N - 1)^2)
+  std::uint32_t charts = 0;       // charts with at least one
+  std::uint32_t worstChart = 0;   // the chart with the most (0 when none)
+  std::uint64_t worstChartQuads = 0;
+  std::vector<std::uint64_t> perChart;  // by chart (tile), to say where
+};
+
+BackFacingQuads countBackFacingQuads(const Atlas& atlas);
+
+}  // namespace isoatlas::atlas

@@ -1,0 +1,66 @@
+// The fold measure of the drawn atlas (atlas/backfacing_quads.h) against charts turned by hand.
+#include <gtest/gtest.h>
+
+#include "atlas/backfacing_quads.h"
+#include "atlas/make_atlas.h"
+#include "multires/stellar_simplify.h"
+#include "multires/triangle_pairing.h"
+#include "tests/multires/mesh_shapes.h"
+
+namespace isoatlas::atlas {
+namespace {
+
+Atlas torusAtlas(const multires::BaseMesh*& baseOut) {
+  static const Mesh dense = test::torusMesh(48, 24);
+  static multires::BaseMesh base = [] {
+    multires::BaseMesh b = multires::simplifyStellar(dense, {.vertexRatio = 0.04});
+    multires::pairTriangles(b, dense);
+    return b;
+  }();
+  baseOut = &base;
+  return makeAtlas(dense, base, 17);
+}
+
+void setPosition(Atlas& atlas, std::uint32_t c, std::uint32_t i, std::uint32_t j, const Vec3& p) {
+  atlas.positions[atlas.layout.texel(c, i, j)] = {float(p.x), float(p.y), float(p.z)};
+}
+
+// A chart with none, mirrored in u: every one of its quads then faces into the torus; nothing else changes.
+TEST(BackFacingQuads, EveryQuadOfAMirroredChartTurns) {
+  const multires::BaseMesh* base = nullptr;
+  Atlas atlas = torusAtlas(base);
+  const std::uint32_t n = atlas.layout.chartSize;
+  const BackFacingQuads before = countBackFacingQuads(atlas);
+  EXPECT_EQ(before.total, std::uint64_t(atlas.layout.charts) * (n - 1) * (n - 1));
+  EXPECT_LT(before.quads, before.total / 20) << "most of the torus's quads follow its surface";
+  std::uint32_t c = 0;
+  while (c < atlas.layout.charts && before.perChart[c] > 0) ++c;
+  ASSERT_LT(c, atlas.layout.charts) << "no chart without turned quads";
+  const Atlas original = atlas;
+  for (std::uint32_t j = 0; j < n; ++j)
+    for (std::uint32_t i = 0; i < n; ++i) setPosition(atlas, c, i, j, original.position(c, n - 1 - i, j));
+  const BackFacingQuads mirrored = countBackFacingQuads(atlas);
+  EXPECT_EQ(mirrored.perChart[c], std::uint64_t(n - 1) * (n - 1));
+  EXPECT_EQ(mirrored.quads, before.quads + std::uint64_t(n - 1) * (n - 1));
+  EXPECT_EQ(mirrored.charts, before.charts + 1);
+  EXPECT_EQ(mirrored.worstChart, c);
+}
+
+// An inner texel of a chart with none pushed past its neighbour: only quads at that texel turn.
+TEST(BackFacingQuads, ATexelPushedPastItsNeighbourTurnsOnlyTheQuadsAroundIt) {
+  const multires::BaseMesh* base = nullptr;
+  Atlas atlas = torusAtlas(base);
+  const BackFacingQuads before = countBackFacingQuads(atlas);
+  std::uint32_t c = 0;
+  while (c < atlas.layout.charts && before.perChart[c] > 0) ++c;
+  ASSERT_LT(c, atlas.layout.charts);
+  const Vec3 a = atlas.position(c, 5, 5), b = atlas.position(c, 7, 5);
+  setPosition(atlas, c, 5, 5, b + (b - a) * 0.5);
+  const BackFacingQuads turned = countBackFacingQuads(atlas);
+  EXPECT_GE(turned.perChart[c], 1u);
+  EXPECT_LE(turned.perChart[c], 4u) << "only the four quads at the texel";
+  EXPECT_EQ(turned.quads, before.quads + turned.perChart[c]);
+}
+
+}  // namespace
+}  // namespace isoatlas::atlas
