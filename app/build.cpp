@@ -21,11 +21,12 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
   auto noHausdorff = std::make_shared<bool>(false);
   sub->add_option("mesh", *input, "a 2-manifold mesh (.off, .ply, .obj, .stl), closed or with boundaries")->required();
   sub->add_option("-o,--output", *output, "the model file (.isoatlas)")->check(outputFile());
-  sub->add_option("--base-ratio", o->baseRatio,
+  auto* ratio = sub->add_option("--base-ratio", o->baseRatio,
                   "base vertices as a fraction of the dense ones (default: 2 % up to 1000 vertices, at least 1 %)")
       ->check(inRange(1e-6, 1));
-  sub->add_option("--base-vertices", o->baseVertices, "base vertex count (instead of --base-ratio), at least 4")
+  auto* vertices = sub->add_option("--base-vertices", o->baseVertices, "base vertex count (instead of --base-ratio), at least 4")
       ->check(inRange(4, 1e9));
+  vertices->excludes(ratio);
   sub->add_option("--max-error", o->maxError, "never weld where the quadric RMS distance exceeds this (mm; 0: no bound)")
       ->capture_default_str()
       ->check(inRange(0, kMaxMillimetres));
@@ -42,6 +43,7 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
   sub->add_flag("--no-hausdorff", *noHausdorff, "skip measuring the base mesh's Hausdorff distance");
   bindAction(*sub, [=](nlohmann::json& r) {
     require(!output->empty() || !baseOnly->empty(), "build: give -o MODEL.isoatlas, --base-only BASE.obj, or both");
+    require(previews->empty() || !output->empty(), "--previews draws the model's atlas: give -o MODEL.isoatlas too");
     require(output->empty() || output->ends_with(".isoatlas"), *output + ": the model file must end in .isoatlas");
     require(baseOnly->empty() || baseOnly->ends_with(".obj"), *baseOnly + ": --base-only writes an .obj");
     require(*chart > 0, "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");

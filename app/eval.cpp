@@ -1,12 +1,14 @@
 // isoatlas eval: a model's accuracy per level against the dense mesh (CGAL's Hausdorff distance,
 // PSNR), the atlas's figures, a PSNR plot and any level's mesh.
 #include <filesystem>
+#include <optional>
 
 #include "app/command.h"
 #include "app/options.h"
 #include "pipeline/model_building.h"
 #include "atlas/evaluate_levels.h"
 #include "atlas/reconstruct.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/mesh_io.h"
 #include "core/progress.h"
@@ -28,6 +30,11 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--samples", *samples, "Hausdorff face samples per mesh")->capture_default_str()->check(inRange(kMinSamples, kMaxSamples));
   bindAction(*sub, [=](nlohmann::json& r) {
     require(plot->empty() || plot->ends_with(".png"), *plot + ": --plot writes a .png");
+    if (outMesh->first != -1) {
+      require(isMeshPath(outMesh->second), outMesh->second + ": --out-mesh-level writes a mesh (.ply, .obj, .off, .stl)");
+      requireOutputFolder(outMesh->second);
+    }
+    std::optional<Mesh> levelMesh;  // written once every model has been read and checked
     const Mesh denseMesh = pipeline::prepareModelInput(readMesh(*dense));
     std::vector<std::pair<std::string, std::vector<atlas::LevelFigures>>> measured;
     for (std::size_t m = 0; m < models->size(); ++m) {
@@ -39,7 +46,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
         if (outMesh->first != -1) {
           require(outMesh->first >= 0 && outMesh->first <= top, "--out-mesh-level: level " + std::to_string(outMesh->first) +
                                                                      " is outside 0.." + std::to_string(top));
-          writeMesh(outMesh->second, atlas::reconstructLevel(model.base, model.atlas, outMesh->first));
+          levelMesh = atlas::reconstructLevel(model.base, model.atlas, outMesh->first);
         }
         r["model"] = (*models)[m];
         r.update(pipeline::atlasFigures(model));
@@ -61,6 +68,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
                 " triangles, Hausdorff " + std::to_string(l.hausdorff) + ", PSNR " + std::to_string(l.psnrDb) + " dB (RMS: " +
                 std::to_string(l.psnrRmsDb) + " dB)");
     }
+    if (levelMesh) writeMesh(outMesh->second, *levelMesh);
     if (!plot->empty()) writePng(*plot, atlas::psnrPlot(measured));
     return 0;
   }, exitCode);

@@ -2,6 +2,7 @@
 #include "app/command.h"
 #include "pipeline/model_building.h"
 #include "app/options.h"
+#include "core/error.h"
 #include "viewer/viewer_app.h"
 
 namespace isoatlas::app {
@@ -25,6 +26,7 @@ void addViewCommand(CLI::App& app, int& exitCode) {
     return pipeline::buildModel(pipeline::prepareModelInput(surface), pipeline::ModelRequest{}, figures);
   };
   bindAction(*sub, [o, size](nlohmann::json& r) {
+    require(o->screenshot.empty() || o->frames > 0, "--screenshot saves the last of --frames N: give --frames too");
     const auto [width, height] = parseSize(*size);
     o->width = width, o->height = height;
     const viewer::ViewerReport v = viewer::runViewer(*o);
