@@ -62,7 +62,7 @@ void addEditCommand(CLI::App& app, int& exitCode) {
       ->capture_default_str()
       ->check(inRange(0, 1e6));
   sub->add_option("--node-limit", o->nodeLimit, "most nodes the tree may grow to")->capture_default_str()->check(inRange(1, 1e12));
-  sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
+  sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str()->check(backendChoice());
   sub->add_option("--render", o->render, "also draw the edited tree to this PNG")->check(outputFile());
   sub->add_option("--render-mode", o->renderMode, "raycast (rays through the tree, sub-voxel surface) or cubes (one per inside leaf)")
       ->capture_default_str();

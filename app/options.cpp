@@ -25,7 +25,9 @@ pipeline::Ball parseBall(const std::string& text, const std::string& option, dou
   const std::vector<double> numbers = parseNumbers(text, option, "X,Y,Z or X,Y,Z,R");
   if (numbers.size() != 3 && numbers.size() != 4) throw Error(option + " " + text + ": expected X,Y,Z or X,Y,Z,R");
   const double radius = numbers.size() == 4 ? numbers[3] : defaultRadius;
-  if (radius <= 0) throw Error(option + " " + text + ": the radius must be > 0");
+  if (!(radius >= kMinBallRadius && radius <= kMaxBallRadius))
+    throw Error(option + " " + text + ": the radius must lie in [0.5, 1000] voxels");
+  static_assert(kMinBallRadius == 0.5 && kMaxBallRadius == 1000, "the message above names the range");
   return {{numbers[0], numbers[1], numbers[2]}, radius};
 }
 
@@ -41,6 +43,8 @@ CLI::Validator outputFile() {
       },
       "FILE");
 }
+
+CLI::Validator backendChoice() { return CLI::IsMember({"gpu", "cpu", "auto"}); }
 
 CLI::Validator inRange(double lo, double hi) {
   // %g keeps the help short (1e+06 rather than 1000000.000000); the test parses it back.

@@ -30,6 +30,13 @@ CLI::Validator outputFile();
 // help shows it, and tests/cli/options_test.cpp reads it back (the validator's name is "range").
 CLI::Validator inRange(double lo, double hi);
 
+// --backend's choices, checked while parsing (before a file is read or a GL context made).
+CLI::Validator backendChoice();
+
+// A ball's radius given inside X,Y,Z,R (--seed, probe --at) and probe's --radius, in voxels.
+using pipeline::kMaxBallRadius;
+using pipeline::kMinBallRadius;
+
 // Ranges several subcommands share.
 inline constexpr double kMaxIntensity = 1e12;  // |T|, eps and isovalues: past any scanner's values
 inline constexpr double kMinWidth = 1e-6;      // eps must be > 0

@@ -17,10 +17,10 @@ void addProbeCommand(CLI::App& app, int& exitCode) {
   auto radius = std::make_shared<double>(pipeline::kDefaultSeedRadius);
   sub->add_option("volume", *volume, "input volume")->required();
   sub->add_option("--at", *at, "centre X,Y,Z[,R] in voxel indices (R overrides --radius)")->required();
-  sub->add_option("--radius", *radius, "radius in voxels")->capture_default_str()->check(inRange(0.5, 1000));
+  sub->add_option("--radius", *radius, "radius in voxels")->capture_default_str()->check(inRange(kMinBallRadius, kMaxBallRadius));
   bindAction(*sub, [volume, at, radius](nlohmann::json& r) {
-    const Volume v = readVolume(*volume);
     const pipeline::Ball ball = parseBall(*at, "--at", *radius);
+    const Volume v = readVolume(*volume);
     pipeline::requireInside(v, ball.centre, "--at");
     const levelset::ProbeResult p = levelset::probeSphere(v, ball.centre, ball.radius);
     r["mean"] = p.mean;

@@ -163,7 +163,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--alpha,-a", options->alpha, "alpha for the segmentation, as segment's (the demo volume has its own, 0.8)")
       ->capture_default_str()
       ->check(inRange(0, 1));
-  sub->add_option("--backend", options->backend, "gpu, cpu or auto")->capture_default_str();
+  sub->add_option("--backend", options->backend, "gpu, cpu or auto")->capture_default_str()->check(backendChoice());
   sub->add_option("--iterations,-n", options->iterations, "most iterations of the segmentation: a cap, as run stops once converged (segment runs its -n whole unless --converge)")
       ->capture_default_str()
       ->check(inRange(1, kMaxIterations));

@@ -37,7 +37,7 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
   sub->add_flag("--half-resolution-start", o->halfResolutionStart,
                 "with --converge, start from the solution at half resolution instead of the seeds (faster)")
       ->needs("--converge");
-  sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str();
+  sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str()->check(backendChoice());
   sub->add_option("--page", o->page, "page size in voxels (a power of two, 4..32)")->capture_default_str()->check(inRange(4, 32));
   sub->add_option("-o,--output", o->output, "output mask (uint8, 1 inside), e.g. mask.nii.gz")->required()->check(outputFile());
   sub->add_option("--phi", o->phi, "also write the level set phi (float, > 0 inside, voxel units)")->check(outputFile());
@@ -49,12 +49,10 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
                                                std::to_string(levelset::kMaxPageSize));
     const levelset::SpeedParams params{float(o->target), float(o->width), float(o->alpha)};
     levelset::validateParams(params);
-    const Volume volume = readVolume(o->volume);
     std::vector<pipeline::Ball> seeds;
-    for (const std::string& s : o->seeds) {
-      seeds.push_back(parseBall(s, "--seed", pipeline::kDefaultSeedRadius));
-      pipeline::requireInside(volume, seeds.back().centre, "--seed " + s);
-    }
+    for (const std::string& s : o->seeds) seeds.push_back(parseBall(s, "--seed", pipeline::kDefaultSeedRadius));
+    const Volume volume = readVolume(o->volume);
+    for (std::size_t k = 0; k < seeds.size(); ++k) pipeline::requireInside(volume, seeds[k].centre, "--seed " + o->seeds[k]);
     Volume seedMask;
     if (!o->seedMask.empty()) {
       seedMask = readVolume(o->seedMask);

@@ -17,7 +17,8 @@ void addViewCommand(CLI::App& app, int& exitCode) {
       ->check(inRange(0, 1e7));
   sub->add_option("--screenshot", o->screenshot, "with --frames: save the last frame as this PNG")->check(outputFile());
   sub->add_option("--backend", o->backend, "the segmentation's solver: gpu, cpu or auto (the CPU where GL is a software rasteriser)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(backendChoice());
   auto size = std::make_shared<std::string>("1280,800");
   sub->add_option("--size", *size, "W,H: the window's size in pixels")->capture_default_str();
   // The model is built as `build` builds it (its defaults), on a worker thread.

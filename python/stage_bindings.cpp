@@ -25,7 +25,8 @@ std::vector<pipeline::Ball> seedBalls(const std::vector<std::vector<double>>& se
   for (const auto& s : seeds) {
     require(s.size() == 3 || s.size() == 4, "seeds: each is (x, y, z) or (x, y, z, radius) in voxel indices");
     balls.push_back({{s[0], s[1], s[2]}, s.size() == 4 ? s[3] : 3.0});
-    require(balls.back().radius > 0, "seeds: a radius must be > 0");
+    require(balls.back().radius >= pipeline::kMinBallRadius && balls.back().radius <= pipeline::kMaxBallRadius,
+            "seeds: a radius must lie in [0.5, 1000] voxels");
     pipeline::requireInside(v, balls.back().centre, "seeds");
   }
   return balls;

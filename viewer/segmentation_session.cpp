@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "core/volume_io.h"
+#include "pipeline/segmentation.h"
 
 namespace isoatlas::viewer {
 
@@ -13,7 +14,7 @@ SegmentationSession::SegmentationSession(Volume source, levelset::Backend backen
   // Until probed: T in the middle of the source's window, eps a tenth of it.
   const render::IntensityWindow& w = window_;
   const levelset::SpeedParams start{.target = float((w.low + w.high) / 2), .width = float(std::max(1e-3, (w.high - w.low) / 10)),
-                                    .alpha = 0.5f};
+                                    .alpha = float(pipeline::kDefaultAlpha)};
   levelSet_ = std::make_unique<levelset::LevelSet>(source_, start, levelset::LevelSetOptions{.backend = backend});
 }
 
