@@ -11,8 +11,21 @@
 
 #include "core/error.h"
 #include "core/progress.h"
+#include "levelset/backend.h"
 
 namespace isoatlas::app {
+
+namespace {
+
+// "in [lo, hi]", as inRange's help and messages and parseBall's message give a range: %g keeps it short
+// (1e+06 rather than 1000000.000000), and tests/cli/options_test.cpp parses it back.
+std::string rangeText(double lo, double hi) {
+  char text[64];
+  std::snprintf(text, sizeof text, "in [%g, %g]", lo, hi);
+  return text;
+}
+
+}  // namespace
 
 std::array<int, 2> parseSize(const std::string& text) {
   const std::vector<double> v = parseNumbers(text, "--size", "W,H");
@@ -26,8 +39,7 @@ pipeline::Ball parseBall(const std::string& text, const std::string& option, dou
   if (numbers.size() != 3 && numbers.size() != 4) throw Error(option + " " + text + ": expected X,Y,Z or X,Y,Z,R");
   const double radius = numbers.size() == 4 ? numbers[3] : defaultRadius;
   if (!(radius >= kMinBallRadius && radius <= kMaxBallRadius))
-    throw Error(option + " " + text + ": the radius must lie in [0.5, 1000] voxels");
-  static_assert(kMinBallRadius == 0.5 && kMaxBallRadius == 1000, "the message above names the range");
+    throw Error(option + " " + text + ": the radius must lie " + rangeText(kMinBallRadius, kMaxBallRadius) + " voxels");
   return {{numbers[0], numbers[1], numbers[2]}, radius};
 }
 
@@ -44,14 +56,14 @@ CLI::Validator outputFile() {
       "FILE");
 }
 
-CLI::Validator backendChoice() { return CLI::IsMember({"gpu", "cpu", "auto"}); }
+CLI::Validator backendChoice() {
+  return CLI::IsMember(std::vector<std::string>(levelset::kBackendChoices.begin(), levelset::kBackendChoices.end()));
+}
 
 CLI::Validator inRange(double lo, double hi) {
-  // %g keeps the help short (1e+06 rather than 1000000.000000); the test parses it back.
-  char range[64];
-  std::snprintf(range, sizeof range, "in [%g, %g]", lo, hi);
+  const std::string range = rangeText(lo, hi);
   return CLI::Validator(
-      [lo, hi, text = std::string(range)](std::string& value) {
+      [lo, hi, text = range](std::string& value) {
         char* end = nullptr;
         errno = 0;
         const double v = std::strtod(value.c_str(), &end);

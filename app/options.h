@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <array>
+#include <bit>
 #include <memory>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@
 #include "core/numbers.h"
 #include "core/vec.h"
 #include "core/volume.h"
+#include "multires/base_mesh.h"
 #include "pipeline/seed_ball.h"
 #include "pipeline/volume_editing.h"
 
@@ -42,7 +44,7 @@ inline constexpr double kMaxIntensity = 1e12;  // |T|, eps and isovalues: past a
 inline constexpr double kMinWidth = 1e-6;      // eps must be > 0
 inline constexpr double kMaxIterations = 100000;
 inline constexpr double kMinSamples = 1000, kMaxSamples = 1e8;  // Hausdorff face samples per mesh
-inline constexpr double kMaxLevel = 14;  // atlas::maxLevel of the finest charts (129 texels)
+inline constexpr double kMaxLevel = 2 * std::countr_zero(multires::kMaxChartSize - 1);  // atlas::maxLevel of the finest charts
 inline constexpr double kMaxMillimetres = 1e6;  // lengths in world mm (radii, depths, errors): a kilometre
 
 // --union SHAPE and --subtract SHAPE on `sub`, each adding a step in command-line order.

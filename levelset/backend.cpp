@@ -1,11 +1,14 @@
 #include "levelset/backend.h"
 
+#include <algorithm>
+
 #include "core/error.h"
 
 namespace isoatlas::levelset {
 
 void requireBackendChoice(const std::string& choice) {
-  require(choice == "gpu" || choice == "cpu" || choice == "auto", "--backend " + choice + ": expected gpu, cpu or auto");
+  require(std::find(kBackendChoices.begin(), kBackendChoices.end(), choice) != kBackendChoices.end(),
+          "--backend " + choice + ": expected gpu, cpu or auto");
 }
 
 Backend backendFor(const std::string& choice, bool softwareGl) {

@@ -1,6 +1,7 @@
 // Backend: where a GPU/CPU twin runs (the level set, marching cubes, the volume tree), and the one rule
 // that turns --backend's word into it.
 #pragma once
+#include <array>
 #include <string>
 
 namespace isoatlas::levelset {
@@ -11,6 +12,7 @@ enum class Backend { Cpu, Gpu };
 // rasteriser or not: auto takes the GPU unless its GL is software (llvmpipe). Throws Error (bad
 // input) for another word. The command, the Python module and the window all choose by it.
 Backend backendFor(const std::string& choice, bool softwareGl);
+inline constexpr std::array<const char*, 3> kBackendChoices{"gpu", "cpu", "auto"};  // --backend's words
 void requireBackendChoice(const std::string& choice);
 
 }  // namespace isoatlas::levelset
