@@ -8,6 +8,7 @@
 #include <cmath>
 #include <type_traits>
 
+#include "atlas/separate_codes.h"
 #include "atlas/tile_sides.h"
 #include "core/deflate.h"
 #include "core/error.h"
@@ -36,7 +37,7 @@ Vec3 decodeOctahedral(const std::array<std::uint8_t, 2>& code) {
   return n * (1 / norm(n));
 }
 
-std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas) {
+std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas, const multires::BaseMesh& base, SeparatedTexels* separated) {
   const std::uint32_t n = atlas.layout.chartSize;
   std::vector<QuantisedChart> charts(atlas.layout.charts);
   tbb::parallel_for(std::uint32_t(0), atlas.layout.charts, [&](std::uint32_t c) {  // charts apart: on every core
@@ -60,6 +61,8 @@ std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas) {
         q.normals.push_back(encodeOctahedral(unpackNormal(atlas.normals[at])));
       }
   });
+  const SeparatedTexels moved = separateJoinedTexels(atlas, base, charts);
+  if (separated) *separated = moved;
   return charts;
 }
 

@@ -7,7 +7,9 @@
 // bit again. Version 3 files held 16-bit codes; the decoder takes codes of any width up to 16 bits
 // (position = lo + code * step).
 //   QuantisedChart  one chart's box (lo, step per axis: position = lo + code * step, in f32) and codes
-//   quantiseAtlas   inputs: the atlas (its charts' texels); output: one QuantisedChart per chart
+//   quantiseAtlas   inputs: the atlas (its charts' texels) and its base mesh; output: one QuantisedChart
+//                   per chart, where texels the atlas holds apart decode apart (separate_codes.h;
+//                   `separated`, when given, gets how many moved)
 //   dequantiseAtlas inputs: the charts, the base mesh (for the shared sides), the layout; output: the
 //                   atlas's positions and normals (details untouched)
 //   largestQuantisationError  how far (mm) the charts, decoded, lie from the atlas's own positions
@@ -41,7 +43,8 @@ struct QuantisedChart {
 std::array<std::uint8_t, 2> encodeOctahedral(const Vec3& normal);
 Vec3 decodeOctahedral(const std::array<std::uint8_t, 2>& code);
 
-std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas);
+struct SeparatedTexels;
+std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas, const multires::BaseMesh& base, SeparatedTexels* separated = nullptr);
 void dequantiseAtlas(const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base, Atlas& atlas);
 double largestQuantisationError(const Atlas& atlas, const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base);
 bool decodesTo(const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base, const Atlas& atlas);
