@@ -11,6 +11,7 @@
 
 #include "atlas/relax_chart.h"
 #include "atlas/snap_texels.h"
+#include "atlas/unturn_texels.h"
 #include "atlas/tile_sides.h"
 #include "core/error.h"
 #include "core/progress.h"
@@ -224,12 +225,13 @@ double largestLevelZeroError(const ChartSurface& surface, std::uint32_t charts,
 }
 
 // The chart points of tile c (relaxChart), then its finest texels drawn onto the dense vertices the
-// grid misses (snapTexels; with relaxation only, so that no relaxation keeps the tile's uniform
-// grid), and the dense surface at each.
+// grid misses (snapTexels) and moved where fewer triangles round them face backwards (unturnTexels;
+// both with relaxation only, so that no relaxation keeps the tile's uniform grid), and the dense
+// surface at each.
 struct ChartPoints {
   std::vector<multires::Vec2> chart;
   std::vector<multires::ParametrisationHistory::DensePoint> dense;
-  std::uint32_t nonConvex = 0, snapped = 0;
+  std::uint32_t nonConvex = 0, snapped = 0, unturned = 0;
   bool levelTwoCentreMoved = false;  // by ChartRelaxing::levelTwoGuard
 };
 ChartPoints placeTexels(const ChartSurface& surface, ChartPointCache& cache, std::uint32_t n, const std::array<std::vector<double>, 4>& sides,
@@ -244,6 +246,7 @@ ChartPoints placeTexels(const ChartSurface& surface, ChartPointCache& cache, std
   for (std::size_t k = 0; k < positions.size(); ++k) positions[k] = multires::densePosition(surface.dense, out.dense[k]);
   const std::vector<multires::Vec2> before = out.chart;
   out.snapped = snapTexels(n, vertices, [&](const multires::Vec2& q) { return cache.position(q); }, out.chart, positions);
+  out.unturned = unturnTexels(n, vertices, [&](const multires::Vec2& q) { return cache.at(q); }, out.chart, positions);
   for (std::size_t k = 0; k < out.chart.size(); ++k)
     if (out.chart[k].x != before[k].x || out.chart[k].y != before[k].y) out.dense[k] = cache.point(out.chart[k]);
   return out;
@@ -260,7 +263,7 @@ void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, const s
                   Atlas& atlas, std::vector<std::uint8_t>& held, ChartStats& stats) {
   const std::uint32_t n = atlas.layout.chartSize;
   const auto sides = sideFractions(surface, atlas.layout, how, chartVertices);
-  std::atomic<std::uint64_t> folded{0}, gaps{0}, steps{0}, turned{0}, nonConvex{0}, snapped{0}, centresMoved{0};
+  std::atomic<std::uint64_t> folded{0}, gaps{0}, steps{0}, turned{0}, nonConvex{0}, snapped{0}, unturned{0}, centresMoved{0};
   Progress progress("atlas: sampling charts", atlas.layout.charts, "charts");
   constexpr std::uint32_t kChunk = 64;  // charts between progress updates (Progress is not thread-safe)
   ChartPointCaches caches(surface);
@@ -271,6 +274,7 @@ void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, const s
     const ChartPoints points =
         placeTexels(surface, caches.on(c), n, sides[c], how, chartVertices.empty() ? std::span<const ChartVertex>{} : chartVertices[c]);
     snapped += points.snapped;
+    unturned += points.unturned;
     centresMoved += points.levelTwoCentreMoved;
     std::vector<std::array<float, 3>> chart;
     std::vector<Vec3> positions, surfaceNormals;
@@ -311,6 +315,7 @@ void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, const s
   progress.finish();
   stats.coincidentTexels = folded;
   stats.snappedTexels = snapped;
+  stats.unturnedTexels = unturned;
   stats.levelTwoCentresMoved = centresMoved;
   stats.gapTexels = gaps;
   stats.turnedTexelQuads = turned;

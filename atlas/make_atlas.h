@@ -29,6 +29,7 @@ struct ChartStats {
   std::uint64_t turnedTexelQuads = 0;  // texel quads turning against the surface by their first corner, as sampled (before the borders are averaged; atlas/backfacing_quads.h measures the final atlas as drawn)
   std::uint64_t nonConvexChartQuads = 0;  // texel quads whose chart points are not strictly convex (0 expected)
   std::uint64_t snappedTexels = 0;  // texels moved onto a dense vertex their grid missed (snap_texels.h)
+  std::uint64_t unturnedTexels = 0;  // texels moved where fewer triangles round them face backwards (unturn_texels.h)
   std::uint64_t levelTwoCentresMoved = 0;  // charts whose centre moved so that level 2 lies nearer (relax_chart.h)
   double meanHistorySteps = 0;     // the steps a texel walked back through the history
   std::uint64_t sharedSides = 0;   // tile sides averaged with a neighbour's

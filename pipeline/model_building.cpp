@@ -91,6 +91,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   r["turned_texel_quads"] = charts.turnedTexelQuads;
   r["non_convex_chart_quads"] = charts.nonConvexChartQuads;
   r["snapped_texels"] = charts.snappedTexels;
+  r["unturned_texels"] = charts.unturnedTexels;
   r["level_two_centres_moved"] = charts.levelTwoCentresMoved;
   r["relax_sweeps"] = request.relaxSweeps;
   r["seconds_simplify"] = stats.seconds;
