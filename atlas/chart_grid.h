@@ -139,4 +139,24 @@ private:
 // The largest distance of `vertices` from grid level `grid` at their chart points (0 for none).
 double largestVertexError(const ChartGrid& grid, std::span<const ChartVertex> vertices);
 
+// A tile's dense vertices by the square of `grid` that holds each, kept as texels move (a move of
+// texel (i, j) changes only which of the four squares round it holds a vertex there).
+class VerticesBySquare {
+public:
+  VerticesBySquare(const ChartGrid& grid, std::span<const ChartVertex> vertices);
+  std::uint32_t squareOf(std::uint32_t vertex) const { return squareOf_[vertex]; }
+  // The vertices in the four squares round texel (i, j), into `out`.
+  void around(std::uint32_t i, std::uint32_t j, std::vector<std::uint32_t>& out) const;
+  // After texel (i, j) moved: `vertices` (around's) lie in `squares`, one each.
+  void moved(std::uint32_t i, std::uint32_t j, std::span<const std::uint32_t> vertices, std::span<const std::uint32_t> squares);
+
+private:
+  std::array<std::uint32_t, 4> squaresAround(std::uint32_t i, std::uint32_t j) const {
+    return {(j - 1) * s_ + i - 1, (j - 1) * s_ + i, j * s_ + i - 1, j * s_ + i};
+  }
+  std::uint32_t s_;
+  std::vector<std::uint32_t> squareOf_;
+  std::vector<std::vector<std::uint32_t>> inSquare_;  // per square, the vertices in it
+};
+
 }  // namespace isoatlas::atlas

@@ -19,15 +19,11 @@ public:
   Snapper(std::uint32_t n, std::span<const ChartVertex> vertices, const std::function<Vec3(const Vec2&)>& surfaceAt,
           std::vector<Vec2>& q, std::vector<Vec3>& p)
       : n_(n), s_(n - 1), vertices_(vertices), surfaceAt_(surfaceAt), q_(q), p_(p), level_(n, q, p),
-        squareOf_(vertices.size()), error_(vertices.size()), inSquare_(std::size_t(s_) * s_), moved_(q.size(), 0),
-        tried_(vertices.size(), 0) {
+        bySquare_(level_, vertices), error_(vertices.size()), moved_(q.size(), 0), tried_(vertices.size(), 0) {
     // Errors this small are rounding: nothing to mend.
     negligible_ = 1e-9 * boundingBox(p).diagonal();
     for (std::uint32_t d = 0; d < vertices.size(); ++d) {
-      const Vec2& x = vertices[d].chart;
-      squareOf_[d] = level_.locate(x, level_.guess(x));
-      error_[d] = norm(vertices[d].position - level_.pointAt(x, squareOf_[d]));
-      inSquare_[squareOf_[d]].push_back(d);
+      error_[d] = norm(vertices[d].position - level_.pointAt(vertices[d].chart, bySquare_.squareOf(d)));
       if (error_[d] > negligible_) worst_.push({error_[d], d});
     }
   }
@@ -41,7 +37,7 @@ public:
       if (tried_[d] || e != error_[d]) continue;  // done, or an entry from before its square changed
       tried_[d] = 1;
       const Vec2& x = vertices_[d].chart;
-      std::array<std::size_t, 4> corners = level_.texels(squareOf_[d] % s_, squareOf_[d] / s_);
+      std::array<std::size_t, 4> corners = level_.texels(bySquare_.squareOf(d) % s_, bySquare_.squareOf(d) / s_);
       std::sort(corners.begin(), corners.end(), [&](std::size_t u, std::size_t v) {
         const Vec2 du = q_[u] - x, dv = q_[v] - x;
         return du.x * du.x + du.y * du.y < dv.x * dv.x + dv.y * dv.y;
@@ -66,11 +62,9 @@ private:
   // largest error of the vertices in them falls, and the level's triangles at t stray less than it was.
   bool tryMove(std::size_t t, const Vec2& to) {
     const std::uint32_t i = std::uint32_t(t % n_), j = std::uint32_t(t / n_);
-    const std::uint32_t squaresAround[4] = {(j - 1) * s_ + i - 1, (j - 1) * s_ + i, j * s_ + i - 1, j * s_ + i};
-    around_.clear();
+    bySquare_.around(i, j, around_);
     double before = 0;
-    for (const std::uint32_t sq : squaresAround)
-      for (const std::uint32_t v : inSquare_[sq]) around_.push_back(v), before = std::max(before, error_[v]);
+    for (const std::uint32_t v : around_) before = std::max(before, error_[v]);
     const Vec2 fromChart = q_[t];
     const Vec3 fromSurface = p_[t];
     q_[t] = to;
@@ -83,7 +77,7 @@ private:
     double after = 0;
     for (std::size_t m = 0; m < around_.size(); ++m) {
       const ChartVertex& v = vertices_[around_[m]];
-      squareAfter_[m] = level_.locate(v.chart, squareOf_[around_[m]]);
+      squareAfter_[m] = level_.locate(v.chart, bySquare_.squareOf(around_[m]));
       errorAfter_[m] = norm(v.position - level_.pointAt(v.chart, squareAfter_[m]));
       after = std::max(after, errorAfter_[m]);
     }
@@ -93,11 +87,10 @@ private:
       return false;
     }
     moved_[t] = 1;
-    for (const std::uint32_t sq : squaresAround) inSquare_[sq].clear();
+    bySquare_.moved(i, j, around_, squareAfter_);
     for (std::size_t m = 0; m < around_.size(); ++m) {
       const std::uint32_t v = around_[m];
-      squareOf_[v] = squareAfter_[m], error_[v] = errorAfter_[m];
-      inSquare_[squareOf_[v]].push_back(v);
+      error_[v] = errorAfter_[m];
       if (!tried_[v] && error_[v] > negligible_) worst_.push({error_[v], v});
     }
     return true;
@@ -110,9 +103,8 @@ private:
   std::vector<Vec3>& p_;
   ChartGrid level_;
   double negligible_ = 0;
-  std::vector<std::uint32_t> squareOf_;
+  VerticesBySquare bySquare_;
   std::vector<double> error_;
-  std::vector<std::vector<std::uint32_t>> inSquare_;  // per square, the vertices in it
   std::vector<std::uint8_t> moved_, tried_;
   std::priority_queue<std::pair<double, std::uint32_t>> worst_;  // (error, vertex), stale entries skipped
   std::vector<std::uint32_t> around_, squareAfter_;

@@ -18,12 +18,8 @@ public:
   Unturner(std::uint32_t n, std::span<const ChartVertex> vertices, const std::function<SurfacePoint(const Vec2&)>& surfaceAt,
            std::vector<Vec2>& q, std::vector<Vec3>& p)
       : n_(n), s_(n - 1), vertices_(vertices), surfaceAt_(surfaceAt), q_(q), p_(p), level_(n, q, p),
-        normal_(q.size()), squareOf_(vertices.size()), inSquare_(std::size_t(s_) * s_) {
+        normal_(q.size()), bySquare_(level_, vertices) {
     for (std::size_t k = 0; k < q.size(); ++k) normal_[k] = surfaceAt(q[k]).normal;
-    for (std::uint32_t d = 0; d < vertices.size(); ++d) {
-      squareOf_[d] = level_.locate(vertices[d].chart, level_.guess(vertices[d].chart));
-      inSquare_[squareOf_[d]].push_back(d);
-    }
   }
 
   std::uint32_t run() {
@@ -62,7 +58,7 @@ private:
     squareAfter.resize(around_.size());
     for (std::size_t m = 0; m < around_.size(); ++m) {
       const ChartVertex& v = vertices_[around_[m]];
-      squareAfter[m] = level_.locate(v.chart, squareOf_[around_[m]]);
+      squareAfter[m] = level_.locate(v.chart, bySquare_.squareOf(around_[m]));
       error = std::max(error, norm(v.position - level_.pointAt(v.chart, squareAfter[m])));
     }
     return error;
@@ -87,10 +83,7 @@ private:
   // Texel (i, j) moved to its best place, if one turns fewer triangles within the error allowed.
   bool tryPlaces(std::uint32_t i, std::uint32_t j) {
     const std::size_t k = std::size_t(j) * n_ + i;
-    const std::uint32_t squaresAround[4] = {(j - 1) * s_ + i - 1, (j - 1) * s_ + i, j * s_ + i - 1, j * s_ + i};
-    around_.clear();
-    for (const std::uint32_t sq : squaresAround)
-      for (const std::uint32_t v : inSquare_[sq]) around_.push_back(v);
+    bySquare_.around(i, j, around_);
     const int turnedBefore = turnedAround(i, j);
     const double allowed = errorAround(i, j, squareAfter_);
     const Vec2 fromChart = q_[k];
@@ -113,11 +106,7 @@ private:
     q_[k] = best, p_[k] = bestSurface.position, normal_[k] = bestSurface.normal;
     if (same(best, fromChart)) return false;
     errorAround(i, j, squareAfter_);
-    for (const std::uint32_t sq : squaresAround) inSquare_[sq].clear();
-    for (std::size_t m = 0; m < around_.size(); ++m) {
-      squareOf_[around_[m]] = squareAfter_[m];
-      inSquare_[squareAfter_[m]].push_back(around_[m]);
-    }
+    bySquare_.moved(i, j, around_, squareAfter_);
     return true;
   }
 
@@ -128,8 +117,7 @@ private:
   std::vector<Vec3>& p_;
   ChartGrid level_;
   std::vector<Vec3> normal_;
-  std::vector<std::uint32_t> squareOf_;
-  std::vector<std::vector<std::uint32_t>> inSquare_;  // per square, the dense vertices in it
+  VerticesBySquare bySquare_;
   std::vector<std::uint32_t> around_, squareAfter_;
 };
 
