@@ -4,14 +4,13 @@
 // the white-matter surface of ch2better (3 million triangles). Figures: seconds (isoatlas: simplify
 // plus match), base vertices, symmetric Hausdorff distance to the dense mesh and PSNR, all measured
 // by CGAL's approximate_Hausdorff_distance (core/distance/mesh_distance).
-#include <meshoptimizer.h>
-
 #include <chrono>
 #include <filesystem>
 
 #include "bench/bench_util.h"
 #include "bench/cgal_simplify.h"
 #include "bench/derived_data.h"
+#include "bench/meshopt_simplify.h"
 #include "core/mesh_io.h"
 #include "core/mesh_topology.h"
 #include "extract/extract_surface.h"
@@ -25,21 +24,6 @@ namespace {
 
 double since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-Mesh meshoptSimplify(const Mesh& dense, std::size_t faces, double& seconds) {
-  std::vector<float> xyz;
-  for (const Vec3& p : dense.positions) xyz.insert(xyz.end(), {float(p.x), float(p.y), float(p.z)});
-  std::vector<unsigned> indices(dense.faceVertices.begin(), dense.faceVertices.end()), out(indices.size());
-  const auto start = std::chrono::steady_clock::now();
-  float error = 0;
-  const std::size_t n = meshopt_simplify(out.data(), indices.data(), indices.size(), xyz.data(), dense.vertexCount(),
-                                         12, faces * 3, 1.0f, 0, &error);
-  seconds = since(start);
-  Mesh m;  // the result's faces over all dense vertices, then only the vertices it uses
-  m.positions = dense.positions;
-  for (std::size_t i = 0; i < n; i += 3) m.addFace({out[i], out[i + 1], out[i + 2]});
-  return dropUnusedVertices(m);
 }
 
 void compare(const std::string& name, const Mesh& dense) {
@@ -58,7 +42,7 @@ void compare(const std::string& name, const Mesh& dense) {
 
   double cgalSeconds = 0, meshoptSeconds = 0;
   const Mesh cgal = bench::cgalSimplify(dense, baseEdges, cgalSeconds);
-  const Mesh meshopt = meshoptSimplify(dense, 2 * baseEdges / 3, meshoptSeconds);
+  const Mesh meshopt = bench::meshoptSimplify(dense, 2 * baseEdges / 3, meshoptSeconds);
 
   const double hOurs = hausdorffDistance(dense, ourMesh).symmetric();
   const double hCgal = hausdorffDistance(dense, cgal).symmetric();
