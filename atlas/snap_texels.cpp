@@ -73,6 +73,10 @@ private:
       return false;
     }
     p_[t] = surfaceAt_(to);
+    if (joinsANeighbour(i, j)) {
+      q_[t] = fromChart, p_[t] = fromSurface;
+      return false;
+    }
     squareAfter_.resize(around_.size()), errorAfter_.resize(around_.size());
     double after = 0;
     for (std::size_t m = 0; m < around_.size(); ++m) {
@@ -94,6 +98,18 @@ private:
       if (!tried_[v] && error_[v] > negligible_) worst_.push({error_[v], v});
     }
     return true;
+  }
+
+  // Whether texel (i, j) lies where one of its eight neighbours does, as the atlas stores them
+  // (floats): a dense vertex within rounding of the tile's border is where the border sample beside
+  // it already is (anchor_dense: chart points 2e-8 apart), and the two would be one vertex.
+  bool joinsANeighbour(std::uint32_t i, std::uint32_t j) const {
+    auto stored = [](const Vec3& x) { return std::array<float, 3>{float(x.x), float(x.y), float(x.z)}; };
+    const auto here = stored(p_[std::size_t(j) * n_ + i]);
+    for (std::uint32_t b = j - 1; b <= j + 1; ++b)
+      for (std::uint32_t a = i - 1; a <= i + 1; ++a)
+        if ((a != i || b != j) && stored(p_[std::size_t(b) * n_ + a]) == here) return true;
+    return false;
   }
 
   std::uint32_t n_, s_;

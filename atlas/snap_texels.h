@@ -16,7 +16,8 @@
 //     stray from the surface by as much as that error was (measured at their centroids and the
 //     middles of their edges at the texel, against the surface at the same chart points): a texel
 //     drawn off a crease must not make the triangles beside it cut across the crease.
-// Each texel moves at most once; errors below a billionth of the chart's extent are left.
+// Each texel moves at most once, and never onto a neighbour's place as the atlas stores it (floats);
+// errors below a billionth of the chart's extent are left.
 //   n          texels a side (2^k + 1); q the chart points, texel (i, j) at j * n + i, strictly
 //              convex squares; p their surface points. Both are updated.
 //   vertices   the dense vertices inside the tile: chart point (in (0, 1)^2) and position

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <functional>
 #include <map>
 
@@ -15,6 +16,7 @@
 #include "atlas/reconstruct.h"
 #include "atlas/tile_sides.h"
 #include "core/error.h"
+#include "core/mesh_io.h"
 #include "core/mesh_topology.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
@@ -111,6 +113,24 @@ TEST(Atlas, NoFoldedOrGapTexelsOnAnyShape) {
     EXPECT_EQ(b->stats.borderDisagreements, 0u);
     EXPECT_GT(b->stats.meanHistorySteps, 1.0) << "texels walk back through the simplification";
   }
+}
+
+// anchor_dense (a CAD part) has dense vertices within 2e-8 of a tile's border, beside the border
+// sample at that very place: snapping the texel next to it onto such a vertex made two texels one
+// point as floats (5 coincident texels, and level 10 not a manifold). Built as `isoatlas build`
+// builds it: none.
+TEST(Atlas, ADenseVertexAtATilesBorderJoinsNoTexels) {
+  const std::filesystem::path file = std::filesystem::path(ISOATLAS_DATA) / "meshes" / "anchor_dense.off";
+  if (!std::filesystem::exists(file)) GTEST_SKIP() << "run scripts/fetch-data for " << file;
+  const Mesh dense = dropUnusedVertices(readMesh(file.string()));  // as `isoatlas build` prepares it
+  multires::BaseMesh base = multires::simplifyStellar(dense);
+  multires::pairTriangles(base, dense);
+  atlas::ChartStats stats;
+  const atlas::Atlas atlas = atlas::makeAtlas(dense, base, 33, &stats);
+  EXPECT_GT(stats.snappedTexels, 0u);
+  EXPECT_EQ(stats.coincidentTexels, 0u);
+  const Mesh level10 = atlas::reconstructLevel(base, atlas, 10);
+  EXPECT_EQ(weldIdenticalPositions(level10).vertexCount(), level10.vertexCount());
 }
 
 // Texel quads turning against the surface: counted by hand against the true outward normal of the
