@@ -3,6 +3,7 @@
 #include <unordered_map>
 
 #include <algorithm>
+#include <limits>
 
 namespace isoatlas {
 
@@ -103,11 +104,38 @@ std::vector<Vec3> vertexNormals(const Mesh& m) {
   return n;
 }
 
+namespace {
+
+// The smallest twice-area of the fan of `face` around its corner `apex`.
+double smallestFanArea(const Mesh& mesh, std::span<const std::uint32_t> face, std::size_t apex) {
+  double least = std::numeric_limits<double>::infinity();
+  const std::size_t k = face.size();
+  for (std::size_t i = 1; i + 1 < k; ++i) {
+    const Vec3 &a = mesh.positions[face[apex]], &b = mesh.positions[face[(apex + i) % k]], &c = mesh.positions[face[(apex + i + 1) % k]];
+    least = std::min(least, norm(cross(b - a, c - a)));
+  }
+  return least;
+}
+
+}  // namespace
+
 Mesh fanTriangulated(const Mesh& mesh) {
   Mesh out;
   out.positions = mesh.positions;
   out.normals = mesh.normals;
-  forEachFanTriangle(mesh, [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) { out.addFace({a, b, c}); });
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+    const auto face = mesh.face(f);
+    const std::size_t k = face.size();
+    std::size_t apex = 0;
+    if (k > 3) {
+      double extent = 0;  // the face's size squared: "no area" is relative to it
+      for (std::size_t i = 1; i < k; ++i) extent = std::max(extent, dot(mesh.positions[face[i]] - mesh.positions[face[0]], mesh.positions[face[i]] - mesh.positions[face[0]]));
+      double best = smallestFanArea(mesh, face, 0);
+      for (std::size_t c = 1; c < k && !(best > 1e-12 * extent); ++c)
+        if (const double area = smallestFanArea(mesh, face, c); area > best) best = area, apex = c;
+    }
+    for (std::size_t i = 1; i + 1 < k; ++i) out.addFace({face[apex], face[(apex + i) % k], face[(apex + i + 1) % k]});
+  }
   return out;
 }
 

@@ -84,7 +84,12 @@ void forEachFanTriangle(const Mesh& mesh, const Triangle& triangle) {
   }
 }
 
-// The mesh with each face split as a fan around its first corner (positions and normals kept).
+// The mesh with each face split as a fan around its first corner (positions and normals kept), or,
+// where that fan has a triangle of no area (three corners on a line: a CAD polygon with a vertex in
+// the middle of a straight side), around the next corner whose fan has none (else whose fan's
+// smallest triangle is largest). A
+// triangle of no area maps a stretch of the model's charts onto one point (mpi.off: four border
+// samples at one place, and level 10 not a manifold).
 Mesh fanTriangulated(const Mesh& mesh);
 
 // The total area of the faces (polygons as fans), in the positions' units squared.
