@@ -34,7 +34,9 @@ for bench in sorted({k[0] for k in rows}):
     out.append("| --- | --- | --- | --- | --- | --- | --- | --- |\n")
     for key in sorted(k for k in rows if k[0] == bench):
         r = rows[key]
+        # A ratio to a target of 0 is no number (JSON null): shown as such.
+        ratio = "n/a" if r["ratio"] is None else f"{r['ratio']:.2f}"
         out.append(f"| {r['case']} | {r['metric']} | {r['isoatlas']:.4g} | {r['peer']} | {r['peer_value']:.4g} | "
-                   f"{r['ratio']:.2f} | {r['machine']} | {r['date']} |\n")
+                   f"{ratio} | {r['machine']} | {r['date']} |\n")
 results.write_text("".join(out))
 print(f"update_results: {len(rows)} rows in {results}")
