@@ -38,7 +38,7 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
       ->capture_default_str()
       ->check(inRange(0, 1000));
   sub->add_flag("--keep-dense", o->keepDense, "keep the dense mesh and its parametrisation in the model");
-  sub->add_option("--previews", *previews, "write position_atlas.png and normal_atlas.png into this folder");
+  sub->add_option("--previews", *previews, "write position_atlas.png, normal_atlas.png and backfacing_atlas.png into this folder");
   sub->add_option("--base-only", *baseOnly, "also write the triquad base mesh as an OBJ of quads")->check(outputFile());
   sub->add_flag("--no-hausdorff", *noHausdorff, "skip measuring the base mesh's Hausdorff distance");
   bindAction(*sub, [=](nlohmann::json& r) {
@@ -59,7 +59,7 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
       if (!previews->empty()) {
         std::filesystem::create_directories(*previews);
         const std::filesystem::path dir(*previews);
-        pictures = {(dir / "position_atlas.png").string(), (dir / "normal_atlas.png").string()};
+        pictures = {(dir / "position_atlas.png").string(), (dir / "normal_atlas.png").string(), (dir / "backfacing_atlas.png").string()};
       }
       pipeline::writeModelFiles(model, *output, pictures, r);
     }

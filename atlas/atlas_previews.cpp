@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "atlas/backfacing_quads.h"
+
 namespace isoatlas::atlas {
 namespace {
 
@@ -39,6 +41,22 @@ Image normalPreview(const Atlas& atlas) {
     const Vec3 n = unpackNormal(atlas.normals[at]);
     for (int a = 0; a < 3; ++a) image.pixels[at * 3 + a] = byte((n[a] + 1) / 2);
   });
+  return image;
+}
+
+Image backFacingPreview(const Atlas& atlas) {
+  Image image = normalPreview(atlas);
+  for (std::uint8_t& v : image.pixels) v = std::uint8_t(v / 3);
+  const AtlasLayout& l = atlas.layout;
+  for (std::uint32_t c = 0; c < l.charts; ++c)
+    for (std::uint32_t b = 0; b + 1 < l.chartSize; ++b)
+      for (std::uint32_t a = 0; a + 1 < l.chartSize; ++a) {
+        if (!quadFacesBackwards(atlas, c, a, b)) continue;
+        for (const auto& [i, j] : {std::array{a, b}, {a + 1, b}, {a + 1, b + 1}, {a, b + 1}}) {
+          const std::size_t at = l.texel(c, i, j) * 3;
+          image.pixels[at] = 255, image.pixels[at + 1] = 0, image.pixels[at + 2] = 0;
+        }
+      }
   return image;
 }
 

@@ -14,12 +14,16 @@
 
 namespace isoatlas::atlas {
 
+// Whether texel quad (a, b) of chart c (its corners (a, b) to (a + 1, b + 1)) turns so.
+bool quadFacesBackwards(const Atlas& atlas, std::uint32_t c, std::uint32_t a, std::uint32_t b);
+
 struct BackFacingQuads {
   std::uint64_t quads = 0;        // texel quads turned against the surface
   std::uint64_t total = 0;        // texel quads looked at (charts x (N - 1)^2)
   std::uint32_t charts = 0;       // charts with at least one
   std::uint32_t worstChart = 0;   // the chart with the most (0 when none)
   std::uint64_t worstChartQuads = 0;
+  Vec3 worstChartCentre;          // where the worst chart lies: its centre texel, in world mm
   std::vector<std::uint64_t> perChart;  // by chart (tile), to say where
 };
 

@@ -129,7 +129,8 @@ nlohmann::json atlasFigures(const atlas::Model& model) {
           {"atlas_efficiency", l.efficiency()},     {"coincident_texels", model.coincidentTexels},
           {"gap_texels", model.gapTexels},         {"quantisation_error", model.quantisationError},
           {"backfacing_texel_quads", back.quads},  {"backfacing_texel_quad_charts", back.charts},
-          {"backfacing_worst_chart", back.worstChart}, {"backfacing_worst_chart_quads", back.worstChartQuads}};
+          {"backfacing_worst_chart", back.worstChart}, {"backfacing_worst_chart_quads", back.worstChartQuads},
+          {"backfacing_worst_chart_at", {back.worstChartCentre.x, back.worstChartCentre.y, back.worstChartCentre.z}}};
 }
 
 void writeModelFiles(const atlas::Model& model, const std::string& path, const AtlasPreviewPaths& previews, nlohmann::json& r) {
@@ -140,6 +141,9 @@ void writeModelFiles(const atlas::Model& model, const std::string& path, const A
                        },
                        [&] {
                          if (!previews.normals.empty()) writePng(previews.normals, atlas::normalPreview(model.atlas));
+                       },
+                       [&] {
+                         if (!previews.backFacing.empty()) writePng(previews.backFacing, atlas::backFacingPreview(model.atlas));
                        });
   r["quantisation_error"] = quantisationError;
   r["model_bytes"] = std::filesystem::file_size(path);

@@ -45,7 +45,7 @@ nlohmann::json atlasFigures(const atlas::Model& model);
 
 // Where the atlas's pictures go (atlas::positionPreview, atlas::normalPreview): an empty path writes none.
 struct AtlasPreviewPaths {
-  std::string positions, normals;
+  std::string positions, normals, backFacing;
 };
 // Writes the model and the atlas's pictures side by side; adds quantisation_error, model_bytes and
 // the model's ratios to the dense mesh to `figures`.

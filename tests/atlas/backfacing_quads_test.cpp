@@ -1,6 +1,7 @@
 // The fold measure of the drawn atlas (atlas/backfacing_quads.h) against charts turned by hand.
 #include <gtest/gtest.h>
 
+#include "atlas/atlas_previews.h"
 #include "atlas/backfacing_quads.h"
 #include "atlas/make_atlas.h"
 #include "multires/stellar_simplify.h"
@@ -44,6 +45,26 @@ TEST(BackFacingQuads, EveryQuadOfAMirroredChartTurns) {
   EXPECT_EQ(mirrored.quads, before.quads + std::uint64_t(n - 1) * (n - 1));
   EXPECT_EQ(mirrored.charts, before.charts + 1);
   EXPECT_EQ(mirrored.worstChart, c);
+  const Vec3 centre = atlas.position(c, n / 2, n / 2);
+  EXPECT_TRUE(mirrored.worstChartCentre.x == centre.x && mirrored.worstChartCentre.y == centre.y && mirrored.worstChartCentre.z == centre.z);
+  // The picture of where: every texel of the mirrored chart red; elsewhere red only at the corners
+  // of the quads counted.
+  const Image picture = backFacingPreview(atlas);
+  auto red = [&](std::uint32_t chart, std::uint32_t i, std::uint32_t j) {
+    const std::size_t at = atlas.layout.texel(chart, i, j) * 3;
+    return picture.pixels[at] == 255 && picture.pixels[at + 1] == 0 && picture.pixels[at + 2] == 0;
+  };
+  for (std::uint32_t d = 0; d < atlas.layout.charts; ++d)
+    for (std::uint32_t j = 0; j < n; ++j)
+      for (std::uint32_t i = 0; i < n; ++i) {
+        bool corner = false;  // of a quad counted
+        for (std::uint32_t b = j > 0 ? j - 1 : 0; b <= std::min(j, n - 2); ++b)
+          for (std::uint32_t a = i > 0 ? i - 1 : 0; a <= std::min(i, n - 2); ++a) corner |= quadFacesBackwards(atlas, d, a, b);
+        EXPECT_EQ(red(d, i, j), corner) << "chart " << d << " texel " << i << ", " << j;
+        if (d == c) {
+          EXPECT_TRUE(corner);
+        }
+      }
 }
 
 // An inner texel of a chart with none pushed past its neighbour: only quads at that texel turn.

@@ -597,7 +597,7 @@ TEST(Cli, BuildMakesATriquadBaseMeshAndAModel) {
   EXPECT_EQ(j["charts"], j["tiles"]);
   EXPECT_EQ(j["atlas_efficiency"].get<double>(), j["charts"].get<double>() * 17 * 17 / (j["atlas_width"].get<double>() * j["atlas_height"].get<double>()));
   EXPECT_EQ(j["model_bytes"], std::filesystem::file_size(model));
-  for (const char* png : {"position_atlas.png", "normal_atlas.png"}) {
+  for (const char* png : {"position_atlas.png", "normal_atlas.png", "backfacing_atlas.png"}) {
     const Image preview = readPng(std::filesystem::path(previews) / png);
     EXPECT_EQ(preview.width, j["atlas_width"].get<int>());
     EXPECT_EQ(preview.height, j["atlas_height"].get<int>());
