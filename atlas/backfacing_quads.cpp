@@ -12,13 +12,12 @@ namespace isoatlas::atlas {
 bool quadFacesBackwards(const Atlas& atlas, std::uint32_t c, std::uint32_t a, std::uint32_t b) {
   const std::array<std::array<std::uint32_t, 2>, 4> corner{{{a, b}, {a + 1, b}, {a + 1, b + 1}, {a, b + 1}}};
   for (const auto& t : squareTriangles(a, b)) {
-    Vec3 p[3], surface{0, 0, 0};
+    Vec3 p[3], n[3];
     for (int k = 0; k < 3; ++k) {
       const auto [i, j] = corner[std::size_t(t[std::size_t(k)])];
-      p[k] = atlas.position(c, i, j);
-      surface = surface + atlas.normal(c, i, j);
+      p[k] = atlas.position(c, i, j), n[k] = atlas.normal(c, i, j);
     }
-    if (dot(cross(p[1] - p[0], p[2] - p[0]), surface) < 0) return true;
+    if (facesBackwards(p[0], p[1], p[2], n[0], n[1], n[2])) return true;
   }
   return false;
 }

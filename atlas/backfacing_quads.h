@@ -14,6 +14,11 @@
 
 namespace isoatlas::atlas {
 
+// Whether triangle (p0, p1, p2) faces against the surface whose normals at its corners are n0, n1, n2.
+inline bool facesBackwards(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& n0, const Vec3& n1, const Vec3& n2) {
+  return dot(cross(p1 - p0, p2 - p0), n0 + n1 + n2) < 0;
+}
+
 // Whether texel quad (a, b) of chart c (its corners (a, b) to (a + 1, b + 1)) turns so.
 bool quadFacesBackwards(const Atlas& atlas, std::uint32_t c, std::uint32_t a, std::uint32_t b);
 

@@ -76,7 +76,7 @@ void dequantiseAtlas(const std::vector<QuantisedChart>& charts, const multires::
     for (std::uint32_t j = 0; j < n; ++j)
       for (std::uint32_t i = 0; i < n; ++i) {
         const std::size_t k = std::size_t(j) * n + i, at = atlas.layout.texel(std::uint32_t(c), i, j);
-        for (int a = 0; a < 3; ++a) atlas.positions[at][a] = q.lo[a] + float(q.positions[k][a]) * q.step[a];
+        atlas.positions[at] = decodePosition(q, q.positions[k]);
         atlas.normals[at] = packNormal(decodeOctahedral(q.normals[k]));
       }
   });

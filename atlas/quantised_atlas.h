@@ -44,6 +44,11 @@ std::array<std::uint8_t, 2> encodeOctahedral(const Vec3& normal);
 Vec3 decodeOctahedral(const std::array<std::uint8_t, 2>& code);
 
 struct SeparatedTexels;
+// The position chart q's code stands for: lo + code * step per axis, in floats (what the decoder writes).
+inline std::array<float, 3> decodePosition(const QuantisedChart& q, const std::array<std::uint16_t, 3>& code) {
+  return {q.lo[0] + float(code[0]) * q.step[0], q.lo[1] + float(code[1]) * q.step[1], q.lo[2] + float(code[2]) * q.step[2]};
+}
+
 std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas, const multires::BaseMesh& base, SeparatedTexels* separated = nullptr);
 void dequantiseAtlas(const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base, Atlas& atlas);
 double largestQuantisationError(const Atlas& atlas, const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base);

@@ -18,11 +18,6 @@ struct PositionBits {
   }
 };
 
-// The position chart q decodes a code to, as dequantiseAtlas computes it.
-Position decode(const QuantisedChart& q, const std::array<std::uint16_t, 3>& code) {
-  return {q.lo[0] + float(code[0]) * q.step[0], q.lo[1] + float(code[1]) * q.step[1], q.lo[2] + float(code[2]) * q.step[2]};
-}
-
 double distance2(const Position& a, const Position& b) {
   const double x = double(a[0]) - b[0], y = double(a[1]) - b[1], z = double(a[2]) - b[2];
   return x * x + y * y + z * z;
@@ -60,14 +55,14 @@ SeparatedTexels separateJoinedTexels(const Atlas& atlas, const multires::BaseMes
               valid &= (d[a] == 0 || q.step[a] > 0) && v >= 0 && v <= int(kLargestPositionCode);
               next[a] = std::uint16_t(std::clamp(v, 0, int(kLargestPositionCode)));
             }
-            const Position p = decode(q, next);
+            const Position p = decodePosition(q, next);
             if (!valid || taken.contains(p)) continue;
             const double e = distance2(p, want);
             if (best < 0 || e < best) best = e, bestCode = next;
           }
       if (best >= 0) {
         code = bestCode;
-        return decode(q, code);
+        return decodePosition(q, code);
       }
     }
     return decoded.positions[layout.texel(c, i, j)];  // no free code near: left joined

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "atlas/backfacing_quads.h"
 #include "atlas/reconstruct.h"
 
 namespace isoatlas::atlas {
@@ -45,7 +46,7 @@ private:
         const auto k = level_.texels(a, b);
         for (const auto& t : squareTriangles(a, b)) {
           const std::size_t u = k[std::size_t(t[0])], v = k[std::size_t(t[1])], w = k[std::size_t(t[2])];
-          turned += dot(cross(p_[v] - p_[u], p_[w] - p_[u]), normal_[u] + normal_[v] + normal_[w]) < 0;
+          turned += facesBackwards(p_[u], p_[v], p_[w], normal_[u], normal_[v], normal_[w]);
         }
       }
     return turned;
