@@ -110,7 +110,8 @@ BuiltModel buildModelFiles(const Mesh& surface, const pipeline::ModelRequest& re
   const std::string path = b.products.add("model.isoatlas", "the multiresolution model: base mesh and atlas of charts (isoatlas eval, render)");
   const pipeline::AtlasPreviewPaths previews{
       b.products.add("position_atlas.png", "the atlas's positions as colours (x, y, z over the surface's box)", true),
-      b.products.add("normal_atlas.png", "the atlas's normals as colours", true)};
+      b.products.add("normal_atlas.png", "the atlas's normals as colours", true),
+      b.products.add("backfacing_atlas.png", "where the atlas's texel quads turn: corners of folded quads red, of quads facing against the shading normals alone yellow", true)};
   pipeline::writeModelFiles(model, path, previews, b.figures);
   b.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return b;

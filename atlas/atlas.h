@@ -63,6 +63,13 @@ struct Atlas {
   AtlasLayout layout;
   std::vector<std::array<float, 3>> positions;  // width x height; zero outside the charts
   std::vector<Normal16> normals;                // width x height; zero outside the charts
+  // Per finest-level triangle, two per texel (quad (i, j) .. (i + 1, j + 1) of its chart, its
+  // triangles in squareTriangles' order; at 2 * texel + t): the normal of the dense face under the
+  // triangle's centroid in the chart, the surface's own facing there (`normals` interpolate its vertex
+  // normals for shading, and point against a small face beside large ones at a sharp crease; a
+  // texel on a dense edge has no one face). Zero at each chart's last row and column and outside
+  // the charts. Only in an atlas makeAtlas made: a model file does not keep them (empty).
+  std::vector<Normal16> triangleFaceNormals;
   std::vector<DetailChart> details;             // by tile, each tile at most once; all of one size
 
   Vec3 position(std::uint32_t c, std::uint32_t i, std::uint32_t j) const {
@@ -70,6 +77,9 @@ struct Atlas {
     return {p[0], p[1], p[2]};
   }
   Vec3 normal(std::uint32_t c, std::uint32_t i, std::uint32_t j) const { return unpackNormal(normals[layout.texel(c, i, j)]); }
+  Vec3 triangleFaceNormal(std::uint32_t c, std::uint32_t a, std::uint32_t b, int t) const {
+    return unpackNormal(triangleFaceNormals[2 * layout.texel(c, a, b) + std::size_t(t)]);
+  }
 };
 
 // The fullest grid of slots for `charts` charts whose width and height differ by at most a factor

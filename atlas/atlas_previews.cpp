@@ -48,14 +48,19 @@ Image backFacingPreview(const Atlas& atlas) {
   Image image = normalPreview(atlas);
   for (std::uint8_t& v : image.pixels) v = std::uint8_t(v / 3);
   const AtlasLayout& l = atlas.layout;
+  const bool faces = !atlas.triangleFaceNormals.empty();
+  auto mark = [&](std::uint32_t c, std::uint32_t a, std::uint32_t b, std::uint8_t green) {
+    for (const auto& [i, j] : {std::array{a, b}, {a + 1, b}, {a + 1, b + 1}, {a, b + 1}}) {
+      const std::size_t at = l.texel(c, i, j) * 3;
+      if (image.pixels[at] == 255 && image.pixels[at + 2] == 0 && image.pixels[at + 1] < green) continue;  // red stays over yellow
+      image.pixels[at] = 255, image.pixels[at + 1] = green, image.pixels[at + 2] = 0;
+    }
+  };
   for (std::uint32_t c = 0; c < l.charts; ++c)
     for (std::uint32_t b = 0; b + 1 < l.chartSize; ++b)
       for (std::uint32_t a = 0; a + 1 < l.chartSize; ++a) {
-        if (!quadFacesBackwards(atlas, c, a, b)) continue;
-        for (const auto& [i, j] : {std::array{a, b}, {a + 1, b}, {a + 1, b + 1}, {a, b + 1}}) {
-          const std::size_t at = l.texel(c, i, j) * 3;
-          image.pixels[at] = 255, image.pixels[at + 1] = 0, image.pixels[at + 2] = 0;
-        }
+        if (faces ? quadFolds(atlas, c, a, b) : quadFacesBackwards(atlas, c, a, b)) mark(c, a, b, 0);
+        else if (faces && quadFacesBackwards(atlas, c, a, b)) mark(c, a, b, 255);
       }
   return image;
 }

@@ -6,23 +6,27 @@
 #include <vector>
 
 #include "atlas/reconstruct.h"
+#include "core/error.h"
 
 namespace isoatlas::atlas {
+namespace {
 
-bool quadFacesBackwards(const Atlas& atlas, std::uint32_t c, std::uint32_t a, std::uint32_t b) {
-  const std::array<std::array<std::uint32_t, 2>, 4> corner{{{a, b}, {a + 1, b}, {a + 1, b + 1}, {a, b + 1}}};
-  for (const auto& t : squareTriangles(a, b)) {
-    Vec3 p[3], n[3];
-    for (int k = 0; k < 3; ++k) {
-      const auto [i, j] = corner[std::size_t(t[std::size_t(k)])];
-      p[k] = atlas.position(c, i, j), n[k] = atlas.normal(c, i, j);
-    }
-    if (facesBackwards(p[0], p[1], p[2], n[0], n[1], n[2])) return true;
+using Corners = std::array<std::array<std::uint32_t, 2>, 4>;
+Corners quadCorners(std::uint32_t a, std::uint32_t b) { return {{{a, b}, {a + 1, b}, {a + 1, b + 1}, {a, b + 1}}}; }
+
+// The corners' positions of triangle t of quad (a, b) of chart c.
+std::array<Vec3, 3> trianglePositions(const Atlas& atlas, std::uint32_t c, std::uint32_t a, std::uint32_t b, int t) {
+  const Corners corner = quadCorners(a, b);
+  std::array<Vec3, 3> p;
+  for (int k = 0; k < 3; ++k) {
+    const auto [i, j] = corner[std::size_t(squareTriangles(a, b)[std::size_t(t)][std::size_t(k)])];
+    p[std::size_t(k)] = atlas.position(c, i, j);
   }
-  return false;
+  return p;
 }
 
-BackFacingQuads countBackFacingQuads(const Atlas& atlas) {
+template <class TriangleTurns>
+BackFacingQuads countTurningQuads(const Atlas& atlas, const TriangleTurns& quadTurns) {
   const std::uint32_t n = atlas.layout.chartSize, charts = atlas.layout.charts;
   BackFacingQuads out;
   std::vector<std::uint64_t>& perChart = out.perChart;
@@ -30,7 +34,7 @@ BackFacingQuads countBackFacingQuads(const Atlas& atlas) {
   tbb::parallel_for(std::uint32_t(0), charts, [&](std::uint32_t c) {
     std::uint64_t turned = 0;
     for (std::uint32_t b = 0; b + 1 < n; ++b)
-      for (std::uint32_t a = 0; a + 1 < n; ++a) turned += quadFacesBackwards(atlas, c, a, b);
+      for (std::uint32_t a = 0; a + 1 < n; ++a) turned += quadTurns(atlas, c, a, b);
     perChart[c] = turned;
   });
   out.total = std::uint64_t(charts) * (n - 1) * (n - 1);
@@ -41,6 +45,42 @@ BackFacingQuads countBackFacingQuads(const Atlas& atlas) {
   }
   if (charts > 0) out.worstChartCentre = atlas.position(out.worstChart, n / 2, n / 2);
   return out;
+}
+
+void requireTriangleFaceNormals(const Atlas& atlas) {
+  require(atlas.triangleFaceNormals.size() == 2 * atlas.normals.size(),
+          "folded texel quads: the atlas has no dense face normals (measure it where it is made, with its dense mesh)");
+}
+
+}  // namespace
+
+bool quadFacesBackwards(const Atlas& atlas, std::uint32_t c, std::uint32_t a, std::uint32_t b) {
+  const Corners corner = quadCorners(a, b);
+  for (int t = 0; t < 2; ++t) {
+    const std::array<Vec3, 3> p = trianglePositions(atlas, c, a, b, t);
+    Vec3 n[3];
+    for (int k = 0; k < 3; ++k) {
+      const auto [i, j] = corner[std::size_t(squareTriangles(a, b)[std::size_t(t)][std::size_t(k)])];
+      n[k] = atlas.normal(c, i, j);
+    }
+    if (facesBackwards(p[0], p[1], p[2], n[0], n[1], n[2])) return true;
+  }
+  return false;
+}
+
+bool quadFolds(const Atlas& atlas, std::uint32_t c, std::uint32_t a, std::uint32_t b) {
+  requireTriangleFaceNormals(atlas);
+  for (int t = 0; t < 2; ++t) {
+    const std::array<Vec3, 3> p = trianglePositions(atlas, c, a, b, t);
+    if (dot(cross(p[1] - p[0], p[2] - p[0]), atlas.triangleFaceNormal(c, a, b, t)) < 0) return true;
+  }
+  return false;
+}
+
+BackFacingQuads countBackFacingQuads(const Atlas& atlas) { return countTurningQuads(atlas, quadFacesBackwards); }
+BackFacingQuads countFoldedQuads(const Atlas& atlas) {
+  requireTriangleFaceNormals(atlas);  // here too: an atlas without charts asks quadFolds nothing
+  return countTurningQuads(atlas, quadFolds);
 }
 
 }  // namespace isoatlas::atlas

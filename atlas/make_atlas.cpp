@@ -9,6 +9,7 @@
 #include <chrono>
 #include <limits>
 
+#include "atlas/reconstruct.h"
 #include "atlas/relax_chart.h"
 #include "atlas/snap_texels.h"
 #include "atlas/unturn_texels.h"
@@ -37,6 +38,10 @@ struct ChartSurface {
                                                      multires::ParametrisationHistory::Hints* hints = nullptr) const {
     const auto [triangle, bary] = base.chartToTriangle(c, q.x, q.y);
     return base.densePoint(triangle, bary, hints);
+  }
+  Vec3 faceNormal(const multires::ParametrisationHistory::DensePoint& point) const {
+    const auto c = dense.face(point.face);
+    return cross(dense.positions[c[1]] - dense.positions[c[0]], dense.positions[c[2]] - dense.positions[c[0]]);
   }
   Vec3 normal(const multires::ParametrisationHistory::DensePoint& point) const {
     Vec3 normal;
@@ -246,10 +251,36 @@ ChartPoints placeTexels(const ChartSurface& surface, ChartPointCache& cache, std
   for (std::size_t k = 0; k < positions.size(); ++k) positions[k] = multires::densePosition(surface.dense, out.dense[k]);
   const std::vector<multires::Vec2> before = out.chart;
   out.snapped = snapTexels(n, vertices, [&](const multires::Vec2& q) { return cache.position(q); }, out.chart, positions);
-  out.unturned = unturnTexels(n, vertices, [&](const multires::Vec2& q) { return cache.at(q); }, out.chart, positions);
+  // With the dense faces' own normals: what unturnTexels lowers is the fold measure (backfacing_quads.h).
+  auto facing = [&](const multires::Vec2& q) {
+    const multires::ParametrisationHistory::DensePoint point = cache.point(q);
+    const Vec3 n = surface.faceNormal(point);
+    const double length = norm(n);
+    return SurfacePoint{multires::densePosition(surface.dense, point), length > 0 ? n * (1 / length) : n};
+  };
+  out.unturned = unturnTexels(n, vertices, facing, out.chart, positions);
   for (std::size_t k = 0; k < out.chart.size(); ++k)
     if (out.chart[k].x != before[k].x || out.chart[k].y != before[k].y) out.dense[k] = cache.point(out.chart[k]);
   return out;
+}
+
+// Atlas::triangleFaceNormals of chart c, its chart points q: the dense face under each finest
+// triangle's centroid in the chart.
+void writeTriangleFaceNormals(const ChartSurface& surface, ChartPointCache& cache, std::uint32_t c, const std::vector<multires::Vec2>& q,
+                              Atlas& atlas) {
+  const std::uint32_t n = atlas.layout.chartSize;
+  for (std::uint32_t b = 0; b + 1 < n; ++b)
+    for (std::uint32_t a = 0; a + 1 < n; ++a) {
+      const std::array<std::size_t, 4> corner{b * n + a, b * n + a + 1, (b + 1) * n + a + 1, (b + 1) * n + a};
+      const auto triangles = squareTriangles(a, b);
+      for (int t = 0; t < 2; ++t) {
+        multires::Vec2 centroid;
+        for (const int k : triangles[std::size_t(t)]) centroid = centroid + q[corner[std::size_t(k)]];
+        const Vec3 normal = surface.faceNormal(cache.point(centroid * (1.0 / 3)));
+        // A face of no area faces no way: left zero, it judges no triangle folded.
+        if (norm(normal) > 0) atlas.triangleFaceNormals[2 * atlas.layout.texel(c, a, b) + std::size_t(t)] = packNormal(normal);
+      }
+    }
 }
 
 // Texel (i, j) of every chart: the dense surface at its chart point (relaxChart), through the
@@ -271,8 +302,10 @@ void sampleCharts(const ChartSurface& surface, const ChartRelaxing& how, const s
   const std::uint32_t last = std::min(atlas.layout.charts, first + kChunk);
   tbb::parallel_for(first, last, [&](std::uint32_t c) {
     std::uint64_t gapsHere = 0, stepsHere = 0;
+    ChartPointCache& cache = caches.on(c);
     const ChartPoints points =
-        placeTexels(surface, caches.on(c), n, sides[c], how, chartVertices.empty() ? std::span<const ChartVertex>{} : chartVertices[c]);
+        placeTexels(surface, cache, n, sides[c], how, chartVertices.empty() ? std::span<const ChartVertex>{} : chartVertices[c]);
+    writeTriangleFaceNormals(surface, cache, c, points.chart, atlas);
     snapped += points.snapped;
     unturned += points.unturned;
     centresMoved += points.levelTwoCentreMoved;
@@ -394,6 +427,7 @@ Atlas makeAtlas(const Mesh& dense, const multires::BaseMesh& base, std::uint32_t
   const std::size_t texels = std::size_t(atlas.layout.width()) * atlas.layout.height();
   atlas.positions.assign(texels, {0, 0, 0});
   atlas.normals.assign(texels, {0, 0, 0});
+  atlas.triangleFaceNormals.assign(2 * texels, {0, 0, 0});
   ChartStats s;
   s.texels = std::uint64_t(atlas.layout.charts) * chartSize * chartSize;
   std::vector<std::uint8_t> held(texels, 0);

@@ -7,7 +7,8 @@
 //                grid misses (snap_texels.h); 0: the tile's uniform grid, the paper's
 // Every texel is the dense surface at its chart point through the parametrisation's history
 // (multires::ParametrisationHistory: exact, one-to-one and onto); normals interpolate the dense
-// mesh's area-weighted vertex normals. Then the shared borders: each base edge's N samples are
+// mesh's area-weighted vertex normals; triangleFaceNormals the normals of the dense faces under the
+// finest level's triangles (atlas.h). Then the shared borders: each base edge's N samples are
 // averaged over the charts sharing it (they agree within rounding; see averageSharedBorders in the
 // .cpp for samples that do not) and written into each of them, and every chart corner is its base
 // vertex (its normal averaged over the charts meeting there), so neighbouring charts agree bit for

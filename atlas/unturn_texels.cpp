@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "atlas/backfacing_quads.h"
 #include "atlas/reconstruct.h"
 
 namespace isoatlas::atlas {
@@ -18,10 +17,7 @@ class Unturner {
 public:
   Unturner(std::uint32_t n, std::span<const ChartVertex> vertices, const std::function<SurfacePoint(const Vec2&)>& surfaceAt,
            std::vector<Vec2>& q, std::vector<Vec3>& p)
-      : n_(n), s_(n - 1), vertices_(vertices), surfaceAt_(surfaceAt), q_(q), p_(p), level_(n, q, p),
-        normal_(q.size()), bySquare_(level_, vertices) {
-    for (std::size_t k = 0; k < q.size(); ++k) normal_[k] = surfaceAt(q[k]).normal;
-  }
+      : n_(n), s_(n - 1), vertices_(vertices), surfaceAt_(surfaceAt), q_(q), p_(p), level_(n, q, p), bySquare_(level_, vertices) {}
 
   std::uint32_t run() {
     constexpr int kSweeps = 3;
@@ -38,7 +34,7 @@ public:
   }
 
 private:
-  // The triangles of the four squares round texel (i, j) facing against the surface.
+  // The triangles of the four squares round texel (i, j) that fold (countFoldedQuads' test).
   int turnedAround(std::uint32_t i, std::uint32_t j) const {
     int turned = 0;
     for (std::uint32_t b = j - 1; b <= j; ++b)
@@ -46,7 +42,8 @@ private:
         const auto k = level_.texels(a, b);
         for (const auto& t : squareTriangles(a, b)) {
           const std::size_t u = k[std::size_t(t[0])], v = k[std::size_t(t[1])], w = k[std::size_t(t[2])];
-          turned += facesBackwards(p_[u], p_[v], p_[w], normal_[u], normal_[v], normal_[w]);
+          const Vec3 facing = surfaceAt_((q_[u] + q_[v] + q_[w]) * (1.0 / 3)).normal;  // under its centroid
+          turned += dot(cross(p_[v] - p_[u], p_[w] - p_[u]), facing) < 0;
         }
       }
     return turned;
@@ -88,23 +85,23 @@ private:
     const int turnedBefore = turnedAround(i, j);
     const double allowed = errorAround(i, j, squareAfter_);
     const Vec2 fromChart = q_[k];
-    const Vec3 fromPosition = p_[k], fromNormal = normal_[k];
+    const Vec3 fromPosition = p_[k];
     int bestTurned = turnedBefore;
     double bestError = 0;
     Vec2 best = fromChart;
-    SurfacePoint bestSurface{fromPosition, fromNormal};
+    Vec3 bestPosition = fromPosition;
     for (const Vec2& x : places(i, j)) {
       q_[k] = x;
       if (convexAroundTexel(q_, n_, i, j) != 0xF) continue;
-      const SurfacePoint s = surfaceAt_(x);
-      p_[k] = s.position, normal_[k] = s.normal;
+      const Vec3 s = surfaceAt_(x).position;
+      p_[k] = s;
       const int turned = turnedAround(i, j);
       if (turned > bestTurned) continue;
       const double error = errorAround(i, j, squareAfter_);
       if (error > allowed || (turned == bestTurned && (same(best, fromChart) || error >= bestError))) continue;
-      bestTurned = turned, bestError = error, best = x, bestSurface = s;
+      bestTurned = turned, bestError = error, best = x, bestPosition = s;
     }
-    q_[k] = best, p_[k] = bestSurface.position, normal_[k] = bestSurface.normal;
+    q_[k] = best, p_[k] = bestPosition;
     if (same(best, fromChart)) return false;
     errorAround(i, j, squareAfter_);
     bySquare_.moved(i, j, around_, squareAfter_);
@@ -117,7 +114,6 @@ private:
   std::vector<Vec2>& q_;
   std::vector<Vec3>& p_;
   ChartGrid level_;
-  std::vector<Vec3> normal_;
   VerticesBySquare bySquare_;
   std::vector<std::uint32_t> around_, squareAfter_;
 };

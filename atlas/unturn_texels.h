@@ -1,24 +1,24 @@
 // unturnTexels: a chart's finest texels moved where fewer of the finest level's triangles round them
-// face against the surface. A triangle between three texels faces backwards where its texels land on
-// the surface out of the order their chart points have (a hard shear of the parametrisation, or the
-// relaxation and the snapping pulling texels up to a crease from both sides): a hole under back-face
-// culling, a dark line under two-sided shading (backfacing_quads.h counts them).
-// Each texel off the border with such a triangle round it (the test of backfacing_quads.h: the
-// triangle's normal against the sum of the surface's normals at its corners) tries, in sweeps, places
-// in the chart: the middle of its four neighbours, its place on the tile's uniform grid, and a 5 x 5
-// lattice over half the box of its neighbours; only texels new at the finest two levels move (i or j
-// odd), so the coarser levels keep theirs. A place is taken, the fewest turned and then the least
-// error first, when the four squares round the texel stay strictly convex (exact predicates: the grid
-// still embeds the tile), fewer of their triangles face backwards, and the squares' error (the largest
-// distance of the dense vertices in them from the level, and the stray of the texel's triangles, as
-// snap_texels.h measures them) is no larger than before. Over the corpus (bench/atlas_corpus, 70
-// meshes up to 60,000 triangles) it halved the backward quads (median 0.81 % to 0.44 %) and moved
-// level 10's PSNR by -1.3 to +2.9 dB (median 0); letting the error grow up to the chart's largest
-// lost up to 1 dB more.
+// fold: face against the dense face under their centroid (countFoldedQuads' test, backfacing_quads.h).
+// A triangle between three texels folds where its texels land on the surface out of the order their
+// chart points have (a hard shear of the parametrisation, or the relaxation and the snapping pulling
+// texels up to a crease from both sides): a hole under back-face culling, a dark line under two-sided
+// shading.
+// Each texel off the border with such a triangle round it tries, in sweeps, places in the chart: the
+// middle of its four neighbours, its place on the tile's uniform grid, and a 5 x 5 lattice over half
+// the box of its neighbours; only texels new at the finest two levels move (i or j odd), so the
+// coarser levels keep theirs. A place is taken, the fewest folded and then the least error first,
+// when the four squares round the texel stay strictly convex (exact predicates: the grid still embeds
+// the tile), fewer of their triangles fold, and the squares' error (the largest distance of the dense
+// vertices in them from the level, and the stray of the texel's triangles, as snap_texels.h measures
+// them) is no larger than before. Judged by the shading normals at the corners instead, it halved
+// the quads facing against them over 70 meshes of the corpus (median 0.81 % to 0.44 %); by the faces
+// under the centroids it lowers the folds further (bench/RESULTS.md, "Folds").
 //   n          texels a side (2^k + 1); q the chart points, texel (i, j) at j * n + i, strictly convex
 //              squares; p their surface points. Both are updated.
 //   vertices   the dense vertices inside the tile: chart point (in (0, 1)^2) and position
-//   surfaceAt  the surface and its unit normal at a chart point, through the parametrisation
+//   surfaceAt  the surface at a chart point, through the parametrisation, and the unit normal of the
+//              dense face there
 // Returns how many texels moved.
 #pragma once
 #include <cstdint>

@@ -61,7 +61,7 @@ std::vector<atlas::LevelFigures> measure(const std::string& name, const Mesh& de
   const std::string path = (std::filesystem::temp_directory_path() / "bench_atlas.isoatlas").string();
   atlas::writeModel(path, model);
   const double modelBytes = double(std::filesystem::file_size(path));
-  const atlas::BackFacingQuads backFacing = atlas::countBackFacingQuads(model.atlas);
+  const atlas::BackFacingQuads backFacing = atlas::countBackFacingQuads(model.atlas), folded = atlas::countFoldedQuads(model.atlas);
   std::filesystem::remove(path);
   std::fprintf(stderr,
                "bench atlas: %s: simplify %.2f s (peak RSS %.0f MiB), match %.3f s (%.0f MiB), chart + pack %.2f s (%.0f MiB); "
@@ -74,8 +74,9 @@ std::vector<atlas::LevelFigures> measure(const std::string& name, const Mesh& de
   bench::report("atlas", caseName, "coincident texels", double(charts.coincidentTexels), "texels", double(charts.texels), false);
   bench::report("atlas", caseName, "gap texels", double(charts.gapTexels), "texels", double(charts.texels), false);
   bench::report("atlas", caseName, "texel quads turned as sampled (first corner)", double(charts.turnedTexelQuads), "texels", double(charts.texels), false);
-  bench::report("atlas", caseName, "texel quads drawn backwards (backfacing_texel_quads)", double(backFacing.quads), "texel quads",
-                double(backFacing.total), false);
+  bench::report("atlas", caseName, "texel quads folded (folded_texel_quads)", double(folded.quads), "texel quads", double(folded.total), false);
+  bench::report("atlas", caseName, "texel quads facing against the shading normals (backfacing_texel_quads)", double(backFacing.quads),
+                "texel quads", double(backFacing.total), false);
   bench::report("atlas", caseName, "texels drawn onto dense vertices the grid missed", double(charts.snappedTexels), "texels",
                 double(charts.texels), false);
   bench::report("atlas", caseName, "charts whose centre moved for level 2", double(charts.levelTwoCentresMoved), "charts",

@@ -123,14 +123,18 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
 
 nlohmann::json atlasFigures(const atlas::Model& model) {
   const atlas::AtlasLayout& l = model.atlas.layout;
-  const atlas::BackFacingQuads back = atlas::countBackFacingQuads(model.atlas);
-  return {{"chart_size", model.chartSize},          {"charts", l.charts},
-          {"atlas_width", l.width()},               {"atlas_height", l.height()},
-          {"atlas_efficiency", l.efficiency()},     {"coincident_texels", model.coincidentTexels},
-          {"gap_texels", model.gapTexels},         {"quantisation_error", model.quantisationError},
-          {"backfacing_texel_quads", back.quads},  {"backfacing_texel_quad_charts", back.charts},
-          {"backfacing_worst_chart", back.worstChart}, {"backfacing_worst_chart_quads", back.worstChartQuads},
-          {"backfacing_worst_chart_at", {back.worstChartCentre.x, back.worstChartCentre.y, back.worstChartCentre.z}}};
+  nlohmann::json r{{"chart_size", model.chartSize},      {"charts", l.charts},
+                   {"atlas_width", l.width()},           {"atlas_height", l.height()},
+                   {"atlas_efficiency", l.efficiency()}, {"coincident_texels", model.coincidentTexels},
+                   {"gap_texels", model.gapTexels},      {"quantisation_error", model.quantisationError}};
+  auto where = [&](const std::string& name, const atlas::BackFacingQuads& q) {
+    r[name + "_texel_quads"] = q.quads, r[name + "_texel_quad_charts"] = q.charts;
+    r[name + "_worst_chart"] = q.worstChart, r[name + "_worst_chart_quads"] = q.worstChartQuads;
+    r[name + "_worst_chart_at"] = {q.worstChartCentre.x, q.worstChartCentre.y, q.worstChartCentre.z};
+  };
+  where("backfacing", atlas::countBackFacingQuads(model.atlas));
+  if (!model.atlas.triangleFaceNormals.empty()) where("folded", atlas::countFoldedQuads(model.atlas));
+  return r;
 }
 
 void writeModelFiles(const atlas::Model& model, const std::string& path, const AtlasPreviewPaths& previews, nlohmann::json& r) {

@@ -40,7 +40,8 @@ Mesh prepareModelInput(Mesh mesh);
 
 // chart_size, charts, atlas_width, atlas_height, atlas_efficiency, coincident_texels, gap_texels,
 // quantisation_error, and backfacing_texel_quads (atlas/backfacing_quads.h) with the charts that hold
-// them and the worst one: the atlas's figures, as build and eval report them.
+// them and the worst one: the atlas's figures, as build and eval report them; where the atlas was
+// made here (it has its dense faces' normals), folded_texel_quads and theirs too.
 nlohmann::json atlasFigures(const atlas::Model& model);
 
 // Where the atlas's pictures go (atlas::positionPreview, atlas::normalPreview): an empty path writes none.

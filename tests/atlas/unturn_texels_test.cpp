@@ -1,4 +1,4 @@
-// Texels moved where fewer of the finest level's triangles face against the surface, against what
+// Texels moved where fewer of the finest level's triangles fold, against what
 // unturnTexels promises, on a surface whose bumps are about a texel wide (the grid's chords across
 // them face backwards), its texels placed off the uniform grid as relaxation leaves them: fewer such
 // triangles after; the grid strictly convex, its border and coarser
@@ -28,7 +28,8 @@ SurfacePoint bumps(const Vec2& x, double amplitude, double waves) {
   return {{x.x, x.y, z}, n * (1 / norm(n))};
 }
 
-// The finest level's triangles facing against the summed surface normals at their corners.
+// The finest level's triangles that fold: facing against the surface's normal under their centroid
+// in the chart (countFoldedQuads' test).
 int backFacing(std::uint32_t n, const std::vector<Vec2>& q, const std::function<SurfacePoint(const Vec2&)>& surface) {
   int turned = 0;
   for (std::uint32_t b = 0; b + 1 < n; ++b)
@@ -36,9 +37,9 @@ int backFacing(std::uint32_t n, const std::vector<Vec2>& q, const std::function<
       const std::size_t k = std::size_t(b) * n + a;
       const std::array<std::size_t, 4> corner{k, k + 1, k + n + 1, k + n};
       for (const auto& t : squareTriangles(a, b)) {
-        const SurfacePoint u = surface(q[corner[std::size_t(t[0])]]), v = surface(q[corner[std::size_t(t[1])]]),
-                           w = surface(q[corner[std::size_t(t[2])]]);
-        turned += dot(cross(v.position - u.position, w.position - u.position), u.normal + v.normal + w.normal) < 0;
+        const Vec2 &x = q[corner[std::size_t(t[0])]], &y = q[corner[std::size_t(t[1])]], &z = q[corner[std::size_t(t[2])]];
+        const Vec3 u = surface(x).position, v = surface(y).position, w = surface(z).position;
+        turned += dot(cross(v - u, w - u), surface((x + y + z) * (1.0 / 3)).normal) < 0;
       }
     }
   return turned;

@@ -371,7 +371,7 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
     for (const auto& p : report["products"]) named.insert(p["file"].get<std::string>());
     for (const char* file : {"input_slices.png", "mask.nii.gz", "phi.nii.gz", "surface.ply", "surface_left.png",
                              "surface_top.png", "segmentation_slices.png", "model.isoatlas", "position_atlas.png",
-                             "normal_atlas.png", "psnr_per_level.png", "model_level4_left.png", "render_level2.png",
+                             "normal_atlas.png", "backfacing_atlas.png", "psnr_per_level.png", "model_level4_left.png", "render_level2.png",
                              "render_level4.png", "render_level10.png", "render_wire.png", "turntable_000.png", "turntable_007.png"}) {
       EXPECT_TRUE(named.count(file)) << file << " is not named in report.json";
       EXPECT_NE(html.find(std::string("href=\"") + file + "\""), std::string::npos) << file << " is not in index.html";
@@ -591,7 +591,8 @@ TEST(Cli, BuildMakesATriquadBaseMeshAndAModel) {
                           "hausdorff_dense_to_base", "hausdorff_base_to_dense", "bounding_box_diagonal",
                           "folded_dense_triangles", "refused_welds", "history_steps", "vertices_above_target",
                           "charts", "atlas_width", "atlas_height", "atlas_efficiency", "coincident_texels", "gap_texels",
-                          "seconds_chart", "model_bytes", "dense_halfedge_bytes"})
+                          "seconds_chart", "model_bytes", "dense_halfedge_bytes", "backfacing_texel_quads", "folded_texel_quads",
+                          "folded_worst_chart_at"})
     EXPECT_TRUE(j.contains(key)) << key;
   // One chart per tile, packed into the slots the width and height hold.
   EXPECT_EQ(j["charts"], j["tiles"]);
