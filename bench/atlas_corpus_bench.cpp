@@ -3,7 +3,7 @@
 // them, is a closed, oriented 2-manifold of at most
 // ISOATLAS_BENCH_CORPUS_MOST_TRIANGLES triangles (500,000 unless set), and the demo's white-matter
 // surface (left out with ISOATLAS_BENCH_CORPUS_WHITE_MATTER=0). Each is built as `isoatlas build`
-// builds it and read back from its model file (the quantised atlas a user gets). Per case:
+// builds it (pipeline::buildModel) and read back from its model file (the quantised atlas a user gets). Per case:
 //   - PSNR at levels 0, 2, ..., 10 by the largest distance and by the RMS distance (CGAL), and at each
 //     level below the dense mesh's size the gap to meshoptimizer's simplifier at the same triangle
 //     count (bench/meshopt_simplify.h), measured by the same ruler; whether every level is at least
@@ -38,8 +38,6 @@
 #include "core/mesh_io.h"
 #include "core/mesh_topology.h"
 #include "core/plot.h"
-#include "multires/stellar_simplify.h"
-#include "multires/triangle_pairing.h"
 #include "pipeline/model_building.h"
 #include "render/atlas_render.h"
 #include "render/model_lod.h"
@@ -151,13 +149,9 @@ Figures measure(const Case& c) {
   auto start = std::chrono::steady_clock::now();
   std::vector<atlas::Normal16> faceNormals;  // the file does not keep them
   try {
-    atlas::Model built{.chartSize = 33, .base = multires::simplifyStellar(c.dense), .atlas = {}, .dense = {}};
-    multires::pairTriangles(built.base, c.dense);
-    atlas::ChartStats stats;
-    built.atlas = atlas::makeAtlas(c.dense, built.base, 33, &stats);
+    nlohmann::json figures;
+    const atlas::Model built = pipeline::buildModel(c.dense, {.hausdorff = false}, figures);  // as `isoatlas build` builds it
     faceNormals = built.atlas.triangleFaceNormals;
-    built.coincidentTexels = stats.coincidentTexels, built.gapTexels = stats.gapTexels;
-    built.base.denseTriangle.clear(), built.base.denseBary.clear();
     atlas::writeModel(path, built);
   } catch (const std::exception& e) {
     out.failure = e.what();
