@@ -32,6 +32,7 @@ struct ChartStats {
   std::uint64_t snappedTexels = 0;  // texels moved onto a dense vertex their grid missed (snap_texels.h)
   std::uint64_t unturnedTexels = 0;  // texels moved where fewer triangles round them face backwards (unturn_texels.h)
   std::uint64_t levelTwoCentresMoved = 0;  // charts whose centre moved so that level 2 lies nearer (relax_chart.h)
+  std::uint64_t keptDiagonals = 0;  // charts whose diagonal runs along dense edges, its texels kept on it (ChartRelaxing::keepDiagonal)
   double meanHistorySteps = 0;     // the steps a texel walked back through the history
   std::uint64_t sharedSides = 0;   // tile sides averaged with a neighbour's
   std::uint64_t borderDisagreements = 0;  // shared samples from different sheets (one taken, not the mean)

@@ -68,6 +68,7 @@ void smoothNewTexels(std::uint32_t n, const std::function<SurfacePoint(const Vec
         }
         Vec2 step;
         if (!(weights > 0) || !chartStep(q, p, n, k, target * (1 / weights), step)) continue;
+        if (how.keepDiagonal && i == j) step.x = step.y = (step.x + step.y) / 2;  // along the diagonal
         const Vec2 from = q[k];
         const unsigned convexBefore = convexAroundTexel(q, n, i, j);
         bool moved = false;
@@ -136,7 +137,7 @@ namespace {
 // The grid of 3 (q, p its surface) with its centre moved where level 2 lies nearest the surface,
 // when it lies farther than the tile's corners alone and than `guard` (ChartRelaxing::levelTwoGuard).
 void placeLevelTwoCentre(std::vector<Vec2>& q, std::vector<SurfacePoint>& p, const std::function<SurfacePoint(const Vec2&)>& surfaceAt,
-                         std::span<const ChartVertex> vertices, double guard) {
+                         std::span<const ChartVertex> vertices, double guard, bool keepDiagonal) {
   double best = levelError(3, q, p, surfaceAt, vertices);
   if (!(best > guard) || !(best > levelZeroError(surfaceAt, vertices))) return;
   constexpr int kSteps = 8;  // candidates at the 7 x 7 inner points of a lattice over [0.25, 0.75]^2
@@ -144,7 +145,7 @@ void placeLevelTwoCentre(std::vector<Vec2>& q, std::vector<SurfacePoint>& p, con
   std::vector<Vec2> trial = q;
   std::vector<SurfacePoint> trialSurface = p;
   for (int a = 1; a < kSteps; ++a)
-    for (int b = 1; b < kSteps; ++b) {
+    for (int b = keepDiagonal ? a : 1; keepDiagonal ? b == a : b < kSteps; ++b) {
       trial[kCentre] = Vec2{0.25 + 0.5 * a / kSteps, 0.25 + 0.5 * b / kSteps};
       if (!(convexChartQuad(trial, 3, 0, 0) && convexChartQuad(trial, 3, 1, 0) && convexChartQuad(trial, 3, 0, 1) &&
             convexChartQuad(trial, 3, 1, 1)))
@@ -222,7 +223,8 @@ std::vector<double> relaxSide(std::uint32_t n, const std::function<SurfacePoint(
   return t;
 }
 
-std::vector<Vec2> refineChartGrid(std::uint32_t n, const std::vector<Vec2>& q, const std::array<std::vector<double>, 4>& sides) {
+std::vector<Vec2> refineChartGrid(std::uint32_t n, const std::vector<Vec2>& q, const std::array<std::vector<double>, 4>& sides,
+                                  bool keepDiagonal) {
   const std::uint32_t f = 2 * n - 1;
   std::vector<Vec2> out(std::size_t(f) * f);
   auto at = [&](std::uint32_t i, std::uint32_t j) -> Vec2& { return out[std::size_t(j) * f + i]; };
@@ -235,7 +237,9 @@ std::vector<Vec2> refineChartGrid(std::uint32_t n, const std::vector<Vec2>& q, c
     for (std::uint32_t i = 0; i < f; i += 2) at(i, j) = (at(i, j - 1) + at(i, j + 1)) * 0.5;
   setBorder(f, sides, out);
   for (std::uint32_t j = 1; j < f; j += 2)
-    for (std::uint32_t i = 1; i < f; i += 2) at(i, j) = crossing(at(i - 1, j), at(i + 1, j), at(i, j - 1), at(i, j + 1));
+    for (std::uint32_t i = 1; i < f; i += 2)
+      at(i, j) = keepDiagonal && i == j ? crossing(at(i - 1, j - 1), at(i + 1, j + 1), at(i, j - 1), at(i, j + 1))
+                        : crossing(at(i - 1, j), at(i + 1, j), at(i, j - 1), at(i, j + 1));
   return out;
 }
 
@@ -249,7 +253,7 @@ double coarsestRelaxedError(std::uint32_t n, int side, const std::vector<double>
   for (int s = 0; s < 4; ++s) sides[std::size_t(s)] = s == side ? fractions : uniformFractions(n);
   const auto grids = sidesOfEveryGrid(sides);
   std::vector<Vec2> q = tileCorners();
-  for (std::size_t l = grids.size() - 1; l-- > 0 && grids[l + 1][0].size() < size;) q = refineChartGrid(std::uint32_t(grids[l + 1][0].size()), q, grids[l]);
+  for (std::size_t l = grids.size() - 1; l-- > 0 && grids[l + 1][0].size() < size;) q = refineChartGrid(std::uint32_t(grids[l + 1][0].size()), q, grids[l], how.keepDiagonal);
   std::vector<SurfacePoint> p(q.size());
   for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
   return levelError(size, q, p, surfaceAt, vertices);
@@ -268,11 +272,11 @@ std::vector<Vec2> relaxChart(std::uint32_t n, const std::function<SurfacePoint(c
   std::vector<SurfacePoint> p;
   for (std::size_t l = grids.size() - 1; l-- > 0;) {
     const auto coarse = std::uint32_t(grids[l + 1][0].size()), fine = std::uint32_t(grids[l][0].size());
-    q = refineChartGrid(coarse, q, grids[l]);
+    q = refineChartGrid(coarse, q, grids[l], how.keepDiagonal);
     if (fine == 3 && how.sweeps > 0 && how.levelTwoGuard < std::numeric_limits<double>::infinity()) {
       p.resize(q.size());
       for (std::size_t k = 0; k < q.size(); ++k) p[k] = surfaceAt(q[k]);
-      placeLevelTwoCentre(q, p, surfaceAt, vertices, how.levelTwoGuard);
+      placeLevelTwoCentre(q, p, surfaceAt, vertices, how.levelTwoGuard, how.keepDiagonal);
     }
     const bool relaxed = how.sweeps > 0 && stride > 1 && (n - 1) / (fine - 1) < stride;
     if (!relaxed) {

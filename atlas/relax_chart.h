@@ -34,6 +34,10 @@ struct ChartRelaxing {
   // centre, but for levelTwoGuard below (5 kept levels 0-4's texels uniform: the levels above gained
   // 0.5 to 2.4 dB at level 10 from relaxing them too; bench/RESULTS.md).
   std::uint32_t keptSize = 3;
+  // The texels on the tile's diagonal (i == j, where its two base triangles meet) stay on it, moving
+  // only along it: for a tile whose diagonal runs along dense edges (make_atlas.cpp), a crease that
+  // the levels' triangles, cut along that diagonal, then keep at every level.
+  bool keepDiagonal = false;
   // Level 2 (the grid of 3) can lie farther from the surface than level 0 where its new texels land
   // on crests either side of a fold that level 0's flat triangles cut across. Where the grid of 3
   // lies farther from the surface than the tile's corners alone (levelError, both ways) and farther
@@ -106,8 +110,10 @@ std::vector<multires::Vec2> relaxChart(std::uint32_t n, const std::function<Surf
 // border's then at `sides`, of 2n - 1 fractions each), and in each quad where the lines between its
 // opposite new edge texels cross. A strictly convex quad splits into four strictly convex ones
 // (its corners' mean would not do where its sides' new texels were moved).
+// With keepDiagonal, the new texels on the diagonal (i == j) go where it crosses the line between
+// their quad's new edge texels above and below, so that a diagonal on the line u = v stays on it.
 std::vector<multires::Vec2> refineChartGrid(std::uint32_t n, const std::vector<multires::Vec2>& q,
-                                            const std::array<std::vector<double>, 4>& sides);
+                                            const std::array<std::vector<double>, 4>& sides, bool keepDiagonal = false);
 
 // convexChartQuad: whether the quad of texels (i, j) .. (i + 1, j + 1) of grid q (n a side) turns
 // counter-clockwise at all four corners (exact predicates). convexAroundTexel: the four quads around

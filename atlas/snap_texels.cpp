@@ -17,8 +17,8 @@ using multires::Vec2;
 class Snapper {
 public:
   Snapper(std::uint32_t n, std::span<const ChartVertex> vertices, const std::function<Vec3(const Vec2&)>& surfaceAt,
-          std::vector<Vec2>& q, std::vector<Vec3>& p)
-      : n_(n), s_(n - 1), vertices_(vertices), surfaceAt_(surfaceAt), q_(q), p_(p), level_(n, q, p),
+          std::vector<Vec2>& q, std::vector<Vec3>& p, bool keepDiagonal)
+      : n_(n), s_(n - 1), keepDiagonal_(keepDiagonal), vertices_(vertices), surfaceAt_(surfaceAt), q_(q), p_(p), level_(n, q, p),
         bySquare_(level_, vertices), error_(vertices.size()), moved_(q.size(), 0), tried_(vertices.size(), 0) {
     // Errors this small are rounding: nothing to mend.
     negligible_ = 1e-9 * boundingBox(p).diagonal();
@@ -55,7 +55,7 @@ private:
   // A texel of the finest two levels, off the border, not moved yet.
   bool movable(std::size_t t) const {
     const std::uint32_t i = std::uint32_t(t % n_), j = std::uint32_t(t / n_);
-    return !moved_[t] && i > 0 && j > 0 && i + 1 < n_ && j + 1 < n_ && (i % 2 == 1 || j % 2 == 1);
+    return !moved_[t] && i > 0 && j > 0 && i + 1 < n_ && j + 1 < n_ && (i % 2 == 1 || j % 2 == 1) && !(keepDiagonal_ && i == j);
   }
 
   // Texel t moved to chart point `to`, kept only if the squares around it stay strictly convex, the
@@ -113,6 +113,7 @@ private:
   }
 
   std::uint32_t n_, s_;
+  bool keepDiagonal_;
   std::span<const ChartVertex> vertices_;
   const std::function<Vec3(const Vec2&)>& surfaceAt_;
   std::vector<Vec2>& q_;
@@ -130,9 +131,9 @@ private:
 }  // namespace
 
 std::uint32_t snapTexels(std::uint32_t n, std::span<const ChartVertex> vertices, const std::function<Vec3(const Vec2&)>& surfaceAt,
-                         std::vector<Vec2>& q, std::vector<Vec3>& p) {
+                         std::vector<Vec2>& q, std::vector<Vec3>& p, bool keepDiagonal) {
   if (n < 3 || vertices.empty()) return 0;
-  return Snapper(n, vertices, surfaceAt, q, p).run();
+  return Snapper(n, vertices, surfaceAt, q, p, keepDiagonal).run();
 }
 
 }  // namespace isoatlas::atlas

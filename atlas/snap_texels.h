@@ -22,6 +22,7 @@
 //              convex squares; p their surface points. Both are updated.
 //   vertices   the dense vertices inside the tile: chart point (in (0, 1)^2) and position
 //   surfaceAt  the surface at a chart point, through the parametrisation
+//   keepDiagonal  the texels on the tile's diagonal (i == j) stay (ChartRelaxing::keepDiagonal)
 // Returns how many texels moved.
 #pragma once
 #include <cstdint>
@@ -37,6 +38,6 @@ namespace isoatlas::atlas {
 
 std::uint32_t snapTexels(std::uint32_t n, std::span<const ChartVertex> vertices,
                          const std::function<Vec3(const multires::Vec2&)>& surfaceAt, std::vector<multires::Vec2>& q,
-                         std::vector<Vec3>& p);
+                         std::vector<Vec3>& p, bool keepDiagonal = false);
 
 }  // namespace isoatlas::atlas

@@ -16,8 +16,8 @@ bool same(const Vec2& a, const Vec2& b) { return a.x == b.x && a.y == b.y; }
 class Unturner {
 public:
   Unturner(std::uint32_t n, std::span<const ChartVertex> vertices, const std::function<SurfacePoint(const Vec2&)>& surfaceAt,
-           std::vector<Vec2>& q, std::vector<Vec3>& p)
-      : n_(n), s_(n - 1), vertices_(vertices), surfaceAt_(surfaceAt), q_(q), p_(p), level_(n, q, p), bySquare_(level_, vertices) {}
+           std::vector<Vec2>& q, std::vector<Vec3>& p, bool keepDiagonal)
+      : n_(n), s_(n - 1), keepDiagonal_(keepDiagonal), vertices_(vertices), surfaceAt_(surfaceAt), q_(q), p_(p), level_(n, q, p), bySquare_(level_, vertices) {}
 
   std::uint32_t run() {
     constexpr int kSweeps = 3;
@@ -26,7 +26,7 @@ public:
       std::uint32_t movedNow = 0;
       for (std::uint32_t j = 1; j + 1 < n_; ++j)
         for (std::uint32_t i = 1; i + 1 < n_; ++i)
-          if ((i % 2 == 1 || j % 2 == 1) && turnedAround(i, j) > 0) movedNow += tryPlaces(i, j);
+          if ((i % 2 == 1 || j % 2 == 1) && !(keepDiagonal_ && i == j) && turnedAround(i, j) > 0) movedNow += tryPlaces(i, j);
       moved += movedNow;
       if (movedNow == 0) break;
     }
@@ -109,6 +109,7 @@ private:
   }
 
   std::uint32_t n_, s_;
+  bool keepDiagonal_;
   std::span<const ChartVertex> vertices_;
   const std::function<SurfacePoint(const Vec2&)>& surfaceAt_;
   std::vector<Vec2>& q_;
@@ -121,9 +122,10 @@ private:
 }  // namespace
 
 std::uint32_t unturnTexels(std::uint32_t n, std::span<const ChartVertex> vertices,
-                           const std::function<SurfacePoint(const Vec2&)>& surfaceAt, std::vector<Vec2>& q, std::vector<Vec3>& p) {
+                           const std::function<SurfacePoint(const Vec2&)>& surfaceAt, std::vector<Vec2>& q, std::vector<Vec3>& p,
+                           bool keepDiagonal) {
   if (n < 3) return 0;
-  return Unturner(n, vertices, surfaceAt, q, p).run();
+  return Unturner(n, vertices, surfaceAt, q, p, keepDiagonal).run();
 }
 
 }  // namespace isoatlas::atlas

@@ -19,6 +19,7 @@
 //   vertices   the dense vertices inside the tile: chart point (in (0, 1)^2) and position
 //   surfaceAt  the surface at a chart point, through the parametrisation, and the unit normal of the
 //              dense face there
+//   keepDiagonal  the texels on the tile's diagonal (i == j) stay (ChartRelaxing::keepDiagonal)
 // Returns how many texels moved.
 #pragma once
 #include <cstdint>
@@ -35,6 +36,6 @@ namespace isoatlas::atlas {
 
 std::uint32_t unturnTexels(std::uint32_t n, std::span<const ChartVertex> vertices,
                            const std::function<SurfacePoint(const multires::Vec2&)>& surfaceAt, std::vector<multires::Vec2>& q,
-                           std::vector<Vec3>& p);
+                           std::vector<Vec3>& p, bool keepDiagonal = false);
 
 }  // namespace isoatlas::atlas

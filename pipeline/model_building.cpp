@@ -93,6 +93,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   r["snapped_texels"] = charts.snappedTexels;
   r["unturned_texels"] = charts.unturnedTexels;
   r["level_two_centres_moved"] = charts.levelTwoCentresMoved;
+  r["kept_diagonals"] = charts.keptDiagonals;
   r["relax_sweeps"] = request.relaxSweeps;
   r["seconds_simplify"] = stats.seconds;
   r["seconds_match"] = pairing.seconds;

@@ -312,3 +312,50 @@ TEST(RelaxChart, TheFinestLevelFollowsCreasesCloser) {
 
 }  // namespace
 }  // namespace isoatlas::atlas
+
+namespace isoatlas::atlas {
+namespace {
+
+// A crease along the tile's diagonal u = v (90 degrees), its normals those of the two flanks.
+SurfacePoint diagonalRidge(const Vec2& q) {
+  const double side = q.x < q.y ? -1 : 1;
+  return {{q.x, q.y, -std::abs(q.x - q.y) / std::sqrt(2.0)}, Vec3{side, -side, std::sqrt(2.0)} * 0.5};
+}
+
+// With keepDiagonal, every texel on the diagonal stays exactly on it (u == v) while the others
+// gather at the crease; without, relaxation moves some off it.
+TEST(RelaxChart, AKeptDiagonalStaysOnTheDiagonal) {
+  auto offDiagonal = [](const std::vector<Vec2>& q) {
+    int off = 0;
+    for (std::uint32_t i = 0; i < kN; ++i) off += q[std::size_t(i) * kN + i].x != q[std::size_t(i) * kN + i].y;
+    return off;
+  };
+  ChartRelaxing keep = kHow;
+  keep.keepDiagonal = true;
+  const auto kept = relaxChart(kN, diagonalRidge, uniformSides(), keep);
+  EXPECT_EQ(nonConvexQuads(kept), 0u);
+  EXPECT_EQ(offDiagonal(kept), 0);
+  EXPECT_GT(offDiagonal(relaxChart(kN, diagonalRidge, uniformSides(), kHow)), 0);
+}
+
+// An octahedron is its own base mesh: each tile two faces folded along its diagonal. Relaxed with
+// the diagonals kept (make_atlas.cpp finds them: dense edges, and creases), every level of the
+// model lies on the octahedron to float rounding; relaxation moving texels off a diagonal would cut
+// the crease from level 6 up.
+TEST(RelaxChart, APolyhedronThatIsItsOwnBaseIsExactAtEveryLevel) {
+  Mesh dense;
+  dense.positions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  for (const auto& f : std::vector<std::array<std::uint32_t, 3>>{{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}})
+    dense.addFace({f[0], f[1], f[2]});
+  multires::BaseMesh base = multires::simplifyStellar(dense, {.vertexRatio = 1});
+  ASSERT_EQ(base.vertexCount(), dense.vertexCount());
+  multires::pairTriangles(base, dense);
+  ChartStats stats;
+  const Atlas atlas = makeAtlas(dense, base, 33, &stats);
+  EXPECT_EQ(stats.keptDiagonals, 4u);
+  for (int level = 0; level <= maxLevel(33u); level += 2)
+    EXPECT_LT(hausdorffDistance(reconstructLevel(base, atlas, level), dense, 20000).symmetric(), 1e-5) << "level " << level;
+}
+
+}  // namespace
+}  // namespace isoatlas::atlas
