@@ -11,18 +11,11 @@
 namespace isoatlas::atlas {
 namespace {
 
-using Corners = std::array<std::array<std::uint32_t, 2>, 4>;
-Corners quadCorners(std::uint32_t a, std::uint32_t b) { return {{{a, b}, {a + 1, b}, {a + 1, b + 1}, {a, b + 1}}}; }
-
-// The corners' positions of triangle t of quad (a, b) of chart c.
-std::array<Vec3, 3> trianglePositions(const Atlas& atlas, std::uint32_t c, std::uint32_t a, std::uint32_t b, int t) {
-  const Corners corner = quadCorners(a, b);
-  std::array<Vec3, 3> p;
-  for (int k = 0; k < 3; ++k) {
-    const auto [i, j] = corner[std::size_t(squareTriangles(a, b)[std::size_t(t)][std::size_t(k)])];
-    p[std::size_t(k)] = atlas.position(c, i, j);
-  }
-  return p;
+// The texels (column, row) of triangle t of quad (a, b), as squareTriangles cuts it.
+std::array<std::array<std::uint32_t, 2>, 3> triangleTexels(std::uint32_t a, std::uint32_t b, int t) {
+  const std::array<std::array<std::uint32_t, 2>, 4> corner{{{a, b}, {a + 1, b}, {a + 1, b + 1}, {a, b + 1}}};
+  const auto k = squareTriangles(a, b)[std::size_t(t)];
+  return {corner[std::size_t(k[0])], corner[std::size_t(k[1])], corner[std::size_t(k[2])]};
 }
 
 template <class TriangleTurns>
@@ -55,14 +48,9 @@ void requireTriangleFaceNormals(const Atlas& atlas) {
 }  // namespace
 
 bool quadFacesBackwards(const Atlas& atlas, std::uint32_t c, std::uint32_t a, std::uint32_t b) {
-  const Corners corner = quadCorners(a, b);
   for (int t = 0; t < 2; ++t) {
-    const std::array<Vec3, 3> p = trianglePositions(atlas, c, a, b, t);
-    Vec3 n[3];
-    for (int k = 0; k < 3; ++k) {
-      const auto [i, j] = corner[std::size_t(squareTriangles(a, b)[std::size_t(t)][std::size_t(k)])];
-      n[k] = atlas.normal(c, i, j);
-    }
+    Vec3 p[3], n[3];
+    for (int k = 0; const auto& [i, j] : triangleTexels(a, b, t)) p[k] = atlas.position(c, i, j), n[k++] = atlas.normal(c, i, j);
     if (facesBackwards(p[0], p[1], p[2], n[0], n[1], n[2])) return true;
   }
   return false;
@@ -71,7 +59,8 @@ bool quadFacesBackwards(const Atlas& atlas, std::uint32_t c, std::uint32_t a, st
 bool quadFolds(const Atlas& atlas, std::uint32_t c, std::uint32_t a, std::uint32_t b) {
   requireTriangleFaceNormals(atlas);
   for (int t = 0; t < 2; ++t) {
-    const std::array<Vec3, 3> p = trianglePositions(atlas, c, a, b, t);
+    Vec3 p[3];
+    for (int k = 0; const auto& [i, j] : triangleTexels(a, b, t)) p[k++] = atlas.position(c, i, j);
     if (dot(cross(p[1] - p[0], p[2] - p[0]), atlas.triangleFaceNormal(c, a, b, t)) < 0) return true;
   }
   return false;
