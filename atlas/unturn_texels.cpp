@@ -26,7 +26,7 @@ public:
       std::uint32_t movedNow = 0;
       for (std::uint32_t j = 1; j + 1 < n_; ++j)
         for (std::uint32_t i = 1; i + 1 < n_; ++i)
-          if ((i % 2 == 1 || j % 2 == 1) && !(keepDiagonal_ && i == j) && turnedAround(i, j) > 0) movedNow += tryPlaces(i, j);
+          if (!(keepDiagonal_ && i == j) && turnedAround(i, j) > 0) movedNow += tryPlaces(i, j);
       moved += movedNow;
       if (movedNow == 0) break;
     }
