@@ -28,11 +28,13 @@ int volumeInfo(const std::string& path, nlohmann::json& r) {
   r["min"] = range.min;
   r["max"] = range.max;
   r["bytes"] = v.data.size();
+  r["non_finite_voxels"] = v.nonFiniteVoxels;
   std::printf("%s: volume %lld x %lld x %lld, %s\n", path.c_str(), (long long)v.dims[0], (long long)v.dims[1],
               (long long)v.dims[2], scalarTypeName(v.type));
   std::printf("  spacing   %g x %g x %g mm\n", v.spacing.x, v.spacing.y, v.spacing.z);
   std::printf("  origin    (%g, %g, %g) mm (RAS)\n", v.origin.x, v.origin.y, v.origin.z);
   std::printf("  values    %g .. %g\n", range.min, range.max);
+  if (v.nonFiniteVoxels > 0) std::printf("  %llu NaN or infinite voxels, read as the background (%g)\n", (unsigned long long)v.nonFiniteVoxels, range.min);
   return 0;
 }
 

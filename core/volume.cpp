@@ -163,6 +163,23 @@ void requireFiniteVoxels(const Volume& v, const std::string& where) {
   }
 }
 
+std::uint64_t backgroundNonFiniteVoxels(Volume& v, const std::string& where) {
+  if (!isFloating(v.type)) return 0;
+  const std::size_t count = v.voxelCount();
+  double background = std::numeric_limits<double>::infinity();
+  std::uint64_t nonFinite = 0;
+  for (std::size_t n = 0; n < count; ++n) {
+    const double x = v.value(n);
+    if (std::isfinite(x)) background = std::min(background, x);
+    else ++nonFinite;
+  }
+  if (nonFinite == 0) return 0;
+  if (nonFinite == count) throw Error(where + ": every voxel is NaN or infinite");
+  for (std::size_t n = 0; n < count; ++n)
+    if (!std::isfinite(v.value(n))) v.setValue(n, background);
+  return nonFinite;
+}
+
 ValueRange valueRange(const Volume& v) {
   ValueRange r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   for (std::size_t n = 0, count = v.voxelCount(); n < count; ++n) {

@@ -24,6 +24,8 @@ struct Volume {
   Mat3 direction;         // columns: unit world directions of the i, j, k axes
   ScalarType type = ScalarType::Float32;
   std::vector<std::byte> data;
+  // NaN or infinite voxels the file held, read as the background (backgroundNonFiniteVoxels).
+  std::uint64_t nonFiniteVoxels = 0;
 
   // A zero-filled volume of the given size and type; throws Error on sizes past volumeByteLimit().
   static Volume zeros(std::array<std::int64_t, 3> dims, ScalarType type);
@@ -54,6 +56,11 @@ void setVolumeByteLimit(std::uint64_t bytes);
 void validateVolumeHeader(const Volume& v, const std::string& where);
 // Throws Error naming the first NaN or infinite voxel (i,j,k) of a floating-point volume.
 void requireFiniteVoxels(const Volume& v, const std::string& where);
+// Sets every NaN or infinite voxel of a floating-point volume to the background, its smallest finite
+// value (outside every threshold and isovalue above it: resampled SPM and FSL outputs hold NaN
+// outside the field of view), and returns how many there were. Throws Error naming `where` when no
+// voxel is finite.
+std::uint64_t backgroundNonFiniteVoxels(Volume& v, const std::string& where);
 
 struct ValueRange {
   double min = 0, max = 0;

@@ -2,10 +2,12 @@
 
 #include "core/atomic_file.h"
 
+#include <cstdio>
 #include <filesystem>
 
 #include "core/error.h"
 #include "core/gz_file.h"
+#include "core/progress.h"
 
 namespace isoatlas {
 
@@ -22,6 +24,14 @@ VolumeFormat volumeFormatOf(const std::string& path) {
   throw Error(path + ": unknown volume format (expected .nii, .nii.gz, .nrrd, .nhdr, .inr or .inr.gz)");
 }
 
+namespace {
+std::string shortNumber(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
+}
+}  // namespace
+
 Volume readVolume(const std::string& path) {
   const VolumeFormat format = volumeFormatOf(path);
   std::error_code ec;
@@ -32,7 +42,10 @@ Volume readVolume(const std::string& path) {
     case VolumeFormat::Nrrd: v = readNrrd(path); break;
     case VolumeFormat::Inr: v = readInr(path); break;
   }
-  requireFiniteVoxels(v, path);
+  v.nonFiniteVoxels = backgroundNonFiniteVoxels(v, path);
+  if (v.nonFiniteVoxels > 0)
+    logInfo(path + ": " + std::to_string(v.nonFiniteVoxels) + " NaN or infinite voxels read as the background (" +
+            shortNumber(valueRange(v).min) + ", the smallest finite value)");
   return v;
 }
 

@@ -1,6 +1,7 @@
 // Reading and writing volumes. The format follows the file name:
 //   .nii .nii.gz .hdr (NIfTI-1 and NIfTI-2, nifticlib)   .nrrd .nhdr (NRRD, teem)   .inr .inr.gz (INRIMAGE-4)
-// Readers check every size before allocating (see volumeByteLimit) and reject NaN/infinite voxels;
+// Readers check every size before allocating (see volumeByteLimit) and read NaN and infinite voxels as the
+// background (backgroundNonFiniteVoxels, with one line saying how many);
 // all failures throw isoatlas::Error naming the file and what was wrong.
 #pragma once
 #include <string>

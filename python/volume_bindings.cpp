@@ -90,7 +90,7 @@ Volume toVolume(const py::object& object, const py::object& affine, const char* 
   validateVolumeHeader(v, what);
   v.data.resize(v.voxelCount() * bytesPerVoxel(type));
   std::memcpy(v.data.data(), fortran.data(), v.data.size());
-  if (isFloating(type)) requireFiniteVoxels(v, what);
+  v.nonFiniteVoxels = backgroundNonFiniteVoxels(v, what);  // as readVolume reads them
   return v;
 }
 
@@ -111,6 +111,8 @@ void bindVolumes(py::module_& m) {
       .def_property_readonly("affine", [](const Volume& v) { return affineOf(v); })
       .def_property_readonly("spacing", [](const Volume& v) { return std::array<double, 3>{v.spacing.x, v.spacing.y, v.spacing.z}; })
       .def_property_readonly("shape", [](const Volume& v) { return v.dims; })
+      .def_property_readonly("non_finite_voxels", [](const Volume& v) { return v.nonFiniteVoxels; },
+                             "NaN or infinite voxels it was given, read as the background (its smallest finite value)")
       .def("__repr__", [](const Volume& v) {
         return "<isoatlas.Volume " + std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " + std::to_string(v.dims[2]) +
                " " + scalarTypeName(v.type) + ">";

@@ -122,9 +122,9 @@ TEST(Cli, BadInputsExitTwoWithOneLine) {
   test::writeBytes(dir / "huge.inr", header + "##}\n");
   expectBadInput("info " + (dir / "huge.inr").string(), "too large");
   Volume v = test::rampVolume(ScalarType::Float32);
-  v.setValue(5, std::nan(""));
+  for (std::size_t n = 0; n < v.voxelCount(); ++n) v.setValue(n, std::nan(""));
   writeVolume((dir / "nan.nrrd").string(), v);
-  expectBadInput("info " + (dir / "nan.nrrd").string(), "NaN");
+  expectBadInput("info " + (dir / "nan.nrrd").string(), "every voxel is NaN or infinite");
   test::writeBytes(dir / "empty.ply", "");
   expectBadInput("info " + (dir / "empty.ply").string(), "empty file");
   test::writeBytes(dir / "fin.off", "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n");
@@ -134,6 +134,22 @@ TEST(Cli, BadInputsExitTwoWithOneLine) {
   EXPECT_NE(r.out.find("manifold no"), std::string::npos) << "the figures are still printed";
   test::writeBytes(dir / "truncated.nii.gz", test::readBytes(dir / "nan.nrrd").substr(0, 10));
   expectBadInput("info " + (dir / "truncated.nii.gz").string(), "truncated.nii.gz");
+}
+
+// A volume with NaN voxels (as resampled SPM and FSL outputs hold outside the field of view) is read:
+// one line on stderr says how many were read as the background, and info counts them.
+TEST(Cli, NanVoxelsAreReadAsTheBackgroundWithOneLine) {
+  const auto dir = test::scratchDir();
+  Volume v = test::rampVolume(ScalarType::Float32);
+  v.setValue(5, std::nan(""));
+  v.setValue(7, std::numeric_limits<double>::infinity());
+  writeVolume((dir / "nan.nrrd").string(), v);
+  const std::string report = (dir / "info.json").string();
+  const Result r = run("info " + (dir / "nan.nrrd").string() + " --report " + report);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("nan.nrrd: 2 NaN or infinite voxels read as the background"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("2 NaN or infinite voxels"), std::string::npos) << r.out;
+  EXPECT_EQ(nlohmann::json::parse(test::readBytes(report))["non_finite_voxels"], 2);
 }
 
 // Every subcommand's options with bad values (out of range, conflicting, a wrong extension, a missing,
@@ -531,9 +547,9 @@ TEST(Cli, SegmentRejectsBadInput) {
   expectBadInput("segment " + ball + " --target 200 --width 60" + out, "give at least one --seed");
   expectBadInput("segment " + ball + " --seed 20,18,15 --target 200 --width 60 -o m.png", "unknown volume format");
   Volume nan = test::rampVolume(ScalarType::Float32);
-  nan.setValue(3, std::nan(""));
+  for (std::size_t n = 0; n < nan.voxelCount(); ++n) nan.setValue(n, std::nan(""));
   writeVolume((dir / "nan.nrrd").string(), nan);
-  expectBadInput("segment " + (dir / "nan.nrrd").string() + " --seed 1,1,1 --target 1 --width 1" + out, "NaN");
+  expectBadInput("segment " + (dir / "nan.nrrd").string() + " --seed 1,1,1 --target 1 --width 1" + out, "every voxel is NaN");
   test::writeBytes(dir / "empty.nii", "");
   expectBadInput("segment " + (dir / "empty.nii").string() + " --seed 1,1,1 --target 1 --width 1" + out, "empty.nii");
   expectBadInput("probe " + ball + " --at 20,18,99 --radius 2", "lies outside the volume");

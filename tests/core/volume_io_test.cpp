@@ -231,19 +231,36 @@ TEST(VolumeBadInput, UnsupportedScalarTypes) {
   EXPECT_NE(errorOf((dir / "vector.inr").string()).find("VDIM"), std::string::npos);
 }
 
-TEST(VolumeBadInput, NanAndInfiniteVoxelsAreNamed) {
+// NaN and infinite voxels are read as the background, the smallest finite value, and counted; the
+// other voxels are read as written.
+TEST(VolumeRoundTrip, NanAndInfiniteVoxelsReadAsTheBackground) {
   const auto dir = scratchDir();
   for (const char* ext : {".nii.gz", ".nrrd", ".inr"}) {
     Volume v = test::rampVolume(ScalarType::Float32);
+    const double background = valueRange(v).min;
     v.setValue(v.index(3, 2, 1), std::numeric_limits<double>::quiet_NaN());
+    v.setValue(v.index(1, 1, 1), -std::numeric_limits<double>::infinity());
     const auto path = dir / (std::string("nan") + ext);
     writeVolume(path.string(), v);
-    EXPECT_NE(errorOf(path.string()).find("voxel (3,2,1) is NaN"), std::string::npos) << ext;
+    const Volume read = readVolume(path.string());
+    EXPECT_EQ(read.nonFiniteVoxels, 2u) << ext;
+    for (std::size_t n = 0; n < v.voxelCount(); ++n) {
+      const bool hole = n == v.index(3, 2, 1) || n == v.index(1, 1, 1);
+      EXPECT_EQ(read.value(n), hole ? background : v.value(n)) << ext << ", voxel " << n;
+    }
   }
   Volume v = test::rampVolume(ScalarType::Float64);
   v.setValue(0, std::numeric_limits<double>::infinity());
   writeVolume((dir / "inf.nii").string(), v);
-  EXPECT_NE(errorOf((dir / "inf.nii").string()).find("infinite"), std::string::npos);
+  EXPECT_EQ(readVolume((dir / "inf.nii").string()).nonFiniteVoxels, 1u);
+}
+
+TEST(VolumeBadInput, AVolumeOfNothingButNanIsRefused) {
+  const auto dir = scratchDir();
+  Volume v = test::rampVolume(ScalarType::Float32);
+  for (std::size_t n = 0; n < v.voxelCount(); ++n) v.setValue(n, std::numeric_limits<double>::quiet_NaN());
+  writeVolume((dir / "all-nan.nii").string(), v);
+  EXPECT_NE(errorOf((dir / "all-nan.nii").string()).find("every voxel is NaN or infinite"), std::string::npos);
 }
 
 TEST(VolumeBadInput, FourDimensionalNiftiIsRejected) {

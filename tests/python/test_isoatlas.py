@@ -88,6 +88,20 @@ def test_every_layout_and_scalar_type(dtype, order):
     np.testing.assert_array_equal(isoatlas.Volume(strided).data, strided)
 
 
+def test_nan_and_infinite_voxels_read_as_the_background(tmp_path):
+    array = np.arange(60, dtype=np.float32).reshape(3, 4, 5) + 7
+    array[0, 1, 2] = np.nan
+    array[2, 3, 4] = np.inf
+    v = isoatlas.Volume(array, np.eye(4))
+    assert v.non_finite_voxels == 2
+    expected = np.where(np.isfinite(array), array, 7)
+    np.testing.assert_array_equal(v.data, expected)
+    nib.save(nib.Nifti1Image(array, np.eye(4)), tmp_path / "nan.nii.gz")
+    read = isoatlas.read_volume(str(tmp_path / "nan.nii.gz"))
+    assert read.non_finite_voxels == 2
+    np.testing.assert_array_equal(read.data, expected)
+
+
 def test_bad_input_raises():
     with pytest.raises(ValueError, match="int64"):
         isoatlas.Volume(np.zeros((3, 3, 3), dtype=np.int64))
@@ -95,7 +109,7 @@ def test_bad_input_raises():
         isoatlas.Volume(np.zeros((3, 3)))
     with pytest.raises(ValueError, match="affine"):
         isoatlas.Volume(np.zeros((3, 3, 3), dtype=np.uint8), affine=np.eye(3))
-    with pytest.raises(ValueError, match="NaN|infinite|finite"):
+    with pytest.raises(ValueError, match="every voxel is NaN or infinite"):
         isoatlas.Volume(np.full((3, 3, 3), np.nan, dtype=np.float32))
     with pytest.raises(FileNotFoundError):
         isoatlas.read_volume("/nonexistent/head.nii.gz")
