@@ -13,6 +13,7 @@ namespace isoatlas::app {
 
 struct ExtractCommandOptions {
   std::string input, output, backend = "auto";
+  std::int64_t volume = -1;  // --volume
   std::optional<double> iso;
   bool largest = false;
   std::int64_t minComponent = 0;
@@ -23,6 +24,7 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("extract", "closed, manifold marching cubes over a level set, mask or scalar volume");
   auto o = std::make_shared<ExtractCommandOptions>();
   sub->add_option("input", o->input, "a mask, a phi volume (isoatlas segment --phi) or any scalar volume")->required();
+  addVolumeIndexOption(*sub, o->volume);
   sub->add_option("--iso", o->iso, "isovalue (default: 0.5 for a mask, else the middle of the value range; give 0 for a phi volume)")
       ->check(inRange(-kMaxIntensity, kMaxIntensity));
   sub->add_flag("--largest", o->largest, "keep only the largest component");
@@ -34,7 +36,7 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
   sub->add_option("-o,--output", o->output, "output mesh (.ply, .off or .obj)")->required()->check(outputFile());
   bindAction(*sub, [o](nlohmann::json& r) {
     require(isMeshPath(o->output) && !endsWith(o->output, ".stl"), o->output + ": write the mesh as .ply, .off or .obj");
-    const Volume v = readVolume(o->input);
+    const Volume v = readVolume(o->input, {.volume = o->volume});
     const pipeline::Gpu backend = pipeline::chooseBackend(o->backend);
     const bool gpu = backend.backend == levelset::Backend::Gpu;
     extract::ExtractOptions options{.largestComponent = o->largest, .minComponentTriangles = o->minComponent,

@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "app/command.h"
+#include "app/options.h"
 #include "core/error.h"
 #include "core/gl/context.h"
 #include "core/mesh_io.h"
@@ -15,8 +16,8 @@ namespace {
 
 nlohmann::json vec(const Vec3& v) { return {v.x, v.y, v.z}; }
 
-int volumeInfo(const std::string& path, nlohmann::json& r) {
-  const Volume v = readVolume(path);
+int volumeInfo(const std::string& path, std::int64_t volume, nlohmann::json& r) {
+  const Volume v = readVolume(path, {.volume = volume});
   const ValueRange range = valueRange(v);
   r["kind"] = "volume";
   r["file"] = path;
@@ -136,10 +137,12 @@ void addInfoCommand(CLI::App& app, int& exitCode) {
   auto gl = std::make_shared<bool>(false);
   sub->add_option("file", *file, "volume (.nii .nii.gz .nrrd .nhdr .inr .inr.gz), mesh (.off .ply .obj .stl) or volume tree (.dvt)");
   sub->add_flag("--gl", *gl, "print the OpenGL renderer, version and the limits isoatlas relies on");
-  bindAction(*sub, [file, gl](nlohmann::json& r) {
+  auto volumeIndex = std::make_shared<std::int64_t>(-1);
+  addVolumeIndexOption(*sub, *volumeIndex);
+  bindAction(*sub, [file, gl, volumeIndex](nlohmann::json& r) {
     if (*gl) return glInfo(r);
     require(!file->empty(), "give a FILE, or --gl");
-    if (isVolumePath(*file)) return volumeInfo(*file, r);
+    if (isVolumePath(*file)) return volumeInfo(*file, *volumeIndex, r);
     if (isMeshPath(*file)) return meshInfo(*file, r);
     if (endsWith(*file, ".dvt")) return treeInfo(*file, r);
     throw Error(*file + ": unknown file type (volumes: .nii .nii.gz .nrrd .nhdr .inr .inr.gz; meshes: .off .ply .obj .stl; trees: .dvt)");

@@ -60,6 +60,11 @@ CLI::Validator backendChoice() {
   return CLI::IsMember(std::vector<std::string>(levelset::kBackendChoices.begin(), levelset::kBackendChoices.end()));
 }
 
+void addVolumeIndexOption(CLI::App& sub, std::int64_t& volume) {
+  sub.add_option("--volume", volume, "which volume of a 4D series (fMRI, diffusion) to read (0: the first; a 4D file needs it, a 3D file is volume 0)")
+      ->check(inRange(0, 1e6));
+}
+
 CLI::Validator inRange(double lo, double hi) {
   const std::string range = rangeText(lo, hi);
   return CLI::Validator(

@@ -47,6 +47,9 @@ inline constexpr double kMinSamples = 1000, kMaxSamples = 1e8;  // Hausdorff fac
 inline constexpr double kMaxLevel = 2 * std::countr_zero(multires::kMaxChartSize - 1);  // atlas::maxLevel of the finest charts
 inline constexpr double kMaxMillimetres = 1e6;  // lengths in world mm (radii, depths, errors): a kilometre
 
+// --volume N: which volume of a 4D NIfTI series the command reads (VolumeReadOptions), from 0.
+void addVolumeIndexOption(CLI::App& sub, std::int64_t& volume);
+
 // --union SHAPE and --subtract SHAPE on `sub`, each adding a step in command-line order.
 void addEditStepOptions(CLI::App& sub, const std::shared_ptr<std::vector<pipeline::EditStep>>& steps);
 

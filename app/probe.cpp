@@ -18,9 +18,11 @@ void addProbeCommand(CLI::App& app, int& exitCode) {
   sub->add_option("volume", *volume, "input volume")->required();
   sub->add_option("--at", *at, "centre X,Y,Z[,R] in voxel indices (R overrides --radius)")->required();
   sub->add_option("--radius", *radius, "radius in voxels")->capture_default_str()->check(inRange(kMinBallRadius, kMaxBallRadius));
-  bindAction(*sub, [volume, at, radius](nlohmann::json& r) {
+  auto volumeIndex = std::make_shared<std::int64_t>(-1);
+  addVolumeIndexOption(*sub, *volumeIndex);
+  bindAction(*sub, [volume, at, radius, volumeIndex](nlohmann::json& r) {
     const pipeline::Ball ball = parseBall(*at, "--at", *radius);
-    const Volume v = readVolume(*volume);
+    const Volume v = readVolume(*volume, {.volume = *volumeIndex});
     pipeline::requireInside(v, ball.centre, "--at");
     const levelset::ProbeResult p = levelset::probeSphere(v, ball.centre, ball.radius);
     r["mean"] = p.mean;

@@ -39,6 +39,7 @@ struct RunOptions {
   // without --converge. The demo converges in under a thousand.
   int iterations = 3000;
   bool halfResolutionStart = false;
+  std::int64_t volume = -1;  // --volume
   pipeline::ModelRequest model;
   int chart = 33;
   std::string levels = "even";  // the levels run measures: "even" (0, 2, ..., the whole chart) or eval's form
@@ -84,7 +85,7 @@ void runJob(const std::string& input, const std::string& outDir, const RunOption
   checkRunOptions(options);
   const std::vector<int> levels = runLevels(options.levels, atlas::maxLevel(std::uint32_t(options.chart)));
   // Bad input (the volume, a seed outside it, an edit's shape) is refused before anything is written.
-  Volume volume = readVolume(input);
+  Volume volume = readVolume(input, {.volume = options.volume});
   const double secondsRead = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const SegmentationSetup setup = segmentationSetup(options, input, volume);
   const auto solids = pipeline::stepSolids(setup.edits.steps);
@@ -155,6 +156,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   auto options = std::make_shared<RunOptions>();
   sub->add_option("volume", *input, "input volume")->capture_default_str();
   sub->add_option("-o,--output", *outDir, "folder for every product and index.html")->capture_default_str();
+  addVolumeIndexOption(*sub, options->volume);
   sub->add_option("--seed", options->seeds, "seed X,Y,Z[,R] in voxel indices, R in voxels (default " + std::to_string(int(pipeline::kDefaultSeedRadius)) + "); the demo volume has its own");
   sub->add_option("--target,-T", options->target, "T for the segmentation, required with --seed (without --seed, the demo volume has its own)")
       ->check(inRange(-kMaxIntensity, kMaxIntensity));

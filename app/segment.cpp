@@ -13,6 +13,7 @@ namespace isoatlas::app {
 
 struct SegmentOptions {
   std::string volume, seedMask, output, phi, backend = "auto";
+  std::int64_t volumeIndex = -1;  // --volume
   std::vector<std::string> seeds;
   double target = 0, width = 0, alpha = pipeline::kDefaultAlpha;
   int iterations = levelset::RunOptions{}.maxIterations, page = levelset::LevelSetOptions{}.pageSize;
@@ -23,6 +24,7 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("segment", "segment a structure with the paged narrow-band level-set solver");
   auto o = std::make_shared<SegmentOptions>();
   sub->add_option("volume", o->volume, "input volume")->required();
+  addVolumeIndexOption(*sub, o->volumeIndex);
   sub->add_option("--seed", o->seeds, "seed sphere X,Y,Z[,R] in voxel indices, R in voxels (default " + std::to_string(int(pipeline::kDefaultSeedRadius)) + "); repeatable");
   sub->add_option("--seed-mask", o->seedMask, "start from this mask (same grid; voxels > 0 inside)");
   sub->add_option("--target,-T", o->target, "T: the intensity to segment (isoatlas probe suggests it)")->required()->check(inRange(-kMaxIntensity, kMaxIntensity));
@@ -51,7 +53,7 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
     levelset::validateParams(params);
     std::vector<pipeline::Ball> seeds;
     for (const std::string& s : o->seeds) seeds.push_back(parseBall(s, "--seed", pipeline::kDefaultSeedRadius));
-    const Volume volume = readVolume(o->volume);
+    const Volume volume = readVolume(o->volume, {.volume = o->volumeIndex});
     for (std::size_t k = 0; k < seeds.size(); ++k) pipeline::requireInside(volume, seeds[k].centre, "--seed " + o->seeds[k]);
     Volume seedMask;
     if (!o->seedMask.empty()) {

@@ -32,16 +32,18 @@ std::string shortNumber(double x) {
 }
 }  // namespace
 
-Volume readVolume(const std::string& path) {
+Volume readVolume(const std::string& path, const VolumeReadOptions& options) {
   const VolumeFormat format = volumeFormatOf(path);
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": no such file");
   Volume v;
   switch (format) {
-    case VolumeFormat::Nifti: v = readNifti(path); break;
+    case VolumeFormat::Nifti: v = readNifti(path, options.volume); break;
     case VolumeFormat::Nrrd: v = readNrrd(path); break;
     case VolumeFormat::Inr: v = readInr(path); break;
   }
+  if (format != VolumeFormat::Nifti && options.volume > 0)
+    throw Error(path + ": holds one volume; --volume " + std::to_string(options.volume) + " is past it (0 is the only one)");
   v.nonFiniteVoxels = backgroundNonFiniteVoxels(v, path);
   if (v.nonFiniteVoxels > 0)
     logInfo(path + ": " + std::to_string(v.nonFiniteVoxels) + " NaN or infinite voxels read as the background (" +

@@ -15,11 +15,17 @@ enum class VolumeFormat { Nifti, Nrrd, Inr };
 bool isVolumePath(const std::string& path);
 VolumeFormat volumeFormatOf(const std::string& path);  // throws Error for an unknown extension
 
-Volume readVolume(const std::string& path);
+// Which volume of a 4D file to read (NIfTI's dimension 4, as fMRI and diffusion series hold them,
+// counted from 0). Unset, a file of more than one is refused with a line giving the count; a 3D
+// file is volume 0.
+struct VolumeReadOptions {
+  std::int64_t volume = -1;
+};
+Volume readVolume(const std::string& path, const VolumeReadOptions& options = {});
 void writeVolume(const std::string& path, const Volume& volume);
 
 // One reader and writer per format (core/volume_nifti.cpp, volume_nrrd.cpp, volume_inr.cpp).
-Volume readNifti(const std::string& path);
+Volume readNifti(const std::string& path, std::int64_t volume = -1);
 void writeNifti(const std::string& path, const Volume& volume);
 Volume readNrrd(const std::string& path);
 void writeNrrd(const std::string& path, const Volume& volume);

@@ -2,6 +2,7 @@
 // read here in bounded chunks so a lying header cannot make us allocate what the file does not hold.
 #include <nifti2_io.h>
 
+#include <algorithm>
 #include <cstring>
 #include <memory>
 
@@ -56,16 +57,23 @@ Mat3 linearPart(const nifti_dmat44& a) {
 
 }  // namespace
 
-Volume readNifti(const std::string& path) {
+Volume readNifti(const std::string& path, std::int64_t volume) {
   nifti_set_debug_level(0);  // nifticlib's own chatter would break the one-line error contract
   NiftiPtr nim(nifti_image_read(path.c_str(), 0));
   if (!nim) throw Error(path + ": not a readable NIfTI-1/NIfTI-2 file (bad or truncated header)");
 
   if (nim->ndim < 1 || nim->ndim > 7) throw Error(path + ": NIfTI dim[0] is " + std::to_string(nim->ndim));
-  for (int d = 4; d <= nim->ndim; ++d)
+  for (int d = 5; d <= nim->ndim; ++d)
     if (nim->dim[d] > 1)
       throw Error(path + ": has " + std::to_string(nim->dim[d]) + " values along dimension " + std::to_string(d) +
-                  "; isoatlas reads 3D scalar volumes only");
+                  "; isoatlas reads 3D scalar volumes, or one volume of a 4D series");
+  const std::int64_t volumes = nim->ndim >= 4 ? std::max<std::int64_t>(nim->dim[4], 1) : 1;
+  if (volume < 0 && volumes > 1)
+    throw Error(path + ": holds " + std::to_string(volumes) + " volumes (a 4D series); pick one with --volume N (Python: volume=N), 0 to " +
+                std::to_string(volumes - 1));
+  if (volume >= volumes)
+    throw Error(path + ": holds " + std::to_string(volumes) + (volumes == 1 ? " volume" : " volumes") + "; --volume " +
+                std::to_string(volume) + " is past the last (" + std::to_string(volumes - 1) + ")");
   Volume v;
   if (!scalarTypeFromNifti(nim->datatype, v.type))
     throw Error(path + ": unsupported NIfTI datatype " + std::to_string(nim->datatype) + " (" +
@@ -80,7 +88,7 @@ Volume readNifti(const std::string& path) {
   if (nim->iname_offset < 0) throw Error(path + ": negative NIfTI vox_offset");
 
   GzFile file(nim->iname, "rb");
-  file.skip(std::uint64_t(nim->iname_offset));
+  file.skip(std::uint64_t(nim->iname_offset) + std::uint64_t(std::max<std::int64_t>(volume, 0)) * v.voxelCount() * bytesPerVoxel(v.type));
   v.data = file.readExactly(v.voxelCount() * bytesPerVoxel(v.type), path);
   if (nim->byteorder != nifti_short_order()) swapBytes(v.data.data(), v.voxelCount(), bytesPerVoxel(v.type));
 

@@ -263,16 +263,37 @@ TEST(VolumeBadInput, AVolumeOfNothingButNanIsRefused) {
   EXPECT_NE(errorOf((dir / "all-nan.nii").string()).find("every voxel is NaN or infinite"), std::string::npos);
 }
 
-TEST(VolumeBadInput, FourDimensionalNiftiIsRejected) {
+// A 4D NIfTI series (dimension 4 of 2) made from two ramps: each volume is read as written when
+// picked; unpicked, or picked past the last, it is refused with the count; a 3D file of another
+// format holds volume 0 only.
+TEST(VolumeRoundTrip, OneVolumeOfA4DNiftiIsPicked) {
   const auto dir = scratchDir();
   const auto nii = dir / "4d.nii";
-  writeVolume(nii.string(), test::rampVolume(ScalarType::UInt8));
+  const Volume first = test::rampVolume(ScalarType::UInt8);
+  Volume second = first;
+  for (std::size_t n = 0; n < second.voxelCount(); ++n) second.setValue(n, 200 - first.value(n));
+  writeVolume(nii.string(), first);
   std::string bytes = test::readBytes(nii);
   const std::int16_t four = 4, two = 2;
   std::memcpy(bytes.data() + 40, &four, 2);
   std::memcpy(bytes.data() + 48, &two, 2);
+  bytes.append(reinterpret_cast<const char*>(second.data.data()), second.data.size());
   test::writeBytes(nii, bytes);
-  EXPECT_NE(errorOf(nii.string()).find("3D scalar volumes"), std::string::npos);
+  EXPECT_NE(errorOf(nii.string()).find("holds 2 volumes (a 4D series); pick one with --volume N"), std::string::npos);
+  for (const std::int64_t volume : {0, 1}) {
+    const Volume read = readVolume(nii.string(), {.volume = volume});
+    EXPECT_EQ(read.dims, first.dims);
+    EXPECT_EQ(read.data, (volume == 0 ? first : second).data) << "volume " << volume;
+  }
+  try {
+    readVolume(nii.string(), {.volume = 2});
+    ADD_FAILURE() << "volume 2 of 2 was read";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--volume 2 is past the last (1)"), std::string::npos) << e.what();
+  }
+  writeVolume((dir / "3d.nrrd").string(), first);
+  EXPECT_EQ(readVolume((dir / "3d.nrrd").string(), {.volume = 0}).data, first.data);
+  EXPECT_THROW(readVolume((dir / "3d.nrrd").string(), {.volume = 1}), Error);
 }
 
 TEST(VolumeBadInput, ByteLimitIsCheckedBeforeAllocation) {

@@ -102,6 +102,17 @@ def test_nan_and_infinite_voxels_read_as_the_background(tmp_path):
     np.testing.assert_array_equal(read.data, expected)
 
 
+def test_one_volume_of_a_4d_series_is_read(tmp_path):
+    series = np.arange(3 * 4 * 5 * 3, dtype=np.int16).reshape(3, 4, 5, 3)
+    nib.save(nib.Nifti1Image(series, np.eye(4)), tmp_path / "series.nii.gz")
+    for k in range(3):
+        np.testing.assert_array_equal(isoatlas.read_volume(str(tmp_path / "series.nii.gz"), volume=k).data, series[..., k])
+    with pytest.raises(ValueError, match="holds 3 volumes"):
+        isoatlas.read_volume(str(tmp_path / "series.nii.gz"))
+    with pytest.raises(ValueError, match="past the last"):
+        isoatlas.read_volume(str(tmp_path / "series.nii.gz"), volume=3)
+
+
 def test_bad_input_raises():
     with pytest.raises(ValueError, match="int64"):
         isoatlas.Volume(np.zeros((3, 3, 3), dtype=np.int64))
