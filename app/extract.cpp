@@ -33,9 +33,9 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
       ->check(inRange(0, 1e12));
   sub->add_option("--smooth", o->smooth, "Taubin smoothing iterations (0: none)")->capture_default_str()->check(inRange(0, 1000));
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str()->check(backendChoice());
-  sub->add_option("-o,--output", o->output, "output mesh (.ply, .off or .obj)")->required()->check(outputFile());
+  sub->add_option("-o,--output", o->output, "output mesh (.ply, .off, .obj, or .vtk for 3D Slicer and ParaView)")->required()->check(outputFile());
   bindAction(*sub, [o](nlohmann::json& r) {
-    require(isMeshPath(o->output) && !endsWith(o->output, ".stl"), o->output + ": write the mesh as .ply, .off or .obj");
+    require(isMeshWritePath(o->output), o->output + ": write the mesh as .ply, .off, .obj or .vtk");
     const Volume v = readVolume(o->input, {.volume = o->volume});
     const pipeline::Gpu backend = pipeline::chooseBackend(o->backend);
     const bool gpu = backend.backend == levelset::Backend::Gpu;

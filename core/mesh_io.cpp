@@ -1,4 +1,5 @@
 #include "core/mesh_io.h"
+#include "core/mesh_vtk.h"
 
 #include "core/atomic_file.h"
 
@@ -199,6 +200,10 @@ bool isMeshPath(const std::string& path) {
   return endsWith(path, ".off") || endsWith(path, ".ply") || endsWith(path, ".obj") || endsWith(path, ".stl");
 }
 
+bool isMeshWritePath(const std::string& path) {
+  return endsWith(path, ".off") || endsWith(path, ".ply") || endsWith(path, ".obj") || endsWith(path, ".vtk");
+}
+
 Mesh readMesh(const std::string& path) {
   require(isMeshPath(path), path + ": unknown mesh format (expected .off, .ply, .obj or .stl)");
   std::error_code ec;
@@ -242,9 +247,9 @@ Mesh readMesh(const std::string& path) {
 }
 
 void writeMesh(const std::string& path, const Mesh& mesh, MeshWriteOptions options) {
-  require(endsWith(path, ".off") || endsWith(path, ".ply") || endsWith(path, ".obj"),
-          path + ": isoatlas writes meshes as .off, .ply or .obj");
+  require(isMeshWritePath(path), path + ": isoatlas writes meshes as .off, .ply, .obj or .vtk");
   require(mesh.faceCount() > 0, path + ": refusing to write a mesh with no faces");
+  if (endsWith(path, ".vtk")) return writeVtkMesh(path, mesh, options.normals);
   silenceOpenMesh();
   SoupExporter exporter(mesh);
   IO::Options opt;

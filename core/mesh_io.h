@@ -10,7 +10,8 @@
 
 namespace isoatlas {
 
-bool isMeshPath(const std::string& path);  // .off .ply .obj .stl
+bool isMeshPath(const std::string& path);       // what readMesh reads: .off .ply .obj .stl
+bool isMeshWritePath(const std::string& path);  // what writeMesh writes: .off .ply .obj .vtk
 
 // Rejects missing files, unreadable content, counts larger than the file can hold, face indices out
 // of range, faces of fewer than three corners, non-finite coordinates and meshes with no faces.
@@ -20,6 +21,7 @@ struct MeshWriteOptions {
   bool binary = true;   // PLY only
   bool normals = true;  // written when the mesh has them (PLY, OFF, OBJ)
 };
+// .off .ply .obj through OpenMesh; .vtk as VTK legacy with its SPACE=RAS tag (core/mesh_vtk.h).
 void writeMesh(const std::string& path, const Mesh& mesh, MeshWriteOptions options = {});
 
 // Throws Error("<where>: not 2-manifold: <first problem>") unless the mesh is a 2-manifold.

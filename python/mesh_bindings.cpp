@@ -63,7 +63,7 @@ void bindMeshes(py::module_& m) {
         const Mesh mesh = toMesh(vertices, triangles);
         py::gil_scoped_release release;
         writeMesh(path, mesh);  // whole or not at all (core/atomic_file)
-      }, py::arg("path"), py::arg("vertices"), py::arg("triangles"), "a .ply (binary), .off, .obj or .stl, written whole or not at all");
+      }, py::arg("path"), py::arg("vertices"), py::arg("triangles"), "a .ply (binary), .off, .obj or .vtk (VTK legacy, tagged SPACE=RAS for 3D Slicer), written whole or not at all");
   m.def("surface_figures", [](const py::object& vertices, const py::object& triangles) {
         const Mesh mesh = toMesh(vertices, triangles);
         nlohmann::json figures;

@@ -2,6 +2,9 @@
 // stay quads); malformed files are rejected with an Error naming the file.
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <sstream>
+
 #include "core/error.h"
 #include "core/mesh_io.h"
 #include "core/volume_io.h"
@@ -61,6 +64,68 @@ INSTANTIATE_TEST_SUITE_P(Formats, MeshRoundTrip,
                          [](const auto& info) {
                            return std::string(info.param.ext + 1) + (info.param.binary ? "_binary" : "_ascii");
                          });
+
+// A VTK legacy file read back as VTK's reader reads it: the header lines (SPACE=RAS in the title),
+// then POINTS, POLYGONS and the normals as big-endian float32 and int32.
+struct VtkFile {
+  std::vector<std::string> header;
+  Mesh mesh;
+};
+VtkFile readVtkByHand(const std::string& path) {
+  const std::string bytes = test::readBytes(path);
+  std::size_t at = 0;
+  auto line = [&] {
+    const std::size_t end = bytes.find('\n', at);
+    std::string text = bytes.substr(at, end - at);
+    at = end + 1;
+    return text;
+  };
+  auto word = [&] {
+    std::uint32_t bits = 0;
+    for (int k = 0; k < 4; ++k) bits = bits << 8 | std::uint8_t(bytes[at++]);
+    return bits;
+  };
+  auto real = [&] { return double(std::bit_cast<float>(word())); };
+  VtkFile f;
+  for (int k = 0; k < 4; ++k) f.header.push_back(line());
+  const std::size_t points = std::stoul(line().substr(7));
+  for (std::size_t v = 0; v < points; ++v) f.mesh.positions.push_back({real(), real(), real()});
+  line();  // the newline after the binary block
+  std::istringstream polygons(line().substr(9));
+  std::size_t faces = 0, size = 0;
+  polygons >> faces >> size;
+  for (std::size_t face = 0; face < faces; ++face) {
+    std::vector<std::uint32_t> corners(word());
+    for (auto& c : corners) c = word();
+    f.mesh.addFace(corners);
+  }
+  EXPECT_EQ(size, faces + f.mesh.faceVertices.size()) << "the POLYGONS size";
+  line();
+  if (at < bytes.size()) {
+    EXPECT_EQ(line(), "POINT_DATA " + std::to_string(points));
+    EXPECT_EQ(line(), "NORMALS Normals float");
+    for (std::size_t v = 0; v < points; ++v) f.mesh.normals.push_back({real(), real(), real()});
+  }
+  return f;
+}
+
+TEST(MeshIo, VtkLegacyHoldsTheMeshInRasForSlicer) {
+  const auto dir = scratchDir();
+  Mesh mesh = test::quadTorus(8, 6);
+  for (const Vec3& p : mesh.positions) mesh.normals.push_back(p * 0.5);
+  const std::string path = (dir / "torus.vtk").string();
+  writeMesh(path, mesh);
+  const VtkFile f = readVtkByHand(path);
+  EXPECT_EQ(f.header[0], "# vtk DataFile Version 4.2");
+  EXPECT_NE(f.header[1].find("SPACE=RAS"), std::string::npos) << "3D Slicer takes a model without it as LPS";
+  EXPECT_EQ(f.header[2], "BINARY");
+  EXPECT_EQ(f.header[3], "DATASET POLYDATA");
+  expectSameMesh(mesh, f.mesh);
+  ASSERT_EQ(f.mesh.normals.size(), mesh.normals.size());
+  for (std::size_t v = 0; v < mesh.normals.size(); ++v)
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(f.mesh.normals[v][i], float(mesh.normals[v][i]));
+  EXPECT_THROW(writeMesh((dir / "torus.stl").string(), mesh), Error);
+}
 
 TEST(MeshIo, OffCommentsBlankLinesAndFaceColoursAreRead) {
   // As CGAL writes them: comments before the keyword and between sections, blank lines, colours

@@ -408,6 +408,12 @@ def test_meshes_round_trip_and_report_their_figures(tmp_path):
         v, t = isoatlas.read_mesh(str(tmp_path / name))
         np.testing.assert_allclose(v, vertices, atol=1e-6)  # the PLY stores float32
         np.testing.assert_array_equal(t, triangles)
+    isoatlas.write_mesh(str(tmp_path / "t.vtk"), vertices, triangles)
+    head = (tmp_path / "t.vtk").read_bytes().split(b"\n")
+    assert b"SPACE=RAS" in head[1] and head[4] == b"POINTS %d float" % len(vertices)
+    start = (tmp_path / "t.vtk").read_bytes().index(b"float\n") + 6
+    points = np.frombuffer((tmp_path / "t.vtk").read_bytes()[start:start + 12 * len(vertices)], dtype=">f4").reshape(-1, 3)
+    np.testing.assert_array_equal(points, vertices.astype(np.float32))
     with pytest.raises(ValueError, match="t.xyz"):
         isoatlas.write_mesh(str(tmp_path / "t.xyz"), vertices, triangles)
     with pytest.raises(ValueError, match="row 0 names a vertex"):
