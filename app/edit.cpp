@@ -40,7 +40,7 @@ void checkOutputGrid(const std::string& output, const Volume& header) {
 }  // namespace
 
 struct EditCommandOptions {
-  std::string input, output, backend = "auto";
+  std::string input, output, backend = "auto", space = "ras";
   std::optional<std::uint32_t> depth;
   std::shared_ptr<std::vector<pipeline::EditStep>> steps = std::make_shared<std::vector<pipeline::EditStep>>();
   bool flat = false;
@@ -72,6 +72,7 @@ void addEditCommand(CLI::App& app, int& exitCode) {
       ->capture_default_str()
       ->check(inRange(1, 8192));
   sub->add_option("-o,--output", o->output, "a mask (.nii.gz, the input's geometry), a mesh (.ply/.off/.obj/.vtk) or a tree (.dvt)")->required()->check(outputFile());
+  addMeshSpaceOption(*sub, o->space);
   bindAction(*sub, [o](nlohmann::json& r) {
     const bool toTree = endsWith(o->output, ".dvt"), toMesh = isMeshWritePath(o->output);
     require(toTree || toMesh || isVolumePath(o->output), o->output + ": write a mask (.nii.gz, .nrrd, ...), a mesh (.ply, .off, .obj, .vtk) or a tree (.dvt)");
@@ -100,7 +101,7 @@ void addEditCommand(CLI::App& app, int& exitCode) {
       extract::ExtractStats stats;
       const Mesh mesh = extract::extractSurface(field, {.iso = 0.0f, .backend = gpu.backend}, &stats);
       if (mesh.faceCount() == 0) throw Error(o->output + ": the edited volume is empty (no surface)", ErrorKind::Failure);
-      writeMesh(o->output, mesh);
+      writeMesh(o->output, mesh, {.space = meshSpace(o->space)});
       r["mesh"] = pipeline::surfaceFigures(mesh, &stats);
     } else {
       writeVolume(o->output, dvt::sampleMask(tree));

@@ -27,6 +27,8 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
       ->type_name("L FILE")
       ->check(inRange(0, kMaxLevel).application_index(0));
   sub->add_option("--plot", *plot, "PSNR against level for every model, as a PNG")->check(outputFile());
+  auto space = std::make_shared<std::string>("ras");
+  addMeshSpaceOption(*sub, *space);
   sub->add_option("--samples", *samples, "Hausdorff face samples per mesh")->capture_default_str()->check(inRange(kMinSamples, kMaxSamples));
   bindAction(*sub, [=](nlohmann::json& r) {
     require(plot->empty() || plot->ends_with(".png"), *plot + ": --plot writes a .png");
@@ -68,7 +70,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
                 " triangles, Hausdorff " + std::to_string(l.hausdorff) + ", PSNR " + std::to_string(l.psnrDb) + " dB (RMS: " +
                 std::to_string(l.psnrRmsDb) + " dB)");
     }
-    if (levelMesh) writeMesh(outMesh->second, *levelMesh);
+    if (levelMesh) writeMesh(outMesh->second, *levelMesh, {.space = meshSpace(*space)});
     if (!plot->empty()) writePng(*plot, atlas::psnrPlot(measured));
     return 0;
   }, exitCode);

@@ -14,6 +14,7 @@ namespace isoatlas::app {
 struct ExtractCommandOptions {
   std::string input, output, backend = "auto";
   std::int64_t volume = -1;  // --volume
+  std::string space = "ras";  // --space
   std::optional<double> iso;
   bool largest = false;
   std::int64_t minComponent = 0;
@@ -25,6 +26,7 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
   auto o = std::make_shared<ExtractCommandOptions>();
   sub->add_option("input", o->input, "a mask, a phi volume (isoatlas segment --phi) or any scalar volume")->required();
   addVolumeIndexOption(*sub, o->volume);
+  addMeshSpaceOption(*sub, o->space);
   sub->add_option("--iso", o->iso, "isovalue (default: 0.5 for a mask, else the middle of the value range; give 0 for a phi volume)")
       ->check(inRange(-kMaxIntensity, kMaxIntensity));
   sub->add_flag("--largest", o->largest, "keep only the largest component");
@@ -47,7 +49,7 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
     if (mesh.faceCount() == 0)
       throw Error(o->input + ": no surface at iso " + std::to_string(stats.iso) + " (every voxel is on one side)",
                   ErrorKind::Failure);
-    writeMesh(o->output, mesh);
+    writeMesh(o->output, mesh, {.space = meshSpace(o->space)});
     r.update(pipeline::surfaceFigures(mesh, &stats));
     r["backend"] = gpu ? "gpu" : "cpu";
     r["renderer"] = backend.renderer;

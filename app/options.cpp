@@ -60,6 +60,14 @@ CLI::Validator backendChoice() {
   return CLI::IsMember(std::vector<std::string>(levelset::kBackendChoices.begin(), levelset::kBackendChoices.end()));
 }
 
+void addMeshSpaceOption(CLI::App& sub, std::string& space) {
+  sub.add_option("--space", space, "the mesh's frame: ras (isoatlas's, nibabel's) or lps (ITK's, and what 3D Slicer assumes for an untagged PLY or OBJ)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"ras", "lps"}));
+}
+
+MeshSpace meshSpace(const std::string& space) { return space == "lps" ? MeshSpace::Lps : MeshSpace::Ras; }
+
 void addVolumeIndexOption(CLI::App& sub, std::int64_t& volume) {
   sub.add_option("--volume", volume, "which volume of a 4D series (fMRI, diffusion) to read (0: the first; a 4D file needs it, a 3D file is volume 0)")
       ->check(inRange(0, 1e6));

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh_io.h"
 #include "core/numbers.h"
 #include "core/vec.h"
 #include "core/volume.h"
@@ -49,6 +50,11 @@ inline constexpr double kMaxMillimetres = 1e6;  // lengths in world mm (radii, d
 
 // --volume N: which volume of a 4D NIfTI series the command reads (VolumeReadOptions), from 0.
 void addVolumeIndexOption(CLI::App& sub, std::int64_t& volume);
+
+// --space ras|lps: the frame of the mesh the command writes (MeshSpace, core/mesh_io.h), checked while
+// parsing; meshSpace reads the choice.
+void addMeshSpaceOption(CLI::App& sub, std::string& space);
+MeshSpace meshSpace(const std::string& space);
 
 // --union SHAPE and --subtract SHAPE on `sub`, each adding a step in command-line order.
 void addEditStepOptions(CLI::App& sub, const std::shared_ptr<std::vector<pipeline::EditStep>>& steps);

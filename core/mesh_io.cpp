@@ -246,10 +246,11 @@ Mesh readMesh(const std::string& path) {
   return mesh;
 }
 
-void writeMesh(const std::string& path, const Mesh& mesh, MeshWriteOptions options) {
-  require(isMeshWritePath(path), path + ": isoatlas writes meshes as .off, .ply, .obj or .vtk");
-  require(mesh.faceCount() > 0, path + ": refusing to write a mesh with no faces");
-  if (endsWith(path, ".vtk")) return writeVtkMesh(path, mesh, options.normals);
+namespace {
+
+// The mesh as written: through OpenMesh, or as VTK legacy with the frame's tag.
+void writeMeshAsItIs(const std::string& path, const Mesh& mesh, const MeshWriteOptions& options) {
+  if (endsWith(path, ".vtk")) return writeVtkMesh(path, mesh, options.normals, options.space == MeshSpace::Lps ? "LPS" : "RAS");
   silenceOpenMesh();
   SoupExporter exporter(mesh);
   IO::Options opt;
@@ -258,6 +259,18 @@ void writeMesh(const std::string& path, const Mesh& mesh, MeshWriteOptions optio
   writeAtomically(path, [&](const std::string& to) {
     if (!IO::IOManager().write(to, exporter, opt, 9)) throw Error(path + ": could not write the mesh", ErrorKind::Failure);
   });
+}
+
+}  // namespace
+
+void writeMesh(const std::string& path, const Mesh& mesh, MeshWriteOptions options) {
+  require(isMeshWritePath(path), path + ": isoatlas writes meshes as .off, .ply, .obj or .vtk");
+  require(mesh.faceCount() > 0, path + ": refusing to write a mesh with no faces");
+  if (options.space == MeshSpace::Ras) return writeMeshAsItIs(path, mesh, options);
+  Mesh lps = mesh;
+  for (Vec3& p : lps.positions) p.x = -p.x, p.y = -p.y;
+  for (Vec3& n : lps.normals) n.x = -n.x, n.y = -n.y;
+  writeMeshAsItIs(path, lps, options);
 }
 
 void requireManifold(const Mesh& mesh, const std::string& where) {

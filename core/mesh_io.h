@@ -17,9 +17,15 @@ bool isMeshWritePath(const std::string& path);  // what writeMesh writes: .off .
 // of range, faces of fewer than three corners, non-finite coordinates and meshes with no faces.
 Mesh readMesh(const std::string& path);
 
+// The world frame a mesh file's coordinates are in. isoatlas works in RAS (core/volume.h); LPS (x and
+// y negated, a half turn about z, so the triangles keep their winding) is what 3D Slicer assumes for a
+// model file without a coordinate tag, and what ITK and DICOM use.
+enum class MeshSpace { Ras, Lps };
+
 struct MeshWriteOptions {
   bool binary = true;   // PLY only
-  bool normals = true;  // written when the mesh has them (PLY, OFF, OBJ)
+  bool normals = true;  // written when the mesh has them (PLY, OFF, OBJ, VTK)
+  MeshSpace space = MeshSpace::Ras;
 };
 // .off .ply .obj through OpenMesh; .vtk as VTK legacy with its SPACE=RAS tag (core/mesh_vtk.h).
 void writeMesh(const std::string& path, const Mesh& mesh, MeshWriteOptions options = {});

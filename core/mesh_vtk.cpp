@@ -19,9 +19,9 @@ void appendFloats(std::string& out, const Vec3& v) {
 
 }  // namespace
 
-void writeVtkMesh(const std::string& path, const Mesh& mesh, bool normals) {
+void writeVtkMesh(const std::string& path, const Mesh& mesh, bool normals, const std::string& space) {
   require(mesh.faceCount() > 0, path + ": refusing to write a mesh with no faces");
-  std::string out = "# vtk DataFile Version 4.2\nisoatlas surface SPACE=RAS\nBINARY\nDATASET POLYDATA\n";
+  std::string out = "# vtk DataFile Version 4.2\nisoatlas surface SPACE=" + space + "\nBINARY\nDATASET POLYDATA\n";
   out += "POINTS " + std::to_string(mesh.vertexCount()) + " float\n";
   for (const Vec3& p : mesh.positions) appendFloats(out, p);
   out += "\nPOLYGONS " + std::to_string(mesh.faceCount()) + " " + std::to_string(mesh.faceCount() + mesh.faceVertices.size()) + "\n";

@@ -555,6 +555,21 @@ TEST(Cli, SegmentRejectsBadInput) {
   expectBadInput("probe " + ball + " --at 20,18,99 --radius 2", "lies outside the volume");
 }
 
+// extract --space lps writes the RAS surface with x and y negated, the faces as they were.
+TEST(Cli, ExtractWritesLpsOnRequest) {
+  const auto dir = test::scratchDir();
+  const std::string ball = ballVolume(dir).string(), ras = (dir / "ras.ply").string(), lps = (dir / "lps.ply").string();
+  ASSERT_EQ(run("extract " + ball + " --iso 125 --backend cpu -o " + ras).code, 0);
+  const Result r = run("extract " + ball + " --iso 125 --backend cpu --space lps -o " + lps);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const Mesh a = readMesh(ras), b = readMesh(lps);
+  ASSERT_EQ(a.vertexCount(), b.vertexCount());
+  for (std::size_t v = 0; v < a.vertexCount(); ++v)
+    ASSERT_TRUE(b.positions[v].x == -a.positions[v].x && b.positions[v].y == -a.positions[v].y && b.positions[v].z == a.positions[v].z) << v;
+  EXPECT_EQ(a.faceVertices, b.faceVertices);
+  expectBadInput("extract " + ball + " --space lsp -o " + lps, "--space");
+}
+
 TEST(Cli, ExtractGivesOneClosedSurfaceOnBothBackends) {
   const auto dir = test::scratchDir();
   const auto ball = ballVolume(dir);

@@ -127,6 +127,28 @@ TEST(MeshIo, VtkLegacyHoldsTheMeshInRasForSlicer) {
   EXPECT_THROW(writeMesh((dir / "torus.stl").string(), mesh), Error);
 }
 
+// --space lps: x and y negated (positions and normals), z and the faces as they were; a .vtk says LPS.
+TEST(MeshIo, LpsNegatesXAndYAndTagsTheVtk) {
+  const auto dir = scratchDir();
+  Mesh mesh = test::octahedron();
+  for (Vec3& p : mesh.positions) p = p + Vec3{1.5, -2.25, 3};
+  for (const Vec3& p : mesh.positions) mesh.normals.push_back(p);
+  writeMesh((dir / "lps.ply").string(), mesh, {.space = MeshSpace::Lps});
+  const Mesh back = readMesh((dir / "lps.ply").string());
+  ASSERT_EQ(back.vertexCount(), mesh.vertexCount());
+  for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+    EXPECT_EQ(back.positions[v].x, -mesh.positions[v].x);
+    EXPECT_EQ(back.positions[v].y, -mesh.positions[v].y);
+    EXPECT_EQ(back.positions[v].z, mesh.positions[v].z);
+    EXPECT_EQ(back.normals[v].x, float(-mesh.normals[v].x));
+  }
+  EXPECT_EQ(back.faceVertices, mesh.faceVertices) << "a half turn keeps the winding";
+  writeMesh((dir / "lps.vtk").string(), mesh, {.space = MeshSpace::Lps});
+  const VtkFile f = readVtkByHand((dir / "lps.vtk").string());
+  EXPECT_NE(f.header[1].find("SPACE=LPS"), std::string::npos);
+  EXPECT_EQ(f.mesh.positions[0].x, float(-mesh.positions[0].x));
+}
+
 TEST(MeshIo, OffCommentsBlankLinesAndFaceColoursAreRead) {
   // As CGAL writes them: comments before the keyword and between sections, blank lines, colours
   // after a face's indices, a comment glued to a number.

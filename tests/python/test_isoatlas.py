@@ -414,6 +414,12 @@ def test_meshes_round_trip_and_report_their_figures(tmp_path):
     start = (tmp_path / "t.vtk").read_bytes().index(b"float\n") + 6
     points = np.frombuffer((tmp_path / "t.vtk").read_bytes()[start:start + 12 * len(vertices)], dtype=">f4").reshape(-1, 3)
     np.testing.assert_array_equal(points, vertices.astype(np.float32))
+    isoatlas.write_mesh(str(tmp_path / "lps.ply"), vertices, triangles, space="lps")
+    v, t = isoatlas.read_mesh(str(tmp_path / "lps.ply"))
+    np.testing.assert_allclose(v, vertices * [-1, -1, 1], atol=1e-6)
+    np.testing.assert_array_equal(t, triangles)
+    with pytest.raises(ValueError, match="space"):
+        isoatlas.write_mesh(str(tmp_path / "t.ply"), vertices, triangles, space="xyz")
     with pytest.raises(ValueError, match="t.xyz"):
         isoatlas.write_mesh(str(tmp_path / "t.xyz"), vertices, triangles)
     with pytest.raises(ValueError, match="row 0 names a vertex"):
