@@ -23,7 +23,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
   sub->add_option("model", *models, "one or more .isoatlas models of the same dense mesh (the first is reported)")->required();
   sub->add_option("--dense", *dense, "the dense mesh the models were built from")->required();
   sub->add_option("--levels", *levelText, "levels to measure: 0-10, 4, or 0,4,10 (default: every level)");
-  sub->add_option("--out-mesh-level", *outMesh, "write the first model's mesh at level L to FILE (.ply, .obj, .off or .vtk)")
+  sub->add_option("--out-mesh-level", *outMesh, "write the first model's mesh at level L to FILE (.ply, .obj, .off, .vtk or .surf.gii)")
       ->type_name("L FILE")
       ->check(inRange(0, kMaxLevel).application_index(0));
   sub->add_option("--plot", *plot, "PSNR against level for every model, as a PNG")->check(outputFile());
@@ -33,7 +33,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
   bindAction(*sub, [=](nlohmann::json& r) {
     require(plot->empty() || plot->ends_with(".png"), *plot + ": --plot writes a .png");
     if (outMesh->first != -1) {
-      require(isMeshWritePath(outMesh->second), outMesh->second + ": --out-mesh-level writes a mesh (.ply, .obj, .off or .vtk)");
+      require(isMeshWritePath(outMesh->second), outMesh->second + ": --out-mesh-level writes a mesh (.ply, .obj, .off, .vtk or .surf.gii)");
       requireOutputFolder(outMesh->second);
     }
     std::optional<Mesh> levelMesh;  // written once every model has been read and checked

@@ -35,9 +35,9 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
       ->check(inRange(0, 1e12));
   sub->add_option("--smooth", o->smooth, "Taubin smoothing iterations (0: none)")->capture_default_str()->check(inRange(0, 1000));
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str()->check(backendChoice());
-  sub->add_option("-o,--output", o->output, "output mesh (.ply, .off, .obj, or .vtk for 3D Slicer and ParaView)")->required()->check(outputFile());
+  sub->add_option("-o,--output", o->output, "output mesh (.ply, .off, .obj; .vtk for 3D Slicer and ParaView; .surf.gii for FreeSurfer and Workbench)")->required()->check(outputFile());
   bindAction(*sub, [o](nlohmann::json& r) {
-    require(isMeshWritePath(o->output), o->output + ": write the mesh as .ply, .off, .obj or .vtk");
+    require(isMeshWritePath(o->output), o->output + ": write the mesh as .ply, .off, .obj, .vtk or .surf.gii");
     const Volume v = readVolume(o->input, {.volume = o->volume});
     const pipeline::Gpu backend = pipeline::chooseBackend(o->backend);
     const bool gpu = backend.backend == levelset::Backend::Gpu;

@@ -26,6 +26,8 @@ endfunction()
 # nifticlib 3: libnifti2 reads NIfTI-1 and NIfTI-2 alike.
 isoatlas_find_library(isoatlas::nifti NAMES nifti2 znz HEADER nifti/nifti2_io.h
                       INCLUDE_DIR /usr/include/nifti LINK ZLIB::ZLIB m)
+# libgiftiio 1.0 (GIfTI surfaces out, core/mesh_gifti.cpp only): its header includes nifti1_io.h.
+isoatlas_find_library(isoatlas::gifti NAMES giftiio HEADER gifti/gifti_io.h INCLUDE_DIR /usr/include/gifti LINK isoatlas::nifti)
 isoatlas_find_library(isoatlas::teem NAMES teem HEADER teem/nrrd.h LINK ZLIB::ZLIB m)
 isoatlas_find_library(isoatlas::stb NAMES stb HEADER stb/stb_image_write.h)
 # OpenSubdiv 3.5: Far (in osdCPU) and Osd's GLSL patch shader sources (osdGPU); viewer/smooth_render only.

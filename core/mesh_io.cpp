@@ -1,4 +1,5 @@
 #include "core/mesh_io.h"
+#include "core/mesh_gifti.h"
 #include "core/mesh_vtk.h"
 
 #include "core/atomic_file.h"
@@ -201,7 +202,7 @@ bool isMeshPath(const std::string& path) {
 }
 
 bool isMeshWritePath(const std::string& path) {
-  return endsWith(path, ".off") || endsWith(path, ".ply") || endsWith(path, ".obj") || endsWith(path, ".vtk");
+  return endsWith(path, ".off") || endsWith(path, ".ply") || endsWith(path, ".obj") || endsWith(path, ".vtk") || endsWith(path, ".gii");
 }
 
 Mesh readMesh(const std::string& path) {
@@ -251,6 +252,7 @@ namespace {
 // The mesh as written: through OpenMesh, or as VTK legacy with the frame's tag.
 void writeMeshAsItIs(const std::string& path, const Mesh& mesh, const MeshWriteOptions& options) {
   if (endsWith(path, ".vtk")) return writeVtkMesh(path, mesh, options.normals, options.space == MeshSpace::Lps ? "LPS" : "RAS");
+  if (endsWith(path, ".gii")) return writeGiftiMesh(path, mesh);
   silenceOpenMesh();
   SoupExporter exporter(mesh);
   IO::Options opt;
@@ -264,7 +266,7 @@ void writeMeshAsItIs(const std::string& path, const Mesh& mesh, const MeshWriteO
 }  // namespace
 
 void writeMesh(const std::string& path, const Mesh& mesh, MeshWriteOptions options) {
-  require(isMeshWritePath(path), path + ": isoatlas writes meshes as .off, .ply, .obj or .vtk");
+  require(isMeshWritePath(path), path + ": isoatlas writes meshes as .off, .ply, .obj, .vtk or .surf.gii");
   require(mesh.faceCount() > 0, path + ": refusing to write a mesh with no faces");
   if (options.space == MeshSpace::Ras) return writeMeshAsItIs(path, mesh, options);
   Mesh lps = mesh;

@@ -11,7 +11,7 @@
 namespace isoatlas {
 
 bool isMeshPath(const std::string& path);       // what readMesh reads: .off .ply .obj .stl
-bool isMeshWritePath(const std::string& path);  // what writeMesh writes: .off .ply .obj .vtk
+bool isMeshWritePath(const std::string& path);  // what writeMesh writes: .off .ply .obj .vtk .gii
 
 // Rejects missing files, unreadable content, counts larger than the file can hold, face indices out
 // of range, faces of fewer than three corners, non-finite coordinates and meshes with no faces.
@@ -27,7 +27,8 @@ struct MeshWriteOptions {
   bool normals = true;  // written when the mesh has them (PLY, OFF, OBJ, VTK)
   MeshSpace space = MeshSpace::Ras;
 };
-// .off .ply .obj through OpenMesh; .vtk as VTK legacy with its SPACE=RAS tag (core/mesh_vtk.h).
+// .off .ply .obj through OpenMesh; .vtk as VTK legacy with its SPACE tag (core/mesh_vtk.h); .gii
+// (.surf.gii) as a GIfTI surface of triangles (core/mesh_gifti.h).
 void writeMesh(const std::string& path, const Mesh& mesh, MeshWriteOptions options = {});
 
 // Throws Error("<where>: not 2-manifold: <first problem>") unless the mesh is a 2-manifold.

@@ -64,7 +64,7 @@ void bindMeshes(py::module_& m) {
         const Mesh mesh = toMesh(vertices, triangles);
         py::gil_scoped_release release;
         writeMesh(path, mesh, {.space = space == "lps" ? MeshSpace::Lps : MeshSpace::Ras});  // whole or not at all (core/atomic_file)
-      }, py::arg("path"), py::arg("vertices"), py::arg("triangles"), py::arg("space") = "ras", "a .ply (binary), .off, .obj or .vtk (VTK legacy, tagged with its space for 3D Slicer), written whole or not at all; space: ras (as read) or lps (x and y negated)");
+      }, py::arg("path"), py::arg("vertices"), py::arg("triangles"), py::arg("space") = "ras", "a .ply (binary), .off, .obj, .vtk (VTK legacy, tagged with its space for 3D Slicer) or .surf.gii (GIfTI), written whole or not at all; space: ras (as read) or lps (x and y negated)");
   m.def("surface_figures", [](const py::object& vertices, const py::object& triangles) {
         const Mesh mesh = toMesh(vertices, triangles);
         nlohmann::json figures;

@@ -599,7 +599,7 @@ TEST(Cli, ExtractRejectsBadInput) {
   const auto dir = test::scratchDir();
   const std::string ball = ballVolume(dir).string();
   expectBadInput("extract " + (dir / "missing.nii").string() + " -o a.ply", "no such file");
-  expectBadInput("extract " + ball + " -o a.png", "write the mesh as .ply, .off, .obj or .vtk");
+  expectBadInput("extract " + ball + " -o a.png", "write the mesh as .ply, .off, .obj, .vtk or .surf.gii");
   expectBadInput("extract " + ball + " --smooth -2 -o " + (dir / "a.ply").string(), "--smooth: '-2' is not in [0, 1000]");
   const Result r = run("extract " + ball + " --iso 1000 -o " + (dir / "a.ply").string());
   EXPECT_EQ(r.code, 1) << "no surface at that isovalue: the work fails";

@@ -149,6 +149,18 @@ TEST(MeshIo, LpsNegatesXAndYAndTagsTheVtk) {
   EXPECT_EQ(f.mesh.positions[0].x, float(-mesh.positions[0].x));
 }
 
+TEST(MeshBadInput, AGiftiSurfaceHoldsTrianglesOnly) {
+  const auto dir = scratchDir();
+  const std::string path = (dir / "quads.surf.gii").string();
+  try {
+    writeMesh(path, test::quadTorus(8, 6));
+    ADD_FAILURE() << "quads written as GIfTI";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("holds triangles"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(std::filesystem::exists(path));
+}
+
 TEST(MeshIo, OffCommentsBlankLinesAndFaceColoursAreRead) {
   // As CGAL writes them: comments before the keyword and between sections, blank lines, colours
   // after a face's indices, a comment glued to a number.

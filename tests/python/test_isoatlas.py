@@ -414,6 +414,13 @@ def test_meshes_round_trip_and_report_their_figures(tmp_path):
     start = (tmp_path / "t.vtk").read_bytes().index(b"float\n") + 6
     points = np.frombuffer((tmp_path / "t.vtk").read_bytes()[start:start + 12 * len(vertices)], dtype=">f4").reshape(-1, 3)
     np.testing.assert_array_equal(points, vertices.astype(np.float32))
+    isoatlas.write_mesh(str(tmp_path / "t.surf.gii"), vertices, triangles)
+    gifti = nib.load(str(tmp_path / "t.surf.gii"))
+    points, faces = gifti.agg_data(("pointset", "triangle"))
+    np.testing.assert_array_equal(points, vertices.astype(np.float32))
+    np.testing.assert_array_equal(faces, triangles)
+    frame = gifti.darrays[0].coordsys
+    assert frame.dataspace == frame.xformspace == 1 and np.array_equal(frame.xform, np.eye(4))  # NIFTI_XFORM_SCANNER_ANAT, as is
     isoatlas.write_mesh(str(tmp_path / "lps.ply"), vertices, triangles, space="lps")
     v, t = isoatlas.read_mesh(str(tmp_path / "lps.ply"))
     np.testing.assert_allclose(v, vertices * [-1, -1, 1], atol=1e-6)
