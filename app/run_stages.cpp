@@ -75,9 +75,13 @@ Mesh extractStage(RunJob& job, const pipeline::Segmentation& s, const EditedVolu
     surface = edit.tree ? extract::extractSurface(levelset::dvt::sampleField(*edit.tree, edit.tree->frame.voxelDepth()), options, &stats)
                         : extract::extractLevelSet(*s.levelSet, options, &stats);
     writeMesh(job.products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), surface);
+    // The same surface for the neuroimaging viewers: GIfTI for freeview, Workbench, nilearn and niivue;
+    // VTK tagged RAS for 3D Slicer (which takes the untagged PLY as LPS).
+    writeMesh(job.products.add("surface.surf.gii", "the surface as GIfTI (freeview, Connectome Workbench, nilearn, niivue)"), surface);
+    writeMesh(job.products.add("surface.vtk", "the surface as VTK, tagged SPACE=RAS (3D Slicer places it over the scan)"), surface);
     const nlohmann::json& figures = job.report["extract"] = pipeline::surfaceFigures(surface, &stats);
     return std::to_string(surface.faceCount()) + " triangles, genus " + std::to_string(figures["genus"].get<long long>()) + ", " +
-           (figures["closed"].get<bool>() ? "closed" : "NOT closed") + ": surface.ply";
+           (figures["closed"].get<bool>() ? "closed" : "NOT closed") + ": surface.ply, .surf.gii, .vtk";
   });
   return surface;
 }

@@ -385,7 +385,7 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
     EXPECT_EQ(report["extract"]["genus"], 1);
     std::set<std::string> named;
     for (const auto& p : report["products"]) named.insert(p["file"].get<std::string>());
-    for (const char* file : {"input_slices.png", "mask.nii.gz", "phi.nii.gz", "surface.ply", "surface_left.png",
+    for (const char* file : {"input_slices.png", "mask.nii.gz", "phi.nii.gz", "surface.ply", "surface.surf.gii", "surface.vtk", "surface_left.png",
                              "surface_top.png", "segmentation_slices.png", "model.isoatlas", "position_atlas.png",
                              "normal_atlas.png", "backfacing_atlas.png", "psnr_per_level.png", "model_level4_left.png", "render_level2.png",
                              "render_level4.png", "render_level10.png", "render_wire.png", "turntable_000.png", "turntable_007.png"}) {
