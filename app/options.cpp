@@ -66,7 +66,7 @@ void addMeshSpaceOption(CLI::App& sub, std::string& space) {
       ->check(CLI::IsMember({"ras", "lps"}));
 }
 
-MeshSpace meshSpace(const std::string& space) { return space == "lps" ? MeshSpace::Lps : MeshSpace::Ras; }
+MeshSpace meshSpace(const std::string& space) { return parseMeshSpace(space, "--space"); }
 
 void addVolumeIndexOption(CLI::App& sub, std::int64_t& volume) {
   sub.add_option("--volume", volume, "which volume of a 4D series (fMRI, diffusion) to read (0: the first; a 4D file needs it, a 3D file is volume 0)")

@@ -5,7 +5,6 @@ extern "C" {  // a C library whose header does not say so
 }
 
 #include <cstdlib>
-#include <cstring>
 #include <memory>
 
 #include "core/atomic_file.h"

@@ -201,6 +201,11 @@ bool isMeshPath(const std::string& path) {
   return endsWith(path, ".off") || endsWith(path, ".ply") || endsWith(path, ".obj") || endsWith(path, ".stl");
 }
 
+MeshSpace parseMeshSpace(const std::string& text, const std::string& where) {
+  require(text == "ras" || text == "lps", where + ": the space is ras or lps, not '" + text + "'");
+  return text == "lps" ? MeshSpace::Lps : MeshSpace::Ras;
+}
+
 bool isMeshWritePath(const std::string& path) {
   return endsWith(path, ".off") || endsWith(path, ".ply") || endsWith(path, ".obj") || endsWith(path, ".vtk") || endsWith(path, ".gii");
 }

@@ -21,6 +21,8 @@ Mesh readMesh(const std::string& path);
 // y negated, a half turn about z, so the triangles keep their winding) is what 3D Slicer assumes for a
 // model file without a coordinate tag, and what ITK and DICOM use.
 enum class MeshSpace { Ras, Lps };
+// "ras" or "lps" (as --space and Python's space= take it); throws Error naming `where` otherwise.
+MeshSpace parseMeshSpace(const std::string& text, const std::string& where);
 
 struct MeshWriteOptions {
   bool binary = true;   // PLY only

@@ -163,8 +163,8 @@ void requireFiniteVoxels(const Volume& v, const std::string& where) {
   }
 }
 
-std::uint64_t backgroundNonFiniteVoxels(Volume& v, const std::string& where) {
-  if (!isFloating(v.type)) return 0;
+NonFiniteVoxels backgroundNonFiniteVoxels(Volume& v, const std::string& where) {
+  if (!isFloating(v.type)) return {};
   const std::size_t count = v.voxelCount();
   double background = std::numeric_limits<double>::infinity();
   std::uint64_t nonFinite = 0;
@@ -173,11 +173,11 @@ std::uint64_t backgroundNonFiniteVoxels(Volume& v, const std::string& where) {
     if (std::isfinite(x)) background = std::min(background, x);
     else ++nonFinite;
   }
-  if (nonFinite == 0) return 0;
+  if (nonFinite == 0) return {};
   if (nonFinite == count) throw Error(where + ": every voxel is NaN or infinite");
   for (std::size_t n = 0; n < count; ++n)
     if (!std::isfinite(v.value(n))) v.setValue(n, background);
-  return nonFinite;
+  return {nonFinite, background};
 }
 
 ValueRange valueRange(const Volume& v) {

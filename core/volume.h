@@ -58,9 +58,13 @@ void validateVolumeHeader(const Volume& v, const std::string& where);
 void requireFiniteVoxels(const Volume& v, const std::string& where);
 // Sets every NaN or infinite voxel of a floating-point volume to the background, its smallest finite
 // value (outside every threshold and isovalue above it: resampled SPM and FSL outputs hold NaN
-// outside the field of view), and returns how many there were. Throws Error naming `where` when no
-// voxel is finite.
-std::uint64_t backgroundNonFiniteVoxels(Volume& v, const std::string& where);
+// outside the field of view), and returns how many there were and that value. Throws Error naming
+// `where` when no voxel is finite.
+struct NonFiniteVoxels {
+  std::uint64_t count = 0;
+  double background = 0;  // meaningful when count > 0
+};
+NonFiniteVoxels backgroundNonFiniteVoxels(Volume& v, const std::string& where);
 
 struct ValueRange {
   double min = 0, max = 0;

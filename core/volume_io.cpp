@@ -36,18 +36,20 @@ Volume readVolume(const std::string& path, const VolumeReadOptions& options) {
   const VolumeFormat format = volumeFormatOf(path);
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": no such file");
+  // NRRD and INR files are read as 3D: asked for a later volume, refuse before reading them.
+  if (format != VolumeFormat::Nifti && options.volume > 0)
+    throw Error(path + ": holds one volume; --volume " + std::to_string(options.volume) + " is past it (0 is the only one)");
   Volume v;
   switch (format) {
     case VolumeFormat::Nifti: v = readNifti(path, options.volume); break;
     case VolumeFormat::Nrrd: v = readNrrd(path); break;
     case VolumeFormat::Inr: v = readInr(path); break;
   }
-  if (format != VolumeFormat::Nifti && options.volume > 0)
-    throw Error(path + ": holds one volume; --volume " + std::to_string(options.volume) + " is past it (0 is the only one)");
-  v.nonFiniteVoxels = backgroundNonFiniteVoxels(v, path);
-  if (v.nonFiniteVoxels > 0)
-    logInfo(path + ": " + std::to_string(v.nonFiniteVoxels) + " NaN or infinite voxels read as the background (" +
-            shortNumber(valueRange(v).min) + ", the smallest finite value)");
+  const NonFiniteVoxels nonFinite = backgroundNonFiniteVoxels(v, path);
+  v.nonFiniteVoxels = nonFinite.count;
+  if (nonFinite.count > 0)
+    logInfo(path + ": " + std::to_string(nonFinite.count) + " NaN or infinite voxels read as the background (" +
+            shortNumber(nonFinite.background) + ", the smallest finite value)");
   return v;
 }
 

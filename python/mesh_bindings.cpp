@@ -60,10 +60,10 @@ void bindMeshes(py::module_& m) {
         return meshArrays(mesh.allFacesHave(3) ? mesh : fanTriangulated(mesh));
       }, py::arg("path"), "(vertices N x 3, triangles M x 3) of a .ply, .off, .obj or .stl (polygons split as fans)");
   m.def("write_mesh", [](const std::string& path, const py::object& vertices, const py::object& triangles, const std::string& space) {
-        require(space == "ras" || space == "lps", "write_mesh: space is 'ras' or 'lps', not '" + space + "'");
+        const MeshSpace frame = parseMeshSpace(space, "write_mesh");
         const Mesh mesh = toMesh(vertices, triangles);
         py::gil_scoped_release release;
-        writeMesh(path, mesh, {.space = space == "lps" ? MeshSpace::Lps : MeshSpace::Ras});  // whole or not at all (core/atomic_file)
+        writeMesh(path, mesh, {.space = frame});  // whole or not at all (core/atomic_file)
       }, py::arg("path"), py::arg("vertices"), py::arg("triangles"), py::arg("space") = "ras", "a .ply (binary), .off, .obj, .vtk (VTK legacy, tagged with its space for 3D Slicer) or .surf.gii (GIfTI), written whole or not at all; space: ras (as read) or lps (x and y negated)");
   m.def("surface_figures", [](const py::object& vertices, const py::object& triangles) {
         const Mesh mesh = toMesh(vertices, triangles);

@@ -90,7 +90,7 @@ Volume toVolume(const py::object& object, const py::object& affine, const char* 
   validateVolumeHeader(v, what);
   v.data.resize(v.voxelCount() * bytesPerVoxel(type));
   std::memcpy(v.data.data(), fortran.data(), v.data.size());
-  v.nonFiniteVoxels = backgroundNonFiniteVoxels(v, what);  // as readVolume reads them
+  v.nonFiniteVoxels = backgroundNonFiniteVoxels(v, what).count;  // as readVolume reads them
   return v;
 }
 
