@@ -2,9 +2,9 @@
 // seconds and peak resident memory on stderr), beside CGAL's edge collapse to the same base size
 // for the time; the model's bytes beside the dense mesh as a plain halfedge mesh and as a binary
 // PLY; the atlas's efficiency beside the paper's best; the parametrisation's folds (dense
-// triangles drawn straight, folded and gap texels, texel quads turned by shear, texels drawn onto dense
-// vertices (snap_texels.h), border samples the
-// two charts of an edge disagree on); eval's seconds; PSNR at the even
+// triangles drawn straight, coincident and gap texels, texel quads folded, facing against the
+// shading normals and turned as sampled, texels drawn onto dense vertices (snap_texels.h), border
+// samples the two charts of an edge disagree on); eval's seconds; PSNR at the even
 // levels (CGAL: from the largest distance and from the RMS distance) beside the faithful-model
 // issue's target at level 10 for that mesh (beside the base mesh's where it names none). Cases: bunny00, elephant, fandisk, mannequin-devil
 // (one boundary loop), camel, lion-head and the demo's white-matter surface (ch2). Writes the PSNR
