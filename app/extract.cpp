@@ -13,7 +13,7 @@ namespace isoatlas::app {
 
 struct ExtractCommandOptions {
   std::string input, output, backend = "auto";
-  std::int64_t volume = -1;  // --volume
+  VolumeReadOptions read;  // --volume, --series
   std::string space = "ras";  // --space
   std::optional<double> iso;
   bool largest = false;
@@ -25,7 +25,7 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("extract", "closed, manifold marching cubes over a level set, mask or scalar volume");
   auto o = std::make_shared<ExtractCommandOptions>();
   sub->add_option("input", o->input, "a mask, a phi volume (isoatlas segment --phi) or any scalar volume")->required();
-  addVolumeIndexOption(*sub, o->volume);
+  addVolumeReadOptions(*sub, o->read);
   addMeshSpaceOption(*sub, o->space);
   sub->add_option("--iso", o->iso, "isovalue (default: 0.5 for a mask, else the middle of the value range; give 0 for a phi volume)")
       ->check(inRange(-kMaxIntensity, kMaxIntensity));
@@ -38,7 +38,7 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
   sub->add_option("-o,--output", o->output, "output mesh (.ply, .off, .obj; .vtk for 3D Slicer and ParaView; .surf.gii for FreeSurfer and Workbench)")->required()->check(outputFile());
   bindAction(*sub, [o](nlohmann::json& r) {
     require(isMeshWritePath(o->output), o->output + ": write the mesh as .ply, .off, .obj, .vtk or .surf.gii");
-    const Volume v = readVolume(o->input, {.volume = o->volume});
+    const Volume v = readVolume(o->input, o->read);
     const pipeline::Gpu backend = pipeline::chooseBackend(o->backend);
     const bool gpu = backend.backend == levelset::Backend::Gpu;
     extract::ExtractOptions options{.largestComponent = o->largest, .minComponentTriangles = o->minComponent,

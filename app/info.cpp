@@ -16,8 +16,8 @@ namespace {
 
 nlohmann::json vec(const Vec3& v) { return {v.x, v.y, v.z}; }
 
-int volumeInfo(const std::string& path, std::int64_t volume, nlohmann::json& r) {
-  const Volume v = readVolume(path, {.volume = volume});
+int volumeInfo(const std::string& path, const VolumeReadOptions& read, nlohmann::json& r) {
+  const Volume v = readVolume(path, read);
   const ValueRange range = valueRange(v);
   r["kind"] = "volume";
   r["file"] = path;
@@ -135,17 +135,17 @@ void addInfoCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("info", "what a volume, mesh or volume-tree file holds, or (--gl) what the GPU offers");
   auto file = std::make_shared<std::string>();
   auto gl = std::make_shared<bool>(false);
-  sub->add_option("file", *file, "volume (.nii .nii.gz .nrrd .nhdr .inr .inr.gz), mesh (.off .ply .obj .stl) or volume tree (.dvt)");
+  sub->add_option("file", *file, "volume (.nii .nii.gz .nrrd .nhdr .inr .inr.gz, or a DICOM folder), mesh (.off .ply .obj .stl) or volume tree (.dvt)");
   sub->add_flag("--gl", *gl, "print the OpenGL renderer, version and the limits isoatlas relies on");
-  auto volumeIndex = std::make_shared<std::int64_t>(-1);
-  addVolumeIndexOption(*sub, *volumeIndex);
-  bindAction(*sub, [file, gl, volumeIndex](nlohmann::json& r) {
+  auto read = std::make_shared<VolumeReadOptions>();
+  addVolumeReadOptions(*sub, *read);
+  bindAction(*sub, [file, gl, read](nlohmann::json& r) {
     if (*gl) return glInfo(r);
     require(!file->empty(), "give a FILE, or --gl");
-    if (isVolumePath(*file)) return volumeInfo(*file, *volumeIndex, r);
+    if (isVolumePath(*file)) return volumeInfo(*file, *read, r);
     if (isMeshPath(*file)) return meshInfo(*file, r);
     if (endsWith(*file, ".dvt")) return treeInfo(*file, r);
-    throw Error(*file + ": unknown file type (volumes: .nii .nii.gz .nrrd .nhdr .inr .inr.gz; meshes: .off .ply .obj .stl; trees: .dvt)");
+    throw Error(*file + ": unknown file type (volumes: .nii .nii.gz .nrrd .nhdr .inr .inr.gz or a DICOM folder; meshes: .off .ply .obj .stl; trees: .dvt)");
   }, exitCode);
 }
 

@@ -68,9 +68,10 @@ void addMeshSpaceOption(CLI::App& sub, std::string& space) {
 
 MeshSpace meshSpace(const std::string& space) { return parseMeshSpace(space, "--space"); }
 
-void addVolumeIndexOption(CLI::App& sub, std::int64_t& volume) {
-  sub.add_option("--volume", volume, "which volume of a 4D series (fMRI, diffusion) to read (0: the first; a 4D file needs it, a 3D file is volume 0)")
+void addVolumeReadOptions(CLI::App& sub, VolumeReadOptions& read) {
+  sub.add_option("--volume", read.volume, "which volume of a 4D series (fMRI, diffusion) to read (0: the first; a 4D file needs it, a 3D file is volume 0)")
       ->check(inRange(0, 1e6));
+  sub.add_option("--series", read.series, "which DICOM series of a folder to read, by its SeriesInstanceUID (a folder of several needs it)");
 }
 
 CLI::Validator inRange(double lo, double hi) {

@@ -13,6 +13,7 @@
 #include "core/numbers.h"
 #include "core/vec.h"
 #include "core/volume.h"
+#include "core/volume_io.h"
 #include "multires/base_mesh.h"
 #include "pipeline/seed_ball.h"
 #include "pipeline/volume_editing.h"
@@ -49,7 +50,7 @@ inline constexpr double kMaxLevel = 2 * std::countr_zero(multires::kMaxChartSize
 inline constexpr double kMaxMillimetres = 1e6;  // lengths in world mm (radii, depths, errors): a kilometre
 
 // --volume N: which volume of a 4D NIfTI series the command reads (VolumeReadOptions), from 0.
-void addVolumeIndexOption(CLI::App& sub, std::int64_t& volume);
+void addVolumeReadOptions(CLI::App& sub, VolumeReadOptions& read);
 
 // --space ras|lps: the frame of the mesh the command writes (MeshSpace, core/mesh_io.h), checked while
 // parsing; meshSpace reads the choice.

@@ -15,14 +15,14 @@ void addProbeCommand(CLI::App& app, int& exitCode) {
   auto volume = std::make_shared<std::string>();
   auto at = std::make_shared<std::string>();
   auto radius = std::make_shared<double>(pipeline::kDefaultSeedRadius);
-  sub->add_option("volume", *volume, "input volume")->required();
+  sub->add_option("volume", *volume, "input volume (NIfTI, NRRD, INR, or a DICOM folder)")->required();
   sub->add_option("--at", *at, "centre X,Y,Z[,R] in voxel indices (R overrides --radius)")->required();
   sub->add_option("--radius", *radius, "radius in voxels")->capture_default_str()->check(inRange(kMinBallRadius, kMaxBallRadius));
-  auto volumeIndex = std::make_shared<std::int64_t>(-1);
-  addVolumeIndexOption(*sub, *volumeIndex);
-  bindAction(*sub, [volume, at, radius, volumeIndex](nlohmann::json& r) {
+  auto read = std::make_shared<VolumeReadOptions>();
+  addVolumeReadOptions(*sub, *read);
+  bindAction(*sub, [volume, at, radius, read](nlohmann::json& r) {
     const pipeline::Ball ball = parseBall(*at, "--at", *radius);
-    const Volume v = readVolume(*volume, {.volume = *volumeIndex});
+    const Volume v = readVolume(*volume, *read);
     pipeline::requireInside(v, ball.centre, "--at");
     const levelset::ProbeResult p = levelset::probeSphere(v, ball.centre, ball.radius);
     r["mean"] = p.mean;

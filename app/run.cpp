@@ -39,7 +39,7 @@ struct RunOptions {
   // without --converge. The demo converges in under a thousand.
   int iterations = 3000;
   bool halfResolutionStart = false;
-  std::int64_t volume = -1;  // --volume
+  VolumeReadOptions read;  // --volume, --series
   pipeline::ModelRequest model;
   int chart = 33;
   std::string levels = "even";  // the levels run measures: "even" (0, 2, ..., the whole chart) or eval's form
@@ -85,7 +85,7 @@ void runJob(const std::string& input, const std::string& outDir, const RunOption
   checkRunOptions(options);
   const std::vector<int> levels = runLevels(options.levels, atlas::maxLevel(std::uint32_t(options.chart)));
   // Bad input (the volume, a seed outside it, an edit's shape) is refused before anything is written.
-  Volume volume = readVolume(input, {.volume = options.volume});
+  Volume volume = readVolume(input, options.read);
   const double secondsRead = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const SegmentationSetup setup = segmentationSetup(options, input, volume);
   const auto solids = pipeline::stepSolids(setup.edits.steps);
@@ -154,9 +154,9 @@ void addRunCommand(CLI::App& app, int& exitCode) {
   auto input = std::make_shared<std::string>(pipeline::kDemoVolume);
   auto outDir = std::make_shared<std::string>("out/demo");
   auto options = std::make_shared<RunOptions>();
-  sub->add_option("volume", *input, "input volume")->capture_default_str();
+  sub->add_option("volume", *input, "input volume (NIfTI, NRRD, INR, or a DICOM folder)")->capture_default_str();
   sub->add_option("-o,--output", *outDir, "folder for every product and index.html")->capture_default_str();
-  addVolumeIndexOption(*sub, options->volume);
+  addVolumeReadOptions(*sub, options->read);
   sub->add_option("--seed", options->seeds, "seed X,Y,Z[,R] in voxel indices, R in voxels (default " + std::to_string(int(pipeline::kDefaultSeedRadius)) + "); the demo volume has its own");
   sub->add_option("--target,-T", options->target, "T for the segmentation, required with --seed (without --seed, the demo volume has its own)")
       ->check(inRange(-kMaxIntensity, kMaxIntensity));

@@ -13,7 +13,7 @@ namespace isoatlas::app {
 
 struct SegmentOptions {
   std::string volume, seedMask, output, phi, backend = "auto";
-  std::int64_t volumeIndex = -1;  // --volume
+  VolumeReadOptions read;  // --volume, --series
   std::vector<std::string> seeds;
   double target = 0, width = 0, alpha = pipeline::kDefaultAlpha;
   int iterations = levelset::RunOptions{}.maxIterations, page = levelset::LevelSetOptions{}.pageSize;
@@ -23,8 +23,8 @@ struct SegmentOptions {
 void addSegmentCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("segment", "segment a structure with the paged narrow-band level-set solver");
   auto o = std::make_shared<SegmentOptions>();
-  sub->add_option("volume", o->volume, "input volume")->required();
-  addVolumeIndexOption(*sub, o->volumeIndex);
+  sub->add_option("volume", o->volume, "input volume (NIfTI, NRRD, INR, or a DICOM folder)")->required();
+  addVolumeReadOptions(*sub, o->read);
   sub->add_option("--seed", o->seeds, "seed sphere X,Y,Z[,R] in voxel indices, R in voxels (default " + std::to_string(int(pipeline::kDefaultSeedRadius)) + "); repeatable");
   sub->add_option("--seed-mask", o->seedMask, "start from this mask (same grid; voxels > 0 inside)");
   sub->add_option("--target,-T", o->target, "T: the intensity to segment (isoatlas probe suggests it)")->required()->check(inRange(-kMaxIntensity, kMaxIntensity));
@@ -44,8 +44,8 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
   sub->add_option("-o,--output", o->output, "output mask (uint8, 1 inside), e.g. mask.nii.gz")->required()->check(outputFile());
   sub->add_option("--phi", o->phi, "also write the level set phi (float, > 0 inside, voxel units)")->check(outputFile());
   bindAction(*sub, [o](nlohmann::json& r) {
-    volumeFormatOf(o->output);  // throws for a name that is no volume format, before any work
-    if (!o->phi.empty()) volumeFormatOf(o->phi);
+    volumeWriteFormatOf(o->output);  // throws for a name that is no volume format to write, before any work
+    if (!o->phi.empty()) volumeWriteFormatOf(o->phi);
     require(!o->seeds.empty() || !o->seedMask.empty(), "give at least one --seed X,Y,Z[,R] or a --seed-mask");
     require(levelset::isPageSize(o->page), "--page " + std::to_string(o->page) + ": a power of two from 4 to " +
                                                std::to_string(levelset::kMaxPageSize));
@@ -53,7 +53,7 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
     levelset::validateParams(params);
     std::vector<pipeline::Ball> seeds;
     for (const std::string& s : o->seeds) seeds.push_back(parseBall(s, "--seed", pipeline::kDefaultSeedRadius));
-    const Volume volume = readVolume(o->volume, {.volume = o->volumeIndex});
+    const Volume volume = readVolume(o->volume, o->read);
     for (std::size_t k = 0; k < seeds.size(); ++k) pipeline::requireInside(volume, seeds[k].centre, "--seed " + o->seeds[k]);
     Volume seedMask;
     if (!o->seedMask.empty()) {

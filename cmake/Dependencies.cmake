@@ -28,6 +28,8 @@ isoatlas_find_library(isoatlas::nifti NAMES nifti2 znz HEADER nifti/nifti2_io.h
                       INCLUDE_DIR /usr/include/nifti LINK ZLIB::ZLIB m)
 # libgiftiio 1.0 (GIfTI surfaces out, core/mesh_gifti.cpp only): its header includes nifti1_io.h.
 isoatlas_find_library(isoatlas::gifti NAMES giftiio HEADER gifti/gifti_io.h INCLUDE_DIR /usr/include/gifti LINK isoatlas::nifti)
+# GDCM 3.0 (DICOM series in, core/volume_dicom.cpp only).
+isoatlas_find_library(isoatlas::gdcm NAMES gdcmMSFF gdcmDSED gdcmCommon HEADER gdcm-3.0/gdcmImageReader.h INCLUDE_DIR /usr/include/gdcm-3.0)
 isoatlas_find_library(isoatlas::teem NAMES teem HEADER teem/nrrd.h LINK ZLIB::ZLIB m)
 isoatlas_find_library(isoatlas::stb NAMES stb HEADER stb/stb_image_write.h)
 # OpenSubdiv 3.5: Far (in osdCPU) and Osd's GLSL patch shader sources (osdGPU); viewer/smooth_render only.

@@ -1,12 +1,19 @@
 #include "core/numbers.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
 #include "core/error.h"
 
 namespace isoatlas {
+
+std::string shortNumber(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", x);
+  return text;
+}
 
 std::vector<double> parseNumbers(const std::string& text, const std::string& option, const char* expected) {
   std::vector<double> numbers;

@@ -11,5 +11,7 @@ namespace isoatlas {
 std::vector<double> parseNumbers(const std::string& text, const std::string& option, const char* expected);
 // "X,Y,Z"; throws Error naming `option` on bad text.
 Vec3 parsePoint(const std::string& text, const std::string& option);
+// x as a message shows it: printf's %g (6 significant digits, no trailing zeros).
+std::string shortNumber(double x);
 
 }  // namespace isoatlas

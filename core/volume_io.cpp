@@ -7,11 +7,13 @@
 
 #include "core/error.h"
 #include "core/gz_file.h"
+#include "core/numbers.h"
 #include "core/progress.h"
 
 namespace isoatlas {
 
 bool isVolumePath(const std::string& path) {
+  if (isDicomPath(path)) return true;
   for (const char* ext : {".nii", ".nii.gz", ".hdr", ".nrrd", ".nhdr", ".inr", ".inr.gz"})
     if (endsWith(path, ext)) return true;
   return false;
@@ -21,22 +23,24 @@ VolumeFormat volumeFormatOf(const std::string& path) {
   if (endsWith(path, ".nii") || endsWith(path, ".nii.gz") || endsWith(path, ".hdr")) return VolumeFormat::Nifti;
   if (endsWith(path, ".nrrd") || endsWith(path, ".nhdr")) return VolumeFormat::Nrrd;
   if (endsWith(path, ".inr") || endsWith(path, ".inr.gz")) return VolumeFormat::Inr;
-  throw Error(path + ": unknown volume format (expected .nii, .nii.gz, .nrrd, .nhdr, .inr or .inr.gz)");
+  if (isDicomPath(path)) return VolumeFormat::Dicom;
+  throw Error(path + ": unknown volume format (expected .nii, .nii.gz, .nrrd, .nhdr, .inr, .inr.gz, or a DICOM folder)");
 }
 
-namespace {
-std::string shortNumber(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", x);
-  return text;
+VolumeFormat volumeWriteFormatOf(const std::string& path) {
+  const VolumeFormat format = volumeFormatOf(path);
+  if (format == VolumeFormat::Dicom) throw Error(path + ": isoatlas reads DICOM but does not write it; write .nii.gz, .nrrd or .inr");
+  return format;
 }
-}  // namespace
+
 
 Volume readVolume(const std::string& path, const VolumeReadOptions& options) {
   const VolumeFormat format = volumeFormatOf(path);
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": no such file");
-  // NRRD and INR files are read as 3D: asked for a later volume, refuse before reading them.
+  if (!std::filesystem::is_regular_file(path, ec) && !(format == VolumeFormat::Dicom && std::filesystem::is_directory(path, ec)))
+    throw Error(path + ": no such file");
+  if (!options.series.empty() && format != VolumeFormat::Dicom) throw Error(path + ": --series picks a series of a DICOM folder; this is no DICOM");
+  // NRRD, INR and DICOM are read as 3D: asked for a later volume, refuse before reading them.
   if (format != VolumeFormat::Nifti && options.volume > 0)
     throw Error(path + ": holds one volume; --volume " + std::to_string(options.volume) + " is past it (0 is the only one)");
   Volume v;
@@ -44,6 +48,7 @@ Volume readVolume(const std::string& path, const VolumeReadOptions& options) {
     case VolumeFormat::Nifti: v = readNifti(path, options.volume); break;
     case VolumeFormat::Nrrd: v = readNrrd(path); break;
     case VolumeFormat::Inr: v = readInr(path); break;
+    case VolumeFormat::Dicom: v = readDicom(path, options.series); break;
   }
   const NonFiniteVoxels nonFinite = backgroundNonFiniteVoxels(v, path);
   v.nonFiniteVoxels = nonFinite.count;
@@ -56,12 +61,13 @@ Volume readVolume(const std::string& path, const VolumeReadOptions& options) {
 void writeVolume(const std::string& path, const Volume& volume) {
   require(volume.data.size() == volume.voxelCount() * bytesPerVoxel(volume.type),
           path + ": volume data size does not match its dimensions");
-  const VolumeFormat format = volumeFormatOf(path);
+  const VolumeFormat format = volumeWriteFormatOf(path);
   auto write = [&](const std::string& to) {
     switch (format) {
       case VolumeFormat::Nifti: writeNifti(to, volume); break;
       case VolumeFormat::Nrrd: writeNrrd(to, volume); break;
       case VolumeFormat::Inr: writeInr(to, volume); break;
+      case VolumeFormat::Dicom: break;  // refused by volumeWriteFormatOf
     }
   };
   // A detached header (NRRD's .nhdr, NIfTI's .hdr) names its data file after itself, so the pair is

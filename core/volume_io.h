@@ -1,5 +1,6 @@
 // Reading and writing volumes. The format follows the file name:
 //   .nii .nii.gz .hdr (NIfTI-1 and NIfTI-2, nifticlib)   .nrrd .nhdr (NRRD, teem)   .inr .inr.gz (INRIMAGE-4)
+//   a folder, or a .dcm file of one (a DICOM series, GDCM; read only)
 // Readers check every size before allocating (see volumeByteLimit) and read NaN and infinite voxels as the
 // background (backgroundNonFiniteVoxels, with one line saying how many);
 // all failures throw isoatlas::Error naming the file and what was wrong.
@@ -10,16 +11,21 @@
 
 namespace isoatlas {
 
-enum class VolumeFormat { Nifti, Nrrd, Inr };
+enum class VolumeFormat { Nifti, Nrrd, Inr, Dicom };
 
 bool isVolumePath(const std::string& path);
 VolumeFormat volumeFormatOf(const std::string& path);  // throws Error for an unknown extension
+// volumeFormatOf for a file to write: throws Error for a format isoatlas only reads (DICOM).
+VolumeFormat volumeWriteFormatOf(const std::string& path);
 
 // Which volume of a 4D file to read (NIfTI's dimension 4, as fMRI and diffusion series hold them,
 // counted from 0). Unset, a file of more than one is refused with a line giving the count; a 3D
 // file is volume 0.
+// Which series of a DICOM folder to read (its SeriesInstanceUID): unset, a folder of more than one
+// is refused with a line listing them; a .dcm file is read as its own series.
 struct VolumeReadOptions {
   std::int64_t volume = -1;
+  std::string series;
 };
 Volume readVolume(const std::string& path, const VolumeReadOptions& options = {});
 void writeVolume(const std::string& path, const Volume& volume);
@@ -31,6 +37,11 @@ Volume readNrrd(const std::string& path);
 void writeNrrd(const std::string& path, const Volume& volume);
 Volume readInr(const std::string& path);
 void writeInr(const std::string& path, const Volume& volume);
+// core/volume_dicom.cpp: a folder (or a .dcm file of it) as one DICOM series of one slice a file,
+// sorted along the slices' normal, in RAS with the rescale applied. Refuses gantry tilt, uneven
+// slice spacing, multi-frame and colour files with one line each.
+bool isDicomPath(const std::string& path);
+Volume readDicom(const std::string& path, const std::string& series = {});
 
 // Splits an affine's 3x3 part (voxel index -> world) into spacing (column lengths) and direction
 // (unit columns). Throws Error naming `where` if a column is zero or not finite.

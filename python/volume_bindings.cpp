@@ -117,12 +117,13 @@ void bindVolumes(py::module_& m) {
         return "<isoatlas.Volume " + std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " + std::to_string(v.dims[2]) +
                " " + scalarTypeName(v.type) + ">";
       });
-  m.def("read_volume", [](const std::string& path, std::optional<std::int64_t> volume) {
+  m.def("read_volume", [](const std::string& path, std::optional<std::int64_t> volume, const std::string& series) {
         requireFile(path);
         require(!volume || *volume >= 0, "read_volume: volume must be 0 or more, not " + std::to_string(volume.value_or(0)));
-        return readVolume(path, {.volume = volume.value_or(-1)});
-      }, py::arg("path"), py::arg("volume") = py::none(),
-      "NIfTI (.nii, .nii.gz), NRRD (.nrrd, .nhdr) or INR (.inr, .inr.gz); volume: which of a 4D series, from 0");
+        return readVolume(path, {.volume = volume.value_or(-1), .series = series});
+      }, py::arg("path"), py::arg("volume") = py::none(), py::arg("series") = "",
+      "NIfTI (.nii, .nii.gz), NRRD (.nrrd, .nhdr), INR (.inr, .inr.gz), or a DICOM folder (or a .dcm file of one); "
+      "volume: which of a 4D series, from 0; series: which DICOM series of the folder (its SeriesInstanceUID)");
   m.def("write_volume", [](const std::string& path, const py::object& volume, const py::object& affine) {
         writeVolume(path, VolumeArgument(volume, affine, "write_volume").get());
       }, py::arg("path"), py::arg("volume"), py::arg("affine") = py::none(), "a Volume, or an array with its affine");

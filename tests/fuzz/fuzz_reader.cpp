@@ -1,5 +1,5 @@
 // libFuzzer target for one file reader, chosen at build time by FUZZ_EXT (".nii", ".nrrd", ".inr",
-// ".off", ".isoatlas", ".dvt", ".view" for the window's scripts, ...). The input is written to a file with that extension and read back; an isoatlas::Error
+// ".off", ".isoatlas", ".dvt", ".dcm", ".view" for the window's scripts, ...). The input is written to a file with that extension and read back; an isoatlas::Error
 // is the expected way to fail, anything else (a crash, a sanitizer report, a hang) is a bug. What a
 // reader accepts is then used as a user would use it, so that damage the parser lets through is
 // reached too: a model is reconstructed at its lowest levels, a tree is sampled into a mask.
@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -23,8 +24,11 @@
 #endif
 
 namespace {
+// A DICOM file is read as the series of its folder: it gets a folder of its own.
 const std::string& scratchPath() {
-  static const std::string path = "/tmp/isoatlas-fuzz-" + std::to_string(getpid()) + FUZZ_EXT;
+  static const std::string path = std::string(FUZZ_EXT) == ".dcm"
+                                      ? "/tmp/isoatlas-fuzz-dcm-" + std::to_string(getpid()) + "/input.dcm"
+                                      : "/tmp/isoatlas-fuzz-" + std::to_string(getpid()) + FUZZ_EXT;
   return path;
 }
 }  // namespace
@@ -36,6 +40,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
   // Keep every allocation far below libFuzzer's memory limit: a lying header must fail on its
   // size check or its short read, never by exhausting memory.
   isoatlas::setVolumeByteLimit(std::uint64_t(64) << 20);
+  if (std::string(FUZZ_EXT) == ".dcm") std::filesystem::create_directories(std::filesystem::path(scratchPath()).parent_path());
   if (std::string(FUZZ_EXT) == ".nhdr") {
     std::ofstream raw(kNhdrData, std::ios::binary | std::ios::trunc);
     for (int i = 0; i < 4096; ++i) raw.put(char(i * 37));

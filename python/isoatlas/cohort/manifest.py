@@ -3,7 +3,7 @@
 A manifest is a CSV file with a header. Columns:
 
     id       a name for the subject's folder (letters, digits, '.', '-', '_')
-    volume   the scan (.nii, .nii.gz, .nrrd, .nhdr, .inr, .inr.gz), relative to the manifest's folder
+    volume   the scan (.nii, .nii.gz, .nrrd, .nhdr, .inr, .inr.gz, or a folder of one DICOM series), relative to the manifest's folder
     seeds    seed balls in world mm, ``x,y,z,r;x,y,z,r``
     target, width, alpha   the segmentation's T, eps and alpha (optional; T and eps are otherwise
              probed in the first seed's ball, as ``isoatlas probe`` suggests them)

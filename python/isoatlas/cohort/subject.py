@@ -32,14 +32,20 @@ def folder_of(out_dir, subject):
 
 
 def input_hash(subject, config, stages):
-    """What decides the subject's outputs: the volume's bytes, the row and the config, the stages."""
+    """What decides the subject's outputs: the volume's bytes (a DICOM folder's files, names and
+    bytes), the row and the config, the stages."""
     h = hashlib.sha256()
-    try:
-        with open(subject.volume, "rb") as f:
-            for block in iter(lambda: f.read(1 << 20), b""):
-                h.update(block)
-    except OSError as e:
-        h.update(f"unreadable: {e}".encode())
+    files = ([os.path.join(subject.volume, n) for n in sorted(os.listdir(subject.volume))] if os.path.isdir(subject.volume)
+             else [subject.volume])
+    for path in files:
+        if path != subject.volume:  # a file of a folder: its name too (a single file's hash stays as it was)
+            h.update(os.path.basename(path).encode() + b"\0")
+        try:
+            with open(path, "rb") as f:
+                for block in iter(lambda: f.read(1 << 20), b""):
+                    h.update(block)
+        except OSError as e:
+            h.update(f"unreadable: {e}".encode())
     settings = {k: config[k] for k in ("iterations", "half_resolution_start", "base_ratio", "chart_size", "samples", "thumbnail")}
     h.update(json.dumps([subject.parameters(), settings, stages], sort_keys=True).encode())
     return h.hexdigest()
