@@ -84,6 +84,16 @@ Volume readNifti(const std::string& path, std::int64_t volume) {
   const nifti_dmat44& affine = nim->sform_code > 0 ? nim->sto_xyz : nim->qto_xyz;
   setGeometryFromAffine(v, linearPart(affine), {affine.m[0][3], affine.m[1][3], affine.m[2][3]}, path);
   validateVolumeHeader(v, path);
+  // scl_slope and scl_inter make the voxels real numbers (below): the limit holds for those too,
+  // checked before anything is read.
+  const double slope = nim->scl_slope, inter = nim->scl_inter;
+  const bool scaled = std::isfinite(slope) && std::isfinite(inter) && slope != 0 && (slope != 1 || inter != 0);
+  const ScalarType scaledType = v.type == ScalarType::Float64 ? ScalarType::Float64 : ScalarType::Float32;
+  if (scaled) {
+    Volume asScaled = v;
+    asScaled.type = scaledType;
+    validateVolumeHeader(asScaled, path + " (as " + scalarTypeName(scaledType) + ", its scl_slope applied)");
+  }
   if (!nim->iname) throw Error(path + ": NIfTI header names no image file");
   if (nim->iname_offset < 0) throw Error(path + ": negative NIfTI vox_offset");
 
@@ -93,11 +103,10 @@ Volume readNifti(const std::string& path, std::int64_t volume) {
   if (nim->byteorder != nifti_short_order()) swapBytes(v.data.data(), v.voxelCount(), bytesPerVoxel(v.type));
 
   // Apply scl_slope/scl_inter as nibabel's get_fdata does: the stored numbers become real values.
-  const double slope = nim->scl_slope, inter = nim->scl_inter;
-  if (std::isfinite(slope) && std::isfinite(inter) && slope != 0 && (slope != 1 || inter != 0)) {
-    Volume scaled = v.sameGeometry(v.type == ScalarType::Float64 ? ScalarType::Float64 : ScalarType::Float32);
-    for (std::size_t n = 0; n < v.voxelCount(); ++n) scaled.setValue(n, slope * v.value(n) + inter);
-    v = std::move(scaled);
+  if (scaled) {
+    Volume real = v.sameGeometry(scaledType);
+    for (std::size_t n = 0; n < v.voxelCount(); ++n) real.setValue(n, slope * v.value(n) + inter);
+    v = std::move(real);
   }
   return v;
 }

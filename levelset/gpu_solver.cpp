@@ -204,10 +204,8 @@ private:
 
   // The whole current phi pool into `out`, after the image stores of the last step.
   void readPool(std::vector<float>& out) const {
-    out.resize(std::size_t(poolWidth_) * std::size_t(poolHeight_));
     glMemoryBarrier(GL_TEXTURE_UPDATE_BARRIER_BIT);
-    glGetTextureImage(phi_[current_].id(), 0, GL_RED, GL_FLOAT, GLsizei(out.size() * 4), out.data());
-    gl::checkErrors("reading the phi pool");
+    phi_[current_].readRedFloats(out);
   }
 
   void setCommon(const gl::Program& p) const {

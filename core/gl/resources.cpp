@@ -126,6 +126,18 @@ Texture Texture::texture2D(GLenum internalFormat, int width, int height, int lev
   return t;
 }
 
+void Texture::readRedFloats(std::vector<float>& out, std::size_t bandBytes) const {
+  const std::size_t rowBytes = std::size_t(width()) * sizeof(float);
+  out.resize(std::size_t(width()) * std::size_t(height()));
+  const int rows = int(std::clamp<std::size_t>(bandBytes / std::max<std::size_t>(rowBytes, 1), 1, std::size_t(std::max(height(), 1))));
+  for (int y = 0; y < height(); y += rows) {
+    const int band = std::min(rows, height() - y);
+    glGetTextureSubImage(id(), 0, 0, y, 0, width(), band, 1, GL_RED, GL_FLOAT, GLsizei(rowBytes * std::size_t(band)),
+                         out.data() + std::size_t(y) * std::size_t(width()));
+  }
+  checkErrors("reading a float texture");
+}
+
 Texture Texture::texture3D(GLenum internalFormat, int width, int height, int depth) {
   Texture t(GL_TEXTURE_3D, width, height, depth);
   glTextureStorage3D(t.id(), 1, internalFormat, width, height, depth);

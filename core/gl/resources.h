@@ -92,6 +92,11 @@ public:
   int width() const { return size_[0]; }
   int height() const { return size_[1]; }
   int depth() const { return size_[2]; }
+  // A 2D GL_R32F texture's level 0 into `out` (width x height floats, rows bottom to top), read in
+  // bands of whole rows of at most `bandBytes`: GL counts a read's bytes in a GLsizei, which a
+  // read of 2 GiB or more would overflow (a large phi pool is that big).
+  static constexpr std::size_t kReadBandBytes = std::size_t(1) << 30;
+  void readRedFloats(std::vector<float>& out, std::size_t bandBytes = kReadBandBytes) const;
 
 private:
   Texture(GLenum target, int w, int h, int d);

@@ -306,6 +306,27 @@ TEST(VolumeBadInput, ByteLimitIsCheckedBeforeAllocation) {
   EXPECT_NO_THROW(readVolume((dir / "v.nii").string()));
 }
 
+// A NIfTI file whose scl_slope makes its bytes float32 is held to the limit as float32, before it
+// is read: four times the bytes of its int8 voxels.
+TEST(VolumeBadInput, ByteLimitHoldsForTheScaledVoxels) {
+  const auto dir = scratchDir();
+  const auto path = dir / "scaled.nii";
+  writeVolume(path.string(), test::rampVolume(ScalarType::Int8, {64, 64, 64}));  // 256 KiB stored, 1 MiB as float32
+  std::string bytes = test::readBytes(path);
+  const float slope = 2, inter = 1;
+  std::memcpy(bytes.data() + 112, &slope, 4);
+  std::memcpy(bytes.data() + 116, &inter, 4);
+  const auto saved = volumeByteLimit();
+  setVolumeByteLimit(1 << 19);
+  EXPECT_NO_THROW(readVolume(path.string())) << "unscaled, the file is within the limit";
+  test::writeBytes(path, bytes);
+  const std::string e = errorOf(path.string());
+  EXPECT_NE(e.find("as float32, its scl_slope applied"), std::string::npos) << e;
+  EXPECT_NE(e.find("limit"), std::string::npos) << e;
+  setVolumeByteLimit(saved);
+  EXPECT_NO_THROW(readVolume(path.string()));
+}
+
 // The committed mask pins the NIfTI writer: its voxels, grid and geometry, and the writer's bytes.
 TEST(VolumeIo, GoldenMaskPinsTheNiftiFormat) {
   Volume mask = Volume::zeros({7, 5, 4}, ScalarType::UInt8);

@@ -86,6 +86,24 @@ TEST(GlCompute, FillZeroClearsTheFirstWordsAndKeepsTheCallersState) {
   checkErrors("test");
 }
 
+// A float texture read in bands of whole rows (Texture::readRedFloats, as a phi pool past 2 GiB
+// must be) gives every texel where one whole read does, whatever the band: one row, a few with a
+// short last band, all of them.
+TEST(GlCompute, FloatTexturesReadInBandsAsWhole) {
+  test::glContext();
+  const int w = 37, h = 23;
+  std::vector<float> texels(std::size_t(w) * h);
+  for (std::size_t i = 0; i < texels.size(); ++i) texels[i] = float(i) * 0.5f - 100.0f;
+  const Texture t = Texture::texture2D(GL_R32F, w, h);
+  glTextureSubImage2D(t.id(), 0, 0, 0, w, h, GL_RED, GL_FLOAT, texels.data());
+  for (const std::size_t band : {std::size_t(1), std::size_t(w * 4), std::size_t(w * 4 * 5), std::size_t(w * 4 * 5 + 7), Texture::kReadBandBytes}) {
+    std::vector<float> out;
+    t.readRedFloats(out, band);
+    ASSERT_EQ(out, texels) << "bands of " << band << " bytes";
+  }
+  checkErrors("test");
+}
+
 TEST(GlCompute, CompileErrorsAreReported) {
   Context& ctx = test::glContext();
   // Without OFFSET defined the shader does not compile; the error names the file.
