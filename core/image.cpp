@@ -4,6 +4,11 @@
 #include <zlib.h>
 
 #include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <string>
 
 #include "core/atomic_file.h"
 #include "core/deflate.h"
@@ -75,8 +80,21 @@ void writePng(const std::string& path, const Image& image) {
 }
 
 Image readPng(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path + ": no such file");
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // stb_image reads every format it knows; a user's picture (edit-detail --stamp) is taken as PNG only.
+  static constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (bytes.size() < 8 || std::memcmp(bytes.data(), kSignature, 8) != 0) throw Error(path + ": not a PNG file (no PNG signature)");
+  if (bytes.size() > std::size_t(std::numeric_limits<int>::max())) throw Error(path + ": too large for a PNG isoatlas reads");
+  const auto* begin = reinterpret_cast<const stbi_uc*>(bytes.data());
   int w = 0, h = 0, c = 0;
-  unsigned char* data = stbi_load(path.c_str(), &w, &h, &c, 0);
+  // The size from the header, before a pixel is decoded.
+  if (!stbi_info_from_memory(begin, int(bytes.size()), &w, &h, &c)) throw Error(path + ": not a readable PNG: " + stbi_failure_reason());
+  if (std::int64_t(w) * h > kMaxPngPixels)
+    throw Error(path + ": a PNG of " + std::to_string(w) + " x " + std::to_string(h) + " pixels; isoatlas reads at most " +
+                std::to_string(kMaxPngPixels) + " pixels");
+  unsigned char* data = stbi_load_from_memory(begin, int(bytes.size()), &w, &h, &c, 0);
   if (!data) throw Error(path + ": not a readable PNG: " + stbi_failure_reason());
   Image img(w, h, c);
   std::copy(data, data + img.pixels.size(), img.pixels.begin());

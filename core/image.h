@@ -17,6 +17,9 @@ struct Image {
 };
 
 void writePng(const std::string& path, const Image& image);  // throws Error on failure
-Image readPng(const std::string& path);                     // for tests and round trips
+// A PNG file (checked by its signature: no other format), of at most kMaxPngPixels, checked from
+// its header before decoding; throws Error naming the file otherwise. Reads edit-detail's --stamp.
+inline constexpr std::int64_t kMaxPngPixels = std::int64_t(1) << 26;
+Image readPng(const std::string& path);
 
 }  // namespace isoatlas

@@ -4,6 +4,8 @@
 #include <random>
 #include <utility>
 
+#include <zlib.h>
+
 #include "core/error.h"
 #include "core/image.h"
 #include "core/plot.h"
@@ -30,6 +32,33 @@ TEST(Image, PngRoundTripIsExact) {
         EXPECT_EQ(back.pixels, img.pixels) << channels << " channels, " << width << " x " << height;
       }
     }
+}
+
+// readPng takes PNG only (a user's --stamp picture): other formats stb_image knows are refused by
+// their missing signature, and a header asking for more than kMaxPngPixels before any decoding.
+TEST(Image, ReadPngTakesPngOnlyWithinItsSize) {
+  const auto dir = test::scratchDir();
+  Image small(3, 2, 3);
+  writePng((dir / "ok.png").string(), small);
+  EXPECT_EQ(readPng((dir / "ok.png").string()).width, 3);
+  // A 2 x 2 24-bit BMP: stb_image decodes it, readPng must not.
+  std::string bmp = "BM";
+  auto le32 = [&](std::uint32_t v) { for (int k = 0; k < 4; ++k) bmp += char((v >> (8 * k)) & 0xff); };
+  auto le16 = [&](std::uint16_t v) { bmp += char(v & 0xff), bmp += char(v >> 8); };
+  le32(70), le32(0), le32(54), le32(40), le32(2), le32(2), le16(1), le16(24), le32(0), le32(16), le32(2835), le32(2835), le32(0), le32(0);
+  bmp += std::string(16, '\x7f');
+  test::writeBytes(dir / "picture.png", bmp);
+  const Error notPng = test::thrownError([&] { readPng((dir / "picture.png").string()); }, "bmp");
+  EXPECT_NE(std::string(notPng.what()).find("no PNG signature"), std::string::npos) << notPng.what();
+  // The header of a 9000 x 9000 PNG (8.1e7 pixels), its IHDR's CRC right, no pixel data.
+  std::string huge = test::readBytes(dir / "ok.png");
+  const std::uint32_t side = 9000;
+  for (int k = 0; k < 4; ++k) huge[std::size_t(16 + k)] = huge[std::size_t(20 + k)] = char((side >> (8 * (3 - k))) & 0xff);
+  const std::uint32_t crc = std::uint32_t(crc32(0, reinterpret_cast<const Bytef*>(huge.data() + 12), 17));
+  for (int k = 0; k < 4; ++k) huge[std::size_t(29 + k)] = char((crc >> (8 * (3 - k))) & 0xff);
+  test::writeBytes(dir / "huge.png", huge);
+  const Error tooLarge = test::thrownError([&] { readPng((dir / "huge.png").string()); }, "huge");
+  EXPECT_NE(std::string(tooLarge.what()).find("9000 x 9000"), std::string::npos) << tooLarge.what();
 }
 
 TEST(Image, EmptyImageIsRefused) { EXPECT_THROW(writePng((test::scratchDir() / "e.png").string(), Image()), Error); }

@@ -15,6 +15,7 @@
 #include "atlas/model_file.h"
 #include "atlas/reconstruct.h"
 #include "core/error.h"
+#include "core/image.h"
 #include "core/mesh_io.h"
 #include "core/volume_io.h"
 #include "levelset/dvt/dvt_file.h"
@@ -73,6 +74,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       // Its mask, when small enough to sample quickly (a real file's grid can be 256^3).
       const auto grid = tree.frame.grid();
       if (grid[0] * grid[1] * grid[2] <= (std::int64_t(1) << 21)) isoatlas::levelset::dvt::sampleMask(tree);
+    } else if (scratchPath().ends_with(".png")) {
+      (void)isoatlas::readPng(scratchPath());
     } else if (isoatlas::isMeshPath(scratchPath())) {
       const isoatlas::Mesh m = isoatlas::readMesh(scratchPath());
       isoatlas::requireManifold(m, scratchPath());
