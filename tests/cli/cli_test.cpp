@@ -736,7 +736,10 @@ TEST(Cli, EditDetailEngravesAWordAndTheModelStaysClosed) {
   expectBadInput("edit-detail " + model + " --at 4,0,0 --radius 1 --depth 0.1 -o " + out, "give --stamp IMAGE.png or --text WORD");
   expectBadInput("edit-detail " + model + " --text Hi --at 4,0,0 --radius 1 --depth 0.1 --detail 9 -o " + out, "detail chart size");
   expectBadInput("edit-detail " + model + " --stamp " + (dir / "none.png").string() + " --at 4,0,0 --radius 1 --depth 0.1 -o " + out,
-                 "not a readable PNG");
+                 "none.png: no such file");
+  test::writeBytes(dir / "text.png", "not a picture");
+  expectBadInput("edit-detail " + model + " --stamp " + (dir / "text.png").string() + " --at 4,0,0 --radius 1 --depth 0.1 -o " + out,
+                 "text.png: not a PNG file");
 }
 
 TEST(Cli, RenderDrawsAModelWithoutCracksAndAGridOfThem) {
