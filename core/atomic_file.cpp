@@ -3,6 +3,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <charconv>
@@ -14,6 +15,23 @@
 
 namespace isoatlas {
 
+namespace {
+
+// This machine's name, as temporaries carry it: a pid says nothing of a process on another host
+// sharing the folder (a cohort's workers across hosts). '/' could not be in a file name.
+const std::string& hostName() {
+  static const std::string name = [] {
+    char text[256] = {};
+    if (::gethostname(text, sizeof text - 1) != 0 || !text[0]) return std::string("localhost");
+    std::string host(text);
+    std::replace(host.begin(), host.end(), '/', '_');
+    return host;
+  }();
+  return name;
+}
+
+}  // namespace
+
 std::string temporaryPathFor(const std::string& path) {
   static std::atomic<unsigned> counter{0};  // unique per call: writes may run concurrently
   const std::filesystem::path p(path);
@@ -21,6 +39,8 @@ std::string temporaryPathFor(const std::string& path) {
   name += std::to_string(::getpid());
   name += '-';
   name += std::to_string(counter++);
+  name += '@';
+  name += hostName();
   name += ".partial.";
   name += p.filename().string();
   return (p.parent_path() / name).string();
@@ -41,8 +61,9 @@ void requireOutputFolder(const std::string& path) {
 
 namespace {
 
-// Temporaries of `path` that a killed writer left beside it: ".<pid>-<n>.partial.<name>" whose process
-// is gone (a live one, ours or another's, may still be writing). Removed after a write of `path`
+// Temporaries of `path` that a killed writer left beside it: ".<pid>-<n>@<host>.partial.<name>" of
+// this host whose process is gone (a live one, ours or another's, may still be writing; another
+// host's pid cannot be asked after, so its temporaries stay). Removed after a write of `path`
 // succeeds; a folder that cannot be read is left alone.
 void removeAbandonedTemporaries(const std::string& path) {
   const std::filesystem::path p(path);
@@ -53,12 +74,14 @@ void removeAbandonedTemporaries(const std::string& path) {
     const std::string name = it->path().filename().string();
     if (name.size() <= suffix.size() + 1 || name[0] != '.' || name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
       continue;
-    // "<pid>-<n>" between the dot and the suffix; anything else is not ours.
+    // "<pid>-<n>@<host>" between the dot and the suffix; anything else is not ours.
     const char* first = name.data() + 1;
     const char* last = name.data() + name.size() - suffix.size();
     pid_t pid = 0;
     const auto [dash, error] = std::from_chars(first, last, pid);
     if (error != std::errc() || pid <= 0 || dash == last || *dash != '-') continue;
+    const char* at = std::find(dash, last, '@');
+    if (at == last || std::string(at + 1, last) != hostName()) continue;
     if (::kill(pid, 0) != 0 && errno == ESRCH) std::filesystem::remove(it->path(), ec), ec.clear();
   }
 }

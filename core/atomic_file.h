@@ -3,8 +3,9 @@
 // writers that go by the extension, .nii.gz included, still choose the format); once `write` returns,
 // the temporary is renamed over `path`. When `write` throws, the temporary is removed and `path`, if
 // it was there, stays as it was. A process killed mid-write leaves at most a temporary
-// (".<pid>-<n>.partial.<name>"), never a torn `path`; the next successful write of `path` removes
-// such temporaries whose process is gone.
+// (".<pid>-<n>@<host>.partial.<name>"), never a torn `path`; the next successful write of `path`
+// removes such temporaries of this host whose process is gone (another host's, on a shared
+// filesystem, may be live: they stay).
 #pragma once
 #include <functional>
 #include <string>

@@ -38,8 +38,9 @@ TEST(AtomicFile, AWholeWriteReplacesTheFileAndLeavesNoTemporary) {
   EXPECT_EQ(entries(dir), 1u);
 }
 
-// What a killed writer left (a temporary of a process that is gone) goes with the next whole write of
-// that file; a live process's temporary, and another file's, stay.
+// What a killed writer left (a temporary of a process of this host that is gone) goes with the next
+// whole write of that file; a live process's temporary, another file's, and another host's (whose
+// pid says nothing here) stay.
 TEST(AtomicFile, AWholeWriteRemovesTheTemporariesOfWritersThatAreGone) {
   const pid_t child = ::fork();
   if (child == 0) ::_exit(0);
@@ -47,14 +48,19 @@ TEST(AtomicFile, AWholeWriteRemovesTheTemporariesOfWritersThatAreGone) {
   ASSERT_EQ(::waitpid(child, nullptr, 0), child);  // reaped: its pid names no process now
   const auto dir = test::scratchDir();
   const auto path = (dir / "a.txt").string();
-  const std::string gone = "." + std::to_string(child) + "-3.partial.a.txt";
-  const std::string live = "." + std::to_string(::getpid()) + "-9999.partial.a.txt";
-  const std::string other = "." + std::to_string(child) + "-3.partial.b.txt";
-  for (const std::string& name : {gone, live, other}) test::writeBytes((dir / name).string(), "half");
+  const std::string ours = std::filesystem::path(temporaryPathFor(path)).filename().string();
+  const std::string host = ours.substr(ours.find('@'), ours.find(".partial.") - ours.find('@'));  // "@<host>"
+  ASSERT_GT(host.size(), 1u) << ours;
+  const std::string gone = "." + std::to_string(child) + "-3" + host + ".partial.a.txt";
+  const std::string live = "." + std::to_string(::getpid()) + "-9999" + host + ".partial.a.txt";
+  const std::string other = "." + std::to_string(child) + "-3" + host + ".partial.b.txt";
+  const std::string elsewhere = "." + std::to_string(child) + "-3@another-host.partial.a.txt";
+  for (const std::string& name : {gone, live, other, elsewhere}) test::writeBytes((dir / name).string(), "half");
   writeFileAtomically(path, "whole");
   EXPECT_FALSE(std::filesystem::exists(dir / gone));
   EXPECT_TRUE(std::filesystem::exists(dir / live));
   EXPECT_TRUE(std::filesystem::exists(dir / other));
+  EXPECT_TRUE(std::filesystem::exists(dir / elsewhere)) << "another host's writer may be live";
   EXPECT_EQ(test::readBytes(path), "whole");
 }
 

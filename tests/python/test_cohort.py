@@ -362,3 +362,22 @@ def test_the_docs_example_reads_and_its_seeds_lie_in_every_brain():
             i, j, k = np.rint(np.linalg.solve(image.affine, [x, y, z, 1])[:3]).astype(int)
             assert all(0 <= a < n for a, n in zip((i, j, k), image.shape)), (s.id, (x, y, z))
             assert abs(float(image.dataobj[i, j, k]) - config["target"]) <= config["width"], (s.id, (x, y, z))
+
+
+def test_only_this_hosts_partials_of_gone_writers_are_removed(tmp_path):
+    """A subject's folder on a shared filesystem: another host's partial may be live, and so may a
+    partial of a process of this host that still runs; one whose writer is gone goes."""
+    import socket
+    from isoatlas.cohort.files import remove_partials, write_atomically
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()  # reaped: its pid names no process now
+    host = socket.gethostname()
+    gone = f".{child.pid}-0@{host}.partial.mask.nii.gz"
+    live = f".{os.getpid()}-0@{host}.partial.mask.nii.gz"
+    elsewhere = f".{child.pid}-0@another-host.partial.mask.nii.gz"
+    for name in (gone, live, elsewhere):
+        (tmp_path / name).write_bytes(b"half")
+    remove_partials(str(tmp_path))
+    assert sorted(os.listdir(tmp_path)) == sorted([live, elsewhere])
+    write_atomically(str(tmp_path / "report.json"), "{}")
+    assert sorted(os.listdir(tmp_path)) == sorted([live, elsewhere, "report.json"]), "no partial of its own left"
