@@ -19,6 +19,7 @@
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <sstream>
 
@@ -51,6 +52,14 @@ std::vector<double> numbers(const char* text) {
 double numberOr(const char* text, double fallback) {
   const auto n = numbers(text);
   return n.empty() || !std::isfinite(n[0]) ? fallback : n[0];
+}
+
+// Whether two number lists are the same within `tolerance` each.
+bool near(const std::vector<double>& a, const std::vector<double>& b, double tolerance) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t k = 0; k < a.size(); ++k)
+    if (!(std::abs(a[k] - b[k]) <= tolerance)) return false;
+  return true;
 }
 
 std::string trimmed(const char* text) {
@@ -216,10 +225,7 @@ Volume readDicomHere(const std::string& path, const std::string& series, int ann
     throw Error(slices[0].file + ": ImageOrientationPatient is not two unit, perpendicular directions");
   for (const Slice& s : slices) {
     const char* f = s.file.c_str();
-    const auto o = numbers(scanner.GetValue(f, kOrientation));
-    if (o != orientation && (o.size() != 6 || std::abs(o[0] - orientation[0]) + std::abs(o[1] - orientation[1]) + std::abs(o[2] - orientation[2]) +
-                                                      std::abs(o[3] - orientation[3]) + std::abs(o[4] - orientation[4]) + std::abs(o[5] - orientation[5]) >
-                                                  1e-4))
+    if (!near(numbers(scanner.GetValue(f, kOrientation)), orientation, 1e-4))
       throw Error(path + ": the series' slices lie in different orientations (" + s.file + ")");
     if (numbers(scanner.GetValue(f, kPixelSpacing)) != pixelSpacing || trimmed(scanner.GetValue(f, kRows)) != trimmed(scanner.GetValue(first, kRows)) ||
         trimmed(scanner.GetValue(f, kColumns)) != trimmed(scanner.GetValue(first, kColumns)))
@@ -250,12 +256,17 @@ Volume readDicomHere(const std::string& path, const std::string& series, int ann
                     " degrees); isoatlas needs slices stacked straight (resample with dcm2niix)");
     }
   }
-  // The pixel type from the first slice; the rescale decides whether the volume is float32.
-  gdcm::ImageReader firstReader;
-  announce(announceFd, slices[0].file);
-  firstReader.SetFileName(first);
-  if (!firstReader.Read()) throw Error(slices[0].file + ": GDCM could not read its pixel data");
-  const ScalarType stored = scalarTypeOf(firstReader.GetImage().GetPixelFormat(), slices[0].file);
+  // Each slice's pixels, GDCM's reader holding them; the first slice's, read once, gives the
+  // stored type (the rescale decides whether the volume is float32).
+  auto readSlice = [&](std::size_t k) {
+    announce(announceFd, slices[k].file);
+    auto reader = std::make_unique<gdcm::ImageReader>();
+    reader->SetFileName(slices[k].file.c_str());
+    if (!reader->Read()) throw Error(slices[k].file + ": GDCM could not read its pixel data");
+    return reader;
+  };
+  std::unique_ptr<gdcm::ImageReader> firstReader = readSlice(0);
+  const ScalarType stored = scalarTypeOf(firstReader->GetImage().GetPixelFormat(), slices[0].file);
   const bool rescaled = std::any_of(slices.begin(), slices.end(), [](const Slice& s) { return s.slope != 1 || s.intercept != 0; });
   Volume v;
   v.dims = {std::int64_t(numberOr(scanner.GetValue(first, kColumns), 0)), std::int64_t(numberOr(scanner.GetValue(first, kRows), 0)),
@@ -278,11 +289,8 @@ Volume readDicomHere(const std::string& path, const std::string& series, int ann
   std::optional<Progress> progress;
   if (announceFd < 0) progress.emplace("dicom: reading " + path, slices.size(), "slices");
   for (std::size_t k = 0; k < slices.size(); ++k) {
-    announce(announceFd, slices[k].file);
-    gdcm::ImageReader reader;
-    reader.SetFileName(slices[k].file.c_str());
-    if (!reader.Read()) throw Error(slices[k].file + ": GDCM could not read its pixel data");
-    const gdcm::Image& image = reader.GetImage();
+    const std::unique_ptr<gdcm::ImageReader> reader = k == 0 ? std::move(firstReader) : readSlice(k);
+    const gdcm::Image& image = reader->GetImage();
     if (std::int64_t(image.GetDimension(0)) != v.dims[0] || std::int64_t(image.GetDimension(1)) != v.dims[1] || scalarTypeOf(image.GetPixelFormat(), slices[k].file) != stored)
       throw Error(slices[k].file + ": its pixels differ in size or type from the series' first slice");
     if (image.GetBufferLength() != storedBytes) throw Error(slices[k].file + ": its pixel data has the wrong length");

@@ -19,6 +19,8 @@ bool isVolumePath(const std::string& path) {
   return false;
 }
 
+bool isVolumeWritePath(const std::string& path) { return isVolumePath(path) && !isDicomPath(path); }
+
 VolumeFormat volumeFormatOf(const std::string& path) {
   if (endsWith(path, ".nii") || endsWith(path, ".nii.gz") || endsWith(path, ".hdr")) return VolumeFormat::Nifti;
   if (endsWith(path, ".nrrd") || endsWith(path, ".nhdr")) return VolumeFormat::Nrrd;

@@ -14,6 +14,7 @@ namespace isoatlas {
 enum class VolumeFormat { Nifti, Nrrd, Inr, Dicom };
 
 bool isVolumePath(const std::string& path);
+bool isVolumeWritePath(const std::string& path);  // isVolumePath, less what isoatlas only reads (DICOM)
 VolumeFormat volumeFormatOf(const std::string& path);  // throws Error for an unknown extension
 // volumeFormatOf for a file to write: throws Error for a format isoatlas only reads (DICOM).
 VolumeFormat volumeWriteFormatOf(const std::string& path);
