@@ -60,6 +60,14 @@ CLI::Validator backendChoice() {
   return CLI::IsMember(std::vector<std::string>(levelset::kBackendChoices.begin(), levelset::kBackendChoices.end()));
 }
 
+void addTopologyOption(CLI::App& sub, std::string& topology, const std::string& defaults) {
+  auto* option = sub.add_option("--topology", topology,
+                                "free, or preserve: the model keeps the seeds' topology (one sphere per seed, no handles or cavities; "
+                                "Han, Xu and Prince's level set)" + defaults);
+  if (defaults.empty()) option->capture_default_str();
+  option->check(CLI::IsMember(std::vector<std::string>(levelset::kTopologyChoices.begin(), levelset::kTopologyChoices.end())));
+}
+
 void addMeshSpaceOption(CLI::App& sub, std::string& space) {
   sub.add_option("--space", space, "the mesh's frame: ras (isoatlas's, nibabel's) or lps (ITK's, and what 3D Slicer assumes for an untagged PLY or OBJ)")
       ->capture_default_str()

@@ -37,6 +37,10 @@ CLI::Validator inRange(double lo, double hi);
 // --backend's choices, checked while parsing (before a file is read or a GL context made).
 CLI::Validator backendChoice();
 
+// --topology free|preserve for the segmentation (levelset::Topology), checked while parsing; the help
+// says what preserve keeps, and `defaults` what an empty choice means where it is not "free".
+void addTopologyOption(CLI::App& sub, std::string& topology, const std::string& defaults = {});
+
 // A ball's radius given inside X,Y,Z,R (--seed, probe --at) and probe's --radius, in voxels.
 using pipeline::kMaxBallRadius;
 using pipeline::kMinBallRadius;

@@ -12,7 +12,7 @@
 namespace isoatlas::app {
 
 struct SegmentOptions {
-  std::string volume, seedMask, output, phi, backend = "auto";
+  std::string volume, seedMask, output, phi, backend = "auto", topology = "free";
   VolumeReadOptions read;  // --volume, --series
   std::vector<std::string> seeds;
   double target = 0, width = 0, alpha = pipeline::kDefaultAlpha;
@@ -40,6 +40,7 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
                 "with --converge, start from the solution at half resolution instead of the seeds (faster)")
       ->needs("--converge");
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str()->check(backendChoice());
+  addTopologyOption(*sub, o->topology);
   sub->add_option("--page", o->page, "page size in voxels (a power of two, 4..32)")->capture_default_str()->check(inRange(4, 32));
   sub->add_option("-o,--output", o->output, "output mask (uint8, 1 inside), e.g. mask.nii.gz")->required()->check(outputFile());
   sub->add_option("--phi", o->phi, "also write the level set phi (float, > 0 inside, voxel units)")->check(outputFile());
@@ -47,6 +48,7 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
     volumeWriteFormatOf(o->output);  // throws for a name that is no volume format to write, before any work
     if (!o->phi.empty()) volumeWriteFormatOf(o->phi);
     require(!o->seeds.empty() || !o->seedMask.empty(), "give at least one --seed X,Y,Z[,R] or a --seed-mask");
+    pipeline::requireTopologyWithStart(levelset::topologyFor(o->topology), o->halfResolutionStart);
     require(levelset::isPageSize(o->page), "--page " + std::to_string(o->page) + ": a power of two from 4 to " +
                                                std::to_string(levelset::kMaxPageSize));
     const levelset::SpeedParams params{float(o->target), float(o->width), float(o->alpha)};
@@ -71,7 +73,8 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
                                                   .maxIterations = o->iterations,
                                                   .untilConverged = o->converge,
                                                   .readPhi = !o->phi.empty(),
-                                                  .halfResolutionStart = o->halfResolutionStart});
+                                                  .halfResolutionStart = o->halfResolutionStart,
+                                                  .topology = levelset::topologyFor(o->topology)});
     writeVolume(o->output, s.mask);
     if (!o->phi.empty()) writeVolume(o->phi, s.phi);
 

@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/huge_pages.h"
 #include "levelset/row_stencil.h"
+#include "levelset/simple_point.h"
 
 namespace isoatlas::levelset {
 namespace {
@@ -24,9 +25,9 @@ constexpr int kSelf = besideAt(0, 0);
 
 class CpuSolver final : public SolverBackend {
 public:
-  CpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims, int pageSize)
+  CpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims, int pageSize, Topology topology)
       : dims_(dims), pagesX_((dims[0] + pageSize - 1) / pageSize), pagesY_((dims[1] + pageSize - 1) / pageSize),
-        P_(pageSize) {
+        topology_(topology), P_(pageSize) {
     if (std::all_of(source.begin(), source.end(), [](float v) { return v >= 0 && v <= 255 && v == std::floor(v); }))
       sourceBytes_ = pageBlocked<std::uint8_t>(source);
     else
@@ -67,6 +68,13 @@ public:
           info.origins[k] = origin(pm, slots[west + 1]);
           info.eastEdges[k] = edgesOf(slots[west + 2]);
         }
+    }
+    if (topology_ == Topology::Preserve) {
+      around_.resize(active.size());
+      for (std::size_t i = 0; i < active.size(); ++i) {
+        const auto slots = pm.neighbourSlots(active[i]);
+        for (std::size_t n = 0; n < 27; ++n) around_[i][n] = origin(pm, slots[n]);
+      }
     }
   }
 
@@ -112,26 +120,36 @@ public:
     // Pass 2: explicit Euler step, clamped; count sign changes; which pages changed by more than
     // settledChange. Pass 1 has read everything, so the update is in place (the GPU ping-pongs
     // instead) and visits only the voxels that move.
+    // With the topology preserved, a voxel that would change side waits in sideChanges_ for pass 2b.
     std::atomic<std::int64_t> signChanges{0};
+    const bool preserve = topology_ == Topology::Preserve;
     result.moved.assign(pages_.size(), 0);
+    if (preserve) sideChanges_.resize(pages_.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pages_.size()), [&](const auto& range) {
       std::int64_t changes = 0;
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         bool moved = false;
+        if (preserve) sideChanges_[i].clear();
         for (const Moving& m : moving_[i]) {
           float& value = phi[m.texel];
           const float next = std::clamp(value + result.dt * m.rate, -kClamp, kClamp);
+          if (preserve && (next > 0) != (value > 0)) {
+            sideChanges_[i].push_back({m.texel, next});
+            continue;
+          }
           changes += (next > 0) != (value > 0);
           moved |= std::fabs(next - value) > settledChange;
           value = next;
         }
-        // Each page refreshes its own slot's column copy; none is read before pass 3.
+        // Each page refreshes its own slot's column copy; none is read before pass 3 (with the
+        // topology preserved, pass 2b refreshes it again where it changes a voxel).
         if (!moving_[i].empty()) refreshEdges(pages_[i].slot, pages_[i].origins[kSelf]);
         result.moved[i] = moved;
       }
       signChanges += changes;
     });
     result.signChanges = signChanges;
+    if (preserve) result.signChanges += changeSidesWhereSimple(phi, settledChange, result.moved);
 
     // Pass 3: the activation message of every page, from the new phi.
     result.messages.assign(pages_.size(), 0);
@@ -168,6 +186,7 @@ public:
     std::size_t moving = 0;
     for (const auto& m : moving_) moving += m.capacity();
     return (phi_.size() + edges_.size()) * sizeof(float) + moving * sizeof(Moving) + pages_.size() * sizeof(PageInfo) +
+           around_.size() * sizeof(around_[0]) +
            sourceFloats_.size() * sizeof(float) + sourceBytes_.size();
   }
 
@@ -187,6 +206,10 @@ private:
   struct Moving {
     std::uint32_t texel;
     float rate;
+  };
+  struct SideChange {
+    std::uint32_t texel;
+    float next;  // the step's value, on the other side
   };
 
   static Origin origin(const PageManager& pm, std::int32_t slot) { return pm.slotOrigin(slot); }
@@ -296,6 +319,57 @@ private:
     return moved;
   }
 
+  // Pass 2b: the voxels waiting to change side, parity class by parity class of their (x, y, z):
+  // each changes where it is a simple point of the object as the classes before left it, and is
+  // held on its side, kHeldOffFront from the front, where not. Returns the voxels that changed side;
+  // sets moved[i] where page i's changed by more than settledChange.
+  std::int64_t changeSidesWhereSimple(Pool& phi, float settledChange, std::vector<std::uint8_t>& moved) {
+    std::atomic<std::int64_t> changes{0};
+    for (int parity = 0; parity < 8; ++parity)
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pages_.size()), [&](const auto& range) {
+        std::int64_t local = 0;
+        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+          bool changed = false;
+          for (const SideChange& c : sideChanges_[i]) {
+            const auto [x, y] = localOf(pages_[i], c.texel);
+            const std::int64_t gx = pages_[i].coords[0] * P_ + x, gy = pages_[i].coords[1] * P_ + y, gz = pages_[i].coords[2];
+            if (int(gx & 1) + 2 * int(gy & 1) + 4 * int(gz & 1) != parity) continue;
+            float& value = phi[c.texel];
+            const float next = isSimplePoint(insideAround(phi, i, x, y)) ? c.next : (value > 0 ? kHeldOffFront : -kHeldOffFront);
+            local += (next > 0) != (value > 0);
+            moved[i] |= std::fabs(next - value) > settledChange;
+            changed |= next != value;
+            value = next;
+          }
+          if (changed) refreshEdges(pages_[i].slot, pages_[i].origins[kSelf]);
+        }
+        changes += local;
+      });
+    return changes;
+  }
+  // Where texel lies in page i: its column and row.
+  std::pair<int, int> localOf(const PageInfo& page, std::uint32_t texel) const {
+    const Origin& o = page.origins[kSelf];
+    return {int(texel % width_) - o[0], int(texel / width_) - o[1]};
+  }
+  // The inside bits of voxel (x, y) of page i's 3 x 3 x 3 (simple_point.h's order), read through
+  // the page's 27 neighbours; past the volume's edge is outside.
+  std::uint32_t insideAround(const Pool& phi, std::size_t i, int x, int y) const {
+    const PageInfo& page = pages_[i];
+    std::uint32_t inside = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int lx = x + dx, ly = y + dy;
+          const std::int64_t gx = page.coords[0] * P_ + lx, gy = page.coords[1] * P_ + ly, gz = page.coords[2] + dz;
+          if (gx < 0 || gy < 0 || gz < 0 || gx >= dims_[0] || gy >= dims_[1] || gz >= dims_[2]) continue;
+          const int ox = lx < 0 ? -1 : (lx >= P_ ? 1 : 0), oy = ly < 0 ? -1 : (ly >= P_ ? 1 : 0);
+          const Origin& o = around_[i][std::size_t((dz + 1) * 9 + (oy + 1) * 3 + ox + 1)];
+          if (phi[texelOf(o, lx - ox * P_, ly - oy * P_)] > 0) inside |= 1u << ((dz + 1) * 9 + (dy + 1) * 3 + dx + 1);
+        }
+    return inside;
+  }
+
   // Which pages must be active next: this one if any voxel differs from a face neighbour; a
   // neighbour page if a voxel on the shared border differs from its voxel across it. Rows are read
   // in place through the neighbour table, the x neighbours' columns from their copies (no apron:
@@ -378,6 +452,9 @@ private:
   Pool phi_;
   std::vector<float> edges_;  // per slot, its first and last columns (refreshEdges)
   std::vector<std::vector<Moving>> moving_;  // per active page, from pass 1
+  Topology topology_;
+  std::vector<std::vector<SideChange>> sideChanges_;  // per active page, pass 2's for pass 2b (Preserve)
+  std::vector<std::array<Origin, 27>> around_;        // per active page, its 3 x 3 x 3's origins (Preserve)
   int P_ = 16;
   std::size_t width_ = 0;
   std::vector<PageInfo> pages_;
@@ -385,8 +462,9 @@ private:
 
 }  // namespace
 
-std::unique_ptr<SolverBackend> makeCpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims, int pageSize) {
-  return std::make_unique<CpuSolver>(source, dims, pageSize);
+std::unique_ptr<SolverBackend> makeCpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims, int pageSize,
+                                             Topology topology) {
+  return std::make_unique<CpuSolver>(source, dims, pageSize, topology);
 }
 
 }  // namespace isoatlas::levelset

@@ -2,6 +2,7 @@
 // backend for machines without a GPU (--backend cpu).
 //   source: the volume's intensities as floats, x fastest (the speed D(I) is computed from them)
 //   pageSize: the PageManager's P. Any pool layout works; PoolLayout::Contiguous is the fast one.
+//   topology: Free, or Preserve (solver_backend.h)
 #pragma once
 #include <memory>
 
@@ -9,6 +10,7 @@
 
 namespace isoatlas::levelset {
 
-std::unique_ptr<SolverBackend> makeCpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims, int pageSize);
+std::unique_ptr<SolverBackend> makeCpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims, int pageSize,
+                                             Topology topology = Topology::Free);
 
 }  // namespace isoatlas::levelset

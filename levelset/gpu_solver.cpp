@@ -8,6 +8,7 @@
 #include "core/gl/resources.h"
 #include "core/gl/stage_profile.h"
 #include "kLevelsetShaders.h"
+#include "levelset/simple_point.h"
 #include "levelset/speed.h"
 
 namespace isoatlas::levelset {
@@ -26,8 +27,8 @@ using Origin = std::array<std::int32_t, 2>;  // std430 ivec2
 
 class GpuSolver final : public SolverBackend {
 public:
-  GpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims)
-      : ctx_(gl::Context::current()), source_(std::move(source)), dims_(dims), counters_(16) {}
+  GpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims, Topology topology)
+      : ctx_(gl::Context::current()), source_(std::move(source)), dims_(dims), topology_(topology), counters_(16) {}
 
   std::string name() const override { return "gpu (" + ctx_.info().renderer + ")"; }
 
@@ -35,15 +36,19 @@ public:
     requireCurrent();
     if (P_ != pm.pageSize()) {
       P_ = pm.pageSize();
-      const gl::Defines defines{{"PAGE_SIZE", std::to_string(P_)},
-                                {"CLAMP", gl::glslFloat(kClamp)},
-                                {"CFL_FRACTION", gl::glslFloat(kCflFraction)},
-                                {"CURVATURE_LIMIT", gl::glslFloat(kCurvatureLimit)},
-                                {"RESCALE_SPEED", gl::glslFloat(kRescaleSpeed)}};
+      gl::Defines defines{{"PAGE_SIZE", std::to_string(P_)},
+                          {"CLAMP", gl::glslFloat(kClamp)},
+                          {"CFL_FRACTION", gl::glslFloat(kCflFraction)},
+                          {"CURVATURE_LIMIT", gl::glslFloat(kCurvatureLimit)},
+                          {"RESCALE_SPEED", gl::glslFloat(kRescaleSpeed)},
+                          {"PRESERVE_TOPOLOGY", topology_ == Topology::Preserve ? "1" : "0"},
+                          {"HELD_OFF_FRONT", gl::glslFloat(kHeldOffFront)}};
+      for (const auto& d : simplePointDefines()) defines.push_back(d);
       speed_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/speed.comp", defines);
       update_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/update.comp", defines);
       message_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/message.comp", defines);
       writePages_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/write_pages.comp", defines);
+      if (topology_ == Topology::Preserve) topologyPass_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/topology.comp", defines);
     }
     profile_.stage("pages changed: grow pool");
     growPool(pm);
@@ -117,9 +122,23 @@ public:
     glUniform1f(update_->uniform("settledChange"), settledChange);
     glUniform1i(update_->uniform("movedOffset"), int(messageBytes / 4));
     glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-    glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    const bool preserve = topology_ == Topology::Preserve;
+    glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, preserve ? GL_READ_WRITE : GL_READ_ONLY, GL_R32F);
     glBindImageTexture(2, phi_[1 - current_].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
     update_->dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+    if (preserve) {
+      profile_.stage("topology: sides changed where simple");
+      setCommon(*topologyPass_);
+      glUniform1f(topologyPass_->uniform("settledChange"), settledChange);
+      glUniform1i(topologyPass_->uniform("movedOffset"), int(messageBytes / 4));
+      glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+      glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+      glBindImageTexture(2, phi_[1 - current_].id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
+      for (int parity = 0; parity < 8; ++parity) {  // one class after another: each reads the ones before
+        glUniform1i(topologyPass_->uniform("parity"), parity);
+        topologyPass_->dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+      }
+    }
     current_ = 1 - current_;
 
     profile_.stage("messages");
@@ -296,10 +315,12 @@ private:
   gl::Context& ctx_;
   std::vector<float> source_;  // the whole volume, in host memory; the GPU holds active pages only
   std::array<std::int64_t, 3> dims_;
+  Topology topology_;
   std::vector<std::int64_t> slotPage_;  // per slot: the page whose intensities sourcePool_ holds there
   gl::Texture phi_[2], rate_, sourcePool_;
   gl::Buffer pageTable_, counters_, messages_, evaluate_;  // evaluate_: a byte per active page, iterate's
   const gl::Program *speed_ = nullptr, *update_ = nullptr, *message_ = nullptr, *writePages_ = nullptr;  // ctx_'s
+  const gl::Program* topologyPass_ = nullptr;  // Topology::Preserve's pass 2b
   std::vector<float> hostPool_;  // phiPoolOnHost's copy
   int current_ = 0, P_ = 0, poolWidth_ = 0, poolHeight_ = 0;
   std::int32_t pageCount_ = 0;
@@ -310,8 +331,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<SolverBackend> makeGpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims) {
-  return std::make_unique<GpuSolver>(std::move(source), dims);
+std::unique_ptr<SolverBackend> makeGpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims, Topology topology) {
+  return std::make_unique<GpuSolver>(std::move(source), dims, topology);
 }
 
 }  // namespace isoatlas::levelset

@@ -13,6 +13,7 @@
 
 namespace isoatlas::levelset {
 
-std::unique_ptr<SolverBackend> makeGpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims);
+std::unique_ptr<SolverBackend> makeGpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims,
+                                             Topology topology = Topology::Free);
 
 }  // namespace isoatlas::levelset

@@ -18,6 +18,12 @@ void validateParams(const SpeedParams& p) {
           "alpha must lie in [0, 1] (got " + std::to_string(p.alpha) + ")");
 }
 
+Topology topologyFor(const std::string& word) {
+  if (word == "free") return Topology::Free;
+  if (word == "preserve") return Topology::Preserve;
+  throw Error("--topology " + word + ": say free or preserve", ErrorKind::BadInput);
+}
+
 LevelSet::LevelSet(const Volume& source, const SpeedParams& params, const LevelSetOptions& options)
     : params_(params), settledChange_(options.settledChange) {
   validateParams(params);
@@ -31,8 +37,8 @@ LevelSet::LevelSet(const Volume& source, const SpeedParams& params, const LevelS
                                          options.backend == Backend::Gpu ? PoolLayout::Texture : PoolLayout::Contiguous);
   requireFiniteVoxels(source, "the source volume");
   std::vector<float> intensities = source.toFloat();
-  backend_ = options.backend == Backend::Gpu ? makeGpuSolver(std::move(intensities), source.dims)
-                                             : makeCpuSolver(intensities, source.dims, options.pageSize);
+  backend_ = options.backend == Backend::Gpu ? makeGpuSolver(std::move(intensities), source.dims, options.topology)
+                                             : makeCpuSolver(intensities, source.dims, options.pageSize, options.topology);
   renumberPages_ = options.renumberPages && options.backend != Backend::Gpu;
   mark_.assign(std::size_t(pages_->virtualPageCount()), 0);
   movedPage_.assign(std::size_t(pages_->virtualPageCount()), 0);

@@ -5,6 +5,7 @@
 // or a mask, read phi or the mask at any time.
 // Coordinates are voxel indices; phi is in voxel units, > 0 inside (see speed.h).
 #pragma once
+#include <array>
 #include <functional>
 #include <memory>
 #include <string>
@@ -29,7 +30,15 @@ struct LevelSetOptions {
   // (PageManager::renumberInPageOrder), so that each page's neighbours lie near it in the pool. phi is
   // the same either way; false only to compare.
   bool renumberPages = true;
+  // Preserve: the model keeps the topology it starts with (a ball stays a sphere, two seeds two
+  // components), as Han, Xu and Prince's level set (solver_backend.h). Steering (spheres, masks) is
+  // not held to it.
+  Topology topology = Topology::Free;
 };
+
+// --topology's words: "free" or "preserve"; throws Error (bad input) for another.
+Topology topologyFor(const std::string& word);
+inline constexpr std::array<const char*, 2> kTopologyChoices{"free", "preserve"};
 
 struct RunOptions {
   int maxIterations = 1000;

@@ -14,6 +14,13 @@
 
 namespace isoatlas::levelset {
 
+// Whether a voxel may change side freely (the seed's solver), or only where that keeps the object's
+// topology (a simple point, levelset/simple_point.h; Han, Xu and Prince 2003). Preserve updates the
+// voxels that would change side in eight parity classes of (x, y, z) mod 2, one after another: no two
+// voxels of a class are neighbours, so each class's tests are independent and both backends give one
+// answer whatever the order within a class.
+enum class Topology { Free, Preserve };
+
 struct IterationResult {
   std::vector<std::uint8_t> messages;  // one byte per active page, in PageManager::activePages() order
   std::vector<std::uint8_t> moved;     // per active page, the same order: 1 where a voxel's phi changed by more than settledChange

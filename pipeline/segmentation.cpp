@@ -4,16 +4,24 @@
 
 #include "core/error.h"
 #include "core/progress.h"
+#include "levelset/fill_threads.h"
 #include "pipeline/coarse_start.h"
 
 namespace isoatlas::pipeline {
+
+void requireTopologyWithStart(levelset::Topology topology, bool halfResolutionStart) {
+  require(!halfResolutionStart || topology == levelset::Topology::Free,
+          "--half-resolution-start with --topology preserve: the start from half resolution does not keep the seeds' topology; leave one out");
+}
 
 Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& request) {
   Segmentation s;
   s.backend = request.backend;
   s.renderer = request.renderer;
-  s.levelSet = std::make_unique<levelset::LevelSet>(volume, request.params,
-                                                    levelset::LevelSetOptions{.backend = s.backend, .pageSize = request.pageSize});
+  s.topology = request.topology;
+  requireTopologyWithStart(request.topology, request.halfResolutionStart);
+  s.levelSet = std::make_unique<levelset::LevelSet>(
+      volume, request.params, levelset::LevelSetOptions{.backend = s.backend, .pageSize = request.pageSize, .topology = request.topology});
   const auto start = std::chrono::steady_clock::now();
   // One progress line a run: iterations out of the most allowed.
   auto runOptions = [&](Progress& progress) {
@@ -36,6 +44,22 @@ Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& requ
   Progress progress(request.label, std::uint64_t(request.maxIterations), "iterations");
   s.stats = s.levelSet->run(runOptions(progress));
   progress.finish();
+  if (request.topology == levelset::Topology::Preserve) {
+    // The threads of background the held voxels leave (fill_threads.h) filled, and the front run on
+    // from there (phi is rebuilt from the mask).
+    Volume mask = s.levelSet->mask();
+    s.threadVoxelsFilled = levelset::fillThreads(mask);
+    if (s.threadVoxelsFilled > 0) {
+      s.levelSet->setMask(mask);
+      Progress again(request.label + " (threads filled)", std::uint64_t(request.maxIterations), "iterations");
+      const levelset::RunStats more = s.levelSet->run(runOptions(again));
+      again.finish();
+      s.stats.iterations += more.iterations;
+      s.stats.seconds += more.seconds;
+      s.stats.simulatedTime += more.simulatedTime;
+      s.stats.converged = more.converged;
+    }
+  }
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (request.readPhi) {
     s.phi = s.levelSet->phi();
@@ -57,7 +81,9 @@ nlohmann::json Segmentation::figures() const {
           {"active_pages_peak", levelSet->pages().stats().peakActive},
           {"physical_bytes_peak", levelSet->physicalBytesPeak()},
           {"half_resolution_iterations", halfResolution.iterations},
-          {"half_resolution_seconds", halfResolution.seconds}};
+          {"half_resolution_seconds", halfResolution.seconds},
+          {"topology", topology == levelset::Topology::Preserve ? "preserve" : "free"},
+          {"thread_voxels_filled", threadVoxelsFilled}};
 }
 
 }  // namespace isoatlas::pipeline

@@ -35,6 +35,7 @@ struct SegmentationRequest {
   // Start from the solution at half the resolution (pipeline/coarse_start.h) instead of the seeds;
   // only with untilConverged (a count of steps from the seeds means what it says; Error otherwise).
   bool halfResolutionStart = false;
+  levelset::Topology topology = levelset::Topology::Free;  // Preserve: the seeds' topology kept (not with the half-resolution start)
 };
 
 struct Segmentation {
@@ -43,13 +44,19 @@ struct Segmentation {
   std::string renderer;
   levelset::RunStats stats;            // the full-resolution run
   levelset::RunStats halfResolution;   // the start's run, when there was one (else 0 iterations)
+  levelset::Topology topology = levelset::Topology::Free;
+  std::int64_t threadVoxelsFilled = 0;  // preserved: levelset/fill_threads.h's, before the front ran on
   double seconds = 0;                  // the whole segmentation, start included
   Volume phi, mask;  // phi: empty unless asked for
   std::int64_t insideVoxels = 0;
   // backend, renderer, iterations, seconds, converged, inside_voxels, active_pages_peak,
-  // physical_bytes_peak, half_resolution_iterations, half_resolution_seconds
+  // physical_bytes_peak, half_resolution_iterations, half_resolution_seconds, topology, thread_voxels_filled
   nlohmann::json figures() const;
 };
+
+// The start at half resolution is a mask made on another grid, which nothing holds to the seeds'
+// topology: Error (bad input) for the two together.
+void requireTopologyWithStart(levelset::Topology topology, bool halfResolutionStart);
 
 Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& request);
 

@@ -67,15 +67,18 @@ py::array ownedArray(Volume v) {
 
 void bindStages(py::module_& m) {
   py::class_<PyLevelSet>(m, "LevelSet", "the steerable segmentation (isoatlas view steers the same): seed, step, change T/eps/alpha, read")
-      .def(py::init([](const py::object& volume, double target, double width, double alpha, const std::string& backend, const py::object& affine) {
+      .def(py::init([](const py::object& volume, double target, double width, double alpha, const std::string& backend, const py::object& affine,
+                       const std::string& topology) {
              const levelset::SpeedParams params{float(target), float(width), float(alpha)};
              levelset::validateParams(params);
+             const levelset::Topology kept = levelset::topologyFor(topology);
              PyLevelSet p;
              p.source = std::make_unique<Volume>(toVolume(volume, affine, "LevelSet"));
-             p.levelSet = std::make_unique<levelset::LevelSet>(*p.source, params, levelset::LevelSetOptions{.backend = gpuFor(backend).backend});
+             p.levelSet = std::make_unique<levelset::LevelSet>(*p.source, params,
+                                                               levelset::LevelSetOptions{.backend = gpuFor(backend).backend, .topology = kept});
              return p;
            }), py::arg("volume"), py::arg("target"), py::arg("width"), py::arg("alpha") = 0.5, py::arg("backend") = "auto",
-           py::arg("affine") = py::none())
+           py::arg("affine") = py::none(), py::arg("topology") = "free")
       .def("add_sphere", [](PyLevelSet& p, const std::vector<double>& centre, double radius, bool add) {
              require(centre.size() == 3, "add_sphere: centre is (x, y, z) in voxel indices");
              pipeline::requireInside(*p.source, {centre[0], centre[1], centre[2]}, "add_sphere: centre");
@@ -129,7 +132,9 @@ void bindStages(py::module_& m) {
 
   m.def("segment", [](const py::object& volume, const std::vector<std::vector<double>>& seeds, double target, double width, double alpha,
                       const std::string& backend, int iterations, bool converge, bool halfResolutionStart, const py::object& progress,
-                      const py::object& affine) {
+                      const py::object& affine, const std::string& topology) {
+        const levelset::Topology kept = levelset::topologyFor(topology);
+        pipeline::requireTopologyWithStart(kept, halfResolutionStart);
         const VolumeArgument argument(volume, affine, "segment");
         const Volume& v = argument.get();
         const levelset::SpeedParams params{float(target), float(width), float(alpha)};
@@ -145,15 +150,16 @@ void bindStages(py::module_& m) {
           py::gil_scoped_release release;
           s = pipeline::segmentVolume(v, {.params = params, .seeds = balls, .backend = gpu.backend, .renderer = gpu.renderer,
                                      .maxIterations = iterations, .untilConverged = converge, .readPhi = true,
-                                     .halfResolutionStart = halfResolutionStart});
+                                     .halfResolutionStart = halfResolutionStart, .topology = kept});
         }
         // Arrays sharing the Volumes' voxels (the Volumes kept alive as their owners).
         return py::make_tuple(ownedArray(std::move(s.mask)), ownedArray(std::move(s.phi)), toDict(s.figures()));
       }, py::arg("volume"), py::arg("seeds"), py::arg("target"), py::arg("width"), py::arg("alpha") = 0.5, py::arg("backend") = "auto",
       py::arg("iterations") = 1000, py::arg("converge") = false, py::arg("half_resolution_start") = false, py::arg("progress") = py::none(),
-      py::arg("affine") = py::none(),
+      py::arg("affine") = py::none(), py::arg("topology") = "free",
       "the paged level-set segmentation (isoatlas segment): (mask uint8, phi float32, report), arrays (x, y, z) in the volume's grid; seeds in "
-      "voxel indices; with converge and half_resolution_start, it starts from its solution at half resolution (faster)");
+      "voxel indices; with converge and half_resolution_start, it starts from its solution at half resolution (faster); "
+      "topology=\"preserve\" keeps the seeds' topology (one sphere per seed)");
 
   m.def("edit", [](const py::object& volume, const std::vector<std::pair<std::string, std::string>>& steps, std::optional<std::uint32_t> depth,
                    const std::string& backend, const py::object& affine) {
@@ -187,7 +193,7 @@ void bindStages(py::module_& m) {
   m.def("extract", [](const py::object& volume, std::optional<double> iso, bool largest, const std::string& backend, const py::object& affine) {
         const VolumeArgument argument(volume, affine, "extract");
         const Volume& v = argument.get();
-        extract::ExtractOptions options{.largestComponent = largest, .backend = gpuFor(backend).backend};
+        extract::ExtractOptions options{.largestComponents = largest ? 1u : 0u, .backend = gpuFor(backend).backend};
         if (iso) options.iso = float(*iso);
         Mesh mesh;
         {

@@ -1,12 +1,18 @@
 #version 450
 // Pass 2: explicit Euler step of every active voxel into the other phi image, clamped; sign changes;
 // a byte per page after the messages', set where a voxel changed by more than settledChange.
+// PRESERVE_TOPOLOGY 1: a voxel whose step would change its side keeps its value here, and the step's
+// value of every voxel goes into `rate` for topology.comp, which changes sides where that is simple.
 layout(r32f, binding = 0) readonly uniform image2D phi;
 #include "pages.glsl"
 #include "speed.glsl"
 #include "counters.glsl"
 layout(local_size_x = PAGE_SIZE, local_size_y = PAGE_SIZE) in;
+#if PRESERVE_TOPOLOGY
+layout(r32f, binding = 1) uniform image2D rate;
+#else
 layout(r32f, binding = 1) readonly uniform image2D rate;
+#endif
 layout(r32f, binding = 2) writeonly uniform image2D next;
 layout(std430, binding = 2) buffer Messages { uint messages[]; };
 uniform float alpha, settledChange;
@@ -27,6 +33,10 @@ void main() {
   // Voxels past the volume's edge (in partial pages) stay outside: the volume is padded with outside.
   float value = (voxel.x >= dims.x || voxel.y >= dims.y) ? -kClamp
                                                          : clamp(old + step * imageLoad(rate, texel).r, -kClamp, kClamp);
+#if PRESERVE_TOPOLOGY
+  imageStore(rate, texel, vec4(value));
+  if ((value > 0.0) != (old > 0.0) && voxel.x < dims.x && voxel.y < dims.y) value = old;  // topology.comp decides
+#endif
   imageStore(next, texel, vec4(value));
   if ((value > 0.0) != (old > 0.0)) atomicAdd(groupChanges, 1);
   if (abs(value - old) > settledChange) atomicOr(groupMoved, 1u);

@@ -197,6 +197,28 @@ def test_segment_and_extract_equal_the_command(tmp_path):
     np.testing.assert_array_equal(triangles, expected_triangles)
 
 
+def test_a_preserved_topology_equals_the_command_and_stays_a_sphere(tmp_path):
+    """A ball seeded in a solid torus: free, it fills the torus (genus 1); preserved, it stops as a
+    sphere, and the Python call gives the command's mask."""
+    x, y, z = np.meshgrid(np.arange(40), np.arange(40), np.arange(20), indexing="ij")
+    ring = (np.hypot(x - 19.5, y - 19.5) - 12) ** 2 + (z - 9.5) ** 2 < 16
+    data = np.where(ring, 100, 40).astype(np.int16)
+    path = str(tmp_path / "torus.nii.gz")
+    nib.save(nib.Nifti1Image(data, np.eye(4)), path)
+    args = dict(seeds=[(31.5, 19.5, 9.5, 2)], target=100, width=30, alpha=0.7, iterations=800, converge=True, backend="cpu")
+    cli("segment", path, "--seed", "31.5,19.5,9.5,2", "--target", "100", "--width", "30", "--alpha", "0.7", "--iterations", "800",
+        "--converge", "--topology", "preserve", "--backend", "cpu", "-o", str(tmp_path / "kept.nii.gz"))
+    kept, kept_phi, report = isoatlas.segment(data, topology="preserve", **args)
+    np.testing.assert_array_equal(kept, np.asanyarray(nib.load(str(tmp_path / "kept.nii.gz")).dataobj))
+    assert report["topology"] == "preserve"
+    free, free_phi, _ = isoatlas.segment(data, **args)
+    genus = lambda phi: isoatlas.surface_figures(*isoatlas.extract(phi, iso=0.0, backend="cpu"))["genus"]
+    assert genus(free_phi) == 1 and genus(kept_phi) == 0
+    assert 2 * np.logical_and(kept, free).sum() / (kept.sum() + free.sum()) >= 0.97
+    with pytest.raises(ValueError, match="--topology wrong: say free or preserve"):
+        isoatlas.segment(data, topology="wrong", **args)
+
+
 def test_long_calls_release_the_gil_and_report_progress():
     data, affine = phantom()
     result = {}
