@@ -41,7 +41,7 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
     const Volume v = readVolume(o->input, o->read);
     const pipeline::Gpu backend = pipeline::chooseBackend(o->backend);
     const bool gpu = backend.backend == levelset::Backend::Gpu;
-    extract::ExtractOptions options{.largestComponent = o->largest, .minComponentTriangles = o->minComponent,
+    extract::ExtractOptions options{.largestComponents = o->largest ? 1u : 0u, .minComponentTriangles = o->minComponent,
                                     .smoothIterations = o->smooth, .backend = backend.backend};
     if (o->iso) options.iso = float(*o->iso);
     extract::ExtractStats stats;

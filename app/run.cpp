@@ -39,6 +39,7 @@ struct RunOptions {
   // without --converge. The demo converges in under a thousand.
   int iterations = 3000;
   bool halfResolutionStart = false;
+  std::string topology;  // --topology; empty: the demo's own (preserve) for the demo volume, else free
   VolumeReadOptions read;  // --volume, --series
   pipeline::ModelRequest model;
   int chart = 33;
@@ -50,7 +51,7 @@ struct RunOptions {
 // demo's when the input is the demo volume and no seed is given (then the demo's edit too, unless
 // the user gave edits).
 SegmentationSetup segmentationSetup(const RunOptions& options, const std::string& input, const Volume& volume) {
-  SegmentationSetup s{{}, {float(options.target.value_or(0)), float(options.width.value_or(1)), float(options.alpha)}, {.steps = *options.edits}};
+  SegmentationSetup s{{}, {float(options.target.value_or(0)), float(options.width.value_or(1)), float(options.alpha)}, {.steps = *options.edits}, levelset::Topology::Free};
   for (const std::string& text : options.seeds) {
     s.seeds.push_back(parseBall(text, "--seed", pipeline::kDefaultSeedRadius));
     pipeline::requireInside(volume, s.seeds.back().centre, "--seed " + text);
@@ -59,7 +60,9 @@ SegmentationSetup segmentationSetup(const RunOptions& options, const std::string
     for (const Vec3& seed : pipeline::kDemoSeeds) s.seeds.push_back({seed, kDemoSeedRadius});
     s.params = pipeline::kDemoParams;
     if (s.edits.steps.empty()) s.edits.steps.push_back({levelset::dvt::Op::Subtract, pipeline::kDemoEdit});
+    s.topology = pipeline::kDemoTopology;
   }
+  if (!options.topology.empty()) s.topology = levelset::topologyFor(options.topology);
   return s;
 }
 
@@ -77,6 +80,7 @@ void checkRunOptions(const RunOptions& o) {
   model.chartSize = o.chart > 0 ? std::uint32_t(o.chart) : 0;
   pipeline::checkModelRequest(model);
   pipeline::stepSolids(*o.edits);  // bad shapes are reported before any work
+  if (!o.topology.empty()) pipeline::requireTopologyWithStart(levelset::topologyFor(o.topology), o.halfResolutionStart);
 }
 
 // The whole job, stage by stage; a stage that cannot run is named as skipped.
@@ -115,7 +119,7 @@ void runJob(const std::string& input, const std::string& outDir, const RunOption
   } else {
     const pipeline::Segmentation s = segmentStage(job, setup, options.iterations, options.halfResolutionStart);
     const EditedVolume edit = editStage(job, s, setup.edits, solids);
-    const Mesh surface = extractStage(job, s, edit);
+    const Mesh surface = extractStage(job, s, edit, setup.seeds.size());
     pipeline::ModelRequest request = options.model;
     request.chartSize = std::uint32_t(options.chart);
     // The model is built and measured on a thread of its own while this one, which holds the GL
@@ -171,6 +175,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       ->check(inRange(1, kMaxIterations));
   sub->add_flag("--half-resolution-start", options->halfResolutionStart,
                 "segment from the solution at half resolution instead of the seeds (faster; the window's script then loads the mask)");
+  addTopologyOption(*sub, options->topology, " (default: preserve for the demo volume without --seed, else free)");
   addEditStepOptions(*sub, options->edits);
   sub->add_option("--base-ratio", options->model.baseRatio,
                   "base vertices of the model as a fraction of the surface's (default: 2 % up to 1000 vertices, at least 1 %)")

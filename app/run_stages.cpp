@@ -28,7 +28,8 @@ pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup,
                                                   .maxIterations = iterations,
                                                   .label = "run: segment",
                                                   .readPhi = true,
-                                                  .halfResolutionStart = halfResolutionStart});
+                                                  .halfResolutionStart = halfResolutionStart,
+                                                  .topology = setup.topology});
     const pipeline::Segmentation& s = *result;
     const std::string maskFile = job.products.add("mask.nii.gz", "the segmentation: uint8, 1 inside, on the input's grid");
     writeVolume(maskFile, s.mask);
@@ -67,11 +68,14 @@ EditedVolume editStage(RunJob& job, const pipeline::Segmentation& s, const pipel
   return out;
 }
 
-Mesh extractStage(RunJob& job, const pipeline::Segmentation& s, const EditedVolume& edit) {
+Mesh extractStage(RunJob& job, const pipeline::Segmentation& s, const EditedVolume& edit, std::size_t seeds) {
   Mesh surface;
   job.stage("extract", [&] {
     extract::ExtractStats stats;
-    const extract::ExtractOptions options{.iso = 0.0f, .largestComponent = true, .backend = s.backend};
+    // Free, the largest component (noise leaves specks and cavities); preserved, one per seed (an edit
+    // may have cut specks off them).
+    const extract::ExtractOptions options{
+        .iso = 0.0f, .largestComponents = s.topology == levelset::Topology::Free ? 1u : seeds, .backend = s.backend};
     surface = edit.tree ? extract::extractSurface(levelset::dvt::sampleField(*edit.tree, edit.tree->frame.voxelDepth()), options, &stats)
                         : extract::extractLevelSet(*s.levelSet, options, &stats);
     writeMesh(job.products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), surface);

@@ -49,6 +49,7 @@ struct SegmentationSetup {
   std::vector<pipeline::Ball> seeds;
   levelset::SpeedParams params;
   pipeline::EditRequest edits;
+  levelset::Topology topology;
 };
 
 // Segments the volume (mask.nii.gz, phi.nii.gz, view-session.txt).
@@ -64,8 +65,9 @@ EditedVolume editStage(RunJob& job, const pipeline::Segmentation& s, const pipel
                        const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids);
 
 // Marching cubes over the edited tree's distances; without edits, over the level set's active pages,
-// read where the solver keeps them. The surface keeps its largest component.
-Mesh extractStage(RunJob& job, const pipeline::Segmentation& s, const EditedVolume& edit);
+// read where the solver keeps them. The surface keeps its largest component; with the topology
+// preserved, its `seeds` largest (one per seed).
+Mesh extractStage(RunJob& job, const pipeline::Segmentation& s, const EditedVolume& edit, std::size_t seeds);
 
 // The edited tree ray cast (the edit's picture), then the surface seen from the left (RAS -x) and
 // from above, as a reader of an atlas would look, and the segmentation over the input through the

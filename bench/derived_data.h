@@ -39,7 +39,7 @@ inline Mesh ch2WhiteMatterSurface(const std::string& data) {
     for (const Vec3& seed : pipeline::kDemoSeeds) ls.addSphere(seed, pipeline::kDemoSeedRadius);
     ls.run({.maxIterations = 3000, .changedShare = 0});  // the criterion the recorded figures were made with
     std::filesystem::create_directories(data + "/derived");
-    writeMesh(path, extract::extractLevelSet(ls, {.largestComponent = true}));
+    writeMesh(path, extract::extractLevelSet(ls, {.largestComponents = 1}));
   }
   return readMesh(path);
 }

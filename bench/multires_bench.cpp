@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
   for (const std::string& name : names) {
     if (name == "white-matter")
       compare("ch2better white matter",
-              extract::extractSurface(bench::ch2betterWhiteMatterPhi(data), {.iso = 0.0f, .largestComponent = true}));
+              extract::extractSurface(bench::ch2betterWhiteMatterPhi(data), {.iso = 0.0f, .largestComponents = 1}));
     else
       compare(name, readMesh(data + "/meshes/" + name + ".off"));
   }

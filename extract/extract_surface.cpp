@@ -75,7 +75,7 @@ Mesh march(const Grid& grid, levelset::Backend backend, const char* field, const
   s.cellsTotal = (geometry.dims[0] + 1) * (geometry.dims[1] + 1) * (geometry.dims[2] + 1);
   Mesh mesh = std::move(result.mesh);
   if (gpu) profile.stage("keep components (cpu)");
-  s.componentsRemoved = keepComponents(mesh, o.largestComponent, o.minComponentTriangles);
+  s.componentsRemoved = keepComponents(mesh, o.largestComponents, o.minComponentTriangles);
   if (gpu) profile.stage("to world, smooth (cpu)");
   toWorld(mesh, geometry);
   taubinSmooth(mesh, o.smoothIterations);

@@ -19,7 +19,7 @@ namespace isoatlas::extract {
 
 struct ExtractOptions {
   std::optional<float> iso;        // default: 0.5 for a mask, 0 for a level set, the mid value otherwise
-  bool largestComponent = false;
+  std::size_t largestComponents = 0;  // keep only this many, the largest (0: every one)
   std::int64_t minComponentTriangles = 0;
   int smoothIterations = 0;        // Taubin (lambda 0.5, mu -0.53)
   levelset::Backend backend = levelset::Backend::Cpu;  // Gpu: marching cubes in compute shaders

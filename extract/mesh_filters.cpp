@@ -6,8 +6,8 @@
 
 namespace isoatlas::extract {
 
-std::int64_t keepComponents(Mesh& mesh, bool largestOnly, std::int64_t minTriangles) {
-  if (!largestOnly && minTriangles <= 0) return 0;
+std::int64_t keepComponents(Mesh& mesh, std::size_t largest, std::int64_t minTriangles) {
+  if (largest == 0 && minTriangles <= 0) return 0;
   UnionFind sets(mesh.vertexCount());
   for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
     const auto face = mesh.face(f);
@@ -15,17 +15,17 @@ std::int64_t keepComponents(Mesh& mesh, bool largestOnly, std::int64_t minTriang
   }
   std::vector<std::int64_t> size(mesh.vertexCount(), 0);  // triangles per component, at its root
   for (std::size_t f = 0; f < mesh.faceCount(); ++f) ++size[sets.find(mesh.face(f)[0])];
-  const std::int64_t largest = size.empty() ? 0 : *std::max_element(size.begin(), size.end());
-  // Which components stay, decided once per root; ties for the largest: the first root only.
+  // The components' roots, largest first (a stable sort: ties in the order found).
+  std::vector<std::uint32_t> roots;
+  for (std::uint32_t v = 0; v < size.size(); ++v)
+    if (sets.parent[v] == v && size[v] > 0) roots.push_back(v);
+  std::stable_sort(roots.begin(), roots.end(), [&](std::uint32_t a, std::uint32_t b) { return size[a] > size[b]; });
   std::vector<char> keepRoot(mesh.vertexCount(), 0);
-  std::int64_t components = 0, kept = 0;
-  bool largestTaken = false;
-  for (std::uint32_t v = 0; v < size.size(); ++v) {
-    if (sets.parent[v] != v || size[v] == 0) continue;
-    ++components;
-    const bool keep = largestOnly ? !largestTaken && size[v] == largest : size[v] >= minTriangles;
-    largestTaken |= keep && largestOnly;
-    keepRoot[v] = keep;
+  const std::int64_t components = std::int64_t(roots.size());
+  std::int64_t kept = 0;
+  for (std::size_t k = 0; k < roots.size(); ++k) {
+    const bool keep = (largest == 0 || k < largest) && size[roots[k]] >= minTriangles;
+    keepRoot[roots[k]] = keep;
     kept += keep;
   }
   mesh = selectFaces(mesh, [&](std::size_t f) { return keepRoot[sets.find(mesh.face(f)[0])] != 0; });

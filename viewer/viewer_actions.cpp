@@ -147,7 +147,7 @@ void Viewer::build() {
   require(!job_, "build: a model is being built already");
   SegmentationSession& s = *seg().session;
   require(s.activePages() > 0, "build: the segmentation is empty (seed it first)");
-  Mesh surface = extract::extractLevelSet(s.levelSet(), {.largestComponent = true, .backend = backend_});
+  Mesh surface = extract::extractLevelSet(s.levelSet(), {.largestComponents = 1, .backend = backend_});
   require(surface.faceCount() > 0, "build: the segmentation has no surface");
   job_ = std::make_unique<ModelJob>(std::move(surface), options_.buildModel);
   status_ = "building the model";

@@ -223,11 +223,11 @@ TEST(ExtractSurface, ComponentsAndSmoothing) {
   ExtractStats stats;
   const Mesh both = extractSurface(v, {.iso = 0.0f});
   EXPECT_EQ(analyzeTopology(both).components, 2u);
-  const Mesh largest = extractSurface(v, {.iso = 0.0f, .largestComponent = true}, &stats);
+  const Mesh largest = extractSurface(v, {.iso = 0.0f, .largestComponents = 1}, &stats);
   EXPECT_EQ(analyzeTopology(largest).components, 1u);
   EXPECT_EQ(stats.componentsRemoved, 1);
   EXPECT_NEAR(enclosedVolume(largest), 4.0 / 3 * M_PI * 216, 0.03 * 4.0 / 3 * M_PI * 216);
-  const Mesh smooth = extractSurface(v, {.iso = 0.0f, .largestComponent = true, .smoothIterations = 10});
+  const Mesh smooth = extractSurface(v, {.iso = 0.0f, .largestComponents = 1, .smoothIterations = 10});
   expectClosedManifold(smooth, 0);
   ASSERT_EQ(smooth.vertexCount(), largest.vertexCount());  // smoothing moves vertices, keeps their order
   double moved = 0;

@@ -125,7 +125,7 @@ TEST(CaptureLevels, ALabelVolumesSurfaceIsAClosedManifoldAtEveryLevelAndSplit) {
   });
   Volume mask = Volume::zeros(labels.dims, ScalarType::UInt8);
   for (std::size_t n = 0; n < labels.voxelCount(); ++n) mask.setValue(n, labels.value(n) > 0 ? 1 : 0);
-  const Mesh surface = extract::extractSurface(mask, {.largestComponent = true});
+  const Mesh surface = extract::extractSurface(mask, {.largestComponents = 1});
   ASSERT_GT(surface.faceCount(), 1000u);
   expectEveryLevelClean(test::buildModel(surface, 0.02, 17));
 }
