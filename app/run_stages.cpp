@@ -39,7 +39,7 @@ pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup,
     writeViewSession(job.products.add("view-session.txt", "this segmentation and its edits replayed in the window: isoatlas view --script "
                                                           "view-session.txt (docs/view-script.md)"),
                      job.input, job.volume, setup.params, setup.seeds, s.stats.iterations,
-                     s.halfResolution.iterations > 0 ? maskFile : std::string(), setup.edits.steps);
+                     s.halfResolution.iterations > 0 ? maskFile : std::string(), setup.edits.steps, s.topology, s.iterationsAfterFill);
     return std::to_string(s.insideVoxels) + " voxels in " + std::to_string(s.stats.iterations) + " iterations (" +
            (s.stats.converged ? "converged" : "not converged") + "): mask.nii.gz, phi.nii.gz";
   });

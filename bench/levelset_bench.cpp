@@ -180,11 +180,13 @@ Convergence runItk(Filter* filter, int maxIterations, float insideSign) {
 
 // halfResolutionStart: start from the solution at half the resolution (pipeline/coarse_start.h), as
 // `segment --converge` does; its time is counted in the seconds to convergence.
-Convergence runOurs(const Volume& v, const Case& c, levelset::Backend backend, bool halfResolutionStart = false) {
+// topology: Preserve for "-topology" (segment --topology preserve), its cost beside the free front's.
+Convergence runOurs(const Volume& v, const Case& c, levelset::Backend backend, bool halfResolutionStart = false,
+                    levelset::Topology topology = levelset::Topology::Free) {
   // The GPU solver runs in the caller's context, made here before it (so destroyed after it).
   const auto context = backend == levelset::Backend::Gpu ? gl::Context::headless() : nullptr;
   const auto start = Clock::now();
-  levelset::LevelSet ls(v, c.params, {.backend = backend});
+  levelset::LevelSet ls(v, c.params, {.backend = backend, .topology = topology});
   std::vector<pipeline::Ball> seeds;
   for (const auto& s : c.seeds) seeds.push_back({{s[0], s[1], s[2]}, s[3]});
   if (halfResolutionStart) {
@@ -220,15 +222,16 @@ Convergence runOurs(const Volume& v, const Case& c, levelset::Backend backend, b
   return conv;
 }
 
-// Our solvers: isoatlas-cpu, isoatlas-gpu, and each with "-half-start".
+// Our solvers: isoatlas-cpu, isoatlas-gpu, and each with "-half-start" or "-topology" (preserved).
 bool isHalfStart(const std::string& solver) { return solver.ends_with("-half-start"); }
+bool isTopology(const std::string& solver) { return solver.ends_with("-topology"); }
 bool isOurs(const std::string& solver) {
   for (const char* s : {"isoatlas-cpu", "isoatlas-gpu"})
-    if (solver == s || solver == std::string(s) + "-half-start") return true;
+    if (solver == s || solver == std::string(s) + "-half-start" || solver == std::string(s) + "-topology") return true;
   return false;
 }
-// The same backend started from the seeds at full resolution.
-std::string fullStartOf(const std::string& solver) { return solver.substr(0, solver.size() - std::string("-half-start").size()); }
+// The same backend, free, started from the seeds at full resolution.
+std::string fullStartOf(const std::string& solver) { return solver.substr(0, solver.rfind('-')); }
 
 int runOne(const std::string& solver, const Case& c, const std::string& data, const std::string& out) {
   const Volume v = readVolume(data + "/" + c.file);
@@ -236,7 +239,7 @@ int runOne(const std::string& solver, const Case& c, const std::string& data, co
   const float lower = c.params.target - c.params.width, upper = c.params.target + c.params.width;
   if (isOurs(solver)) {
     conv = runOurs(v, c, solver.rfind("isoatlas-gpu", 0) == 0 ? levelset::Backend::Gpu : levelset::Backend::Cpu,
-                   isHalfStart(solver));
+                   isHalfStart(solver), isTopology(solver) ? levelset::Topology::Preserve : levelset::Topology::Free);
   } else if (solver == "itk-serial") {
     using Filter = itk::ThresholdSegmentationLevelSetImageFilter<Image, Image>;
     auto f = Filter::New();
@@ -300,8 +303,9 @@ int main(int argc, char** argv) {
   const auto tmp = std::filesystem::temp_directory_path() / "isoatlas-bench-levelset";
   std::filesystem::create_directories(tmp);
   const std::string self = std::filesystem::canonical("/proc/self/exe").string();
-  std::vector<std::string> solvers = {"isoatlas-cpu", "isoatlas-cpu-half-start", "itk-serial", "itk-parallel"};
-  if (std::getenv("ISOATLAS_BENCH_GPU")) solvers.insert(solvers.begin() + 2, {"isoatlas-gpu", "isoatlas-gpu-half-start"});
+  std::vector<std::string> solvers = {"isoatlas-cpu", "isoatlas-cpu-half-start", "isoatlas-cpu-topology", "itk-serial", "itk-parallel"};
+  if (std::getenv("ISOATLAS_BENCH_GPU"))
+    solvers.insert(solvers.begin() + 3, {"isoatlas-gpu", "isoatlas-gpu-half-start", "isoatlas-gpu-topology"});
   // ISOATLAS_BENCH_SOLVERS=a,b keeps only those (a GPU lease too short for ITK's serial filter, say).
   if (const char* keep = std::getenv("ISOATLAS_BENCH_SOLVERS")) {
     std::vector<std::string> kept;
@@ -348,6 +352,18 @@ int main(int argc, char** argv) {
                       figures[fullStartOf(ours)]["seconds"], true, device);
         bench::report("levelset", c.name + ", " + ours, "Dice with the peer's result", dice(maskOf(ours), maskOf(fullStartOf(ours))),
                       full, 1.0, false, device);
+      }
+      // The preserved topology's cost beside the free front on the same backend, and how far its voxels differ.
+      if (isTopology(ours) && figures.count(fullStartOf(ours))) {
+        const std::string free = fullStartOf(ours) + ", topology free";
+        const std::string device = figures[ours]["device"].get<std::string>();
+        for (const char* figure : {"ms_per_iteration", "seconds", "iterations"})
+          bench::report("levelset", c.name + ", " + ours,
+                        std::string(figure) == "seconds" ? "seconds to convergence" : std::string(figure) == "iterations" ? "iterations to convergence" : "ms per iteration",
+                        figures[ours][figure], free, figures[fullStartOf(ours)][figure], true, device);
+        bench::report("levelset", c.name + ", " + ours, "Dice with the peer's result", dice(maskOf(ours), maskOf(fullStartOf(ours))), free,
+                      1.0, false, device);
+        continue;  // ITK does not preserve topology: no rows against it
       }
       for (const std::string& peer : {std::string("itk-serial"), std::string("itk-parallel")}) {
         if (!figures.count(peer)) continue;

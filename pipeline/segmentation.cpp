@@ -55,6 +55,7 @@ Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& requ
       const levelset::RunStats more = s.levelSet->run(runOptions(again));
       again.finish();
       s.stats.iterations += more.iterations;
+      s.iterationsAfterFill = more.iterations;
       s.stats.seconds += more.seconds;
       s.stats.simulatedTime += more.simulatedTime;
       s.stats.converged = more.converged;

@@ -46,6 +46,7 @@ struct Segmentation {
   levelset::RunStats halfResolution;   // the start's run, when there was one (else 0 iterations)
   levelset::Topology topology = levelset::Topology::Free;
   std::int64_t threadVoxelsFilled = 0;  // preserved: levelset/fill_threads.h's, before the front ran on
+  int iterationsAfterFill = 0;          // of stats.iterations, those after the filling
   double seconds = 0;                  // the whole segmentation, start included
   Volume phi, mask;  // phi: empty unless asked for
   std::int64_t insideVoxels = 0;

@@ -5,12 +5,13 @@
 
 #include "core/error.h"
 #include "core/volume_io.h"
+#include "levelset/fill_threads.h"
 #include "pipeline/segmentation.h"
 
 namespace isoatlas::viewer {
 
 SegmentationSession::SegmentationSession(Volume source, levelset::Backend backend)
-    : source_(std::move(source)), window_(render::percentileWindow(source_, 1, 99.5)) {
+    : source_(std::move(source)), backend_(backend), window_(render::percentileWindow(source_, 1, 99.5)) {
   // Until probed: T in the middle of the source's window, eps a tenth of it.
   const render::IntensityWindow& w = window_;
   const levelset::SpeedParams start{.target = float((w.low + w.high) / 2), .width = float(std::max(1e-3, (w.high - w.low) / 10)),
@@ -30,6 +31,15 @@ Vec3 SegmentationSession::toIndex(const Vec3& world) const {
 double SegmentationSession::toVoxels(double radius) const {
   require(std::isfinite(radius) && radius > 0, "a radius must be > 0 mm");
   return radius / std::cbrt(source_.spacing.x * source_.spacing.y * source_.spacing.z);
+}
+
+void SegmentationSession::setTopology(levelset::Topology topology) {
+  if (topology == topology_) return;
+  const Runs now = currentRuns();
+  topology_ = topology;
+  levelSet_ = std::make_unique<levelset::LevelSet>(source_, levelSet_->params(),
+                                                   levelset::LevelSetOptions{.backend = backend_, .topology = topology});
+  restore(now);
 }
 
 void SegmentationSession::setParams(const levelset::SpeedParams& params) {
@@ -83,6 +93,13 @@ void SegmentationSession::seed(const Vec3& world, double radius, bool add) {
   remember();
   levelSet_->addSphere(centre, r, add);
   phiChanged();
+}
+
+std::int64_t SegmentationSession::fillThreads() {
+  Volume mask = levelSet_->mask();
+  const std::int64_t filled = levelset::fillThreads(mask);
+  if (filled > 0) replaceMask(mask);
+  return filled;
 }
 
 void SegmentationSession::replaceMask(const Volume& mask) {

@@ -32,6 +32,13 @@ public:
 
   const levelset::SpeedParams& params() const { return levelSet_->params(); }
   void setParams(const levelset::SpeedParams& params);  // checked; takes effect at the next step
+  // Free, or the seeds' topology kept (levelset::Topology; segment --topology): the level set is made
+  // again for it, from the mask as it stands (phi's sub-voxel detail is not kept).
+  void setTopology(levelset::Topology topology);
+  levelset::Topology topology() const { return topology_; }
+  // The threads of background a preserved front leaves filled (levelset/fill_threads.h), as segment
+  // does once it has converged; undoable. Returns the voxels filled.
+  std::int64_t fillThreads();
   // T = mean and eps = standard deviation of the source in a ball (Lefohn's probing); returns them.
   levelset::ProbeResult probe(const Vec3& world, double radius);
   // A ball drawn in (add) or carved out; undoable.
@@ -77,6 +84,8 @@ private:
   double toVoxels(double radius) const;
 
   Volume source_;
+  levelset::Backend backend_;
+  levelset::Topology topology_ = levelset::Topology::Free;
   render::IntensityWindow window_;
   std::unique_ptr<levelset::LevelSet> levelSet_;
   std::vector<Runs> undo_, redo_;  // the newest last

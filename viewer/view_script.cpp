@@ -46,6 +46,9 @@ ViewAction parseAction(const std::vector<std::string>& words, const std::string&
   } else if (v == "tool") {
     need(1, "navigate, probe, seed, unseed or brush");
     if (!window::toolNamed(a.word = words[1])) throw Error(where + ": tool " + a.word + ": navigate, probe, seed, unseed or brush");
+  } else if (v == "topology") {
+    need(1, "free or preserve");
+    oneOf(a.word = words[1], {"free", "preserve"});
   } else if (v == "mode") {
     need(1, "segment, mesh or tree");
     oneOf(a.word = words[1], {"segment", "mesh", "tree"});
@@ -113,7 +116,7 @@ ViewAction parseAction(const std::vector<std::string>& words, const std::string&
   } else if (v == "clip") {
     need(1, "+x, -x, +y, -y, +z, -z or off");
     oneOf(a.word = words[1], {"+x", "-x", "+y", "-y", "+z", "-z", "off"});
-  } else if (v == "undo" || v == "redo" || v == "build" || v == "quit") {
+  } else if (v == "undo" || v == "redo" || v == "build" || v == "fill-threads" || v == "quit") {
     need(0, "nothing");
   } else {
     throw Error(where + ": " + v + " is not an action (" + kUsage + ")");
@@ -180,6 +183,8 @@ void ScriptPlayer::perform(const ViewAction& a, window::Viewer& v, std::string& 
   else if (verb == "probe") v.probe({n[0], n[1], n[2]}, n[3]);
   else if (verb == "seed" || verb == "unseed") v.seed({n[0], n[1], n[2]}, n[3], verb == "seed");
   else if (verb == "set") v.set(a.word, n[0]);
+  else if (verb == "topology") v.setTopology(a.word);
+  else if (verb == "fill-threads") v.fillThreads();
   else if (verb == "run") v.run(int(n[0]));
   else if (verb == "undo") v.undo();
   else if (verb == "redo") v.redo();

@@ -9,6 +9,9 @@
 //   seed X,Y,Z,R              a ball added to the segmentation (model on)
 //   unseed X,Y,Z,R            a ball carved out (model off)
 //   set t|eps|alpha VALUE     a speed parameter
+//   topology free|preserve    whether the front keeps the seeds' topology (segment --topology)
+//   fill-threads              the threads of background a preserved front leaves to its would-be
+//                             cavities filled, as segment does once converged (undoable)
 //   run N                     N solver steps (a few per frame; the script waits for them)
 //   undo                      back to before the last seed, unseed, brush or stroke (32 deep)
 //   redo                      the last undone edit again

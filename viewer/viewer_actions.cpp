@@ -83,6 +83,15 @@ void Viewer::set(const std::string& parameter, double value) {
   seg().session->setParams(p);
 }
 
+void Viewer::setTopology(const std::string& word) {
+  seg().session->setTopology(levelset::topologyFor(word));
+  status_ = "topology " + word;
+}
+
+void Viewer::fillThreads() {
+  status_ = "filled " + std::to_string(seg().session->fillThreads()) + " voxels of threads";
+}
+
 void Viewer::setTool(const std::string& name) {
   const std::optional<Tool> tool = toolNamed(name);
   require(tool.has_value(), "tool " + name + ": navigate, probe, seed, unseed or brush");

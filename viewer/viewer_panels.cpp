@@ -29,6 +29,13 @@ void Viewer::segmentPanel() {
   changed |= ImGui::SliderFloat("eps", &p.width, std::max(1e-3f, (hi - lo) * 1e-3f), std::max(1e-3f, (hi - lo) / 2));
   changed |= ImGui::SliderFloat("alpha", &p.alpha, 0, 1);
   if (changed) attempt([&] { session.setParams(p); });
+  bool keep = session.topology() == levelset::Topology::Preserve;
+  if (ImGui::Checkbox("keep the seeds' topology", &keep))
+    attempt([&] { session.setTopology(keep ? levelset::Topology::Preserve : levelset::Topology::Free); });
+  if (keep) {
+    ImGui::SameLine();
+    if (ImGui::Button("fill threads")) attempt([&] { session.fillThreads(); });
+  }
   ImGui::Separator();
   ImGui::TextUnformatted("click on a slice to:");
   int tool = int(s.tool);

@@ -159,6 +159,8 @@ public:
   void probe(const Vec3& p, double radius);
   void seed(const Vec3& p, double radius, bool add);
   void set(const std::string& parameter, double value);  // t, eps or alpha
+  void setTopology(const std::string& word);              // free or preserve
+  void fillThreads();
   // What a click on the slices does: navigate, probe, seed, unseed or brush (carving; the panel's
   // "brush adds" makes it add).
   void setTool(const std::string& name);

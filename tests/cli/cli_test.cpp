@@ -412,6 +412,32 @@ TEST(Cli, RunSegmentsExtractsAndRendersAPhantomOnBothBackends) {
   }
 }
 
+// run --topology preserve: the ball seeded in the phantom's ring stops as a sphere (the free run's
+// surface has genus 1), and the window's script replays it: the topology, the steps, the threads'
+// filling and the steps after it.
+TEST(Cli, RunPreservingTheTopologyStopsTheRingAsASphere) {
+  const auto dir = test::scratchDir();
+  const auto [torus, truth] = torusVolume(dir);
+  const auto out = dir / "kept";
+  const Result r = run("run " + torus.string() + " -o " + out.string() + " --seed 31,18,14,2 --target 200 --width 60 " +
+                       "--backend cpu --samples 5000 --levels 0,2 --topology preserve");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const MeshTopology t = analyzeTopology(readMesh((out / "surface.ply").string()));
+  EXPECT_TRUE(t.closed && t.manifold) << t.firstProblem;
+  EXPECT_EQ(t.genus, 0);
+  EXPECT_EQ(t.components, 1u);
+  const auto report = nlohmann::json::parse(test::readBytes(out / "report.json"));
+  EXPECT_EQ(report["segment"]["topology"], "preserve");
+  const std::string session = test::readBytes(out / "view-session.txt");
+  EXPECT_NE(session.find("topology preserve\n"), std::string::npos) << session;
+  EXPECT_NE(session.find("fill-threads\n"), std::string::npos) << session;
+  const Result refused = run("run " + torus.string() + " -o " + (dir / "refused").string() +
+                             " --seed 31,18,14,2 --target 200 --width 60 --topology preserve --half-resolution-start");
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_NE(refused.err.find("--half-resolution-start with --topology preserve"), std::string::npos) << refused.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "refused"));
+}
+
 // run's edit before extraction: a box cutting the phantom's ring leaves a closed surface of genus 0.
 TEST(Cli, RunEditsTheSegmentationBeforeExtraction) {
   const auto dir = test::scratchDir();

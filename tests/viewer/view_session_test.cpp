@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "levelset/solids/solid.h"
+#include "levelset/fill_threads.h"
 #include "levelset/probe.h"
 #include "tests/test_util.h"
 #include "tests/viewer/head_phantom.h"
@@ -50,6 +51,28 @@ TEST(ViewSession, ProbeSeedStepsAndUndo) {
   s.undo();
   EXPECT_EQ(s.levelSet().mask().data, grown.data);
   EXPECT_TRUE(s.canUndo()) << "the first seed is still there to undo";
+}
+
+// The window's level set with the topology preserved steps as the command's (the same mask), keeps
+// what it had when switched, and fills threads as segment does.
+TEST(ViewSession, APreservedTopologyStepsAsTheLevelSetDoes) {
+  const test::HeadPhantom head = test::headPhantom();
+  SegmentationSession s(head.image, levelset::Backend::Cpu);
+  s.setParams({.target = 100, .width = 30, .alpha = 0.5});
+  s.seed({0, 0, 0}, 6, true);
+  const Volume seeded = s.levelSet().mask();
+  s.setTopology(levelset::Topology::Preserve);
+  EXPECT_EQ(s.topology(), levelset::Topology::Preserve);
+  EXPECT_EQ(s.levelSet().mask().data, seeded.data) << "the mask is kept across the switch";
+  s.requestSteps(12);
+  while (s.running()) s.advance(0.001);
+  levelset::LevelSet direct(head.image, {.target = 100, .width = 30, .alpha = 0.5}, {.topology = levelset::Topology::Preserve});
+  direct.setMask(seeded);
+  for (int i = 0; i < 12; ++i) direct.step();
+  EXPECT_EQ(s.levelSet().mask().data, direct.mask().data);
+  Volume filled = direct.mask();
+  EXPECT_EQ(s.fillThreads(), levelset::fillThreads(filled));
+  EXPECT_EQ(s.levelSet().mask().data, filled.data);
 }
 
 TEST(ViewSession, UndoRestoresTheMaskBeforeTheLastEdit) {
