@@ -2,31 +2,26 @@
 
 #include <unistd.h>
 
-#include <atomic>
 #include <cstdio>
-#include <mutex>
 
 namespace isoatlas {
 namespace {
 bool g_quiet = false;
-std::mutex g_observerMutex;
-Progress::Observer g_observer;
-std::atomic<bool> g_observed{false};  // skips the clock and the lock when nobody listens
+thread_local std::shared_ptr<const Progress::Observer> t_observer;  // ProgressObserver's, innermost
 }  // namespace
 
-void Progress::setObserver(Observer observer) {
-  const std::lock_guard lock(g_observerMutex);
-  g_observer = std::move(observer);
-  g_observed = bool(g_observer);
+ProgressObserver::ProgressObserver(Progress::Observer observer) : previous_(std::move(t_observer)) {
+  t_observer = std::make_shared<const Progress::Observer>(std::move(observer));
 }
 
+ProgressObserver::~ProgressObserver() { t_observer = std::move(previous_); }
+
 void Progress::notify(bool final) {
-  if (!g_observed) return;
+  if (!observer_) return;
   const auto now = std::chrono::steady_clock::now();
   if (!final && now - lastNotify_ < std::chrono::milliseconds(50)) return;
   lastNotify_ = now;
-  const std::lock_guard lock(g_observerMutex);
-  if (g_observer) g_observer(task_, final || !total_ ? 1.0 : double(done_) / double(total_));
+  (*observer_)(task_, final || !total_ ? 1.0 : double(done_) / double(total_));
 }
 
 void Progress::setQuiet(bool quiet) { g_quiet = quiet; }
@@ -37,7 +32,7 @@ void logInfo(const std::string& line) {
 }
 
 Progress::Progress(std::string task, std::uint64_t total, std::string unit)
-    : task_(std::move(task)), unit_(std::move(unit)), total_(total), start_(std::chrono::steady_clock::now()),
+    : observer_(t_observer), task_(std::move(task)), unit_(std::move(unit)), total_(total), start_(std::chrono::steady_clock::now()),
       lastPrint_(start_), lastNotify_(start_), tty_(isatty(STDERR_FILENO) == 1) {}
 
 Progress::~Progress() {

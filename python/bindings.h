@@ -53,28 +53,28 @@ Mesh toMesh(const py::object& vertices, const py::object& triangles);
 void requireFile(const std::string& path);
 // A report as a Python dict.
 py::dict toDict(const nlohmann::json& json);
-// The process's backend and GL context, made on the first GPU call and kept (one per process, as
-// the command makes one): "gpu", "cpu" or "auto"; auto without a GPU warns (RuntimeWarning) that it
-// runs on the CPU, unless the caller only wants the context (renders).
+// This thread's backend and GL context, made on its first GPU call and kept until the thread ends (one
+// per thread: a context is current on one thread at a time, so two threads' GPU calls each need their
+// own; a GPU LevelSet is stepped on the thread that made it): "gpu", "cpu" or "auto"; auto without a
+// GPU warns (RuntimeWarning) that it runs on the CPU, unless the caller only wants the context (renders).
 pipeline::Gpu& gpuFor(const std::string& backend, bool warnOnFallback = true);
 
 // While alive: core/progress's updates go to `callback(task, fraction)` with the GIL held, and a
 // pending Ctrl-C stops the work there (KeyboardInterrupt propagates out of the stage).
 class ProgressToPython {
 public:
-  explicit ProgressToPython(py::object callback) : callback_(std::move(callback)) {
-    Progress::setObserver([this](const std::string& task, double fraction) {
-      py::gil_scoped_acquire gil;
-      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-      if (!callback_.is_none()) callback_(task, fraction);
-    });
-  }
-  ~ProgressToPython() { Progress::setObserver({}); }
+  explicit ProgressToPython(py::object callback)
+      : callback_(std::move(callback)), observer_([this](const std::string& task, double fraction) {
+          py::gil_scoped_acquire gil;
+          if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+          if (!callback_.is_none()) callback_(task, fraction);
+        }) {}
   ProgressToPython(const ProgressToPython&) = delete;
   ProgressToPython& operator=(const ProgressToPython&) = delete;
 
 private:
   py::object callback_;
+  ProgressObserver observer_;  // this thread's, for the call's work (made on this thread)
 };
 
 }  // namespace isoatlas::python

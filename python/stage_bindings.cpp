@@ -36,8 +36,10 @@ std::vector<pipeline::Ball> seedBalls(const std::vector<std::vector<double>>& se
 
 pipeline::Gpu& gpuFor(const std::string& backend, bool warnOnFallback) {
   require(backend == "gpu" || backend == "cpu" || backend == "auto", "backend=" + backend + ": expected gpu, cpu or auto");
-  static pipeline::Gpu cpu;  // no context
-  static std::optional<pipeline::Gpu> gl;  // the first gpu or auto choice decides, later ones share it
+  // Per thread: a GL context is current on one thread at a time, so each Python thread that asks for
+  // the GPU (or a render) gets its own, made on its first call and ended with the thread.
+  thread_local pipeline::Gpu cpu;  // no context until a render needs one
+  thread_local std::optional<pipeline::Gpu> gl;  // the thread's first gpu or auto choice decides, later ones share it
   if (backend == "cpu") return cpu;
   if (!gl) {
     gl.emplace(pipeline::chooseBackend(backend));

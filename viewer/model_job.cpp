@@ -6,26 +6,25 @@
 namespace isoatlas::viewer {
 
 ModelJob::ModelJob(Mesh surface, const ModelBuilder& build) : start_(std::chrono::steady_clock::now()) {
-  Progress::setObserver([this](const std::string& task, double fraction) {
-    if (cancelled_) throw Error("the model's build was stopped", ErrorKind::Failure);
-    const std::lock_guard lock(mutex_);
-    task_ = task, fraction_ = fraction;
+  result_ = std::async(std::launch::async, [this, surface = std::move(surface), build] {
+    // The worker's own observer: the build's Progress is made on this thread.
+    const ProgressObserver watch([this](const std::string& task, double fraction) {
+      if (cancelled_) throw Error("the model's build was stopped", ErrorKind::Failure);
+      const std::lock_guard lock(mutex_);
+      task_ = task, fraction_ = fraction;
+    });
+    return build(surface);
   });
-  result_ = std::async(std::launch::async, [surface = std::move(surface), build] { return build(surface); });
 }
 
 ModelJob::~ModelJob() {
   cancelled_ = true;
   if (result_.valid()) result_.wait();
-  Progress::setObserver({});
 }
 
 bool ModelJob::done() const { return result_.valid() && result_.wait_for(std::chrono::seconds(0)) == std::future_status::ready; }
 
-atlas::Model ModelJob::take() {
-  Progress::setObserver({});
-  return result_.get();
-}
+atlas::Model ModelJob::take() { return result_.get(); }
 
 std::pair<std::string, double> ModelJob::progress() const {
   const std::lock_guard lock(mutex_);

@@ -177,10 +177,23 @@ void Context::finishSetup(const std::string& platform) {
   if (info_.software()) logInfo("gl: no GPU found, running on " + info_.renderer + " (software; slow but exact)");
 }
 
-void Context::makeCurrent() {
+bool Context::tryMakeCurrent() {
   if (window_) windowSystem_->makeCurrent(window_);
-  else eglMakeCurrent(static_cast<EGLDisplay>(display_), EGL_NO_SURFACE, EGL_NO_SURFACE, static_cast<EGLContext>(context_));
+  else if (eglMakeCurrent(static_cast<EGLDisplay>(display_), EGL_NO_SURFACE, EGL_NO_SURFACE, static_cast<EGLContext>(context_)) != EGL_TRUE)
+    return false;
+  if (!isCurrent()) return false;
   t_current = this;
+  return true;
+}
+
+void Context::makeCurrent() {
+  // A context is current on one thread at a time: eglMakeCurrent refuses it (EGL_BAD_ACCESS) on
+  // another while it is current where it was made, and recording it as current anyway let GL calls
+  // run on no context at all.
+  if (!tryMakeCurrent())
+    throw Error("the OpenGL context could not be made current on this thread (it is current on another one: "
+                "release it there first, or make a context for this thread)",
+                ErrorKind::Failure);
 }
 
 void Context::releaseCurrent() {
@@ -220,7 +233,7 @@ Context::~Context() {
   // The cached programs go first, while this context is current; the context that was current
   // before (another one) is current again afterwards.
   Context* previous = t_current != this && t_current && t_current->isCurrent() ? t_current : nullptr;
-  makeCurrent();
+  tryMakeCurrent();  // no throw from a destructor: where it cannot be made current, its programs leak with it
   programs_.clear();
   t_current = nullptr;
   if (window_) {
@@ -232,7 +245,7 @@ Context::~Context() {
     // No eglTerminate: it unloads the driver, which leak checkers then cannot name. The display is
     // shared by every context of the process and ends with it.
   }
-  if (previous) previous->makeCurrent();
+  if (previous) previous->tryMakeCurrent();
 }
 
 void checkErrors(const char* where) {

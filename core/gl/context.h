@@ -41,6 +41,7 @@ public:
   Context(const Context&) = delete;
   Context& operator=(const Context&) = delete;
 
+  // Throws Error (Failure) where it cannot be made current here (it is current on another thread).
   void makeCurrent();
   // Leaves no context current on this thread (before handing a window's context to another thread).
   void releaseCurrent();
@@ -67,6 +68,7 @@ public:
   GLFWwindow* glfwWindow() const { return window_; }
 
 private:
+  bool tryMakeCurrent();  // makeCurrent's work: false where EGL refuses (or it is not current after)
   // What a window's context asks of its window system, given by window(), so that this library
   // calls no GLFW function itself.
   struct WindowSystem {

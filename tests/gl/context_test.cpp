@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <string>
+#include <thread>
 
 #include "core/error.h"
 #include "core/gl/context.h"
@@ -51,6 +53,39 @@ TEST(GlContext, WorkWithoutItsContextCurrentFails) {
   EXPECT_THROW(p.dispatch(1), Error);
   ctx->makeCurrent();
   EXPECT_NO_THROW(scrambleOne(p, 7));
+}
+
+// A context current on one thread cannot be made current on another (EGL refuses it): makeCurrent
+// says so there, and that thread still has no context; released where it was, the other thread can
+// take it and work in it.
+TEST(GlContext, AContextCurrentOnAnotherThreadIsRefused) {
+  auto ctx = Context::headless();
+  const Program& p = ctx->compute(kTestShaders, kScramble, {{"OFFSET", "0u"}});
+  std::string refused;
+  bool noContext = false;
+  std::thread([&] {
+    try {
+      ctx->makeCurrent();
+    } catch (const Error& e) {
+      refused = e.what();
+    }
+    try {
+      Context::current();
+    } catch (const Error&) {
+      noContext = true;
+    }
+  }).join();
+  EXPECT_NE(refused.find("current on another one"), std::string::npos) << refused;
+  EXPECT_TRUE(noContext);
+  ctx->releaseCurrent();
+  std::uint32_t scrambled = 0;
+  std::thread([&] {
+    ctx->makeCurrent();
+    scrambled = scrambleOne(p, 7);
+    ctx->releaseCurrent();
+  }).join();
+  ctx->makeCurrent();
+  EXPECT_EQ(scrambled, scrambleOne(p, 7));
 }
 
 TEST(GlContext, AProgramRefusesAnotherContext) {

@@ -251,12 +251,16 @@ def test_long_calls_release_the_gil_and_report_progress():
 
 def test_two_threads_segment_extract_and_build_as_one_does():
     """Calls from two threads at once (on the CPU backend; the GIL is released while they work) give
-    what one thread gets: no shared state between them but the progress observer and the GL context."""
+    what one thread gets, and each call's progress reaches its own callback only: a thread's progress
+    observer is its own (core/progress.h)."""
     data, affine = phantom()
+    heard = {}
 
-    def pipeline():
+    def pipeline(k=None):
+        def progress(task, fraction):
+            heard.setdefault(k, []).append((threading.get_ident(), fraction))
         mask = isoatlas.segment(data, seeds=[(18, 20, 15, 3)], target=100, width=30, iterations=200, backend="cpu",
-                                affine=affine)[0]
+                                affine=affine, progress=progress)[0]
         vertices, triangles = isoatlas.extract(mask, backend="cpu", affine=affine)[:2]
         model = isoatlas.build(vertices, triangles, base_ratio=0.05, chart_size=9, hausdorff=False)
         return mask, model.mesh_at_level(2)
@@ -265,17 +269,51 @@ def test_two_threads_segment_extract_and_build_as_one_does():
     results = [None, None]
 
     def run(k):
-        results[k] = pipeline()
+        heard[k] = [(threading.get_ident(), None)]  # the thread's own id first
+        results[k] = pipeline(k)
 
     threads = [threading.Thread(target=run, args=(k,)) for k in range(2)]
     for t in threads:
         t.start()
     for t in threads:
         t.join()
+    for k in range(2):  # every report of a call came to its own callback, on its own thread, in order, to the end
+        own, reports = heard[k][0][0], heard[k][1:]
+        fractions = [f for _, f in reports]
+        assert reports and all(ident == own for ident, _ in reports), k
+        assert fractions == sorted(fractions) and fractions[-1] == 1.0, fractions
     for mask, (vertices, triangles) in results:
         np.testing.assert_array_equal(mask, serial_mask)
         np.testing.assert_array_equal(vertices, serial_vertices)
         np.testing.assert_array_equal(triangles, serial_triangles)
+
+
+def test_two_threads_segment_on_the_gpu_as_one_does():
+    """backend="gpu" from two threads at once: each thread gets a GL context of its own (one is current
+    on one thread at a time), and both give the one thread's mask (llvmpipe here)."""
+    data, affine = phantom()
+
+    def segment():
+        return isoatlas.segment(data, seeds=[(18, 20, 15, 3)], target=100, width=30, iterations=60, backend="gpu", affine=affine)
+
+    alone, _, report = segment()
+    assert report["backend"] == "gpu"
+    results, errors = [None, None], []
+
+    def run(k):
+        try:
+            results[k] = segment()[0]
+        except Exception as e:  # noqa: BLE001 - the test reports it
+            errors.append(repr(e))
+
+    threads = [threading.Thread(target=run, args=(k,)) for k in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors, errors
+    for mask in results:
+        np.testing.assert_array_equal(mask, alone)
 
 
 def test_a_steered_level_set_is_the_segmentation(tmp_path):
