@@ -76,6 +76,7 @@ void addEditCommand(CLI::App& app, int& exitCode) {
   bindAction(*sub, [o](nlohmann::json& r) {
     const bool toTree = endsWith(o->output, ".dvt"), toMesh = isMeshWritePath(o->output);
     require(toTree || toMesh || isVolumeWritePath(o->output), o->output + ": write a mask (.nii.gz, .nrrd, ...), a mesh (.ply, .off, .obj, .vtk, .surf.gii) or a tree (.dvt)");
+    if (toMesh) requireMeshSpaceFor(o->output, meshSpace(o->space));
     require(o->renderMode == "raycast" || o->renderMode == "cubes", "--render-mode must be raycast or cubes, not " + o->renderMode);
     require(o->render.empty() || endsWith(o->render, ".png"), o->render + ": --render writes a PNG");
     const pipeline::EditRequest request{.depth = o->depth, .steps = *o->steps, .hierarchical = !o->flat, .nodeLimit = o->nodeLimit,

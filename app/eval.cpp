@@ -35,6 +35,7 @@ void addEvalCommand(CLI::App& app, int& exitCode) {
     if (outMesh->first != -1) {
       require(isMeshWritePath(outMesh->second), outMesh->second + ": --out-mesh-level writes a mesh (.ply, .obj, .off, .vtk or .surf.gii)");
       requireOutputFolder(outMesh->second);
+      requireMeshSpaceFor(outMesh->second, meshSpace(*space));
     }
     std::optional<Mesh> levelMesh;  // written once every model has been read and checked
     const Mesh denseMesh = pipeline::prepareModelInput(readMesh(*dense));

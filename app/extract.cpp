@@ -38,6 +38,7 @@ void addExtractCommand(CLI::App& app, int& exitCode) {
   sub->add_option("-o,--output", o->output, "output mesh (.ply, .off, .obj; .vtk for 3D Slicer and ParaView; .surf.gii for FreeSurfer and Workbench)")->required()->check(outputFile());
   bindAction(*sub, [o](nlohmann::json& r) {
     require(isMeshWritePath(o->output), o->output + ": write the mesh as .ply, .off, .obj, .vtk or .surf.gii");
+    requireMeshSpaceFor(o->output, meshSpace(o->space));
     const Volume v = readVolume(o->input, o->read);
     const pipeline::Gpu backend = pipeline::chooseBackend(o->backend);
     const bool gpu = backend.backend == levelset::Backend::Gpu;

@@ -40,6 +40,7 @@ struct RunOptions {
   int iterations = 3000;
   bool halfResolutionStart = false;
   std::string topology;  // --topology; empty: the demo's own (preserve) for the demo volume, else free
+  std::string space = "ras";  // --space: the surface files' frame
   VolumeReadOptions read;  // --volume, --series
   pipeline::ModelRequest model;
   int chart = 33;
@@ -119,7 +120,7 @@ void runJob(const std::string& input, const std::string& outDir, const RunOption
   } else {
     const pipeline::Segmentation s = segmentStage(job, setup, options.iterations, options.halfResolutionStart);
     const EditedVolume edit = editStage(job, s, setup.edits, solids);
-    const Mesh surface = extractStage(job, s, edit, setup.seeds.size());
+    const Mesh surface = extractStage(job, s, edit, setup.seeds.size(), meshSpace(options.space));
     pipeline::ModelRequest request = options.model;
     request.chartSize = std::uint32_t(options.chart);
     // The model is built and measured on a thread of its own while this one, which holds the GL
@@ -177,6 +178,7 @@ void addRunCommand(CLI::App& app, int& exitCode) {
                 "segment from the solution at half resolution instead of the seeds (faster; the window's script then loads the mask)");
   addTopologyOption(*sub, options->topology, " (default: preserve for the demo volume without --seed, else free)");
   addEditStepOptions(*sub, options->edits);
+  addMeshSpaceOption(*sub, options->space);
   sub->add_option("--base-ratio", options->model.baseRatio,
                   "base vertices of the model as a fraction of the surface's (default: 2 % up to 1000 vertices, at least 1 %)")
       ->check(inRange(1e-6, 1));

@@ -68,7 +68,7 @@ EditedVolume editStage(RunJob& job, const pipeline::Segmentation& s, const pipel
   return out;
 }
 
-Mesh extractStage(RunJob& job, const pipeline::Segmentation& s, const EditedVolume& edit, std::size_t seeds) {
+Mesh extractStage(RunJob& job, const pipeline::Segmentation& s, const EditedVolume& edit, std::size_t seeds, MeshSpace space) {
   Mesh surface;
   job.stage("extract", [&] {
     extract::ExtractStats stats;
@@ -78,11 +78,16 @@ Mesh extractStage(RunJob& job, const pipeline::Segmentation& s, const EditedVolu
         .iso = 0.0f, .largestComponents = s.topology == levelset::Topology::Free ? 1u : seeds, .backend = s.backend};
     surface = edit.tree ? extract::extractSurface(levelset::dvt::sampleField(*edit.tree, edit.tree->frame.voxelDepth()), options, &stats)
                         : extract::extractLevelSet(*s.levelSet, options, &stats);
-    writeMesh(job.products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm)"), surface);
+    const std::string frame = space == MeshSpace::Ras ? "RAS" : "LPS";
+    writeMesh(job.products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm, " + frame + ")"), surface,
+              {.space = space});
     // The same surface for the neuroimaging viewers: GIfTI for freeview, Workbench, nilearn and niivue;
-    // VTK tagged RAS for 3D Slicer (which takes the untagged PLY as LPS).
-    writeMesh(job.products.add("surface.surf.gii", "the surface as GIfTI (freeview, Connectome Workbench, nilearn, niivue)"), surface);
-    writeMesh(job.products.add("surface.vtk", "the surface as VTK, tagged SPACE=RAS (3D Slicer places it over the scan)"), surface);
+    // VTK tagged with its frame for 3D Slicer (which takes an untagged PLY as LPS).
+    writeMesh(job.products.add("surface.surf.gii", "the surface as GIfTI, in RAS whatever --space says (freeview, Connectome Workbench, "
+                                                   "nilearn, niivue)"),
+              surface);
+    writeMesh(job.products.add("surface.vtk", "the surface as VTK, tagged SPACE=" + frame + " (3D Slicer places it over the scan)"), surface,
+              {.space = space});
     const nlohmann::json& figures = job.report["extract"] = pipeline::surfaceFigures(surface, &stats);
     return std::to_string(surface.faceCount()) + " triangles, genus " + std::to_string(figures["genus"].get<long long>()) + ", " +
            (figures["closed"].get<bool>() ? "closed" : "NOT closed") + ": surface.ply, .surf.gii, .vtk";

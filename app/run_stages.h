@@ -12,6 +12,7 @@
 #include "atlas/evaluate_levels.h"
 #include "atlas/model_file.h"
 #include "core/mesh.h"
+#include "core/mesh_io.h"
 #include "core/volume.h"
 #include "levelset/dvt/volume_tree.h"
 #include "levelset/solids/solid.h"
@@ -67,7 +68,8 @@ EditedVolume editStage(RunJob& job, const pipeline::Segmentation& s, const pipel
 // Marching cubes over the edited tree's distances; without edits, over the level set's active pages,
 // read where the solver keeps them. The surface keeps its largest component; with the topology
 // preserved, its `seeds` largest (one per seed).
-Mesh extractStage(RunJob& job, const pipeline::Segmentation& s, const EditedVolume& edit, std::size_t seeds);
+// The files are written in `space` (--space); the surface returned stays in RAS.
+Mesh extractStage(RunJob& job, const pipeline::Segmentation& s, const EditedVolume& edit, std::size_t seeds, MeshSpace space);
 
 // The edited tree ray cast (the edit's picture), then the surface seen from the left (RAS -x) and
 // from above, as a reader of an atlas would look, and the segmentation over the input through the

@@ -11,6 +11,7 @@ void addViewCommand(CLI::App& app, int& exitCode) {
   auto* sub = app.add_subcommand("view", "a window to segment a volume, edit it and inspect models and volume trees (needs a display)");
   auto o = std::make_shared<viewer::ViewerOptions>();
   sub->add_option("files", o->files, "volumes (to segment), models (.isoatlas) and volume trees (.dvt), opened in turn");
+  addVolumeReadOptions(*sub, o->read);
   sub->add_option("--script", o->script, "replay the actions in this text file (docs/view-script.md)");
   sub->add_option("--frames", o->frames, "draw this many frames and close (0: until the window is closed)")
       ->capture_default_str()

@@ -270,8 +270,14 @@ void writeMeshAsItIs(const std::string& path, const Mesh& mesh, const MeshWriteO
 
 }  // namespace
 
+void requireMeshSpaceFor(const std::string& path, MeshSpace space) {
+  require(space == MeshSpace::Ras || !endsWith(path, ".gii"),
+          path + ": a GIfTI surface is in RAS (its coordinate system says so, and FreeSurfer and Workbench read it so): leave out --space lps");
+}
+
 void writeMesh(const std::string& path, const Mesh& mesh, MeshWriteOptions options) {
   require(isMeshWritePath(path), path + ": isoatlas writes meshes as .off, .ply, .obj, .vtk or .surf.gii");
+  requireMeshSpaceFor(path, options.space);
   require(mesh.faceCount() > 0, path + ": refusing to write a mesh with no faces");
   if (options.space == MeshSpace::Ras) return writeMeshAsItIs(path, mesh, options);
   Mesh lps = mesh;

@@ -23,6 +23,9 @@ Mesh readMesh(const std::string& path);
 enum class MeshSpace { Ras, Lps };
 // "ras" or "lps" (as --space and Python's space= take it); throws Error naming `where` otherwise.
 MeshSpace parseMeshSpace(const std::string& text, const std::string& where);
+// A GIfTI surface declares its points world RAS (mesh_gifti.h): Error (bad input) naming the file for
+// a .gii asked for in LPS. writeMesh checks it; commands call it before their work.
+void requireMeshSpaceFor(const std::string& path, MeshSpace space);
 
 struct MeshWriteOptions {
   bool binary = true;   // PLY only

@@ -21,14 +21,14 @@ std::string formatPoint(const Vec3& p) {
 
 }  // namespace
 
-Loaded load(const std::string& file) {
+Loaded load(const std::string& file, const VolumeReadOptions& read) {
   Loaded l{.file = file};
   if (endsWith(file, ".isoatlas"))
     l.model = atlas::readModel(file);
   else if (endsWith(file, ".dvt"))
     l.tree = dvt::readDvt(file);
   else
-    l.volume = readVolume(file);
+    l.volume = readVolume(file, read);
   return l;
 }
 

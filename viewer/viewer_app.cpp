@@ -59,7 +59,7 @@ ViewerReport runViewer(const ViewerOptions& options) {
   require(options.screenshot.empty() || endsWith(options.screenshot, ".png"), options.screenshot + ": --screenshot writes a PNG");
   // Read before any window opens, so a bad file or script is one line.
   std::vector<window::Loaded> files;
-  for (const std::string& f : options.files) files.push_back(window::load(f));
+  for (const std::string& f : options.files) files.push_back(window::load(f, options.read));
   std::optional<ScriptPlayer> script;
   if (!options.script.empty()) script.emplace(readViewScript(options.script));
   requireDisplay();

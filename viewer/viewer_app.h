@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/vec.h"
+#include "core/volume_io.h"
 #include "viewer/model_job.h"
 
 namespace isoatlas::viewer {
@@ -37,6 +38,9 @@ struct ViewerOptions {
   // Called at the start of each frame (0, 1, ...), before the window's events are polled: input
   // injected into the display here (tests use XTest) reaches the handlers as a user's does.
   std::function<void(int frame)> beforeFrame;
+  // --volume, --series: the volumes among `files` (last: GCC 12 warns of a designated initialiser
+  // that skips an aggregate of strings before the members it names).
+  VolumeReadOptions read;
 };
 
 struct ModeFrames {

@@ -18,6 +18,7 @@
 #include "core/gl/context.h"
 #include "core/gl/resources.h"
 #include "core/image.h"
+#include "core/volume_io.h"
 #include "core/volume.h"
 #include "levelset/dvt/volume_tree.h"
 #include "viewer/brush_edit.h"
@@ -61,7 +62,7 @@ struct Loaded {
   std::optional<atlas::Model> model;
   std::optional<dvt::VolumeTree> tree;
 };
-Loaded load(const std::string& file);
+Loaded load(const std::string& file, const VolumeReadOptions& read = {});  // read: a volume's --volume, --series
 
 // The voxel axis a slice panel is normal to: k for the axial (0), j the coronal (1), i the sagittal (2).
 inline int sliceNormalAxis(int panel) { return 2 - panel; }

@@ -431,6 +431,20 @@ TEST(Cli, RunPreservingTheTopologyStopsTheRingAsASphere) {
   const std::string session = test::readBytes(out / "view-session.txt");
   EXPECT_NE(session.find("topology preserve\n"), std::string::npos) << session;
   EXPECT_NE(session.find("fill-threads\n"), std::string::npos) << session;
+  // --space lps: surface.ply and .vtk in LPS (x and y negated, the tag saying so), the GIfTI in RAS as before.
+  const auto lps = dir / "kept-lps";
+  ASSERT_EQ(run("run " + torus.string() + " -o " + lps.string() + " --seed 31,18,14,2 --target 200 --width 60 " +
+                "--backend cpu --samples 5000 --levels 0 --topology preserve --space lps").code, 0);
+  const Mesh ras = readMesh((out / "surface.ply").string()), flipped = readMesh((lps / "surface.ply").string());
+  ASSERT_EQ(ras.vertexCount(), flipped.vertexCount());
+  for (std::size_t v = 0; v < ras.vertexCount(); ++v)
+    ASSERT_EQ(flipped.positions[v], Vec3(-ras.positions[v].x, -ras.positions[v].y, ras.positions[v].z)) << v;
+  EXPECT_NE(test::readBytes(lps / "surface.vtk").find("SPACE=LPS"), std::string::npos);
+  EXPECT_EQ(test::readBytes(lps / "surface.surf.gii"), test::readBytes(out / "surface.surf.gii"));
+  const Result gifti = run("extract " + (out / "phi.nii.gz").string() + " --iso 0 --space lps -o " + (dir / "lps.surf.gii").string());
+  EXPECT_EQ(gifti.code, 2);
+  EXPECT_NE(gifti.err.find("a GIfTI surface is in RAS"), std::string::npos) << gifti.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "lps.surf.gii"));
   const Result refused = run("run " + torus.string() + " -o " + (dir / "refused").string() +
                              " --seed 31,18,14,2 --target 200 --width 60 --topology preserve --half-resolution-start");
   EXPECT_EQ(refused.code, 2);

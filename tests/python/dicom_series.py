@@ -6,7 +6,7 @@ import os
 import numpy as np
 import pydicom
 from pydicom.dataset import FileDataset, FileMetaDataset
-from pydicom.uid import ExplicitVRLittleEndian, MRImageStorage, generate_uid
+from pydicom.uid import ExplicitVRLittleEndian, MRImageStorage, RLELossless, generate_uid
 
 LPS = np.diag([-1.0, -1.0, 1.0])
 
@@ -16,10 +16,11 @@ def _ds(text):
 
 
 def write_series(folder, data, affine, slope=1.0, intercept=0.0, series_uid=None, positions=None, tilt=None,
-                 shuffle=True):
+                 shuffle=True, rle=False):
     """Writes data (int16 after (value - intercept) / slope) into folder/slice_K.dcm; returns the
     SeriesInstanceUID. positions: slice positions to use instead of the affine's (to make uneven
-    spacing); tilt: a GantryDetectorTilt to write. Files are named out of slice order when shuffle."""
+    spacing); tilt: a GantryDetectorTilt to write. Files are named out of slice order when shuffle.
+    rle: the pixels compressed (RLE Lossless, the one compressed transfer syntax pydicom writes)."""
     os.makedirs(folder, exist_ok=True)
     series_uid = series_uid or generate_uid()
     study_uid = generate_uid()
@@ -54,5 +55,7 @@ def write_series(folder, data, affine, slope=1.0, intercept=0.0, series_uid=None
         ds.BitsAllocated, ds.BitsStored, ds.HighBit, ds.PixelRepresentation = 16, 16, 15, 1
         ds.RescaleSlope, ds.RescaleIntercept = _ds(slope), _ds(intercept)
         ds.PixelData = np.ascontiguousarray(stored[:, :, k].T).tobytes()
+        if rle:
+            ds.compress(RLELossless)
         ds.save_as(path, write_like_original=False)
     return series_uid

@@ -248,6 +248,9 @@ def test_ctrl_c_stops_cleanly_and_the_next_run_goes_on(tmp_path):
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"iterations": 0}, [], "'iterations' must be a positive number"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"base_ratio": 2}, [], "'base_ratio' must be null (build's default) or in (0, 1]"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"half_resolution_start": "yes"}, [], "'half_resolution_start' must be true or false"),
+    ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"topology": "keep"}, [], "'topology' must be free or preserve"),
+    ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"topology": "preserve", "half_resolution_start": True}, [],
+     "'half_resolution_start' with 'topology' preserve"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--stages", "build"], "--stages: build needs extract"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--stages", "segment,mesh"], "unknown stage 'mesh'"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--workers", "0"], "--workers must be >= 1"),
@@ -344,6 +347,25 @@ def test_the_half_resolution_start_gives_the_commands_mask(tmp_path):
     subprocess.run([EXE, "segment", ball.volume, "--seed", "20,20,20,3", "--seed", "24,20,20,2", "-T", "100", "-e", "30", "-a", "0.5",
                     "-n", "1000", "--converge", "--half-resolution-start", "--backend", "cpu", "-o", mask, "-q"], check=True)
     ours = np.asanyarray(nib.load(str(tmp_path / "out" / "big-ball" / "mask.nii.gz")).dataobj)
+    assert ours.sum() > 1000 and np.array_equal(ours, np.asanyarray(nib.load(mask).dataobj))
+
+
+def test_a_preserved_topology_gives_the_commands_mask_and_a_sphere(tmp_path):
+    """Run in this process: with the config's topology preserve, the torus subject's mask is
+    `isoatlas segment --converge --topology preserve`'s, and its surface a sphere (the free one's a torus)."""
+    from isoatlas.cohort import manifest as manifests, subject
+
+    path = make_study(str(tmp_path / "study"))
+    for topology, genus in (("preserve", 0), ("free", 1)):
+        config = dict(manifests.DEFAULTS, **CONFIG, topology=topology)
+        torus = next(s for s in manifests.read_manifest(path, config) if s.id == "torus")
+        report = subject.run_subject(torus, config, ["segment", "extract"], str(tmp_path / topology), "hash")
+        assert report["status"] == "done", report
+        assert report["figures"]["genus"] == genus and report["figures"]["components"] == 1, report["figures"]
+    mask = str(tmp_path / "mask.nii.gz")
+    subprocess.run([EXE, "segment", torus.volume, "--seed", "30,20,20,2", "-T", "100", "-e", "30", "-a", "0.5", "-n", "1000",
+                    "--converge", "--topology", "preserve", "--backend", "cpu", "-o", mask, "-q"], check=True)
+    ours = np.asanyarray(nib.load(str(tmp_path / "preserve" / "torus" / "mask.nii.gz")).dataobj)
     assert ours.sum() > 1000 and np.array_equal(ours, np.asanyarray(nib.load(mask).dataobj))
 
 

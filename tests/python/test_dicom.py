@@ -65,6 +65,17 @@ def test_a_series_reads_as_its_nifti(tmp_path, orientation, slope, intercept):
     np.testing.assert_array_equal(isoatlas.read_volume(str(tmp_path / "series" / one)).data, dicom.data)
 
 
+def test_a_compressed_series_reads_as_the_uncompressed_one(tmp_path):
+    """RLE Lossless pixels (GDCM decodes them) give the uncompressed series' voxels and affine."""
+    data, affine = ch2_crop("oblique")
+    write_series(str(tmp_path / "plain"), data, affine)
+    write_series(str(tmp_path / "rle"), data, affine, rle=True)
+    plain, rle = isoatlas.read_volume(str(tmp_path / "plain")), isoatlas.read_volume(str(tmp_path / "rle"))
+    np.testing.assert_array_equal(rle.data, plain.data)
+    np.testing.assert_allclose(rle.affine, plain.affine, atol=1e-6)
+    assert np.asarray(plain.data).any()
+
+
 @pytest.mark.parametrize("orientation", ["axial", "oblique"])
 def test_dcm2niix_agrees_in_world_space(tmp_path, orientation):
     data, affine = ch2_crop(orientation)

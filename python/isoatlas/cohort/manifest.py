@@ -30,6 +30,7 @@ DEFAULTS = {
     "backend": "auto",
     "iterations": 1000,    # the solver's cap: a subject still moving after this many fails
     "half_resolution_start": False,  # segment --half-resolution-start: faster, its surface a little different
+    "topology": "free",    # segment --topology: "preserve" keeps the seeds' topology (one sphere per seed)
     "edits": "",
     "base_ratio": None,    # build --base-ratio; None: build's default
     "chart_size": 33,      # build --chart
@@ -39,7 +40,7 @@ DEFAULTS = {
     "threads_per_worker": 1,  # the library's threads in each worker (0: every core)
 }
 
-COLUMNS = ("id", "volume", "seeds", "target", "width", "alpha", "edits", "backend")
+COLUMNS = ("id", "volume", "seeds", "target", "width", "alpha", "edits", "backend", "series")
 _ID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
 
 
@@ -57,11 +58,16 @@ class Subject:
     alpha: float
     edits: list = field(default_factory=list)  # [("union" | "subtract", SHAPE)]
     backend: str = "auto"
+    series: str = ""                 # a DICOM folder's SeriesInstanceUID; "": its one series
 
     def parameters(self):
-        """Everything of the row that decides its outputs (the volume's bytes are hashed apart)."""
-        return {"volume": self.volume, "seeds": self.seeds, "target": self.target, "width": self.width,
-                "alpha": self.alpha, "edits": self.edits, "backend": self.backend}
+        """Everything of the row that decides its outputs (the volume's bytes are hashed apart). The
+        series only where given, so that the hashes of rows from before the column stay."""
+        p = {"volume": self.volume, "seeds": self.seeds, "target": self.target, "width": self.width,
+             "alpha": self.alpha, "edits": self.edits, "backend": self.backend}
+        if self.series:
+            p["series"] = self.series
+        return p
 
 
 def read_config(path):
@@ -107,6 +113,11 @@ def _check_config(c, where):
         raise InputError(f"{where}: 'backend' must be gpu, cpu or auto, not {c['backend']!r}")
     if not isinstance(c["half_resolution_start"], bool):
         raise InputError(f"{where}: 'half_resolution_start' must be true or false")
+    if c["topology"] not in ("free", "preserve"):
+        raise InputError(f"{where}: 'topology' must be free or preserve, not {c['topology']!r}")
+    if c["topology"] == "preserve" and c["half_resolution_start"]:
+        raise InputError(f"{where}: 'half_resolution_start' with 'topology' preserve: the start from half resolution "
+                         "does not keep the seeds' topology; leave one out")
 
 
 def parse_stages(text):
@@ -208,5 +219,6 @@ def read_manifest(path, config):
         subjects.append(Subject(
             id=subject_id, volume=os.path.normpath(os.path.join(folder, cell["volume"])),
             seeds=parse_seeds(cell["seeds"], f"{where}, seeds"), target=setting("target"), width=setting("width"),
-            alpha=setting("alpha"), edits=parse_edits(edits_text, f"{where}, edits"), backend=backend))
+            alpha=setting("alpha"), edits=parse_edits(edits_text, f"{where}, edits"), backend=backend,
+            series=cell.get("series", "")))
     return subjects

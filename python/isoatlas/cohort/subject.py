@@ -47,6 +47,8 @@ def input_hash(subject, config, stages):
         except OSError as e:
             h.update(f"unreadable: {e}".encode())
     settings = {k: config[k] for k in ("iterations", "half_resolution_start", "base_ratio", "chart_size", "samples", "thumbnail")}
+    if config["topology"] != "free":  # left out when free, so that the hashes of cohorts from before it stay
+        settings["topology"] = config["topology"]
     h.update(json.dumps([subject.parameters(), settings, stages], sort_keys=True).encode())
     return h.hexdigest()
 
@@ -131,7 +133,7 @@ class _Stages:
 
     def segment(self):
         s, c = self.subject, self.config
-        volume = isoatlas.read_volume(s.volume)
+        volume = isoatlas.read_volume(s.volume, series=s.series)
         self.affine = volume.affine
         seeds = [_world_to_voxel(volume.affine, seed) for seed in s.seeds]
         target, width = s.target, s.width
@@ -142,7 +144,7 @@ class _Stages:
                 width = probed["width"] if width is None else width
             mask, self.phi, report = isoatlas.segment(volume, seeds=[list(seed) for seed in seeds], target=target, width=width,
                                                       alpha=s.alpha, backend=s.backend, iterations=c["iterations"], converge=True,
-                                                      half_resolution_start=c["half_resolution_start"])
+                                                      half_resolution_start=c["half_resolution_start"], topology=c["topology"])
         self.figures.update(target=target, width=width, alpha=s.alpha, iterations=report["iterations"], converged=report["converged"])
         if c["half_resolution_start"]:
             self.figures.update(half_resolution_iterations=report["half_resolution_iterations"])
@@ -159,9 +161,11 @@ class _Stages:
         return f"{voxels} voxels in {report['iterations']} iterations (T {target:g}, eps {width:g})"
 
     def extract(self):
-        # As isoatlas run does: phi at 0 (the edited mask at 0.5 where there are edits), the largest part.
+        # As isoatlas run does: phi at 0 (the edited mask at 0.5 where there are edits), the largest part;
+        # with the topology preserved, every part (one per seed).
         source, iso = (self.mask, 0.5) if self.subject.edits else (self.phi, 0.0)
-        self.vertices, self.triangles = isoatlas.extract(source, iso=iso, largest=True, backend=self.subject.backend, affine=self.affine)
+        largest = self.config["topology"] == "free"
+        self.vertices, self.triangles = isoatlas.extract(source, iso=iso, largest=largest, backend=self.subject.backend, affine=self.affine)
         isoatlas.write_mesh(self.path("surface.ply"), self.vertices, self.triangles)
         surface = isoatlas.surface_figures(self.vertices, self.triangles)
         self.figures.update(triangles=surface["triangles"], area_mm2=surface["area_mm2"], components=surface["components"],
