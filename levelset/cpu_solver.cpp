@@ -356,18 +356,14 @@ private:
   // the page's 27 neighbours; past the volume's edge is outside.
   std::uint32_t insideAround(const Pool& phi, std::size_t i, int x, int y) const {
     const PageInfo& page = pages_[i];
-    std::uint32_t inside = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int lx = x + dx, ly = y + dy;
-          const std::int64_t gx = page.coords[0] * P_ + lx, gy = page.coords[1] * P_ + ly, gz = page.coords[2] + dz;
-          if (gx < 0 || gy < 0 || gz < 0 || gx >= dims_[0] || gy >= dims_[1] || gz >= dims_[2]) continue;
-          const int ox = lx < 0 ? -1 : (lx >= P_ ? 1 : 0), oy = ly < 0 ? -1 : (ly >= P_ ? 1 : 0);
-          const Origin& o = around_[i][std::size_t((dz + 1) * 9 + (oy + 1) * 3 + ox + 1)];
-          if (phi[texelOf(o, lx - ox * P_, ly - oy * P_)] > 0) inside |= 1u << ((dz + 1) * 9 + (dy + 1) * 3 + dx + 1);
-        }
-    return inside;
+    return insideBits([&](int dx, int dy, int dz) {
+      const int lx = x + dx, ly = y + dy;
+      const std::int64_t gx = page.coords[0] * P_ + lx, gy = page.coords[1] * P_ + ly, gz = page.coords[2] + dz;
+      if (gx < 0 || gy < 0 || gz < 0 || gx >= dims_[0] || gy >= dims_[1] || gz >= dims_[2]) return false;
+      const int ox = lx < 0 ? -1 : (lx >= P_ ? 1 : 0), oy = ly < 0 ? -1 : (ly >= P_ ? 1 : 0);
+      const Origin& o = around_[i][std::size_t((dz + 1) * 9 + (oy + 1) * 3 + ox + 1)];
+      return phi[texelOf(o, lx - ox * P_, ly - oy * P_)] > 0;
+    });
   }
 
   // Which pages must be active next: this one if any voxel differs from a face neighbour; a

@@ -16,38 +16,33 @@ std::int64_t fillThreads(Volume& mask) {
   auto inVolume = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
     return x >= 0 && y >= 0 && z >= 0 && x < dims[0] && y < dims[1] && z < dims[2];
   };
-  auto insideAround = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
-    std::uint32_t bits = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx)
-          if (inVolume(x + dx, y + dy, z + dz) && in[mask.index(x + dx, y + dy, z + dz)])
-            bits |= 1u << ((dz + 1) * 9 + (dy + 1) * 3 + dx + 1);
-    return bits;
+  auto inside = [&](std::int64_t x, std::int64_t y, std::int64_t z) { return inVolume(x, y, z) && in[mask.index(x, y, z)] != 0; };
+  // A thread's voxel, whose 3 x 3 x 3 is `around`: background, almost all of its neighbours inside.
+  auto isThread = [&](std::int64_t x, std::int64_t y, std::int64_t z, std::uint32_t around) {
+    return inVolume(x, y, z) && !in[mask.index(x, y, z)] && 26 - std::popcount(around) <= kThreadNeighbours;
   };
-  // A thread's voxel: background, almost all of its 3 x 3 x 3 inside.
-  auto isThread = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
-    if (!inVolume(x, y, z) || in[mask.index(x, y, z)]) return false;
-    const std::uint32_t around = insideAround(x, y, z) & ~(1u << 13);
-    return 26 - std::popcount(around) <= kThreadNeighbours;
+  auto aroundOf = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+    return insideBits([&](int dx, int dy, int dz) { return inside(x + dx, y + dy, z + dz); });
   };
   std::deque<std::array<std::int64_t, 3>> queue;
   for (std::int64_t z = 0; z < dims[2]; ++z)
     for (std::int64_t y = 0; y < dims[1]; ++y)
       for (std::int64_t x = 0; x < dims[0]; ++x)
-        if (isThread(x, y, z)) queue.push_back({x, y, z});
+        if (!in[mask.index(x, y, z)] && isThread(x, y, z, aroundOf(x, y, z))) queue.push_back({x, y, z});
   std::int64_t filled = 0;
   while (!queue.empty()) {
     const auto [x, y, z] = queue.front();
     queue.pop_front();
-    if (!isThread(x, y, z) || !isSimplePoint(insideAround(x, y, z))) continue;
+    if (inside(x, y, z)) continue;  // queued twice, taken in already
+    const std::uint32_t around = aroundOf(x, y, z);  // read once: the thread test and the simple-point test
+    if (!isThread(x, y, z, around) || !isSimplePoint(around)) continue;
     in[mask.index(x, y, z)] = 1;
     ++filled;
-    // Its background neighbours may now be a thread's end.
+    // Its background neighbours may now be a thread's end: they are tested when taken from the queue.
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx)
-          if (isThread(x + dx, y + dy, z + dz)) queue.push_back({x + dx, y + dy, z + dz});
+          if (inVolume(x + dx, y + dy, z + dz) && !inside(x + dx, y + dy, z + dz)) queue.push_back({x + dx, y + dy, z + dz});
   }
   return filled;
 }

@@ -23,6 +23,19 @@ namespace isoatlas::levelset {
 
 bool isSimplePoint(std::uint32_t inside);
 
+// The neighbour at (dx, dy, dz) in {-1, 0, 1}^3: its bit in isSimplePoint's input.
+constexpr std::uint32_t neighbourBit(int dx, int dy, int dz) { return 1u << ((dz + 1) * 9 + (dy + 1) * 3 + dx + 1); }
+// isSimplePoint's input from inside(dx, dy, dz) -> bool over the 26 neighbours (the centre left out).
+template <class Inside>
+std::uint32_t insideBits(const Inside& inside) {
+  std::uint32_t bits = 0;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if ((dx || dy || dz) && inside(dx, dy, dz)) bits |= neighbourBit(dx, dy, dz);
+  return bits;
+}
+
 // The neighbourhood masks the test is made of, as GLSL defines for simple_point.glsl.
 std::vector<std::pair<std::string, std::string>> simplePointDefines();
 

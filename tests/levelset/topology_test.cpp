@@ -18,7 +18,7 @@
 namespace isoatlas::levelset {
 namespace {
 
-constexpr std::uint32_t bit(int dx, int dy, int dz) { return 1u << ((dz + 1) * 9 + (dy + 1) * 3 + dx + 1); }
+constexpr std::uint32_t bit(int dx, int dy, int dz) { return neighbourBit(dx, dy, dz); }
 constexpr std::uint32_t kAll = (1u << 27) - 1;
 
 TEST(SimplePoint, KnownConfigurations) {
@@ -52,15 +52,10 @@ struct SignGrid {
   std::vector<float> v;
   float& at(std::int64_t x, std::int64_t y, std::int64_t z) { return v[std::size_t((z * dims[1] + y) * dims[0] + x)]; }
   std::uint32_t insideAround(std::int64_t x, std::int64_t y, std::int64_t z) {
-    std::uint32_t in = 0;
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const std::int64_t a = x + dx, b = y + dy, c = z + dz;
-          if (a < 0 || b < 0 || c < 0 || a >= dims[0] || b >= dims[1] || c >= dims[2]) continue;
-          if (at(a, b, c) > 0) in |= bit(dx, dy, dz);
-        }
-    return in;
+    return insideBits([&](int dx, int dy, int dz) {
+      const std::int64_t a = x + dx, b = y + dy, c = z + dz;
+      return a >= 0 && b >= 0 && c >= 0 && a < dims[0] && b < dims[1] && c < dims[2] && at(a, b, c) > 0;
+    });
   }
   MeshTopology surface() const {
     return analyzeTopology(extract::marchingCubes(Backend::Cpu, {dims, v.data()}, 0.0f).mesh);
