@@ -438,7 +438,7 @@ TEST(Cli, RunPreservingTheTopologyStopsTheRingAsASphere) {
   const Mesh ras = readMesh((out / "surface.ply").string()), flipped = readMesh((lps / "surface.ply").string());
   ASSERT_EQ(ras.vertexCount(), flipped.vertexCount());
   for (std::size_t v = 0; v < ras.vertexCount(); ++v)
-    ASSERT_EQ(flipped.positions[v], Vec3(-ras.positions[v].x, -ras.positions[v].y, ras.positions[v].z)) << v;
+    ASSERT_EQ(flipped.positions[v], (Vec3{-ras.positions[v].x, -ras.positions[v].y, ras.positions[v].z})) << v;
   EXPECT_NE(test::readBytes(lps / "surface.vtk").find("SPACE=LPS"), std::string::npos);
   EXPECT_EQ(test::readBytes(lps / "surface.surf.gii"), test::readBytes(out / "surface.surf.gii"));
   const Result gifti = run("extract " + (out / "phi.nii.gz").string() + " --iso 0 --space lps -o " + (dir / "lps.surf.gii").string());
