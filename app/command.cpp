@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "core/progress.h"
 
 namespace isoatlas::app {
@@ -32,8 +33,22 @@ void bindAction(CLI::App& sub, const Action& action, int& exitCode, std::shared_
   CLI::Option* report = sub.add_option("--report", common->report, "write the figures of this run as JSON");
   if (!madeFolder) report->check(outputFile());
   sub.add_flag("--quiet,-q", common->quiet, "no progress or informational lines on stderr");
+  sub.add_option("--max-memory", common->maxMemory,
+                 "the most memory one input may take once read (a volume's voxels, a model's charts), such as 8G; "
+                 "default half the physical memory")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            try {
+              parseByteSize(text);
+              return std::string();
+            } catch (const Error& e) {
+              return std::string(e.what());
+            }
+          },
+          "SIZE"));
   sub.callback([&sub, action, common, &exitCode, madeFolder] {
     Progress::setQuiet(common->quiet);
+    if (!common->maxMemory.empty()) setMemoryBudget(parseByteSize(common->maxMemory));
     nlohmann::json report;
     report["command"] = sub.get_name();
     try {

@@ -13,12 +13,13 @@ namespace isoatlas::app {
 struct CommonOptions {
   std::string report;  // --report FILE.json
   bool quiet = false;
+  std::string maxMemory;  // --max-memory SIZE: the memory budget (core/memory_budget.h)
 };
 
 // A subcommand's work: fills `report` and returns the exit code (0, or 1 when the work failed).
 using Action = std::function<int(nlohmann::json& report)>;
 
-// Adds --report and --quiet to `sub` and makes it run `action` when chosen: errors become one line on
+// Adds --report, --quiet and --max-memory to `sub` and makes it run `action` when chosen: errors become one line on
 // stderr and exit 2 (bad input) or 1 (failure); the report is written on success. --report's folder
 // must exist, unless it lies directly in `madeFolder` (run's -o): a folder the action makes once every
 // input has been checked, so `run -o out/demo --report out/demo/r.json` works on a clean clone.

@@ -61,7 +61,7 @@ void addEditCommand(CLI::App& app, int& exitCode) {
   sub->add_option("--collapse-every", o->collapseEvery, "also collapse after every K writes (the input's conversion is the first; the tree is collapsed at the end anyway; 0: only then)")
       ->capture_default_str()
       ->check(inRange(0, 1e6));
-  sub->add_option("--node-limit", o->nodeLimit, "most nodes the tree may grow to")->capture_default_str()->check(inRange(1, 1e12));
+  sub->add_option("--node-limit", o->nodeLimit, "most nodes the tree may grow to")->capture_default_str()->check(inRange(1, 2e9));  // within dvt::kMaxTreeNodes
   sub->add_option("--backend", o->backend, "gpu, cpu or auto (the GPU when there is one)")->capture_default_str()->check(backendChoice());
   sub->add_option("--render", o->render, "also draw the edited tree to this PNG")->check(outputFile());
   sub->add_option("--render-mode", o->renderMode, "raycast (rays through the tree, sub-voxel surface) or cubes (one per inside leaf)")

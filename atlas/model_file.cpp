@@ -10,6 +10,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "atlas/quantised_atlas.h"
 #include "core/sectioned_file.h"
 
@@ -89,6 +90,14 @@ void readQuantisedAtlas(Reader& r, std::uint32_t version, std::uint32_t chartSiz
                                                              " bytes, the section holds " + std::to_string(r.left()));
   } else {
     r.fits(atlas.layout.charts, 28, "chart");  // f32 x 6 and a length, at least
+    // Deflated codes inflate a thousandfold: the charts' codes and the atlas image they decode to
+    // are held to the memory budget before any is unpacked.
+    const double slots = double(atlas.layout.columns) * atlas.layout.rows, perChart = double(texels);
+    const double bytes = perChart * (atlas.layout.charts * double(sizeof(QuantisedChart::positions[0]) + sizeof(QuantisedChart::normals[0])) +
+                                     slots * double(sizeof(atlas.positions[0]) + sizeof(atlas.normals[0])));
+    requireWithinMemoryBudget(bytes < 1.8e19 ? std::uint64_t(bytes) : ~std::uint64_t(0),
+                              r.path() + ": the atlas's " + std::to_string(atlas.layout.charts) + " charts of " + std::to_string(chartSize) +
+                                  " x " + std::to_string(chartSize) + " texels");
   }
   charts.assign(atlas.layout.charts, {});
   for (QuantisedChart& q : charts) {

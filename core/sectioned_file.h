@@ -107,6 +107,7 @@ public:
   }
   bool done() const { return at_ == end_; }
   std::size_t left() const { return end_ - at_; }
+  const std::string& path() const { return path_; }
   // The next n bytes as they are (valid while the file's bytes are).
   const std::uint8_t* take(std::size_t n) {
     need(n);

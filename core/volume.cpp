@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/error.h"
+#include "core/memory_budget.h"
 
 namespace isoatlas {
 
@@ -36,8 +37,6 @@ const char* scalarTypeName(ScalarType t) {
 bool isFloating(ScalarType t) { return t == ScalarType::Float32 || t == ScalarType::Float64; }
 
 namespace {
-std::uint64_t g_volumeByteLimit = std::uint64_t(8) << 30;
-
 template <class T>
 T load(const std::byte* p) {
   T v;
@@ -57,9 +56,6 @@ void store(std::byte* p, double v) {
   std::memcpy(p, &t, sizeof(T));
 }
 }  // namespace
-
-std::uint64_t volumeByteLimit() { return g_volumeByteLimit; }
-void setVolumeByteLimit(std::uint64_t bytes) { g_volumeByteLimit = bytes; }
 
 Volume Volume::zeros(std::array<std::int64_t, 3> dims, ScalarType type) {
   Volume v;
@@ -130,15 +126,16 @@ void validateVolumeHeader(const Volume& v, const std::string& where) {
     const std::int64_t d = v.dims[a];
     if (d < 1)
       throw Error(where + ": dimension " + std::to_string(a) + " is " + std::to_string(d) + " (must be >= 1)");
-    if (std::uint64_t(d) > volumeByteLimit() || count > volumeByteLimit() / std::uint64_t(d))
+    constexpr std::uint64_t kCountLimit = std::uint64_t(1) << 62;  // the byte count below cannot overflow
+    if (std::uint64_t(d) > kCountLimit || count > kCountLimit / std::uint64_t(d))
       throw Error(where + ": dimensions " + std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " +
                   std::to_string(v.dims[2]) + " are too large");
     count *= std::uint64_t(d);
   }
-  if (count > volumeByteLimit() / bytesPerVoxel(v.type))
-    throw Error(where + ": " + std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " +
-                std::to_string(v.dims[2]) + " " + scalarTypeName(v.type) + " voxels exceed the " +
-                std::to_string(volumeByteLimit() >> 20) + " MiB volume limit");
+  const std::uint64_t perVoxel = bytesPerVoxel(v.type);
+  requireWithinMemoryBudget(count > ~std::uint64_t(0) / perVoxel ? ~std::uint64_t(0) : count * perVoxel,
+                            where + ": " + std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " +
+                                std::to_string(v.dims[2]) + " " + scalarTypeName(v.type) + " voxels");
   for (int a = 0; a < 3; ++a) {
     if (!std::isfinite(v.spacing[a]) || v.spacing[a] <= 0)
       throw Error(where + ": spacing along axis " + std::to_string(a) + " is " + std::to_string(v.spacing[a]) +

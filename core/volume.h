@@ -46,12 +46,7 @@ struct Volume {
   std::vector<float> toFloat() const;
 };
 
-// The largest voxel data a reader will allocate (bytes). Files asking for more are rejected
-// before anything is allocated. Default 8 GiB; the fuzz targets lower it.
-std::uint64_t volumeByteLimit();
-void setVolumeByteLimit(std::uint64_t bytes);
-
-// Checks dims (each >= 1, product and bytes within volumeByteLimit(), no overflow), spacing (finite,
+// Checks dims (each >= 1, product and bytes within the memory budget (core/memory_budget.h), no overflow), spacing (finite,
 // > 0) and direction (finite); throws Error naming `where` otherwise.
 void validateVolumeHeader(const Volume& v, const std::string& where);
 // Throws Error naming the first NaN or infinite voxel (i,j,k) of a floating-point volume.

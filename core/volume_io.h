@@ -1,7 +1,7 @@
 // Reading and writing volumes. The format follows the file name:
 //   .nii .nii.gz .hdr (NIfTI-1 and NIfTI-2, nifticlib)   .nrrd .nhdr (NRRD, teem)   .inr .inr.gz (INRIMAGE-4)
 //   a folder, or a .dcm file of one (a DICOM series, GDCM; read only)
-// Readers check every size before allocating (see volumeByteLimit) and read NaN and infinite voxels as the
+// Readers check every size before allocating (the memory budget, core/memory_budget.h) and read NaN and infinite voxels as the
 // background (backgroundNonFiniteVoxels, with one line saying how many);
 // all failures throw isoatlas::Error naming the file and what was wrong.
 #pragma once

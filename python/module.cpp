@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "core/progress.h"
 #include "python/bindings.h"
 
@@ -35,6 +36,16 @@ PYBIND11_MODULE(_isoatlas, m) {
   m.def("set_threads", &setThreads, py::arg("threads"),
         "at most this many threads for the library's parallel work in this process (0: every core); the cohort's workers "
         "take one each, so that N workers share N cores");
+  m.def(
+      "set_max_memory",
+      [](py::object size) {
+        isoatlas::setMemoryBudget(py::isinstance<py::str>(size) ? isoatlas::parseByteSize(size.cast<std::string>())
+                                                                 : isoatlas::parseByteSize(std::to_string(size.cast<double>())));
+      },
+      py::arg("size"),
+      "the most memory one input may take once read (a volume's voxels, a model's charts), in bytes or as '8G', '512M' (the "
+      "command's --max-memory); default half the physical memory");
+  m.def("max_memory", &isoatlas::memoryBudget, "the memory budget in bytes (set_max_memory)");
   isoatlas::python::bindVolumes(m);
   isoatlas::python::bindStages(m);
   isoatlas::python::bindModels(m);

@@ -13,6 +13,8 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 DynamicVolumeTree::DynamicVolumeTree(const VolumeTree& tree, std::unique_ptr<TreePasses> passes, const TreeOptions& options)
     : frame_(tree.frame), passes_(std::move(passes)), options_(options) {
+  require(options.nodeLimit <= kMaxTreeNodes, "a node limit of " + std::to_string(options.nodeLimit) + " is more than a tree can index (" +
+                                                  std::to_string(kMaxTreeNodes) + " nodes: its pointers are 32-bit)");
   require(tree.nodeCount() <= options.nodeLimit, "the tree has " + std::to_string(tree.nodeCount()) +
                                                      " nodes, more than the node limit " + std::to_string(options.nodeLimit));
   passes_->load(tree);

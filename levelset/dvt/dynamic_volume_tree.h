@@ -19,7 +19,7 @@
 namespace isoatlas::levelset::dvt {
 
 struct TreeOptions {
-  std::uint64_t nodeLimit = kDefaultNodeLimit;
+  std::uint64_t nodeLimit = kDefaultNodeLimit;  // at most kMaxTreeNodes
   int collapseEvery = 0;  // 0: only when collapse() is called
 };
 

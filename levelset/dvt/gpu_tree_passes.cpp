@@ -29,11 +29,12 @@ public:
         runs_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_runs.comp", withRules({}))),
         plan_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_plan.comp", withRules({}))),
         restructure_(context.compute(gl::kDvtShaders, "levelset/dvt/shaders/dvt_restructure.comp", withRules({}))),
-        counter_(8) {}
+        counter_(16) {}
 
   std::string name() const override { return "gpu"; }
 
   void load(const VolumeTree& tree) override {
+    require(tree.nodeCount() <= kMaxTreeNodes, "the tree has " + std::to_string(tree.nodeCount()) + " nodes, more than a tree can index");
     frame_ = tree.frame;
     scales_ = childScales(frame_);
     count_ = tree.nodeCount();
@@ -73,6 +74,7 @@ public:
     profile_.endCall();
     collapsing_ = false;
     profile_.stage("upload input");
+    require(input.size() <= kMaxTreeNodes, "the write has " + std::to_string(input.size()) + " input voxels, more than the GPU backend counts");
     inputCount_ = input.size();
     if (input_.bytes() < std::max<std::size_t>(inputCount_, 1) * sizeof(InputVoxel)) {
       input_ = gl::Buffer(std::max<std::size_t>(inputCount_, 1) * sizeof(InputVoxel) * 5 / 4);
@@ -133,6 +135,8 @@ public:
     p.changes = run(plan_, count_, collapsing_ ? "collapse: plan" : "plan");
     stage("scan remap", "collapse: scan remap");
     p.nodes = scan_.exclusive(remap_, std::uint32_t(count_ + 1));
+    // The scan's total is 32-bit: past kMaxTreeNodes, give the bound (over any node limit) instead.
+    if (grownWrapped_ || count_ + grown_ > kMaxTreeNodes) p.nodes = grownWrapped_ ? ~std::uint64_t(0) : count_ + grown_;
     profile_.end();
     return p;
   }
@@ -197,18 +201,19 @@ private:
     const auto [gx, gy] = gl::dispatchGrid((threads + kGroup - 1) / kGroup);
     program.dispatch(gx, gy, 1, kBarrier);
   }
-  // Runs `program` over `threads` threads with the counters zeroed; returns the first (the second,
-  // the reduce marks, is kept in reduces_). `stage`: its name for the profile.
+  // Runs `program` over `threads` threads with the counters zeroed; returns the first (the others,
+  // the reduce marks and the plan's grown nodes, are kept in reduces_, grown_ and grownWrapped_).
+  // `stage`: its name for the profile.
   std::uint64_t run(const gl::Program& program, std::uint64_t threads, const char* stage) {
     profile_.stage(stage);
-    const std::uint32_t zero[2] = {0, 0};
-    counter_.upload(zero, 8);
+    const std::uint32_t zero[4] = {0, 0, 0, 0};
+    counter_.upload(zero, 16);
     glUniform1ui(program.uniform("count"), std::uint32_t(threads));
     dispatch(program, threads);
     profile_.stage("read back pass counter");
-    std::uint32_t n[2] = {0, 0};
-    counter_.download(n, 8);
-    reduces_ = n[1];
+    std::uint32_t n[4] = {0, 0, 0, 0};
+    counter_.download(n, 16);
+    reduces_ = n[1], grown_ = n[2], grownWrapped_ = n[3] != 0;
     return n[0];
   }
 
@@ -217,7 +222,8 @@ private:
   TreeFrame frame_;
   std::vector<float> scales_;
   Op op_ = Op::Union;  // the last mark's
-  std::uint64_t count_ = 0, capacity_ = 0, spareCapacity_ = 0, inputCount_ = 0, reduces_ = 0;
+  std::uint64_t count_ = 0, capacity_ = 0, spareCapacity_ = 0, inputCount_ = 0, reduces_ = 0, grown_ = 0;
+  bool grownWrapped_ = false;
   gl::Buffer pointers_, cells_, spare_, spareCells_, marks_, remap_, removals_, expansions_, input_, hits_, counter_;
   bool collapsing_ = false;  // since markCollapse, until the next write's mark: names the stages
   // ISOATLAS_GL_PROFILE=1: stage times per write (its collapse included), means over 20 writes.

@@ -27,6 +27,8 @@ namespace isoatlas::levelset::dvt {
 
 inline constexpr int kMaxDepth = 48;           // 16 splits per axis: coordinates fit 16 bits
 inline constexpr std::uint64_t kDefaultNodeLimit = std::uint64_t(1) << 26;  // a tree's, and a write's input voxels
+// The most nodes a tree can hold: its pointers are 32-bit signed indices (on both backends).
+inline constexpr std::uint64_t kMaxTreeNodes = (std::uint64_t(1) << 31) - 1;
 inline constexpr std::int32_t kNone = -1;      // no parent (the root) or no children (a leaf)
 inline constexpr float kInside = 1.0f, kOutside = -1.0f;
 inline constexpr float kNearZero = 1e-6f;      // band values keep their sign: |value| >= this

@@ -16,7 +16,8 @@ calls release the GIL, report progress to ``progress(task, fraction)`` and stop 
 ``isoatlas.eval`` is left out of ``__all__`` so that ``from isoatlas import *`` keeps Python's eval.
 """
 from ._isoatlas import (LevelSet, Model, Volume, build, edit, eval, extract, load_model, probe, read_mesh, read_volume, render, segment,
-                        set_quiet, set_threads, surface_figures, write_mesh, write_png, write_volume)
+                        set_max_memory, max_memory, set_quiet, set_threads, surface_figures, write_mesh, write_png, write_volume)
 
 __all__ = ["Volume", "read_volume", "write_volume", "probe", "segment", "LevelSet", "extract", "read_mesh", "write_mesh", "surface_figures",
-           "build", "Model", "load_model", "edit", "render", "write_png", "set_quiet", "set_threads"]
+           "build", "Model", "load_model", "edit", "render", "write_png", "set_quiet", "set_threads",
+           "set_max_memory", "max_memory"]

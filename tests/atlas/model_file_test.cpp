@@ -9,6 +9,7 @@
 #include "atlas/make_atlas.h"
 #include "atlas/model_file.h"
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "multires/stellar_simplify.h"
 #include "multires/triangle_pairing.h"
 #include "core/mesh_io.h"
@@ -266,6 +267,25 @@ TEST(ModelFile, GoldenVersionFourModelPinsTheFormat) {
   const auto dir = test::scratchDir();
   writeModel((dir / "m.isoatlas").string(), m);
   test::expectGolden(golden, test::readBytes(dir / "m.isoatlas"));
+}
+
+// A version-4 model's deflated charts inflate a thousandfold: held to the memory budget from the
+// chart count and size, before any is unpacked.
+TEST(ModelFile, AModelsChartsAreHeldToTheMemoryBudgetBeforeTheyInflate) {
+  const std::string golden = std::string(ISOATLAS_TEST_DATA_DIR) + "/torus_v4.isoatlas";
+  const std::uint64_t saved = memoryBudget();
+  setMemoryBudget(4096);  // 14 charts of 5 x 5 texels take about 9 KiB
+  std::string message;
+  try {
+    readModel(golden);
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  setMemoryBudget(saved);
+  EXPECT_NE(message.find("torus_v4.isoatlas: the atlas's 14 charts of 5 x 5 texels would take 9.3 KiB, more than the memory budget of 4 KiB"),
+            std::string::npos)
+      << message;
+  EXPECT_NO_THROW(readModel(golden));
 }
 
 TEST(ModelFile, AVersionThreeFileIsStillReadAndKeepsItsCodes) {

@@ -120,7 +120,7 @@ TEST(Cli, BadInputsExitTwoWithOneLine) {
   std::string header = "#INRIMAGE-4#{\nXDIM=1000000\nYDIM=1000000\nZDIM=1000000\nVDIM=1\nTYPE=float\nPIXSIZE=32 bits\n";
   header.append(252 - header.size(), '\n');
   test::writeBytes(dir / "huge.inr", header + "##}\n");
-  expectBadInput("info " + (dir / "huge.inr").string(), "too large");
+  expectBadInput("info " + (dir / "huge.inr").string(), "more than the memory budget");
   Volume v = test::rampVolume(ScalarType::Float32);
   for (std::size_t n = 0; n < v.voxelCount(); ++n) v.setValue(n, std::nan(""));
   writeVolume((dir / "nan.nrrd").string(), v);
@@ -177,6 +177,9 @@ TEST(Cli, EveryBadOptionExitsTwoNamingItAndWritesNothing) {
       {"render " + model + "-o " + o + "r.png --frames 0", "--frames"},
       {"render " + model + "-o " + o + "r.png --smooth 99", "--smooth"},
       {"render " + d + "damaged.isoatlas -o " + o + "r.png", "damaged.isoatlas"},
+      {"render " + model + "-o " + o + "r.png --max-memory 4K", "more than the memory budget of 4 KiB (--max-memory)"},
+      {"info " + vol + "--max-memory lots", "--max-memory"},
+      {"segment " + vol + "-T 100 -e 10 --seed 10,10,10 -o " + o + "s.nii.gz --max-memory 1K", "more than the memory budget of 1 KiB"},
       {"render " + model + "-o " + o + "r.jpg", "r.jpg"},
       {"render " + model + "--segmentation " + vol + "-o " + o + "r.png", "--segmentation"},
       {"build " + d + "torus.off -o " + o + "m.isoatlas --base-only " + o + "base.ply", "base.ply"},
@@ -192,6 +195,7 @@ TEST(Cli, EveryBadOptionExitsTwoNamingItAndWritesNothing) {
       {"build " + d + "torus.off -o " + o + "m.txt", "m.txt"},
       {"build " + d + "missing.off -o " + o + "m.isoatlas", "missing.off"},
       {"edit " + vol + "-o " + o + "e.nii.gz --node-limit 0 --subtract sphere:0,0,0,3", "--node-limit"},
+      {"edit " + vol + "-o " + o + "e.nii.gz --node-limit 3e9 --subtract sphere:0,0,0,3", "--node-limit"},
       {"edit " + vol + "-o " + o + "e.nii.gz --collapse-every -1 --subtract sphere:0,0,0,3", "--collapse-every"},
       {"edit " + vol + "-o " + o + "e.nii.gz --backend quantum --subtract sphere:0,0,0,3", "--backend"},
       {"edit " + vol + "-o " + o + "e.nii.gz --render " + o + "x.jpg --subtract sphere:0,0,0,3", "x.jpg"},

@@ -8,6 +8,7 @@
 #include <zlib.h>
 
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "core/volume_io.h"
 #include "tests/test_util.h"
 
@@ -193,23 +194,23 @@ TEST(VolumeBadInput, AbsurdAndOverflowingDimensions) {
   const auto dir = scratchDir();
   test::writeBytes(dir / "huge.inr",
                    inrHeader("XDIM=1000000\nYDIM=1000000\nZDIM=1000000\nVDIM=1\nTYPE=float\nPIXSIZE=32 bits\nCPU=decm\n"));
-  EXPECT_NE(errorOf((dir / "huge.inr").string()).find("too large"), std::string::npos);
+  EXPECT_NE(errorOf((dir / "huge.inr").string()).find("voxels would take 3553 PiB, more than the memory budget"), std::string::npos);
   test::writeBytes(dir / "overflow.inr",
                    inrHeader("XDIM=4611686018427387904\nYDIM=8\nZDIM=8\nVDIM=1\nTYPE=float\nPIXSIZE=32 bits\nCPU=decm\n"));
   EXPECT_NE(errorOf((dir / "overflow.inr").string()).find("too large"), std::string::npos);
   test::writeBytes(dir / "huge.nrrd", "NRRD0004\ntype: float\ndimension: 3\nsizes: 1000000 1000000 1000000\nendian: little\nencoding: raw\n\n");
-  EXPECT_NE(errorOf((dir / "huge.nrrd").string()).find("too large"), std::string::npos);
+  EXPECT_NE(errorOf((dir / "huge.nrrd").string()).find("more than the memory budget"), std::string::npos);
   test::writeBytes(dir / "overflow.nrrd",
                    "NRRD0004\ntype: float\ndimension: 3\nsizes: 4294967296 4294967296 4294967296\nendian: little\nencoding: raw\n\n");
   EXPECT_FALSE(errorOf((dir / "overflow.nrrd").string()).empty());
-  // NIfTI-1 dims are 16-bit: 32767^3 is past any limit.
+  // NIfTI-1 dims are 16-bit: 32767^3 bytes (32 TiB) is past any budget.
   const auto nii = dir / "huge.nii";
   writeVolume(nii.string(), test::rampVolume(ScalarType::UInt8));
   std::string bytes = test::readBytes(nii);
   const std::int16_t big = 32767;
   for (int d = 1; d <= 3; ++d) std::memcpy(bytes.data() + 40 + 2 * d, &big, 2);
   test::writeBytes(nii, bytes);
-  EXPECT_NE(errorOf(nii.string()).find("too large"), std::string::npos);
+  EXPECT_NE(errorOf(nii.string()).find("more than the memory budget"), std::string::npos);
   // Zero and negative sizes.
   test::writeBytes(dir / "zero.inr", inrHeader("XDIM=0\nYDIM=8\nZDIM=8\nVDIM=1\nTYPE=float\nPIXSIZE=32 bits\n"));
   EXPECT_FALSE(errorOf((dir / "zero.inr").string()).empty());
@@ -301,10 +302,10 @@ TEST(VolumeRoundTrip, OneVolumeOfA4DNiftiIsPicked) {
 TEST(VolumeBadInput, ByteLimitIsCheckedBeforeAllocation) {
   const auto dir = scratchDir();
   writeVolume((dir / "v.nii").string(), test::rampVolume(ScalarType::Float32, {64, 64, 64}));
-  const auto saved = volumeByteLimit();
-  setVolumeByteLimit(1 << 19);  // the file holds 1 MiB
-  EXPECT_NE(errorOf((dir / "v.nii").string()).find("limit"), std::string::npos);
-  setVolumeByteLimit(saved);
+  const auto saved = memoryBudget();
+  setMemoryBudget(1 << 19);  // the file holds 1 MiB
+  EXPECT_NE(errorOf((dir / "v.nii").string()).find("would take 1 MiB, more than the memory budget of 512 KiB (--max-memory)"), std::string::npos);
+  setMemoryBudget(saved);
   EXPECT_NO_THROW(readVolume((dir / "v.nii").string()));
 }
 
@@ -318,14 +319,14 @@ TEST(VolumeBadInput, ByteLimitHoldsForTheScaledVoxels) {
   const float slope = 2, inter = 1;
   std::memcpy(bytes.data() + 112, &slope, 4);
   std::memcpy(bytes.data() + 116, &inter, 4);
-  const auto saved = volumeByteLimit();
-  setVolumeByteLimit(1 << 19);
+  const auto saved = memoryBudget();
+  setMemoryBudget(1 << 19);
   EXPECT_NO_THROW(readVolume(path.string())) << "unscaled, the file is within the limit";
   test::writeBytes(path, bytes);
   const std::string e = errorOf(path.string());
   EXPECT_NE(e.find("as float32, its scl_slope applied"), std::string::npos) << e;
-  EXPECT_NE(e.find("limit"), std::string::npos) << e;
-  setVolumeByteLimit(saved);
+  EXPECT_NE(e.find("memory budget"), std::string::npos) << e;
+  setMemoryBudget(saved);
   EXPECT_NO_THROW(readVolume(path.string()));
 }
 

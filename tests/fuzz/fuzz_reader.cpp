@@ -16,6 +16,7 @@
 #include "atlas/reconstruct.h"
 #include "core/error.h"
 #include "core/image.h"
+#include "core/memory_budget.h"
 #include "core/mesh_io.h"
 #include "core/volume_io.h"
 #include "levelset/dvt/dvt_file.h"
@@ -40,7 +41,7 @@ constexpr const char* kNhdrData = "/tmp/isoatlas-fuzz-nhdr.raw";
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   // Keep every allocation far below libFuzzer's memory limit: a lying header must fail on its
   // size check or its short read, never by exhausting memory.
-  isoatlas::setVolumeByteLimit(std::uint64_t(64) << 20);
+  isoatlas::setMemoryBudget(std::uint64_t(64) << 20);
   if (std::string(FUZZ_EXT) == ".dcm") std::filesystem::create_directories(std::filesystem::path(scratchPath()).parent_path());
   if (std::string(FUZZ_EXT) == ".nhdr") {
     std::ofstream raw(kNhdrData, std::ios::binary | std::ios::trunc);

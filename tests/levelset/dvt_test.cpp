@@ -180,6 +180,13 @@ TEST(Dvt, NodeBudgetGivesAnErrorAndAValidTree) {
   }
 }
 
+// Pointers are 32-bit signed indices: a larger budget could not be held, and the GPU's plan counts
+// in 32 bits (it reports a total past kMaxTreeNodes as over any limit).
+TEST(Dvt, ANodeLimitPastWhatPointersIndexIsRefused) {
+  EXPECT_THROW(DynamicVolumeTree(VolumeTree::empty(unitFrame()), passesFor("cpu"), {.nodeLimit = kMaxTreeNodes + 1}), Error);
+  EXPECT_NO_THROW(DynamicVolumeTree(VolumeTree::empty(unitFrame()), passesFor("cpu"), {.nodeLimit = kMaxTreeNodes}));
+}
+
 TEST(Dvt, MaskRoundTripsThroughATree) {
   Volume mask = Volume::zeros({23, 17, 12}, ScalarType::UInt8);
   mask.spacing = {0.8, 1.0, 1.5};

@@ -382,6 +382,20 @@ def test_bad_models_and_meshes_raise_as_the_command_refuses_them(tmp_path):
         f.write(good[:8] + (1).to_bytes(4, "little") + good[12:])  # a version this isoatlas no longer reads
     with pytest.raises(ValueError, match="build the model again"):
         isoatlas.load_model(str(tmp_path / "v1.isoatlas"))
+    # The memory budget, as the command's --max-memory: a model whose charts would take more is refused.
+    saved = isoatlas.max_memory()
+    try:
+        isoatlas.set_max_memory("4K")
+        assert isoatlas.max_memory() == 4096
+        with pytest.raises(ValueError, match=r"m\.isoatlas: the atlas's \d+ charts of 9 x 9 texels would take [\d.]+ [KM]iB, "
+                                             r"more than the memory budget of 4 KiB \(--max-memory\)$"):
+            isoatlas.load_model(path)
+        with pytest.raises(ValueError, match="is not a size in bytes"):
+            isoatlas.set_max_memory("lots")
+        isoatlas.set_max_memory(saved)
+        assert isoatlas.max_memory() == saved
+    finally:
+        isoatlas.set_max_memory(saved)
     model = isoatlas.load_model(path)
     with pytest.raises(ValueError, match="level 99 is outside"):
         model.mesh_at_level(99)

@@ -15,7 +15,11 @@ void main() {
   if (removals[n] > 0 || (p.parent >= 0 && marks[p.parent] == MARK_COLLAPSE)) {  // below a reduced node, or collapsed
     emit = 0u, change = true;
   } else if (m == MARK_EXPAND) {
-    if (allowExpand) emit = 1u + expansions[n].size, change = true;
+    if (allowExpand) {
+      emit = 1u + expansions[n].size, change = true;
+      const uint before = atomicAdd(grown, expansions[n].size);  // few nodes expand: little contention
+      if (before + expansions[n].size < before) grownWrapped = 1u;
+    }
   } else {
     change = m == MARK_REDUCE || m == MARK_COLLAPSE;
   }

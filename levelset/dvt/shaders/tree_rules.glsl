@@ -7,7 +7,9 @@ layout(std430, binding = 1) readonly buffer Cells { uvec2 cells[]; };
 layout(std430, binding = 2) buffer Marks { uint marks[]; };
 layout(std430, binding = 3) buffer Remap { uint remap[]; };
 layout(std430, binding = 4) buffer Removals { int removals[]; };  // reduced subtrees' ranges (dvt_mark.comp)
-layout(std430, binding = 5) buffer Counter { uint counter, reduces; };
+// counter: the pass's count; reduces: the mark pass's reduce marks; grown, grownWrapped: the plan pass's
+// new nodes under expanded leaves (32-bit, so a wrap is flagged: the remap scan's total would wrap too).
+layout(std430, binding = 5) buffer Counter { uint counter, reduces, grown, grownWrapped; };
 layout(std430, binding = 8) readonly buffer Input { InputVoxel inputs[]; };
 layout(std430, binding = 9) buffer Hits { uint hits[]; };  // per input voxel: the leaf it expands, or NO_HIT
 struct Expansion {
