@@ -8,6 +8,9 @@
 //   bench_levelset [DATA [CASE ...]]           every case (or the named ones) and solver, one process
 //                                              each; JSON lines
 //   bench_levelset --one SOLVER CASE DATA OUT  one solver on one case: writes OUT.nii.gz, prints JSON
+//   bench_levelset --one-file SOLVER VOLUME "X,Y,Z,R;..." T EPS ALPHA OUT
+//                                              one solver on any volume, seeds in voxels (the ITK
+//                                              reference of tests/levelset/data: bench/itk-reference)
 #include <itkImage.h>
 #include <itkImportImageFilter.h>
 #include <itkParallelSparseFieldLevelSetImageFilter.h>
@@ -233,8 +236,7 @@ bool isOurs(const std::string& solver) {
 // The same backend, free, started from the seeds at full resolution.
 std::string fullStartOf(const std::string& solver) { return solver.substr(0, solver.rfind('-')); }
 
-int runOne(const std::string& solver, const Case& c, const std::string& data, const std::string& out) {
-  const Volume v = readVolume(data + "/" + c.file);
+int runOne(const std::string& solver, const Case& c, const Volume& v, const std::string& out) {
   Convergence conv;
   const float lower = c.params.target - c.params.width, upper = c.params.target + c.params.width;
   if (isOurs(solver)) {
@@ -294,9 +296,22 @@ int runOne(const std::string& solver, const Case& c, const std::string& data, co
 int main(int argc, char** argv) {
   if (argc == 6 && std::string(argv[1]) == "--one") {
     for (const Case& c : kCases)
-      if (c.name == argv[3]) return runOne(argv[2], c, argv[4], argv[5]);
+      if (c.name == argv[3]) return runOne(argv[2], c, readVolume(std::string(argv[4]) + "/" + c.file), argv[5]);
     std::fprintf(stderr, "bench_levelset: unknown case %s\n", argv[3]);
     return 2;
+  }
+  if (argc == 9 && std::string(argv[1]) == "--one-file") {
+    Case c{"given", argv[3], {}, {std::stof(argv[5]), std::stof(argv[6]), std::stof(argv[7])}, 8192};
+    std::istringstream seeds(argv[4]);
+    for (std::string seed; std::getline(seeds, seed, ';');) {
+      std::array<double, 4> s{};
+      if (std::sscanf(seed.c_str(), "%lf,%lf,%lf,%lf", &s[0], &s[1], &s[2], &s[3]) != 4) {
+        std::fprintf(stderr, "bench_levelset: a seed is x,y,z,r (voxels), not %s\n", seed.c_str());
+        return 2;
+      }
+      c.seeds.push_back(s);
+    }
+    return runOne(argv[2], c, readVolume(c.file), argv[8]);
   }
   const std::string data = argc > 1 ? argv[1] : "data";
   const std::vector<std::string> only(argv + std::min(argc, 2), argv + argc);  // case names; none: all

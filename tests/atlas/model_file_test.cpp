@@ -269,6 +269,19 @@ TEST(ModelFile, GoldenVersionFourModelPinsTheFormat) {
   test::expectGolden(golden, test::readBytes(dir / "m.isoatlas"));
 }
 
+// The quantiser pinned: a model without codes (version 2 holds floats) is quantised as it is
+// written, so the golden fixes each chart's box, step and rounding, the normals' octahedral codes,
+// the prediction and the packing (the version-4 golden above only re-emits the codes it read).
+TEST(ModelFile, GoldenQuantisedModelPinsTheQuantiser) {
+  const std::string data = ISOATLAS_TEST_DATA_DIR;
+  const Model floats = readModel(data + "/torus_v2.isoatlas");
+  ASSERT_TRUE(floats.codes.empty());
+  const auto dir = test::scratchDir();
+  const double moved = writeModel((dir / "m.isoatlas").string(), floats);
+  EXPECT_GT(moved, 0);
+  test::expectGolden(data + "/torus_v2_quantised.isoatlas", test::readBytes(dir / "m.isoatlas"));
+}
+
 // A version-4 model's deflated charts inflate a thousandfold: held to the memory budget from the
 // chart count and size, before any is unpacked.
 TEST(ModelFile, AModelsChartsAreHeldToTheMemoryBudgetBeforeTheyInflate) {

@@ -4,6 +4,7 @@ a changed row redoes only itself, a killed worker's subject is run elsewhere, Ct
 import csv
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -195,18 +196,49 @@ def worker_pids(process):
             if any("spawn_main" in part for part in p.cmdline())]
 
 
+def unfinished_subjects(lines):
+    """Subjects whose start the log shows and not their end (the last stage's line, or a failure):
+    {id: (worker address, pid)}."""
+    running = {}
+    for line in list(lines):
+        if m := re.match(r"^cohort: ([\w.-]+): started on (\S+) \(pid (\d+)\)$", line.strip()):
+            running[m.group(1)] = (m.group(2), int(m.group(3)))
+        elif m := re.match(r"^cohort: ([\w.-]+): (eval \d|failed: )", line):
+            running.pop(m.group(1), None)
+    return running
+
+
 def test_a_killed_worker_s_subject_is_run_elsewhere(tmp_path):
     manifest = make_study(str(tmp_path / "study"), size=56)
     out = str(tmp_path / "out")
     run = Cohort(manifest, out, "--stages", "segment,extract,build,eval")
-    run.wait_for(": segment ")  # both workers busy: four good subjects queued on two
-    pids = worker_pids(run.process)
-    assert len(pids) >= 2
-    os.kill(pids[0], signal.SIGKILL)
+    run.wait_for(": started on ")
+    # A subject that has started and not ended, and its worker: frozen first (SIGSTOP), so that the
+    # subject cannot end between the look and the kill; killed once its lines say it is still running.
+    for _ in range(200):
+        running = unfinished_subjects(run.lines)
+        candidates = sorted((s, w) for s, w in running.items() if w[1] in worker_pids(run.process))
+        if candidates:
+            lost, (address, pid) = candidates[0]
+            os.kill(pid, signal.SIGSTOP)
+            time.sleep(0.5)  # what it sent before it stopped arrives
+            if lost in unfinished_subjects(run.lines):
+                os.kill(pid, signal.SIGKILL)
+                break
+            os.kill(pid, signal.SIGCONT)
+        time.sleep(0.02)
+    else:
+        pytest.fail("no subject was caught running: " + "".join(run.lines))
     code, log = run.finish()
     rows = table(out)
     assert code == 2, log
     assert all(rows[name]["status"] == "done" for name in GOOD), rows
+    again = re.search(rf"^cohort: {re.escape(lost)}: started again on (\S+) \(pid (\d+)\): the worker that ran it, "
+                      rf"{re.escape(address)} \(pid {pid}\), was lost$", log, re.MULTILINE)
+    assert again, log  # the subject the killed worker held was run again, elsewhere, and its report says where
+    assert int(again.group(2)) != pid
+    with open(os.path.join(out, lost, "report.json")) as f:
+        assert json.load(f)["worker"] == again.group(1)
     assert not [f for f in files_of(out) if ".partial." in f]
 
 

@@ -114,7 +114,7 @@ def _run_on_dask(todo, settings, stages, out_dir, digests, reports, progress, wo
 
     client, cluster = _client(workers, scheduler, settings["allowed_failures"])
     try:
-        client.subscribe_topic(subjects_.LOG_TOPIC, lambda event: progress.say(subjects_.format_log(event[1])))
+        client.subscribe_topic(subjects_.LOG_TOPIC, _log_handler(progress))
         futures = {}
         for s in todo:
             future = client.submit(subjects_.run_subject, s, settings, stages, out_dir, digests[s.id], pure=False,
@@ -151,6 +151,26 @@ def _run_on_dask(todo, settings, stages, out_dir, digests, reports, progress, wo
     finally:
         _close(client, cluster)
     return False
+
+
+def _log_handler(progress):
+    """The workers' events as lines: each stage, and where each subject starts; a subject started a
+    second time was lost with its worker (killed, out of memory) and is run again."""
+    started = {}
+
+    def say(event):
+        message = event[1]
+        if "started_on" not in message:
+            progress.say(subjects_.format_log(message))
+            return
+        where = f"{message['started_on']} (pid {message['pid']})"
+        earlier = started.get(message["id"])
+        started[message["id"]] = where
+        if earlier:
+            progress.say(f"cohort: {message['id']}: started again on {where}: the worker that ran it, {earlier}, was lost")
+        else:
+            progress.say(f"cohort: {message['id']}: started on {where}")
+    return say
 
 
 def _close(client, cluster):

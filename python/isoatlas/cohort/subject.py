@@ -102,6 +102,11 @@ def format_log(message):
     return f"cohort: {message['id']}: {message['stage']} {message['seconds']:.1f} s: {message['detail']}"
 
 
+def started_event(subject_id, worker):
+    """Where a subject starts: the client names a subject started twice (its worker lost)."""
+    return {"id": subject_id, "started_on": worker.address, "pid": os.getpid()}
+
+
 def _world_to_voxel(affine, seed):
     """A seed ball (x, y, z, r) in world mm as (i, j, k, r) in voxel indices (r over the mean spacing)."""
     x, y, z, r = seed
@@ -202,6 +207,7 @@ def run_subject(subject, config, stages, out_dir, digest):
     if worker:
         isoatlas.set_quiet(True)  # the stage lines go to the client instead
         isoatlas.set_threads(config["threads_per_worker"])  # N workers on N cores, not N times N threads
+        worker.log_event(LOG_TOPIC, started_event(subject.id, worker))
     report = {"id": subject.id, "hash": digest, "stages": stages, "seconds": {}, "figures": {},
               "worker": worker.address if worker else f"{socket.gethostname()}:{os.getpid()}"}
     work = _Stages(subject, config, folder, report["figures"])
