@@ -16,6 +16,7 @@ as ``InputError``: the command prints its one line and exits 2 before any subjec
 """
 import csv
 import json
+import math
 import os
 import re
 from dataclasses import dataclass, field
@@ -86,35 +87,59 @@ def read_config(path):
         raise InputError(f"{path}: the config is a JSON object of settings")
     for key, value in given.items():
         if key not in DEFAULTS:
-            raise InputError(f"{path}: unknown setting '{key}' (known: {', '.join(DEFAULTS)})")
+            raise InputError(f"{path}: unknown setting '{_shown(key)}' (known: {', '.join(DEFAULTS)})")
         config[key] = value
     _check_config(config, path)
     return config
 
 
+def _shown(text, most=60):
+    """A user's text as a message quotes it: on one line (control characters escaped), cut short."""
+    text = "".join(ch if ch.isprintable() else ascii(ch)[1:-1] for ch in str(text))
+    return text if len(text) <= most else text[:most] + "..."
+
+
+def _is_number(value):
+    if not isinstance(value, (int, float)) or isinstance(value, bool):
+        return False
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:  # an integer past the largest float
+        return False
+
+
 def _check_config(c, where):
+    for key in ("target", "width"):
+        if c[key] is not None and not _is_number(c[key]):
+            raise InputError(f"{where}: '{key}' must be a number, or null (probed at the first seed)")
+    if not _is_number(c["alpha"]):
+        raise InputError(f"{where}: 'alpha' must be a number")
+    if not isinstance(c["edits"], str):
+        raise InputError(f"{where}: 'edits' must be a text of edits, such as \"subtract sphere:x,y,z,r\"")
+    parse_edits(c["edits"], f"{where}, edits")
+
     def positive(key, kind=(int, float)):
-        if not isinstance(c[key], kind) or isinstance(c[key], bool) or c[key] <= 0:
-            raise InputError(f"{where}: '{key}' must be a positive number")
+        if not isinstance(c[key], kind) or isinstance(c[key], bool) or not 0 < c[key] < 2**31:
+            raise InputError(f"{where}: '{key}' must be a positive number below 2^31")
     for key in ("iterations", "chart_size", "samples"):
         positive(key, int)
     ratio = c["base_ratio"]
     if ratio is not None and (not isinstance(ratio, (int, float)) or isinstance(ratio, bool) or not 0 < ratio <= 1):
         raise InputError(f"{where}: 'base_ratio' must be null (build's default) or in (0, 1]")
     for key in ("allowed_failures", "threads_per_worker"):
-        if not isinstance(c[key], int) or isinstance(c[key], bool) or c[key] < 0:
-            raise InputError(f"{where}: '{key}' must be a whole number >= 0")
+        if not isinstance(c[key], int) or isinstance(c[key], bool) or not 0 <= c[key] < 2**31:
+            raise InputError(f"{where}: '{key}' must be a whole number >= 0 and below 2^31")
     if c["chart_size"] < 3 or (c["chart_size"] - 1) & (c["chart_size"] - 2):
         raise InputError(f"{where}: 'chart_size' must be 2^k + 1 (5, 9, 17, 33, ...)")
     thumbnail = c["thumbnail"]
     if not (isinstance(thumbnail, list) and len(thumbnail) == 2 and all(isinstance(x, int) and 16 <= x <= 2048 for x in thumbnail)):
         raise InputError(f"{where}: 'thumbnail' must be [width, height] in pixels, 16 to 2048")
     if c["backend"] not in ("gpu", "cpu", "auto"):
-        raise InputError(f"{where}: 'backend' must be gpu, cpu or auto, not {c['backend']!r}")
+        raise InputError(f"{where}: 'backend' must be gpu, cpu or auto, not {_shown(repr(c['backend']))}")
     if not isinstance(c["half_resolution_start"], bool):
         raise InputError(f"{where}: 'half_resolution_start' must be true or false")
     if c["topology"] not in ("free", "preserve"):
-        raise InputError(f"{where}: 'topology' must be free or preserve, not {c['topology']!r}")
+        raise InputError(f"{where}: 'topology' must be free or preserve, not {_shown(repr(c['topology']))}")
     if c["topology"] == "preserve" and c["half_resolution_start"]:
         raise InputError(f"{where}: 'half_resolution_start' with 'topology' preserve: the start from half resolution "
                          "does not keep the seeds' topology; leave one out")
@@ -125,7 +150,7 @@ def parse_stages(text):
     stages = [s.strip() for s in text.split(",") if s.strip()]
     for s in stages:
         if s not in STAGES:
-            raise InputError(f"--stages: unknown stage '{s}' (stages: {','.join(STAGES)})")
+            raise InputError(f"--stages: unknown stage '{_shown(s)}' (stages: {','.join(STAGES)})")
     needs = {"extract": "segment", "build": "extract", "eval": "build", "render": "build"}
     for s in stages:
         if s in needs and needs[s] not in stages:
@@ -145,7 +170,7 @@ def parse_seeds(text, where):
         except ValueError:
             values = []
         if len(values) != 4 or values[3] <= 0 or any(v != v or abs(v) == float("inf") for v in values):
-            raise InputError(f"{where}: each seed is x,y,z,r in world mm with r > 0, not '{part.strip()}'")
+            raise InputError(f"{where}: each seed is x,y,z,r in world mm with r > 0, not '{_shown(part.strip())}'")
         seeds.append(tuple(values))
     if not seeds:
         raise InputError(f"{where}: give at least one seed x,y,z,r (world mm)")
@@ -159,7 +184,7 @@ def parse_edits(text, where):
         if not words:
             continue
         if len(words) != 2 or words[0] not in ("union", "subtract"):
-            raise InputError(f"{where}: each edit is 'union SHAPE' or 'subtract SHAPE', not '{part.strip()}'")
+            raise InputError(f"{where}: each edit is 'union SHAPE' or 'subtract SHAPE', not '{_shown(part.strip())}'")
         edits.append((words[0], words[1].strip()))
     return edits
 
@@ -168,9 +193,9 @@ def _number(text, where):
     try:
         value = float(text)
     except ValueError:
-        raise InputError(f"{where}: not a number: '{text}'") from None
+        raise InputError(f"{where}: not a number: '{_shown(text)}'") from None
     if value != value or abs(value) == float("inf"):
-        raise InputError(f"{where}: not a finite number: '{text}'")
+        raise InputError(f"{where}: not a finite number: '{_shown(text)}'")
     return value
 
 
@@ -189,7 +214,7 @@ def read_manifest(path, config):
         raise InputError(f"{path}: the manifest has no subjects (a header, then one row per subject)")
     for name in header:
         if name not in COLUMNS:
-            raise InputError(f"{path}: unknown column '{name}' (columns: {', '.join(COLUMNS)})")
+            raise InputError(f"{path}: unknown column '{_shown(name)}' (columns: {', '.join(COLUMNS)})")
     for name in ("id", "volume", "seeds"):
         if name not in header:
             raise InputError(f"{path}: the manifest needs a column '{name}'")
@@ -202,9 +227,9 @@ def read_manifest(path, config):
         cell = {k: (v or "").strip() for k, v in row.items()}
         subject_id = cell["id"]
         if not _ID.match(subject_id):
-            raise InputError(f"{where}, id: '{subject_id}' is not a folder name (letters, digits, '.', '-', '_')")
+            raise InputError(f"{where}, id: '{_shown(subject_id)}' is not a folder name (letters, digits, '.', '-', '_')")
         if subject_id in seen:
-            raise InputError(f"{where}, id: '{subject_id}' is given twice")
+            raise InputError(f"{where}, id: '{_shown(subject_id)}' is given twice")
         seen.add(subject_id)
         if not cell["volume"]:
             raise InputError(f"{where}, volume: give the scan's path")
@@ -214,7 +239,7 @@ def read_manifest(path, config):
 
         backend = cell.get("backend") or config["backend"]
         if backend not in ("gpu", "cpu", "auto"):
-            raise InputError(f"{where}, backend: gpu, cpu or auto, not '{backend}'")
+            raise InputError(f"{where}, backend: gpu, cpu or auto, not '{_shown(backend)}'")
         edits_text = cell.get("edits") or config["edits"]
         subjects.append(Subject(
             id=subject_id, volume=os.path.normpath(os.path.join(folder, cell["volume"])),
