@@ -288,6 +288,45 @@ def test_two_threads_segment_extract_and_build_as_one_does():
         np.testing.assert_array_equal(triangles, serial_triangles)
 
 
+def test_ctrl_c_stops_the_main_threads_call_and_not_another_threads():
+    """Ctrl-C reaches the call on the main thread (Python runs signal handlers there), not a helper
+    thread's call at the same time, which ends with what it gets alone; and each call's callback hears
+    only its own stages' names."""
+    data, affine = phantom()
+    mask = isoatlas.segment(data, seeds=[(18, 20, 15, 3)], target=100, width=30, iterations=200, backend="cpu", affine=affine)[0]
+    vertices, triangles = isoatlas.extract(mask, backend="cpu", affine=affine)[:2]
+    alone = isoatlas.build(vertices, triangles, base_ratio=0.05, chart_size=9, hausdorff=False).mesh_at_level(2)
+    helper_tasks, main_tasks, result = set(), set(), {}
+    helper_running, signal_sent = threading.Event(), threading.Event()
+
+    def heard_by_helper(task, fraction):
+        helper_tasks.add(task)
+        helper_running.set()
+
+    def helper():
+        model = isoatlas.build(vertices, triangles, base_ratio=0.05, chart_size=9, hausdorff=False, progress=heard_by_helper)
+        result["level"] = model.mesh_at_level(2)
+
+    def progress(task, fraction):
+        main_tasks.add(task)
+        if not signal_sent.is_set():
+            assert helper_running.wait(60)
+            result["helper in flight"] = "level" not in result
+            signal_sent.set()
+            os.kill(os.getpid(), signal.SIGINT)  # as a terminal's Ctrl-C (raised here, or at the call's next check)
+
+    thread = threading.Thread(target=helper)
+    thread.start()
+    with pytest.raises(KeyboardInterrupt):
+        isoatlas.segment(data, seeds=[(18, 20, 15, 3)], target=100, width=30, iterations=1000000, backend="cpu", affine=affine,
+                         progress=progress)
+    thread.join()
+    assert result["helper in flight"], "the helper's call ended before Ctrl-C: the test proves nothing"
+    np.testing.assert_array_equal(result["level"][0], alone[0])
+    np.testing.assert_array_equal(result["level"][1], alone[1])
+    assert main_tasks and helper_tasks and not main_tasks & helper_tasks, (main_tasks, helper_tasks)
+
+
 def test_two_threads_segment_on_the_gpu_as_one_does():
     """backend="gpu" from two threads at once: each thread gets a GL context of its own (one is current
     on one thread at a time), and both give the one thread's mask (llvmpipe here)."""
