@@ -178,7 +178,7 @@ void AtlasRenderer::drawItems(const gl::Program& p, const std::vector<DrawItem>&
     item.patches->buffer().bindBase(GL_SHADER_STORAGE_BUFFER, 0);
     item.atlas->detailSlots().bindBase(GL_SHADER_STORAGE_BUFFER, 1);
     for (std::size_t first = 0; first < item.patches->count(); first += chunk)
-      glDrawArrays(GL_PATCHES, GLint(first), GLsizei(std::min(chunk, item.patches->count() - first)));
+      glDrawArrays(GL_PATCHES, gl::glSize(first, "drawing the atlas's patches"), gl::glSize(std::min(chunk, item.patches->count() - first), "drawing the atlas's patches"));
   }
   gl::checkErrors("drawing the atlas");
 }

@@ -64,7 +64,7 @@ void DvtRenderer::draw(const dvt::GpuTreeBuffers& buffers, std::uint64_t nodeCou
   glUniform1i(p.uniform("colourByChart"), 0);
   if (view.mode == DvtRenderMode::Cubes) {
     vao_.bind();
-    glDrawArraysInstanced(GL_TRIANGLES, 0, 36, GLsizei(nodeCount));
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 36, gl::glSize(nodeCount, "drawing the tree's nodes"));
   } else {
     std::vector<float> radius(dvt::kMaxDepth + 1);
     for (std::uint32_t d = 0; d < radius.size(); ++d) radius[d] = float(frame.radius(d));

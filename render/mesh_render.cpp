@@ -80,7 +80,7 @@ Image renderMesh(const Mesh& mesh, const MeshRenderOptions& o) {
   glUniform3f(program.uniform("viewDirection"), float(forward.x), float(forward.y), float(forward.z));
   glUniform3f(program.uniform("colour"), float(o.colour.x), float(o.colour.y), float(o.colour.z));
   vao.bind();
-  glDrawElements(GL_TRIANGLES, GLsizei(corners.size()), GL_UNSIGNED_INT, nullptr);
+  glDrawElements(GL_TRIANGLES, gl::glSize(corners.size(), "drawing the mesh's corners"), GL_UNSIGNED_INT, nullptr);
   gl::checkErrors("drawing the mesh");
 
   return fbo.readImage();

@@ -248,6 +248,13 @@ Context::~Context() {
   if (previous) previous->tryMakeCurrent();
 }
 
+GLsizei glSize(std::uint64_t n, const char* what) {
+  constexpr std::uint64_t kLargest = 2147483647;
+  if (n > kLargest)
+    throw Error(std::string(what) + ": " + std::to_string(n) + " is more than OpenGL takes in one call (2^31 - 1)", ErrorKind::Failure);
+  return GLsizei(n);
+}
+
 void checkErrors(const char* where) {
   std::string message;
   if (GLenum e = glGetError(); e != GL_NO_ERROR) {

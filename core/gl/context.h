@@ -92,4 +92,8 @@ private:
 // in debug builds, debug-output messages of type error.
 void checkErrors(const char* where);
 
+// A count or byte size for a GL call that takes a 32-bit signed one (GLsizei): throws Error
+// (Failure) naming `what` and the size where it passes 2^31 - 1, where the cast would wrap negative.
+GLsizei glSize(std::uint64_t n, const char* what);
+
 }  // namespace isoatlas::gl

@@ -126,6 +126,8 @@ void Program::dispatch(GLuint x, GLuint y, GLuint z, GLbitfield barrier) const {
 }
 
 std::array<GLuint, 2> dispatchGrid(std::uint64_t groups) {
+  if (groups > std::uint64_t(65535) * 65535)
+    throw Error("a dispatch of " + std::to_string(groups) + " work groups: more than a 65535 x 65535 grid holds", ErrorKind::Failure);
   return {GLuint(std::min<std::uint64_t>(groups, 65535)), GLuint((groups + 65534) / 65535)};
 }
 

@@ -57,7 +57,7 @@ private:
 
 // The work-group grid for `groups` groups: at most 65535 along x (the limit every GL 4.5 driver
 // allows), the rest along y. Shaders number their group gl_WorkGroupID.y * gl_NumWorkGroups.x +
-// gl_WorkGroupID.x and return past the count.
+// gl_WorkGroupID.x and return past the count. Throws Error (Failure) past 65535 x 65535 groups.
 std::array<GLuint, 2> dispatchGrid(std::uint64_t groups);
 
 }  // namespace isoatlas::gl

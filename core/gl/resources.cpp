@@ -132,7 +132,7 @@ void Texture::readRedFloats(std::vector<float>& out, std::size_t bandBytes) cons
   const int rows = int(std::clamp<std::size_t>(bandBytes / std::max<std::size_t>(rowBytes, 1), 1, std::size_t(std::max(height(), 1))));
   for (int y = 0; y < height(); y += rows) {
     const int band = std::min(rows, height() - y);
-    glGetTextureSubImage(id(), 0, 0, y, 0, width(), band, 1, GL_RED, GL_FLOAT, GLsizei(rowBytes * std::size_t(band)),
+    glGetTextureSubImage(id(), 0, 0, y, 0, width(), band, 1, GL_RED, GL_FLOAT, glSize(rowBytes * std::size_t(band), "reading a float texture"),
                          out.data() + std::size_t(y) * std::size_t(width()));
   }
   checkErrors("reading a float texture");

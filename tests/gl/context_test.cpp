@@ -28,6 +28,20 @@ std::uint32_t scrambleOne(const Program& p, std::uint32_t value) {
   return dst.read<std::uint32_t>(1)[0];
 }
 
+// Sizes GL takes as 32-bit signed: refused, named, past 2^31 - 1, instead of wrapping negative;
+// dispatches past the grid's 65535 x 65535 groups likewise.
+TEST(GlSizes, SizesPastWhatGlTakesAreRefusedNamed) {
+  EXPECT_EQ(gl::glSize(2147483647, "x"), 2147483647);
+  try {
+    gl::glSize(2147483648ull, "drawing the mesh's corners");
+    ADD_FAILURE() << "2^31 was taken";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "drawing the mesh's corners: 2147483648 is more than OpenGL takes in one call (2^31 - 1)");
+  }
+  EXPECT_EQ(gl::dispatchGrid(65535ull * 65535)[1], 65535u);
+  EXPECT_THROW(gl::dispatchGrid(65535ull * 65535 + 1), Error);
+}
+
 TEST(GlContext, ProgramsCompileOncePerContext) {
   auto ctx = Context::headless();
   EXPECT_EQ(ctx->programsCompiled(), 0);
