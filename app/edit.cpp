@@ -11,13 +11,13 @@
 #include "core/progress.h"
 #include "core/volume_io.h"
 #include "extract/extract_surface.h"
-#include "levelset/dvt/dvt_file.h"
-#include "levelset/dvt/gpu_tree_passes.h"
-#include "levelset/solids/volume_solid.h"
+#include "edit/dvt/dvt_file.h"
+#include "edit/dvt/gpu_tree_passes.h"
+#include "edit/solids/volume_solid.h"
 #include "render/dvt_render.h"
 
 namespace isoatlas::app {
-namespace dvt = levelset::dvt;
+namespace dvt = edit::dvt;
 namespace {
 
 // A mesh is extracted on the input's voxels, or finer for a finer edit: at most one halving more

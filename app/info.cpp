@@ -9,7 +9,7 @@
 #include "core/mesh_topology.h"
 #include "core/gz_file.h"
 #include "core/volume_io.h"
-#include "levelset/dvt/dvt_file.h"
+#include "edit/dvt/dvt_file.h"
 
 namespace isoatlas::app {
 namespace {
@@ -70,10 +70,10 @@ int meshInfo(const std::string& path, nlohmann::json& r) {
 }
 
 int treeInfo(const std::string& path, nlohmann::json& r) {
-  const levelset::dvt::VolumeTree t = levelset::dvt::readDvt(path);
+  const edit::dvt::VolumeTree t = edit::dvt::readDvt(path);
   std::size_t inside = 0, band = 0;
   for (const auto& p : t.pointers)
-    if (p.leaf()) inside += p.value == levelset::dvt::kInside, band += p.value > levelset::dvt::kOutside && p.value < levelset::dvt::kInside;
+    if (p.leaf()) inside += p.value == edit::dvt::kInside, band += p.value > edit::dvt::kOutside && p.value < edit::dvt::kInside;
   const std::int64_t n = t.frame.voxelsPerAxis();
   r["kind"] = "volume tree";
   r["file"] = path;

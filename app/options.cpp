@@ -101,10 +101,10 @@ void addEditStepOptions(CLI::App& sub, const std::shared_ptr<std::vector<pipelin
   const std::string shapes =
       "SHAPE in world coordinates: sphere:X,Y,Z,R  box:X0,Y0,Z0,X1,Y1,Z1  capsule:X0,Y0,Z0,X1,Y1,Z1,R  torus:X,Y,Z,R,r  mesh:FILE";
   // Callbacks as each option is parsed, so unions and subtractions keep the command line's order.
-  sub.add_option_function<std::string>("--union", [steps](const std::string& s) { steps->push_back({levelset::dvt::Op::Union, s}); },
+  sub.add_option_function<std::string>("--union", [steps](const std::string& s) { steps->push_back({edit::dvt::Op::Union, s}); },
                                        "add a " + shapes + "; repeatable")
       ->trigger_on_parse();
-  sub.add_option_function<std::string>("--subtract", [steps](const std::string& s) { steps->push_back({levelset::dvt::Op::Subtract, s}); },
+  sub.add_option_function<std::string>("--subtract", [steps](const std::string& s) { steps->push_back({edit::dvt::Op::Subtract, s}); },
                                        "carve a SHAPE out; repeatable, applied in order with --union")
       ->trigger_on_parse();
 }

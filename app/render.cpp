@@ -8,7 +8,7 @@
 
 #include "app/command.h"
 #include "pipeline/segmentation_views.h"
-#include "levelset/dvt/dvt_file.h"
+#include "edit/dvt/dvt_file.h"
 #include "render/orbit.h"
 #include "render/dvt_render.h"
 #include "app/options.h"
@@ -247,7 +247,7 @@ void addRenderCommand(CLI::App& app, int& exitCode) {
       require(o->models.size() == 1, "render draws one tree");
       require(o->output.ends_with(".png"), o->output + ": -o writes a .png");
       require(seg->view.empty() || seg->view == "raycast" || seg->view == "cubes", "--view " + seg->view + ": expected raycast or cubes for a tree");
-      const levelset::dvt::VolumeTree tree = levelset::dvt::readDvt(o->models.front());
+      const edit::dvt::VolumeTree tree = edit::dvt::readDvt(o->models.front());
       const auto [width, height] = parseSize(o->size);
       pipeline::Gpu gpu;
       gpu.needGl();

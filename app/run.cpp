@@ -60,7 +60,7 @@ SegmentationSetup segmentationSetup(const RunOptions& options, const std::string
   if (s.seeds.empty() && pipeline::isDemoVolume(input, volume)) {
     for (const Vec3& seed : pipeline::kDemoSeeds) s.seeds.push_back({seed, kDemoSeedRadius});
     s.params = pipeline::kDemoParams;
-    if (s.edits.steps.empty()) s.edits.steps.push_back({levelset::dvt::Op::Subtract, pipeline::kDemoEdit});
+    if (s.edits.steps.empty()) s.edits.steps.push_back({edit::dvt::Op::Subtract, pipeline::kDemoEdit});
     s.topology = pipeline::kDemoTopology;
   }
   if (!options.topology.empty()) s.topology = levelset::topologyFor(options.topology);

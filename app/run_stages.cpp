@@ -10,7 +10,7 @@
 #include "core/mesh_io.h"
 #include "core/volume_io.h"
 #include "extract/extract_surface.h"
-#include "levelset/solids/volume_solid.h"
+#include "edit/solids/volume_solid.h"
 #include "pipeline/surface_figures.h"
 #include "render/dvt_render.h"
 #include "render/mesh_render.h"
@@ -47,7 +47,7 @@ pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup,
 }
 
 EditedVolume editStage(RunJob& job, const pipeline::Segmentation& s, const pipeline::EditRequest& edits,
-                       const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids) {
+                       const std::vector<std::unique_ptr<edit::dvt::DistanceSolid>>& solids) {
   EditedVolume out;
   if (edits.steps.empty()) {
     job.skipped("edit", "no --union or --subtract given");
@@ -57,11 +57,11 @@ EditedVolume editStage(RunJob& job, const pipeline::Segmentation& s, const pipel
     out.edited = pipeline::treeOfLevelSet(*s.levelSet, edits, job.gpu);
     pipeline::applySteps(*out.edited, edits, solids);
     out.tree = out.edited->tree->tree();
-    writeVolume(job.products.add("mask_edited.nii.gz", "the segmentation after the edits: uint8, 1 inside"), levelset::dvt::sampleMask(*out.tree));
+    writeVolume(job.products.add("mask_edited.nii.gz", "the segmentation after the edits: uint8, 1 inside"), edit::dvt::sampleMask(*out.tree));
     job.report["edit"] = out.edited->figures(*out.tree);
     std::string what;
     for (const pipeline::EditStep& e : edits.steps)
-      what += std::string(what.empty() ? "" : ", ") + (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") + e.shape;
+      what += std::string(what.empty() ? "" : ", ") + (e.op == edit::dvt::Op::Union ? "union " : "subtract ") + e.shape;
     job.report["edit"]["edits"] = what;
     return what + ": " + std::to_string(out.tree->nodeCount()) + " nodes on the " + out.edited->backend + ": mask_edited.nii.gz";
   });
@@ -76,7 +76,7 @@ Mesh extractStage(RunJob& job, const pipeline::Segmentation& s, const EditedVolu
     // may have cut specks off them).
     const extract::ExtractOptions options{
         .iso = 0.0f, .largestComponents = s.topology == levelset::Topology::Free ? 1u : seeds, .backend = s.backend};
-    surface = edit.tree ? extract::extractSurface(levelset::dvt::sampleField(*edit.tree, edit.tree->frame.voxelDepth()), options, &stats)
+    surface = edit.tree ? extract::extractSurface(edit::dvt::sampleField(*edit.tree, edit.tree->frame.voxelDepth()), options, &stats)
                         : extract::extractLevelSet(*s.levelSet, options, &stats);
     const std::string frame = space == MeshSpace::Ras ? "RAS" : "LPS";
     writeMesh(job.products.add("surface.ply", "the extracted surface, closed and manifold, in world coordinates (mm, " + frame + ")"), surface,

@@ -14,8 +14,8 @@
 #include "core/mesh.h"
 #include "core/mesh_io.h"
 #include "core/volume.h"
-#include "levelset/dvt/volume_tree.h"
-#include "levelset/solids/solid.h"
+#include "edit/dvt/volume_tree.h"
+#include "edit/solids/solid.h"
 #include "pipeline/gpu.h"
 #include "pipeline/model_building.h"
 #include "pipeline/run_page.h"
@@ -60,10 +60,10 @@ pipeline::Segmentation segmentStage(RunJob& job, const SegmentationSetup& setup,
 // surfacePictures, which runs beside the model's build.
 struct EditedVolume {
   std::optional<pipeline::EditedTree> edited;
-  std::optional<levelset::dvt::VolumeTree> tree;  // edited->tree's streams, taken once
+  std::optional<edit::dvt::VolumeTree> tree;  // edited->tree's streams, taken once
 };
 EditedVolume editStage(RunJob& job, const pipeline::Segmentation& s, const pipeline::EditRequest& edits,
-                       const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids);
+                       const std::vector<std::unique_ptr<edit::dvt::DistanceSolid>>& solids);
 
 // Marching cubes over the edited tree's distances; without edits, over the level set's active pages,
 // read where the solver keeps them. The surface keeps its largest component; with the topology

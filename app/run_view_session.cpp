@@ -31,7 +31,7 @@ void writeViewSession(const std::string& path, const std::string& input, const V
   }
   for (const pipeline::EditStep& e : edits)
     out << (e.shape.starts_with("mesh:") ? "# (a mesh edit, not a brush) " : "") << "brush "
-        << (e.op == levelset::dvt::Op::Union ? "union " : "subtract ") << e.shape << "\n";
+        << (e.op == edit::dvt::Op::Union ? "union " : "subtract ") << e.shape << "\n";
   out << "build\n";
   writeFileAtomically(path, out.str());
 }

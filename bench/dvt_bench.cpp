@@ -31,15 +31,15 @@
 #include "core/image.h"
 #include "core/mesh_io.h"
 #include "core/plot.h"
-#include "levelset/dvt/cpu_tree_passes.h"
-#include "levelset/dvt/dynamic_volume_tree.h"
-#include "levelset/dvt/gpu_tree_passes.h"
-#include "levelset/solids/mesh_solid.h"
-#include "levelset/solids/rasterise.h"
-#include "levelset/solids/volume_solid.h"
+#include "edit/dvt/cpu_tree_passes.h"
+#include "edit/dvt/dynamic_volume_tree.h"
+#include "edit/dvt/gpu_tree_passes.h"
+#include "edit/solids/mesh_solid.h"
+#include "edit/solids/rasterise.h"
+#include "edit/solids/volume_solid.h"
 
 namespace isoatlas {
-namespace dvt = levelset::dvt;
+namespace dvt = edit::dvt;
 namespace {
 
 constexpr int kSteps = 120;

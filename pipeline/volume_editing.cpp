@@ -7,16 +7,16 @@
 #include "core/mesh_io.h"
 #include "core/progress.h"
 #include "core/volume_io.h"
-#include "levelset/dvt/cpu_tree_passes.h"
-#include "levelset/dvt/dvt_file.h"
-#include "levelset/dvt/gpu_tree_passes.h"
-#include "levelset/solids/mesh_solid.h"
-#include "levelset/solids/rasterise.h"
-#include "levelset/solids/volume_solid.h"
+#include "edit/dvt/cpu_tree_passes.h"
+#include "edit/dvt/dvt_file.h"
+#include "edit/dvt/gpu_tree_passes.h"
+#include "edit/solids/mesh_solid.h"
+#include "edit/solids/rasterise.h"
+#include "edit/solids/volume_solid.h"
 #include "levelset/level_set.h"
 
 namespace isoatlas::pipeline {
-namespace dvt = levelset::dvt;
+namespace dvt = edit::dvt;
 namespace {
 
 double secondsSince(std::chrono::steady_clock::time_point start) {

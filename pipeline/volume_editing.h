@@ -12,30 +12,30 @@
 #include "pipeline/gpu.h"
 #include "core/volume.h"
 #include "core/mesh.h"
-#include "levelset/dvt/dynamic_volume_tree.h"
-#include "levelset/solids/solid.h"
+#include "edit/dvt/dynamic_volume_tree.h"
+#include "edit/solids/solid.h"
 #include "render/dvt_render.h"
 
 namespace isoatlas::pipeline {
 
 struct EditStep {
-  levelset::dvt::Op op = levelset::dvt::Op::Union;
-  std::string shape;  // sphere:..., box:..., capsule:..., torus:..., mesh:FILE (levelset/dvt/solid.h)
+  edit::dvt::Op op = edit::dvt::Op::Union;
+  std::string shape;  // sphere:..., box:..., capsule:..., torus:..., mesh:FILE (edit/dvt/solid.h)
 };
 
 // The steps' solids: brushes parsed, meshes read (throws Error naming the shape or the file).
-std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>> stepSolids(const std::vector<EditStep>& steps);
+std::vector<std::unique_ptr<edit::dvt::DistanceSolid>> stepSolids(const std::vector<EditStep>& steps);
 
 struct EditRequest {
   std::optional<std::uint32_t> depth;  // default: the input's voxels
   std::vector<EditStep> steps;
   bool hierarchical = true;             // hierarchical rasterisation (rasterise.h)
-  std::uint64_t nodeLimit = levelset::dvt::TreeOptions{}.nodeLimit;
+  std::uint64_t nodeLimit = edit::dvt::TreeOptions{}.nodeLimit;
   int collapseEvery = 0;                // also collapse after every k edits (0: only at the end)
 };
 
 struct EditedTree {
-  std::unique_ptr<levelset::dvt::DynamicVolumeTree> tree;
+  std::unique_ptr<edit::dvt::DynamicVolumeTree> tree;
   std::uint32_t depth = 0;
   std::string backend;
   double secondsWrite = 0, secondsCollapse = 0;  // collapses: every k writes and the last one
@@ -44,7 +44,7 @@ struct EditedTree {
   // nodes, leaves, depth_max, seconds_write, seconds_collapse, collapses, bytes, backend, depth,
   // input_voxels, write_iterations;
   // `streams`: the tree as tree->tree() gives it (a copy, or a read-back from the GPU: take it once)
-  nlohmann::json figures(const levelset::dvt::VolumeTree& streams) const;
+  nlohmann::json figures(const edit::dvt::VolumeTree& streams) const;
 };
 
 // What an edit starts from, read and checked before any GPU work: a segmentation (mask or phi volume),
@@ -52,10 +52,10 @@ struct EditedTree {
 // depth of the tree, fixed once here.
 struct EditInput {
   std::unique_ptr<const Volume> volume;                    // a segmentation, held for `solid` to read
-  std::optional<levelset::dvt::VolumeTree> tree;           // a saved tree
-  std::unique_ptr<const levelset::dvt::Solid> solid;       // the segmentation's or the mesh's; none for a tree
-  std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>> solids;  // one per step
-  levelset::dvt::TreeFrame frame;  // a segmentation's grid, a saved tree's, a box around a mesh
+  std::optional<edit::dvt::VolumeTree> tree;           // a saved tree
+  std::unique_ptr<const edit::dvt::Solid> solid;       // the segmentation's or the mesh's; none for a tree
+  std::vector<std::unique_ptr<edit::dvt::DistanceSolid>> solids;  // one per step
+  edit::dvt::TreeFrame frame;  // a segmentation's grid, a saved tree's, a box around a mesh
   std::uint32_t depth = 0;         // the request's, else the input's voxels (24 for a mesh)
 };
 // Both throw Error naming the file or the shape, and past the depth limit.
@@ -73,8 +73,8 @@ EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest&
 EditedTree treeOfLevelSet(const levelset::LevelSet& levelSet, const EditRequest& request, levelset::Backend backend);
 // The input's tree with the request's steps applied, then collapsed.
 EditedTree applyEdits(const EditInput& input, const EditRequest& request, Gpu& gpu);
-void applySteps(EditedTree& edited, const EditRequest& request, const std::vector<std::unique_ptr<levelset::dvt::DistanceSolid>>& solids);
+void applySteps(EditedTree& edited, const EditRequest& request, const std::vector<std::unique_ptr<edit::dvt::DistanceSolid>>& solids);
 // A picture of the edited tree: from the GPU tree's own buffers, else `streams` uploaded.
-Image renderEditedTree(const EditedTree& edited, const levelset::dvt::VolumeTree& streams, const render::DvtView& view, Gpu& gpu);
+Image renderEditedTree(const EditedTree& edited, const edit::dvt::VolumeTree& streams, const render::DvtView& view, Gpu& gpu);
 
 }  // namespace isoatlas::pipeline

@@ -10,7 +10,7 @@
 #include "pipeline/seed_ball.h"
 #include "pipeline/segmentation.h"
 #include "pipeline/volume_editing.h"
-#include "levelset/solids/volume_solid.h"
+#include "edit/solids/volume_solid.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "extract/extract_surface.h"
@@ -168,7 +168,7 @@ void bindStages(py::module_& m) {
         pipeline::EditRequest request{.depth = depth};
         for (const auto& [op, shape] : steps) {
           require(op == "union" || op == "subtract", "edit: each step is (\"union\" or \"subtract\", SHAPE), not " + op);
-          request.steps.push_back({op == "union" ? levelset::dvt::Op::Union : levelset::dvt::Op::Subtract, shape});
+          request.steps.push_back({op == "union" ? edit::dvt::Op::Union : edit::dvt::Op::Subtract, shape});
         }
         Volume segmentation = toVolume(volume, affine, "edit");
         pipeline::EditInput input;
@@ -183,9 +183,9 @@ void bindStages(py::module_& m) {
         {
           py::gil_scoped_release release;
           const pipeline::EditedTree edited = pipeline::applyEdits(input, request, gpu);
-          const levelset::dvt::VolumeTree tree = edited.tree->tree();
+          const edit::dvt::VolumeTree tree = edited.tree->tree();
           figures = edited.figures(tree);
-          mask = levelset::dvt::sampleMask(tree);
+          mask = edit::dvt::sampleMask(tree);
         }
         return py::make_tuple(ownedArray(std::move(mask)), toDict(figures));
       }, py::arg("volume"), py::arg("steps"), py::arg("depth") = py::none(), py::arg("backend") = "auto", py::arg("affine") = py::none(),

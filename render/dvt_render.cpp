@@ -5,10 +5,10 @@
 
 #include "core/gl/program.h"
 #include "kRenderShaders.h"
-#include "levelset/dvt/tree_rules.h"
+#include "edit/dvt/tree_rules.h"
 
 namespace isoatlas::render {
-namespace dvt = levelset::dvt;
+namespace dvt = edit::dvt;
 namespace {
 
 // The viewer's shader files and the tree's, in one table (dvt_tree.glsl includes tree_layout.glsl).

@@ -1,4 +1,4 @@
-// Pictures of a dynamic volume tree (levelset/dvt), drawn in the current GL context straight from the
+// Pictures of a dynamic volume tree (edit/dvt), drawn in the current GL context straight from the
 // tree's pointer and node streams (Keller et al., sec. 5.1):
 //   Cubes:   one instanced cube per inside leaf (the vertex stage drops every other node), flat shaded.
 //   RayCast: a ray per pixel walks the tree from leaf to leaf (coarse empty leaves are skipped whole)
@@ -11,8 +11,8 @@
 #include "core/gl/context.h"
 #include "core/gl/resources.h"
 #include "core/image.h"
-#include "levelset/dvt/gpu_tree_passes.h"
-#include "levelset/dvt/volume_tree.h"
+#include "edit/dvt/gpu_tree_passes.h"
+#include "edit/dvt/volume_tree.h"
 #include "render/camera.h"
 
 namespace isoatlas::render {
@@ -29,7 +29,7 @@ class DvtRenderer {
 public:
   DvtRenderer();  // in gl::Context::current(), as every renderer of render/
   // Draws into the bound framebuffer (of the camera's size).
-  void draw(const levelset::dvt::GpuTreeBuffers& buffers, std::uint64_t nodeCount, const levelset::dvt::TreeFrame& frame,
+  void draw(const edit::dvt::GpuTreeBuffers& buffers, std::uint64_t nodeCount, const edit::dvt::TreeFrame& frame,
             const DvtView& view);
 
 private:
@@ -39,11 +39,11 @@ private:
 };
 
 // The world box of the tree's inside leaves (the whole box when there are none).
-Box insideBounds(const levelset::dvt::VolumeTree& tree);
+Box insideBounds(const edit::dvt::VolumeTree& tree);
 // A picture of a tree, drawn offscreen in the current context and read back (rows top to bottom):
 // from a GPU tree's buffers, or a CPU tree's streams uploaded.
-Image renderTree(const levelset::dvt::GpuTreeBuffers& buffers, std::uint64_t nodeCount, const levelset::dvt::TreeFrame& frame,
+Image renderTree(const edit::dvt::GpuTreeBuffers& buffers, std::uint64_t nodeCount, const edit::dvt::TreeFrame& frame,
                  const DvtView& view);
-Image renderTree(const levelset::dvt::VolumeTree& tree, const DvtView& view);
+Image renderTree(const edit::dvt::VolumeTree& tree, const DvtView& view);
 
 }  // namespace isoatlas::render

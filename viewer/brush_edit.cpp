@@ -4,13 +4,13 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "levelset/solids/rasterise.h"
-#include "levelset/solids/volume_solid.h"
+#include "edit/solids/rasterise.h"
+#include "edit/solids/volume_solid.h"
 #include "pipeline/volume_editing.h"
 
 namespace isoatlas::viewer {
 
-namespace dvt = levelset::dvt;
+namespace dvt = edit::dvt;
 
 BrushStroke::BrushStroke(const levelset::LevelSet& levelSet, dvt::Op op, levelset::Backend backend, int levels)
     : op_(op), preview_(levelSet.mask()) {

@@ -17,29 +17,29 @@
 #include <optional>
 
 #include "core/volume.h"
-#include "levelset/dvt/dynamic_volume_tree.h"
-#include "levelset/solids/solid.h"
+#include "edit/dvt/dynamic_volume_tree.h"
+#include "edit/solids/solid.h"
 #include "levelset/level_set.h"
 
 namespace isoatlas::viewer {
 
 struct BrushResult {
-  std::unique_ptr<levelset::dvt::DynamicVolumeTree> tree;
+  std::unique_ptr<edit::dvt::DynamicVolumeTree> tree;
   Volume mask;
 };
 
 class BrushStroke {
 public:
-  BrushStroke(const levelset::LevelSet& levelSet, levelset::dvt::Op op, levelset::Backend backend, int levels = 0);
+  BrushStroke(const levelset::LevelSet& levelSet, edit::dvt::Op op, levelset::Backend backend, int levels = 0);
   // One write of `shape`, painted into the preview.
-  void apply(const levelset::dvt::Solid& shape);
+  void apply(const edit::dvt::Solid& shape);
   // A sphere of `radius` mm at `centre`, swept from the last dab's centre when there was one.
   void dabTo(const Vec3& centre, double radius);
   // From here on the dabs keep to one layer of voxels: the slice normal to voxel axis `axis` (0 i,
   // 1 j, 2 k) through the voxel nearest `through` (ITK-SNAP's 2D brush).
   void keepToSlice(int axis, const Vec3& through);
   // `shape` as the stroke paints it: cut to its slice when it keeps to one.
-  std::unique_ptr<levelset::dvt::DistanceSolid> kept(std::unique_ptr<levelset::dvt::DistanceSolid> shape) const;
+  std::unique_ptr<edit::dvt::DistanceSolid> kept(std::unique_ptr<edit::dvt::DistanceSolid> shape) const;
   std::size_t dabs() const { return dabs_; }
   const Volume& preview() const { return preview_; }
   // Collapses the tree and takes its mask; the stroke is spent.
@@ -51,15 +51,15 @@ private:
     double halfWidth;
   };
   std::optional<Slice> slice_;
-  levelset::dvt::Op op_;
+  edit::dvt::Op op_;
   std::uint32_t depth_;
-  std::unique_ptr<levelset::dvt::DynamicVolumeTree> tree_;
+  std::unique_ptr<edit::dvt::DynamicVolumeTree> tree_;
   Volume preview_;  // also the segmentation's grid: its dims, spacing and placement
   std::optional<Vec3> last_;
   std::size_t dabs_ = 0;
 };
 
-BrushResult brushSegmentation(const levelset::LevelSet& levelSet, const levelset::dvt::Solid& brush, levelset::dvt::Op op,
+BrushResult brushSegmentation(const levelset::LevelSet& levelSet, const edit::dvt::Solid& brush, edit::dvt::Op op,
                               levelset::Backend backend, int levels = 0);
 
 }  // namespace isoatlas::viewer

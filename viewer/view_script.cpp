@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "core/numbers.h"
-#include "levelset/solids/solid.h"
+#include "edit/solids/solid.h"
 #include "viewer/viewer_state.h"
 
 namespace isoatlas::viewer {
@@ -79,7 +79,7 @@ ViewAction parseAction(const std::vector<std::string>& words, const std::string&
     a.on = words[1] == "union";
     a.word = words[2];
     try {
-      levelset::dvt::parseBrush(a.word);
+      edit::dvt::parseBrush(a.word);
     } catch (const Error& e) {
       throw Error(where + ": brush " + e.what());
     }

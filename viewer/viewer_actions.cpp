@@ -8,7 +8,7 @@
 #include "core/text.h"
 #include "core/volume_io.h"
 #include "extract/extract_surface.h"
-#include "levelset/dvt/dvt_file.h"
+#include "edit/dvt/dvt_file.h"
 
 namespace isoatlas::viewer::window {
 namespace {

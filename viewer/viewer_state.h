@@ -20,7 +20,7 @@
 #include "core/image.h"
 #include "core/volume_io.h"
 #include "core/volume.h"
-#include "levelset/dvt/volume_tree.h"
+#include "edit/dvt/volume_tree.h"
 #include "viewer/brush_edit.h"
 #include "viewer/image_panel.h"
 #include "viewer/model_job.h"
@@ -37,7 +37,7 @@ struct GLFWwindow;
 
 namespace isoatlas::viewer::window {
 
-namespace dvt = levelset::dvt;
+namespace dvt = edit::dvt;
 
 constexpr int kPanelWidth = kControlsWidth;
 

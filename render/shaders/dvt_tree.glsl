@@ -1,7 +1,7 @@
 // A DVT's streams for the renderers (viewer/dvt_render), read only, and the walk to the leaf at a
 // point in voxel index coordinates (a point on a split plane belongs to the upper half, as
 // dvt::sampleAt says).
-#include "levelset/dvt/shaders/tree_layout.glsl"
+#include "edit/dvt/shaders/tree_layout.glsl"
 
 layout(std430, binding = 0) readonly buffer Pointers { Pointer pointers[]; };
 layout(std430, binding = 1) readonly buffer Cells { uvec2 cells[]; };

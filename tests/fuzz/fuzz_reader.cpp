@@ -19,8 +19,8 @@
 #include "core/memory_budget.h"
 #include "core/mesh_io.h"
 #include "core/volume_io.h"
-#include "levelset/dvt/dvt_file.h"
-#include "levelset/solids/volume_solid.h"
+#include "edit/dvt/dvt_file.h"
+#include "edit/solids/volume_solid.h"
 #ifdef FUZZ_VIEW_SCRIPT
 #include "viewer/view_script.h"
 #endif
@@ -71,10 +71,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       for (int level = 0; level <= std::min(2, isoatlas::atlas::maxLevel(model.atlas)); ++level)
         isoatlas::atlas::reconstructLevel(model.base, model.atlas, level);
     } else if (scratchPath().ends_with(".dvt")) {
-      const isoatlas::levelset::dvt::VolumeTree tree = isoatlas::levelset::dvt::readDvt(scratchPath(), false);
+      const isoatlas::edit::dvt::VolumeTree tree = isoatlas::edit::dvt::readDvt(scratchPath(), false);
       // Its mask, when small enough to sample quickly (a real file's grid can be 256^3).
       const auto grid = tree.frame.grid();
-      if (grid[0] * grid[1] * grid[2] <= (std::int64_t(1) << 21)) isoatlas::levelset::dvt::sampleMask(tree);
+      if (grid[0] * grid[1] * grid[2] <= (std::int64_t(1) << 21)) isoatlas::edit::dvt::sampleMask(tree);
     } else if (scratchPath().ends_with(".png")) {
       (void)isoatlas::readPng(scratchPath());
     } else if (isoatlas::isMeshPath(scratchPath())) {

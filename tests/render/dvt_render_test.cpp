@@ -8,18 +8,18 @@
 #include <numeric>
 #include <vector>
 
-#include "levelset/dvt/cpu_tree_passes.h"
-#include "levelset/dvt/dynamic_volume_tree.h"
-#include "levelset/dvt/gpu_tree_passes.h"
-#include "levelset/solids/rasterise.h"
-#include "levelset/solids/volume_solid.h"
+#include "edit/dvt/cpu_tree_passes.h"
+#include "edit/dvt/dynamic_volume_tree.h"
+#include "edit/dvt/gpu_tree_passes.h"
+#include "edit/solids/rasterise.h"
+#include "edit/solids/volume_solid.h"
 #include "tests/gl_context.h"
 #include "tests/render/silhouette.h"
 #include "render/dvt_render.h"
 
 namespace isoatlas::render {
 namespace {
-namespace dvt = levelset::dvt;
+namespace dvt = edit::dvt;
 
 TEST(DvtRender, SilhouettesOfASphereAndTheGpuTreesOwnBuffers) {
   test::glContext();

@@ -6,7 +6,7 @@
 #include <fstream>
 
 #include "core/error.h"
-#include "levelset/solids/solid.h"
+#include "edit/solids/solid.h"
 #include "levelset/fill_threads.h"
 #include "levelset/probe.h"
 #include "tests/test_util.h"
@@ -126,8 +126,8 @@ TEST(ViewSession, ABrushCarvesThroughTheVolumeTree) {
   SegmentationSession s(head.image, levelset::Backend::Cpu);
   s.seed({0, 0, 0}, 15, true);
   const Volume before = s.levelSet().mask();
-  const auto brush = levelset::dvt::parseBrush("sphere:9,0,0,6");
-  const BrushResult r = brushSegmentation(s.levelSet(), *brush, levelset::dvt::Op::Subtract, levelset::Backend::Cpu);
+  const auto brush = edit::dvt::parseBrush("sphere:9,0,0,6");
+  const BrushResult r = brushSegmentation(s.levelSet(), *brush, edit::dvt::Op::Subtract, levelset::Backend::Cpu);
   std::int64_t carved = 0, leftInBrush = 0, changedElsewhere = 0;
   for (std::int64_t k = 0; k < before.dims[2]; ++k)
     for (std::int64_t j = 0; j < before.dims[1]; ++j)
@@ -163,7 +163,7 @@ TEST(ViewSession, AStrokeSweepsItsBrushThroughTheDabs) {
   for (const bool add : {true, false}) {
     SCOPED_TRACE(add ? "union" : "subtract");
     const double radius = add ? 3.1 : 5.2;
-    BrushStroke stroke(s.levelSet(), add ? levelset::dvt::Op::Union : levelset::dvt::Op::Subtract, levelset::Backend::Cpu);
+    BrushStroke stroke(s.levelSet(), add ? edit::dvt::Op::Union : edit::dvt::Op::Subtract, levelset::Backend::Cpu);
     for (const Vec3& p : path) stroke.dabTo(p, radius);
     EXPECT_EQ(stroke.dabs(), path.size());
     const Volume preview = stroke.preview();
@@ -194,7 +194,7 @@ TEST(ViewSession, AStrokeKeptToASliceChangesThatLayerOnly) {
   const std::vector<Vec3> path{{-16.1, -20.3, 4.9}, {-3.9, -8.2, 4.9}, {14.3, 1.1, 4.9}};
   for (const int axis : {2, 0}) {
     SCOPED_TRACE(axis);
-    BrushStroke stroke(s.levelSet(), levelset::dvt::Op::Union, levelset::Backend::Cpu);
+    BrushStroke stroke(s.levelSet(), edit::dvt::Op::Union, levelset::Backend::Cpu);
     stroke.keepToSlice(axis, path[0]);
     for (const Vec3& p : path) stroke.dabTo(p, 6.2);
     const Volume preview = stroke.preview();

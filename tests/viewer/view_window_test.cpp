@@ -9,11 +9,11 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "core/volume_io.h"
-#include "levelset/dvt/cpu_tree_passes.h"
-#include "levelset/dvt/dvt_file.h"
-#include "levelset/dvt/dynamic_volume_tree.h"
-#include "levelset/solids/rasterise.h"
-#include "levelset/solids/volume_solid.h"
+#include "edit/dvt/cpu_tree_passes.h"
+#include "edit/dvt/dvt_file.h"
+#include "edit/dvt/dynamic_volume_tree.h"
+#include "edit/solids/rasterise.h"
+#include "edit/solids/volume_solid.h"
 #include "tests/multires/mesh_shapes.h"
 #include "tests/test_util.h"
 #include "tests/viewer/head_phantom.h"
@@ -50,10 +50,10 @@ TEST(ViewWindow, ShowsAModelATreeAndAVolume) {
   const auto dir = test::scratchDir();
   const std::string model = (dir / "torus.isoatlas").string(), tree = (dir / "ball.dvt").string(), volume = (dir / "ramp.nii.gz").string();
   atlas::writeModel(model, test::buildModel(test::torusMesh(48, 24), 0.04, 17));
-  const levelset::dvt::TreeFrame frame = levelset::dvt::frameAround({-1, -1, -1}, {1, 1, 1}, 5);
-  levelset::dvt::DynamicVolumeTree t(levelset::dvt::VolumeTree::empty(frame), levelset::dvt::makeCpuTreePasses());
-  t.write(levelset::dvt::rasterise(*levelset::dvt::parseBrush("sphere:0,0,0,0.8"), frame, 15), levelset::dvt::Op::Union);
-  levelset::dvt::writeDvt(tree, t.tree());
+  const edit::dvt::TreeFrame frame = edit::dvt::frameAround({-1, -1, -1}, {1, 1, 1}, 5);
+  edit::dvt::DynamicVolumeTree t(edit::dvt::VolumeTree::empty(frame), edit::dvt::makeCpuTreePasses());
+  t.write(edit::dvt::rasterise(*edit::dvt::parseBrush("sphere:0,0,0,0.8"), frame, 15), edit::dvt::Op::Union);
+  edit::dvt::writeDvt(tree, t.tree());
   writeVolume(volume, test::rampVolume(ScalarType::UInt8, {30, 20, 10}));
 
   const Image m = shoot(model, dir), b = shoot(tree, dir), v = shoot(volume, dir);
