@@ -18,10 +18,10 @@ void validateParams(const SpeedParams& p) {
           "alpha must lie in [0, 1] (got " + std::to_string(p.alpha) + ")");
 }
 
-Topology topologyFor(const std::string& word) {
+Topology topologyFor(const std::string& word, const std::string& option) {
   if (word == "free") return Topology::Free;
   if (word == "preserve") return Topology::Preserve;
-  throw Error("--topology " + word + ": say free or preserve", ErrorKind::BadInput);
+  throw Error(option + (option.ends_with("=") ? "'" + word + "'" : " " + word) + ": say free or preserve", ErrorKind::BadInput);
 }
 
 LevelSet::LevelSet(const Volume& source, const SpeedParams& params, const LevelSetOptions& options)

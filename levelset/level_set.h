@@ -36,8 +36,9 @@ struct LevelSetOptions {
   Topology topology = Topology::Free;
 };
 
-// --topology's words: "free" or "preserve"; throws Error (bad input) for another.
-Topology topologyFor(const std::string& word);
+// --topology's words: "free" or "preserve"; throws Error (bad input) for another, naming `option`
+// (the command's "--topology", Python's "topology=").
+Topology topologyFor(const std::string& word, const std::string& option = "--topology");
 inline constexpr std::array<const char*, 2> kTopologyChoices{"free", "preserve"};
 
 struct RunOptions {

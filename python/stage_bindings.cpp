@@ -73,7 +73,7 @@ void bindStages(py::module_& m) {
                        const std::string& topology) {
              const levelset::SpeedParams params{float(target), float(width), float(alpha)};
              levelset::validateParams(params);
-             const levelset::Topology kept = levelset::topologyFor(topology);
+             const levelset::Topology kept = levelset::topologyFor(topology, "topology=");
              PyLevelSet p;
              p.source = std::make_unique<Volume>(toVolume(volume, affine, "LevelSet"));
              p.levelSet = std::make_unique<levelset::LevelSet>(*p.source, params,
@@ -135,7 +135,7 @@ void bindStages(py::module_& m) {
   m.def("segment", [](const py::object& volume, const std::vector<std::vector<double>>& seeds, double target, double width, double alpha,
                       const std::string& backend, int iterations, bool converge, bool halfResolutionStart, const py::object& progress,
                       const py::object& affine, const std::string& topology) {
-        const levelset::Topology kept = levelset::topologyFor(topology);
+        const levelset::Topology kept = levelset::topologyFor(topology, "topology=");
         pipeline::requireTopologyWithStart(kept, halfResolutionStart);
         const VolumeArgument argument(volume, affine, "segment");
         const Volume& v = argument.get();

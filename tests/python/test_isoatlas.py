@@ -215,7 +215,7 @@ def test_a_preserved_topology_equals_the_command_and_stays_a_sphere(tmp_path):
     genus = lambda phi: isoatlas.surface_figures(*isoatlas.extract(phi, iso=0.0, backend="cpu"))["genus"]
     assert genus(free_phi) == 1 and genus(kept_phi) == 0
     assert 2 * np.logical_and(kept, free).sum() / (kept.sum() + free.sum()) >= 0.97
-    with pytest.raises(ValueError, match="--topology wrong: say free or preserve"):
+    with pytest.raises(ValueError, match="^topology='wrong': say free or preserve$"):
         isoatlas.segment(data, topology="wrong", **args)
 
 
