@@ -1,5 +1,8 @@
 // isoatlas view: the window (viewer/viewer_app.h), building models with `build`'s stage.
 #include "app/command.h"
+
+#include <algorithm>
+
 #include "pipeline/model_building.h"
 #include "app/options.h"
 #include "core/error.h"
@@ -37,6 +40,11 @@ void addViewCommand(CLI::App& app, int& exitCode) {
     r["iterations"] = v.iterations;
     if (!v.backend.empty()) r["backend"] = v.backend;
     r["status"] = v.status;
+    if (!v.treeDabMs.empty()) {  // the tree brush's latency, each dab's write to its picture
+      std::vector<double> ms = v.treeDabMs;
+      std::sort(ms.begin(), ms.end());
+      r["tree_dabs"] = {{"dabs", ms.size()}, {"median_ms", ms[ms.size() / 2]}, {"max_ms", ms.back()}};
+    }
     if (!o->screenshot.empty()) r["screenshot"] = o->screenshot;
     return 0;
   }, exitCode);

@@ -11,11 +11,18 @@
 //   Plots bench/dvt_steps.png and dvt_nodes.png (512^3), dvt_steps_2048.png and dvt_nodes_2048.png.
 //   With ISOATLAS_BENCH_GPU=1 the GPU backend too (ROHR), when the GL renderer is not a software one;
 //   its rows name the GPU (and the CPU the peer ran on).
+//   The brush in the window's tree view (`isoatlas view TREE.dvt`, ctrl-drag): the 512^3 drawing's
+//   union steps as one tree, collapsed, then a stroke of kStrokeDabs sphere dabs of radius 0.02 along
+//   the top of its tube, painted as the window paints (viewer::TreePainting: a write a dab; on the CPU
+//   its streams uploaded after it) and drawn as the window draws (DvtRenderer's ray cast, 940 x 800:
+//   the view beside the controls at the window's default size). Each dab is timed from its write to
+//   its picture finished (glFinish), beside one frame at 60 Hz (the target: within a frame).
+//   The CPU tree passes on whatever GL there is (llvmpipe here); the GPU's with ISOATLAS_BENCH_GPU=1.
 //   With DATA: closed meshes of DATA/meshes into volumes, as `isoatlas edit MESH -o TREE.dvt` makes them
 //   (the mesh's distance solid built, rasterised hierarchically, written into an empty tree and
 //   collapsed), beside OpenVDB's meshToLevelSet (half width 3 voxels) at the same voxel size; median
 //   of 3 runs.
-// Usage: bench_dvt [DATA [torus|meshes]] (the torus needs no data; both parts by default).
+// Usage: bench_dvt [DATA [torus|meshes|stroke]] (the torus and the stroke need no data; all parts by default).
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Composite.h>
 #include <openvdb/tools/LevelSetSphere.h>
@@ -37,6 +44,9 @@
 #include "edit/solids/mesh_solid.h"
 #include "edit/solids/rasterise.h"
 #include "edit/solids/volume_solid.h"
+#include "render/orbit.h"
+#include "render/dvt_render.h"
+#include "viewer/tree_painting.h"
 
 namespace isoatlas {
 namespace dvt = edit::dvt;
@@ -169,6 +179,44 @@ void reportBeside(const std::string& name, const Trace& ours, const Trace& vdb, 
   bench::report("dvt", name, "nodes (isoatlas) / active voxels (openvdb), final", ours.size.back(), "openvdb", vdb.size.back(), true, device);
 }
 
+constexpr int kStrokeDabs = 40;
+
+// The stroke in the tree view (the header's "brush in the window's tree view"): ms a dab, its write
+// to its picture, median and longest.
+void strokeLatency(levelset::Backend backend, const std::string& device) {
+  const dvt::TreeFrame frame = unitCube(9);
+  dvt::DynamicVolumeTree drawing(dvt::VolumeTree::empty(frame), dvt::makeCpuTreePasses());
+  for (int step = 0; step < kSteps; ++step)
+    drawing.write(dvt::rasterise(*dvt::parseBrush(sphere(along(step, 0), kBrush)), frame, frame.voxelDepth()), dvt::Op::Union);
+  drawing.collapse();
+  const dvt::VolumeTree tree = drawing.tree();
+  viewer::TreePainting painting(tree, backend);
+  render::DvtRenderer renderer;
+  const int width = 940, height = 800;
+  gl::Framebuffer target(width, height);
+  const render::Camera camera = render::Orbit{}.camera(render::insideBounds(tree), width, height);  // the window's first view
+  std::vector<double> ms, writeMs;
+  for (int dab = 0; dab < kStrokeDabs; ++dab) {
+    const auto start = std::chrono::steady_clock::now();
+    painting.dabTo(along(dab, kBrush), kGroove, dab % 2 == 0);  // union and carve in turn: the tree keeps changing
+    if (painting.backend() == "gpu") glFinish();
+    writeMs.push_back(1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    target.bind();
+    renderer.draw(painting.buffers(), painting.nodeCount(), painting.frame(), {.camera = camera});
+    glFinish();
+    ms.push_back(1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  const std::string name = "brush stroke in the tree view, 512^3 torus (" + std::to_string(tree.nodeCount()) + " nodes), " +
+                           std::to_string(kStrokeDabs) + " dabs, " + painting.backend() + " tree passes, ray cast " +
+                           std::to_string(width) + " x " + std::to_string(height);
+  bench::report("dvt", name, "ms from a dab's write to its picture (median)", median(ms), "one frame at 60 Hz", 1000.0 / 60, true, device);
+  bench::report("dvt", name, "ms of it in the write (median; on the CPU with the streams' upload)", median(writeMs), "one frame at 60 Hz",
+                1000.0 / 60, true, device);
+  bench::report("dvt", name, "ms from a dab's write to its picture (longest)", *std::max_element(ms.begin(), ms.end()), "one frame at 60 Hz",
+                1000.0 / 60, true, device);
+}
+
 // A GL context on a real GPU when ISOATLAS_BENCH_GPU=1 asks for one; none on a software renderer,
 // whose figures would say nothing of a GPU.
 std::unique_ptr<gl::Context> gpuContext() {
@@ -190,13 +238,21 @@ int main(int argc, char** argv) {
   using namespace isoatlas;
   openvdb::initialize();
   const std::string part = argc > 2 ? argv[2] : "";
-  if (argc > 1 && part != "torus") {
+  if (argc > 1 && (part.empty() || part == "meshes")) {
     for (const char* name : {"armadillo", "bunny00"})
       for (const int splits : {8, 9}) meshIntoVolume(argv[1], name, splits);
   }
   if (part == "meshes") return 0;
   const std::unique_ptr<gl::Context> gpu = gpuContext();
   const std::string device = gpu ? gpu->info().renderer + " (OpenVDB on " + bench::machineName() + ")" : "";
+  if (part.empty() || part == "stroke") {
+    // The window draws with GL whatever the tree passes: llvmpipe here, unless a GPU is asked for.
+    const std::unique_ptr<gl::Context> software = gpu ? nullptr : gl::Context::headless();
+    const std::string renderer = gpu ? gpu->info().renderer : software->info().renderer;
+    strokeLatency(levelset::Backend::Cpu, renderer + " (" + bench::machineName() + ")");
+    if (gpu) strokeLatency(levelset::Backend::Gpu, renderer + " (" + bench::machineName() + ")");
+    if (part == "stroke") return 0;
+  }
   const std::string dir = ISOATLAS_BENCH_DIR;
   for (const int k : {9, 11}) {
     const std::string size = k == 9 ? "voxel 5% of the brush (512^3)" : "voxel 1.25% of the brush (2048^3)";

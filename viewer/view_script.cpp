@@ -15,7 +15,7 @@ namespace {
 const char* kUsage =
     "open FILE, mode segment|mesh|tree, tool navigate|probe|seed|unseed|brush, slice X,Y,Z, probe X,Y,Z[,R], seed X,Y,Z,R, unseed X,Y,Z,R, set t|eps|alpha V, run N, "
     "undo, redo, brush union|subtract SHAPE, stroke union|subtract R X,Y,Z..., paint union|subtract R i|j|k X,Y,Z..., view3d volume|surface, clip +x|-x|+y|-y|+z|-z|off, build, levels CPU GPU, stamp X,Y,Z,R,DEPTH WORD, wireframe on|off, render raycast|cubes, load-mask FILE, save-mask FILE, "
-    "save-model FILE, screenshot FILE.png, frames N, quit";
+    "save-model FILE, save-tree FILE, screenshot FILE.png, frames N, quit";
 
 // One line's action, its words checked.
 ViewAction parseAction(const std::vector<std::string>& words, const std::string& where) {
@@ -38,11 +38,12 @@ ViewAction parseAction(const std::vector<std::string>& words, const std::string&
     return n[0];
   };
   const std::string& v = a.verb;
-  if (v == "open" || v == "load-mask" || v == "save-mask" || v == "save-model" || v == "screenshot") {
+  if (v == "open" || v == "load-mask" || v == "save-mask" || v == "save-model" || v == "save-tree" || v == "screenshot") {
     need(1, "a file");
     a.word = words[1];
     if (v == "screenshot" && !a.word.ends_with(".png")) throw Error(where + ": screenshot " + a.word + ": writes a .png");
     if (v == "save-model" && !a.word.ends_with(".isoatlas")) throw Error(where + ": save-model " + a.word + ": writes a .isoatlas");
+    if (v == "save-tree" && !a.word.ends_with(".dvt")) throw Error(where + ": save-tree " + a.word + ": writes a .dvt");
   } else if (v == "tool") {
     need(1, "navigate, probe, seed, unseed or brush");
     if (!window::toolNamed(a.word = words[1])) throw Error(where + ": tool " + a.word + ": navigate, probe, seed, unseed or brush");
@@ -158,8 +159,8 @@ std::vector<Vec3> strokePoints(const std::vector<double>& numbers) {
 }  // namespace
 
 void ScriptPlayer::step(window::Viewer& viewer, std::string& screenshot, bool& quit) {
-  if (const std::string error = viewer.takeBuildError(); !error.empty())
-    throw Error((next_ > 0 ? actions_[next_ - 1].where() + ": " : std::string()) + "build: " + error);
+  if (const std::string error = viewer.takeDeferredError(); !error.empty())
+    throw Error((next_ > 0 ? actions_[next_ - 1].where() + ": " : std::string()) + error);
   if (framesLeft_ > 0) {
     --framesLeft_;
     return;
@@ -201,6 +202,7 @@ void ScriptPlayer::perform(const ViewAction& a, window::Viewer& v, std::string& 
   else if (verb == "load-mask") v.loadMask(a.word);
   else if (verb == "save-mask") v.saveMask(a.word);
   else if (verb == "save-model") v.saveModel(a.word);
+  else if (verb == "save-tree") v.saveTree(a.word);
   else if (verb == "screenshot") screenshot = a.word;
   else if (verb == "frames") framesLeft_ = int(n[0]);
   else if (verb == "quit") quit = true;

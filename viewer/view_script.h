@@ -17,7 +17,8 @@
 //   redo                      the last undone edit again
 //   brush union|subtract SHAPE   a volume-tree edit of the segmentation (SHAPE as `isoatlas edit` takes it)
 //   stroke union|subtract R X,Y,Z [X,Y,Z ...]   a sphere brush of R mm dragged through the points (one
-//                             stroke: one tree, a write a dab, one undo)
+//                             stroke: one tree, a write a dab, one undo); in tree mode it paints the
+//                             tree on show, a dab a frame
 //   paint union|subtract R i|j|k X,Y,Z [X,Y,Z ...]   the same kept to one slice of voxels, normal to
 //                             voxel axis i, j or k through the first point (a 2D brush)
 //   view3d volume|surface     the 3D view: volume rendering from the pages, or the extracted surface
@@ -30,6 +31,7 @@
 //   load-mask FILE            the segmentation replaced by a mask volume (> 0 inside; the scan's grid)
 //   save-mask FILE            the segmentation as a mask volume
 //   save-model FILE           the built model (.isoatlas)
+//   save-tree FILE            the tree on show, as painted (.dvt)
 //   screenshot FILE.png       the window as it is
 //   frames N                  draw N frames
 //   quit                      close the window

@@ -145,10 +145,38 @@ void Viewer::brush(const std::string& shape, bool add, int levels) {
 }
 
 void Viewer::stroke(const std::vector<Vec3>& points, double radius, bool add, int sliceAxis) {
+  if (mode_ == Mode::Tree && tree_) {
+    require(sliceAxis < 0, "paint: a 2D brush paints a segmentation's slice; in tree mode use stroke");
+    require(radius > 0, "stroke: the brush's radius must be > 0");
+    tree_->scriptedDabs.assign(points.begin(), points.end());
+    tree_->scriptedRadius = radius, tree_->scriptedAdd = add;
+    return;
+  }
   beginStroke(add, 0);
   if (sliceAxis >= 0) seg().stroke->keepToSlice(sliceAxis, points.front());
   for (const Vec3& p : points) strokeTo(p, radius);
   endStroke();
+}
+
+void Viewer::treeDab(const Vec3& at, double radius, bool add) {
+  require(bool(tree_), "stroke: no tree is open");
+  TreeView& t = *tree_;
+  if (!t.painting) t.painting = std::make_unique<TreePainting>(t.tree, backend_);
+  treeDabAt_ = std::chrono::steady_clock::now();
+  t.painting->dabTo(at, radius, add);
+  t.stroking = true, t.lastDab = at;
+}
+
+void Viewer::endTreeStroke() {
+  TreeView& t = *tree_;
+  t.stroking = false, t.scriptedRadius = 0;
+  t.scriptedDabs.clear();
+  if (!t.painting) return;
+  const std::size_t dabs = t.painting->dabs();
+  t.painting->endStroke();
+  t.tree = t.painting->tree();
+  status_ = "painted " + std::to_string(dabs) + (dabs == 1 ? " dab" : " dabs") + " on the " + t.painting->backend() + ": " +
+            std::to_string(t.tree.nodeCount()) + " nodes";
 }
 
 void Viewer::build() {
@@ -208,6 +236,13 @@ void Viewer::saveModel(const std::string& path) {
   status_ = "saved " + path;
 }
 
+void Viewer::saveTree(const std::string& path) {
+  require(bool(tree_), "save-tree: no tree is open");
+  require(!tree_->stroking, "save-tree: a stroke is being painted");
+  dvt::writeDvt(path, tree_->tree);
+  status_ = "saved " + path;
+}
+
 void Viewer::update() {
   if (job_ && job_->done()) {
     std::unique_ptr<ModelJob> job = std::move(job_);
@@ -215,11 +250,27 @@ void Viewer::update() {
       showModel(job->take(), "built from " + seg().file);
       status_ = "model built in " + std::to_string(int(job->seconds())) + " s";
     } catch (const std::exception& e) {
-      buildError_ = e.what();
+      deferredError_ = std::string("build: ") + e.what();
       status_ = std::string("build failed: ") + e.what();
     }
   }
   if (segment_) segment_->session->advance(25);
+  if (tree_ && tree_->scriptedRadius > 0) {  // a script's stroke: a dab a frame, ended once the last is drawn
+    TreeView& t = *tree_;
+    if (t.scriptedDabs.empty()) {
+      endTreeStroke();
+    } else {
+      const Vec3 at = t.scriptedDabs.front();
+      t.scriptedDabs.pop_front();
+      try {
+        treeDab(at, t.scriptedRadius, t.scriptedAdd);
+      } catch (const std::exception& e) {
+        endTreeStroke();
+        deferredError_ = std::string("stroke: ") + e.what();
+        status_ = deferredError_;
+      }
+    }
+  }
 }
 
 void Viewer::showModel(atlas::Model model, const std::string& name) {
@@ -238,6 +289,8 @@ void Viewer::showTree(dvt::VolumeTree tree, const std::string& name) {
   tree_->box = render::insideBounds(tree_->tree);
   tree_->pointers = std::make_unique<gl::Buffer>(gl::Buffer::of(tree_->tree.pointers));
   tree_->cells = std::make_unique<gl::Buffer>(gl::Buffer::of(tree_->tree.cells));
+  const Vec3& h = tree_->tree.frame.spacing;
+  tree_->brushRadius = float(4 * std::min({h.x, h.y, h.z}));
   mode_ = Mode::Tree;
 }
 

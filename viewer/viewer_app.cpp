@@ -117,6 +117,7 @@ ViewerReport runViewer(const ViewerOptions& options) {
     report.iterations = viewer.iterations();
     report.backend = viewer.backendName();
     report.status = viewer.status();
+    report.treeDabMs = viewer.treeDabLatencies();
     if (const auto point = viewer.slicePoint()) report.slicePoint = *point;
   }
   return report;

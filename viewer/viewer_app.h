@@ -6,7 +6,8 @@
 //     model extracted and built from the segmentation in the background (a progress bar);
 //   mesh: a model (.isoatlas) through the cascade: CPU level or view-dependent refinement, GPU level,
 //     wireframe (tile sides and interior edges), chart colours, the atlas in a side panel, the grid;
-//   tree: a volume tree (.dvt, or the last brush's) ray cast or as cubes.
+//   tree: a volume tree (.dvt, or the last brush's) ray cast or as cubes, painted with a sphere brush
+//     (ctrl-drag; each dab drawn in the frame after it, from the tree passes' own buffers on the GPU).
 // Orbit with the left mouse button, zoom with the wheel; P or the menu saves the window as PNG.
 // A script (view_script.h) replays actions; `frames` > 0 draws that many frames and returns.
 #pragma once
@@ -53,6 +54,7 @@ struct ViewerReport {
   std::string backend;                      // the segmentation's solver
   std::string status;                       // the status line as the window closed
   Vec3 slicePoint{0, 0, 0};                 // where the slices crossed as it closed (with a volume open)
+  std::vector<double> treeDabMs;            // each tree dab's latency: its write to its picture drawn
 };
 
 // Throws Error (BadInput) when there is no display, a file cannot be read or a script action fails

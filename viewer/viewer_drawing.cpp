@@ -91,13 +91,20 @@ void Viewer::drawView(int width, int height) {
   } else if (mode_ == Mode::Tree && tree_) {
     TreeView& t = *tree_;
     target_->bind();
-    dvtRenderer().draw({t.pointers->id(), t.cells->id()}, t.tree.nodeCount(), t.tree.frame,
-                      {.camera = t.orbit.camera(t.box, viewWidth, height), .mode = t.cubes ? render::DvtRenderMode::Cubes : render::DvtRenderMode::RayCast});
+    t.camera = t.orbit.camera(t.box, viewWidth, height);
+    const dvt::GpuTreeBuffers buffers = t.painting ? t.painting->buffers() : dvt::GpuTreeBuffers{t.pointers->id(), t.cells->id()};
+    dvtRenderer().draw(buffers, t.painting ? t.painting->nodeCount() : t.tree.nodeCount(), t.tree.frame,
+                       {.camera = t.camera, .mode = t.cubes ? render::DvtRenderMode::Cubes : render::DvtRenderMode::RayCast});
   } else {
     return;
   }
   glBlitNamedFramebuffer(target_->id(), 0, 0, 0, viewWidth, height, 0, 0, viewWidth, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (treeDabAt_ && mode_ == Mode::Tree) {  // the dab's latency: its picture is in the window's back buffer
+    glFinish();
+    treeDabMs_.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - *treeDabAt_).count());
+    treeDabAt_.reset();
+  }
 }
 
 }  // namespace isoatlas::viewer::window

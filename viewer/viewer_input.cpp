@@ -1,6 +1,6 @@
 // The mouse and the keys on the window's views: the segmentation's tools on the slices and, with
 // ctrl, on the 3D view (picked through the volume rendering), the brush's strokes, stamping the
-// model, orbiting; undo and redo.
+// model, painting the tree (ctrl-drag), orbiting; undo and redo.
 #include "viewer/viewer_state.h"
 
 #include <epoxy/gl.h>
@@ -102,6 +102,7 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
   const double dx = x - lastX_, dy = y - lastY_;
   leftWasDown_ = down, lastX_ = x, lastY_ = y;
   if (!down && segment_ && segment_->stroke) attempt([&] { endStroke(); });  // released anywhere
+  if (!down && tree_ && tree_->stroking && tree_->scriptedRadius == 0) attempt([&] { endTreeStroke(); });
   if (io.WantCaptureMouse || x >= width - kPanelWidth) return;
   render::Orbit* orbit = mode_ == Mode::Mesh && model_ ? &model_->orbit : mode_ == Mode::Tree && tree_ ? &tree_->orbit : nullptr;
   int viewHeight = height;
@@ -140,6 +141,17 @@ void Viewer::handleMouse(GLFWwindow* window, int width, int height) {
       }
       return;
     }
+  }
+  if (mode_ == Mode::Tree && tree_ && down && (io.KeyCtrl || tree_->stroking) && tree_->scriptedRadius == 0) {
+    // Ctrl-drag paints the tree where the mouse picks it (on the tree as it was when the stroke began).
+    TreeView& t = *tree_;
+    const std::optional<Vec3> at = pickTree(t.tree, t.camera.eye, t.camera.rayThrough(x, y));
+    if (!at) {
+      if (pressed) status_ = "nothing there to paint";
+    } else if (pressed || norm(*at - t.lastDab) >= 0.25 * t.brushRadius) {
+      attempt([&] { treeDab(*at, t.brushRadius, t.brushUnion); });
+    }
+    return;
   }
   if (mode_ == Mode::Mesh && model_ && pressed && io.KeyCtrl) {
     ModelView& m = *model_;

@@ -151,6 +151,13 @@ void Viewer::drawPanel(int width, int height, bool& screenshot, bool& quit) {
     ImGui::TextUnformatted(tree_->name.c_str());
     ImGui::Text("%zu nodes, %zu leaves, depth %u", tree_->tree.nodeCount(), tree_->tree.leafCount(), tree_->tree.maxDepth());
     ImGui::Checkbox("cubes (else ray cast)", &tree_->cubes);
+    ImGui::TextUnformatted("ctrl-drag on the view paints");
+    const Vec3& h = tree_->tree.frame.spacing;
+    const float voxel = float(std::min({h.x, h.y, h.z}));
+    ImGui::SliderFloat("brush radius", &tree_->brushRadius, voxel, 64 * voxel);
+    ImGui::Checkbox("brush adds (else carves)", &tree_->brushUnion);
+    if (!treeDabMs_.empty()) ImGui::Text("last dab: %.1f ms to its picture", treeDabMs_.back());
+    if (ImGui::Button("save tree")) attempt([&] { saveTree(*pathField_ ? pathField_ : "tree.dvt"); });
   }
   if (!segment_ && !model_ && !tree_) ImGui::TextUnformatted("File > Open: a volume, a model or a tree");
   ImGui::Separator();

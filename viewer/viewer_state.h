@@ -6,6 +6,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -25,6 +26,7 @@
 #include "viewer/image_panel.h"
 #include "viewer/model_job.h"
 #include "viewer/segmentation_session.h"
+#include "viewer/tree_painting.h"
 #include "viewer/viewer_app.h"
 #include "render/atlas_render.h"
 #include "render/dvt_render.h"
@@ -145,6 +147,18 @@ struct TreeView {
   Box box;
   bool cubes = false;
   render::Orbit orbit;
+  render::Camera camera;  // the last frame's, for picking
+  // The brush (ctrl-drag on the view, or a script's stroke in tree mode): the tree being painted,
+  // drawn from its own buffers once the first dab is made; `tree` is taken from it when a stroke
+  // ends (picking reads `tree`, so a stroke paints over the surface as it was when it began).
+  std::unique_ptr<TreePainting> painting;
+  float brushRadius = 1;  // world units: 4 voxels when the tree is shown
+  bool brushUnion = true, stroking = false;
+  Vec3 lastDab;
+  // A script's stroke, a dab a frame (so that each dab's picture is drawn, and timed, before the next).
+  std::deque<Vec3> scriptedDabs;
+  double scriptedRadius = 0;  // > 0 while a script's stroke lasts
+  bool scriptedAdd = true;
 };
 
 // The window's state and every action on it; the mouse, the panels and the script all go through these.
@@ -176,8 +190,14 @@ public:
   void endStroke();
   void brush(const std::string& shape, bool add, int levels = 0);  // one stroke of a shape `isoatlas edit` takes
   // A sphere brush of `radius` mm dragged through `points`; with `sliceAxis` (0 i, 1 j, 2 k) only in
-  // the slice of voxels normal to that axis through the first point.
+  // the slice of voxels normal to that axis through the first point. In tree mode it paints the open
+  // tree, a dab a frame (busy() until the last is drawn).
   void stroke(const std::vector<Vec3>& points, double radius, bool add, int sliceAxis = -1);
+  // The tree view's brush: one dab (the first begins a stroke), and the stroke's end (the tree collapsed).
+  void treeDab(const Vec3& at, double radius, bool add);
+  void endTreeStroke();
+  // Each tree dab's latency, ms: from the dab's write to its picture drawn (glFinish after the frame's blit).
+  const std::vector<double>& treeDabLatencies() const { return treeDabMs_; }
   void build();  // extracts the surface and builds the model in the background
   void view3d(bool volume);
   // "off", or the axis and the side cut away: "+x" cuts what lies at larger x than the slice point.
@@ -190,13 +210,14 @@ public:
   void loadMask(const std::string& path);  // the segmentation replaced (one undo takes it back)
   void saveMask(const std::string& path);
   void saveModel(const std::string& path);
+  void saveTree(const std::string& path);  // the tree view's, as painted
 
   // ---- the frame ----
   // Takes the finished build, steps the solver within the frame's budget.
   void update();
-  bool busy() const { return (segment_ && segment_->session->running()) || job_; }
-  // An error the last build left for the script, once.
-  std::string takeBuildError() { return std::exchange(buildError_, {}); }
+  bool busy() const { return (segment_ && segment_->session->running()) || job_ || (tree_ && tree_->scriptedRadius > 0); }
+  // An error the last build, or a script's stroke in tree mode, left for the script, once ("build: ...").
+  std::string takeDeferredError() { return std::exchange(deferredError_, {}); }
   Mode mode() const { return mode_; }
   int iterations() const { return segment_ ? segment_->session->iterations() : 0; }
   const std::string& status() const { return status_; }
@@ -255,7 +276,9 @@ private:
   std::unique_ptr<ModelJob> job_;
   std::unique_ptr<gl::Framebuffer> target_;
   Mode mode_ = Mode::Segment;
-  std::string status_, buildError_;
+  std::string status_, deferredError_;
+  std::optional<std::chrono::steady_clock::time_point> treeDabAt_;  // a dab whose picture is not yet drawn
+  std::vector<double> treeDabMs_;
   char pathField_[256] = "";
   bool leftWasDown_ = false, zWasDown_ = false, yWasDown_ = false;
   double lastX_ = 0, lastY_ = 0;

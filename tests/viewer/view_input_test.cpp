@@ -19,6 +19,11 @@
 #include "tests/viewer/head_phantom.h"
 #include "tests/render/test_models.h"
 #include "atlas/model_file.h"
+#include "edit/dvt/cpu_tree_passes.h"
+#include "edit/dvt/dvt_file.h"
+#include "edit/dvt/dynamic_volume_tree.h"
+#include "edit/solids/rasterise.h"
+#include "edit/solids/volume_solid.h"
 #include "viewer/viewer_app.h"
 #include "render/slice_render.h"
 
@@ -145,6 +150,45 @@ TEST(ViewWindowInput, CtrlClickOnTheModelStamps) {
                                      {9, [](FakeInput& in) { in.button(1, false), in.key(FakeInput::Key::Control, false); }}});
   const ViewerReport report = runViewer(options);
   EXPECT_EQ(report.status.rfind("stamped \"isoatlas\" on ", 0), 0u) << report.status;
+}
+
+// Ctrl-drag on the tree view paints the tree where the mouse picks it, a dab as it moves, and the
+// release ends the stroke: the saved tree is the ball with paint added at its surface only (within
+// the brush's radius of the sphere), a latency reported for each dab.
+TEST(ViewWindowInput, CtrlDragOnTheTreePaints) {
+  FakeInput input;
+  ASSERT_TRUE(input.open()) << "no X display (the test runs under xvfb-run)";
+  const auto dir = test::scratchDir();
+  namespace dvt = edit::dvt;
+  const dvt::TreeFrame frame = dvt::frameAround({-1, -1, -1}, {1, 1, 1}, 6);
+  dvt::DynamicVolumeTree ball(dvt::VolumeTree::empty(frame), dvt::makeCpuTreePasses());
+  ball.write(dvt::rasterise(*dvt::parseBrush("sphere:0,0,0,0.5"), frame, frame.voxelDepth()), dvt::Op::Union);
+  ball.collapse();
+  const std::string tree = (dir / "ball.dvt").string(), painted = (dir / "painted.dvt").string(), script = (dir / "paint.txt").string();
+  dvt::writeDvt(tree, ball.tree());
+  std::ofstream(script) << "frames 25\nsave-tree " << painted << "\nquit\n";
+  const int viewMiddle = (kWidth - kControlsWidth) / 2;
+  ViewerOptions options{.files = {tree}, .script = script, .width = kWidth, .height = kHeight, .backend = "cpu"};
+  options.beforeFrame = play(input, {{5, [&](FakeInput& in) { in.moveTo(viewMiddle, kHeight / 2), in.key(FakeInput::Key::Control, true); }},
+                                     {7, [](FakeInput& in) { in.button(1, true); }},
+                                     {9, [&](FakeInput& in) { in.moveTo(viewMiddle + 20, kHeight / 2); }},
+                                     {11, [&](FakeInput& in) { in.moveTo(viewMiddle + 40, kHeight / 2); }},
+                                     {13, [](FakeInput& in) { in.button(1, false), in.key(FakeInput::Key::Control, false); }}});
+  const ViewerReport report = runViewer(options);
+  EXPECT_GE(report.treeDabMs.size(), 2u) << "a dab at the press and as the mouse moved";
+  const Volume before = dvt::sampleMask(ball.tree()), after = dvt::sampleMask(dvt::readDvt(painted));
+  const double radius = 4 * frame.spacing.x;  // the window's brush: 4 voxels
+  std::int64_t added = 0, stray = 0;
+  for (std::int64_t k = 0; k < after.dims[2]; ++k)
+    for (std::int64_t j = 0; j < after.dims[1]; ++j)
+      for (std::int64_t i = 0; i < after.dims[0]; ++i) {
+        EXPECT_FALSE(before.at(i, j, k) > 0 && !(after.at(i, j, k) > 0)) << "a union removes nothing";
+        if (before.at(i, j, k) > 0 || !(after.at(i, j, k) > 0)) continue;
+        ++added;
+        stray += std::abs(norm(after.indexToWorld(Vec3{double(i), double(j), double(k)})) - 0.5) > radius + frame.spacing.x;
+      }
+  EXPECT_GT(added, 20) << "the drag painted the tree";
+  EXPECT_EQ(stray, 0) << "the paint lies at the ball's surface, where the mouse picked it";
 }
 
 }  // namespace

@@ -2,7 +2,10 @@
 // and saved; the pictures show what was loaded where it should be.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <functional>
+#include <map>
 #include <fstream>
 #include <thread>
 
@@ -76,6 +79,84 @@ namespace {
 
 // The window's view area: everything left of the controls.
 bool isBackground(const std::uint8_t* p) { return p[0] > 245 && p[1] > 245 && p[2] > 245; }
+
+namespace dvt = edit::dvt;
+
+// A ball of radius 0.5 in a 64^3 tree over [-1, 1]^3, as `isoatlas edit` would save one.
+std::string ballTree(const std::filesystem::path& dir) {
+  const dvt::TreeFrame frame = dvt::frameAround({-1, -1, -1}, {1, 1, 1}, 6);
+  dvt::DynamicVolumeTree t(dvt::VolumeTree::empty(frame), dvt::makeCpuTreePasses());
+  t.write(dvt::rasterise(*dvt::parseBrush("sphere:0,0,0,0.5"), frame, frame.voxelDepth()), dvt::Op::Union);
+  t.collapse();
+  const std::string path = (dir / "ball.dvt").string();
+  dvt::writeDvt(path, t.tree());
+  return path;
+}
+
+// Voxel centres of the tree's grid whose inside-ness differs from `inside`, among those more than
+// `margin` (world units) from its boundary (`distance`: signed, > 0 inside).
+std::int64_t wrongVoxels(const dvt::VolumeTree& tree, const std::function<double(const Vec3&)>& distance, double margin) {
+  const Volume mask = dvt::sampleMask(tree);
+  std::int64_t wrong = 0;
+  for (std::int64_t k = 0; k < mask.dims[2]; ++k)
+    for (std::int64_t j = 0; j < mask.dims[1]; ++j)
+      for (std::int64_t i = 0; i < mask.dims[0]; ++i) {
+        const double d = distance(mask.indexToWorld(Vec3{double(i), double(j), double(k)}));
+        if (std::abs(d) > margin) wrong += (d > 0) != (mask.at(i, j, k) > 0);
+      }
+  return wrong;
+}
+
+double segmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double t = std::clamp(dot(p - a, ab) / dot(ab, ab), 0.0, 1.0);
+  return norm(p - (a + ab * t));
+}
+
+// A script's stroke in tree mode paints the tree on show, a dab a frame, each drawn before the next:
+// the painted tree is the ball with the stroke's capsules added, then carved (truth: the shapes'
+// distances, away from their boundaries); the GPU twin (on llvmpipe) paints the same tree node for
+// node; the ray-cast picture shows the paint; each dab's latency is reported.
+TEST(ViewWindow, PaintsATreeADabAFrame) {
+  const auto dir = test::scratchDir();
+  const std::string ball = ballTree(dir);
+  const auto p = [&](const std::string& name) { return (dir / name).string(); };
+  std::map<std::string, dvt::VolumeTree> painted;
+  for (const std::string backend : {"cpu", "gpu"}) {
+    const std::string script = p("paint_" + backend + ".txt");
+    std::ofstream(script) << "render raycast\nscreenshot " << p("before_" + backend + ".png") << "\n"
+                          << "stroke union 0.2 0.4,0,0 0.65,0,0 0.9,0,0\nscreenshot " << p("after_" + backend + ".png") << "\n"
+                          << "save-tree " << p("added_" + backend + ".dvt") << "\n"
+                          << "stroke subtract 0.15 0,0,0.7 0,0,0\nsave-tree " << p("carved_" + backend + ".dvt") << "\nquit\n";
+    const ViewerReport report = runViewer({.files = {ball}, .script = script, .width = 640, .height = 400, .backend = backend});
+    ASSERT_EQ(report.treeDabMs.size(), 5u) << "one latency a dab";
+    std::vector<double> ms = report.treeDabMs;
+    std::sort(ms.begin(), ms.end());
+    std::printf("tree dabs on the %s backend (64^3, llvmpipe): median %.1f ms, longest %.1f ms from a dab's write to its picture\n",
+                backend.c_str(), ms[2], ms[4]);
+    EXPECT_GT(ms[0], 0);
+
+    const auto added = [](const Vec3& x) {
+      return std::max(0.5 - norm(x), 0.2 - segmentDistance(x, {0.4, 0, 0}, {0.9, 0, 0}));
+    };
+    const auto carved = [&](const Vec3& x) { return std::min(added(x), segmentDistance(x, {0, 0, 0.7}, {0, 0, 0}) - 0.15); };
+    const dvt::VolumeTree a = dvt::readDvt(p("added_" + backend + ".dvt")), c = dvt::readDvt(p("carved_" + backend + ".dvt"));
+    const double voxel = a.frame.spacing.x;
+    EXPECT_EQ(wrongVoxels(a, added, voxel), 0) << "the ball and the stroke's capsules";
+    EXPECT_EQ(wrongVoxels(c, carved, voxel), 0) << "carved by the second stroke";
+    EXPECT_EQ(dvt::treeProblem(c), "");
+    painted[backend] = c;
+
+    // The picture: the union adds pixels to the ball's.
+    const Image before = readPng(p("before_" + backend + ".png")), after = readPng(p("after_" + backend + ".png"));
+    std::int64_t covered[2] = {0, 0};
+    for (int y = 0; y < before.height; ++y)
+      for (int x = 0; x < before.width - kControlsWidth; ++x) covered[0] += !isBackground(before.at(x, y)), covered[1] += !isBackground(after.at(x, y));
+    EXPECT_GT(covered[1], covered[0] + 100) << "the painted capsules show in the ray cast";
+  }
+  EXPECT_TRUE(painted["cpu"] == painted["gpu"]) << "the GPU tree passes paint the CPU's tree, node for node";
+}
+
 
 // A scripted session as a user would have it on a head: probe the brain, seed it, widen eps, run
 // 50 steps, brush a hole, look at the tree, build the model, change levels; each screenshot is
