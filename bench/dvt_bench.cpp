@@ -84,11 +84,12 @@ double median(std::vector<double> v) {
 }
 double mean(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size()); }
 
-Trace drawOurs(int k, bool collapse, bool hierarchical, std::unique_ptr<dvt::TreePasses> passes) {
+// `chain`: the GPU's writes as one chain of passes (TreeOptions::chainWrites), or driven pass by pass.
+Trace drawOurs(int k, bool collapse, bool hierarchical, std::unique_ptr<dvt::TreePasses> passes, bool chain = true) {
   const dvt::TreeFrame frame = unitCube(k);
   const bool onGpu = passes->name() == "gpu";
   dvt::DynamicVolumeTree tree(dvt::VolumeTree::empty(frame), std::move(passes),
-                              {.nodeLimit = std::uint64_t(1) << 28, .collapseEvery = collapse ? 10 : 0});
+                              {.nodeLimit = std::uint64_t(1) << 28, .collapseEvery = collapse ? 10 : 0, .chainWrites = chain});
   Trace t;
   for (int step = 0; step < 2 * kSteps; ++step) {
     const bool carve = step >= kSteps;
@@ -273,6 +274,10 @@ int main(int argc, char** argv) {
       reportBeside(std::string("torus drawing, ROHR on the GPU, ") + size, ours, vdb, device);
       timeSeries.push_back({"ROHR, GPU", steps(0, 2 * kSteps), ours.ms});
       nodeSeries.push_back({"ROHR, GPU", steps(0, 2 * kSteps), ours.size});
+      // The same passes driven by the host, reading counters between them: what the chain saves.
+      const Trace driven = drawOurs(k, true, true, dvt::makeGpuTreePasses(), false);
+      reportBeside(std::string("torus drawing, ROHR on the GPU, host-driven passes, ") + size, driven, vdb, device);
+      timeSeries.push_back({"ROHR, GPU, host-driven", steps(0, 2 * kSteps), driven.ms});
     }
     timeSeries.push_back({"OpenVDB", steps(0, 2 * kSteps), vdb.ms});
     const std::string suffix = k == 9 ? "" : "_2048";

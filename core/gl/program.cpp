@@ -125,6 +125,15 @@ void Program::dispatch(GLuint x, GLuint y, GLuint z, GLbitfield barrier) const {
   checkErrors("compute dispatch");
 }
 
+void Program::dispatchIndirect(GLuint args, GLintptr offset, GLbitfield barrier) const {
+  use();
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, args);
+  glDispatchComputeIndirect(offset);
+  glBindBuffer(GL_DISPATCH_INDIRECT_BUFFER, 0);
+  if (barrier) glMemoryBarrier(barrier);
+  checkErrors("indirect compute dispatch");
+}
+
 std::array<GLuint, 2> dispatchGrid(std::uint64_t groups) {
   if (groups > std::uint64_t(65535) * 65535)
     throw Error("a dispatch of " + std::to_string(groups) + " work groups: more than a 65535 x 65535 grid holds", ErrorKind::Failure);

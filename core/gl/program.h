@@ -48,6 +48,9 @@ public:
   GLint uniform(const char* name) const { return glGetUniformLocation(id_, name); }
   // Runs a compute program over `groups` work groups and waits for its writes to be visible.
   void dispatch(GLuint x, GLuint y = 1, GLuint z = 1, GLbitfield barrier = GL_ALL_BARRIER_BITS) const;
+  // The same with the grid read from `args` at `offset` (three words an earlier pass wrote, ordered
+  // before this by a GL_COMMAND_BARRIER_BIT), so the host need not read a size back to dispatch.
+  void dispatchIndirect(GLuint args, GLintptr offset, GLbitfield barrier = GL_ALL_BARRIER_BITS) const;
 
 private:
   GLuint id_ = 0;

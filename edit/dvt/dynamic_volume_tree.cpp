@@ -26,7 +26,10 @@ WriteStats DynamicVolumeTree::write(PreOrderInput input, Op op) {
   stats.inputVoxels = input.size();
   passes_->setInput(std::move(input).take());
   bool allowExpand = true;
-  for (;; ++stats.iterations) {
+  std::optional<ChainedWrite> chained;
+  if (options_.chainWrites) chained = passes_->writeChained(op, options_.nodeLimit);
+  if (chained) stats.iterations = chained->iterations, stats.chainReads = chained->reads;
+  for (; !chained || !chained->finished; ++stats.iterations) {
     // No marks: the voxels were written into leaves of their depth and nothing is left to change.
     if (passes_->mark(op) == 0) break;
     Plan plan = passes_->plan(allowExpand);

@@ -21,10 +21,14 @@ namespace isoatlas::edit::dvt {
 struct TreeOptions {
   std::uint64_t nodeLimit = kDefaultNodeLimit;  // at most kMaxTreeNodes
   int collapseEvery = 0;  // 0: only when collapse() is called
+  // Whether writes run as the backend's chain of passes where it has one (TreePasses::writeChained);
+  // false: the host drives every pass and reads its counters (the GPU's stepwise path, to compare).
+  bool chainWrites = true;
 };
 
 struct WriteStats {
   int iterations = 0;
+  int chainReads = 0;  // reads back of a chained write's state (0: the host drove the passes)
   std::uint64_t inputVoxels = 0, nodes = 0;
   double seconds = 0, collapseSeconds = 0;  // collapseSeconds: an automatic collapse after this write
   bool collapsed = false;                   // whether that collapse ran (every k writes)

@@ -1,6 +1,7 @@
 #include "edit/dvt/gpu_tree_passes.h"
 
 #include <algorithm>
+#include <cstddef>
 
 #include "core/error.h"
 #include "core/gl/gpu_scan.h"
@@ -14,6 +15,23 @@ namespace {
 
 constexpr GLuint kGroup = 64;
 constexpr GLbitfield kBarrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT;
+// After a step that sizes the next dispatches.
+constexpr GLbitfield kStepBarrier = kBarrier | GL_COMMAND_BARRIER_BIT;
+
+// The passes' state, the twin of tree_rules.glsl's State (whose comment says what each word is).
+struct State {
+  std::uint32_t counter, reduces, grown, grownWrapped;
+  std::uint32_t nodes, running, restructures, stopped;
+  std::uint32_t capacity, nodeLimit, inputCount, needed;
+  std::uint32_t remapScanCount, removalScanCount, unused0, unused1;
+  std::uint32_t nodeGroups[4], inputGroups[4];
+};
+static_assert(sizeof(State) == 96, "State must match tree_rules.glsl");
+constexpr std::uint32_t kStopCapacity = 1, kStopLimit = 2;
+// A chain's iterations before the host looks: a write's expansions grow kExpandLevels levels an
+// iteration, so a write whose deepest voxel is at depth d ends within ceil(d / kExpandLevels)
+// restructures and one mark that finds nothing left.
+int chainIterationsFor(std::uint32_t deepestVoxel) { return int((deepestVoxel + kExpandLevels - 1) / kExpandLevels) + 1; }
 
 gl::Defines withRules(gl::Defines extra) {
   gl::Defines d = ruleDefines();
@@ -29,7 +47,12 @@ public:
         runs_(context.compute(gl::kDvtShaders, "edit/dvt/shaders/dvt_runs.comp", withRules({}))),
         plan_(context.compute(gl::kDvtShaders, "edit/dvt/shaders/dvt_plan.comp", withRules({}))),
         restructure_(context.compute(gl::kDvtShaders, "edit/dvt/shaders/dvt_restructure.comp", withRules({}))),
-        counter_(16) {}
+        begin_(chainStep(context, "BEGIN")),
+        clear_(chainStep(context, "CLEAR")),
+        gateMark_(chainStep(context, "GATE_MARK")),
+        gatePlan_(chainStep(context, "GATE_PLAN")),
+        end_(chainStep(context, "END")),
+        state_(sizeof(State)) {}
 
   std::string name() const override { return "gpu"; }
 
@@ -43,11 +66,9 @@ public:
     cells_ = gl::Buffer(capacity_ * 8);
     pointers_.upload(tree.pointers.data(), count_ * sizeof(Pointer));
     cells_.upload(tree.cells.data(), count_ * 8);
-    marks_ = gl::Buffer(capacity_ * 4);
-    remap_ = gl::Buffer((capacity_ + 1) * 4);
-    removals_ = gl::Buffer((capacity_ + 1) * 4);
-    expansions_ = gl::Buffer(capacity_ * 16);
+    perNodeFor(capacity_);
     spareCapacity_ = 0;
+    setNodes();
   }
 
   VolumeTree download() const override {
@@ -65,7 +86,7 @@ public:
 
   std::uint64_t bytes() const override {
     return pointers_.bytes() + cells_.bytes() + spare_.bytes() + spareCells_.bytes() + marks_.bytes() + remap_.bytes() +
-           removals_.bytes() + expansions_.bytes() + input_.bytes() + hits_.bytes();
+           removals_.bytes() + expansions_.bytes() + input_.bytes() + hits_.bytes() + state_.bytes();
   }
 
   void setInput(std::vector<InputVoxel> input) override {
@@ -81,6 +102,8 @@ public:
       hits_ = gl::Buffer(input_.bytes() / sizeof(InputVoxel) * 4);
     }
     if (inputCount_ > 0) input_.upload(input.data(), inputCount_ * sizeof(InputVoxel));
+    deepestVoxel_ = 0;
+    for (const InputVoxel& v : input) deepestVoxel_ = std::max(deepestVoxel_, v.zd >> 16);
     profile_.end();
   }
 
@@ -162,26 +185,151 @@ public:
     std::swap(cells_, spareCells_);
     std::swap(capacity_, spareCapacity_);
     count_ = plan.nodes;
+    setNodes();
     if (marks_.bytes() < capacity_ * 4) {
       profile_.stage("allocate streams");
-      marks_ = gl::Buffer(capacity_ * 4);
-      remap_ = gl::Buffer((capacity_ + 1) * 4);
-      removals_ = gl::Buffer((capacity_ + 1) * 4);
-      expansions_ = gl::Buffer(capacity_ * 16);
+      perNodeFor(capacity_);
     }
     profile_.end();
   }
 
+  std::optional<ChainedWrite> writeChained(Op op, std::uint64_t nodeLimit) override {
+    collapsing_ = false;
+    op_ = op;
+    ChainedWrite done;
+    for (;;) {
+      profile_.stage("chain: start");
+      // Both streams and the per-node buffers hold `capacity` nodes (the spare may be smaller after a
+      // load, the per-node buffers after a swap to a larger stream).
+      if (spareCapacity_ < capacity_) {
+        spareCapacity_ = capacity_;
+        spare_ = gl::Buffer(spareCapacity_ * sizeof(Pointer));
+        spareCells_ = gl::Buffer(spareCapacity_ * 8);
+      }
+      if (marks_.bytes() < capacity_ * 4) perNodeFor(capacity_);
+      State s{};
+      s.nodes = std::uint32_t(count_), s.running = 1, s.capacity = std::uint32_t(capacity_);
+      s.nodeLimit = std::uint32_t(nodeLimit), s.inputCount = std::uint32_t(inputCount_);
+      state_.upload(&s, sizeof s);
+      setChainUniforms();
+      const int iterations = chainIterationsFor(deepestVoxel_);
+      for (int i = 0; i < iterations; ++i) chainIteration(i % 2 == 0);
+      profile_.stage("chain: read back state");
+      state_.download(&s, sizeof s);
+      profile_.end();
+      // Iteration i read the streams of parity i: after an odd number of restructures the spare holds the tree.
+      if (s.restructures % 2 == 1) swapStreams();
+      count_ = s.nodes;
+      done.iterations += int(s.restructures);
+      ++done.reads;
+      if (s.stopped == kStopLimit) {
+        done.finished = false;
+        break;
+      }
+      if (s.stopped == kStopCapacity) grow(s.needed, nodeLimit);
+      else if (s.running == 0) break;
+      // Else more levels to grow than the input's depth foresaw, or grown streams: go on from here.
+    }
+    setNodes();  // for the passes the host drives (the limit's iterations, collapse)
+    return done;
+  }
+
 private:
-  void bindStreams() {
-    pointers_.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
-    cells_.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
+  static const gl::Program& chainStep(gl::Context& context, const char* step) {
+    return context.compute(gl::kDvtShaders, "edit/dvt/shaders/dvt_chain.comp",
+                           withRules({{step, "1"}, {"STOP_CAPACITY", std::to_string(kStopCapacity) + "u"},
+                                      {"STOP_LIMIT", std::to_string(kStopLimit) + "u"}}));
+  }
+  // The node count the node passes read (State::nodes), for the passes driven from the host.
+  void setNodes() {
+    const auto nodes = std::uint32_t(count_);
+    state_.upload(&nodes, 4, offsetof(State, nodes));
+  }
+  // The marks, remap, removals and expansions for `capacity` nodes (their contents are cleared before use).
+  void perNodeFor(std::uint64_t capacity) {
+    marks_ = gl::Buffer(capacity * 4);
+    remap_ = gl::Buffer((capacity + 1) * 4);
+    removals_ = gl::Buffer((capacity + 1) * 4);
+    expansions_ = gl::Buffer(capacity * 16);
+  }
+  void swapStreams() {
+    std::swap(pointers_, spare_);
+    std::swap(cells_, spareCells_);
+    std::swap(capacity_, spareCapacity_);
+  }
+  // Streams for `needed` nodes (doubling, at most the node limit), the tree's kept; per-node buffers to match.
+  void grow(std::uint64_t needed, std::uint64_t nodeLimit) {
+    profile_.stage("allocate streams");
+    const std::uint64_t capacity = std::min(std::max(needed, 2 * capacity_), std::max(nodeLimit, needed));
+    gl::Buffer pointers(capacity * sizeof(Pointer)), cells(capacity * 8);
+    glCopyNamedBufferSubData(pointers_.id(), pointers.id(), 0, 0, GLsizeiptr(count_ * sizeof(Pointer)));
+    glCopyNamedBufferSubData(cells_.id(), cells.id(), 0, 0, GLsizeiptr(count_ * 8));
+    pointers_ = std::move(pointers), cells_ = std::move(cells);
+    spare_ = gl::Buffer(capacity * sizeof(Pointer)), spareCells_ = gl::Buffer(capacity * 8);
+    capacity_ = spareCapacity_ = capacity;
+    perNodeFor(capacity_);
+    profile_.end();
+  }
+  void setChainUniforms() {
+    markInput_.use();
+    glUniform1ui(markInput_.uniform("op"), std::uint32_t(op_));
+    glUniform1ui(markInput_.uniform("count"), std::uint32_t(inputCount_));
+    runs_.use();
+    setExpansionUniforms(runs_);
+    glUniform1ui(runs_.uniform("count"), std::uint32_t(inputCount_));
+    plan_.use();
+    glUniform1ui(plan_.uniform("allowExpand"), 1);
+    restructure_.use();
+    glUniform1ui(restructure_.uniform("allowExpand"), 1);
+    setExpansionUniforms(restructure_);
+  }
+  // One iteration of a write (mark, plan, restructure) with the steps of dvt_chain.comp between, on
+  // the streams of one parity (`even`: pointers_ and cells_) into the other's. Reads nothing back.
+  void chainIteration(bool even) {
+    gl::Buffer &from = even ? pointers_ : spare_, &fromCells = even ? cells_ : spareCells_;
+    gl::Buffer &to = even ? spare_ : pointers_, &toCells = even ? spareCells_ : cells_;
+    const auto bind = [&] {
+      bindStreams(from, fromCells);
+      to.bindBase(GL_SHADER_STORAGE_BUFFER, 6);
+      toCells.bindBase(GL_SHADER_STORAGE_BUFFER, 7);
+    };
+    const auto overNodes = [&](const gl::Program& p) { p.dispatchIndirect(state_.id(), offsetof(State, nodeGroups), kBarrier); };
+    const auto overInput = [&](const gl::Program& p) { p.dispatchIndirect(state_.id(), offsetof(State, inputGroups), kBarrier); };
+    const auto step = [&](const gl::Program& p) { p.dispatch(1, 1, 1, kStepBarrier); };
+    const auto maxScan = std::uint32_t(capacity_ + 1);
+    bind();
+    profile_.stage("chain: begin, clear");
+    step(begin_);
+    overNodes(clear_);
+    profile_.stage("chain: mark");
+    overInput(markInput_);
+    step(gateMark_);
+    profile_.stage("chain: scan removals");
+    scan_.exclusive(removals_, state_, offsetof(State, removalScanCount) / 4, maxScan);
+    bind();
+    profile_.stage("chain: expansion runs");
+    overInput(runs_);
+    profile_.stage("chain: plan");
+    overNodes(plan_);
+    profile_.stage("chain: scan remap");
+    scan_.exclusive(remap_, state_, offsetof(State, remapScanCount) / 4, maxScan);
+    bind();
+    step(gatePlan_);
+    profile_.stage("chain: restructure");
+    overNodes(restructure_);
+    step(end_);
+    profile_.end();
+  }
+  void bindStreams() { bindStreams(pointers_, cells_); }
+  void bindStreams(const gl::Buffer& pointers, const gl::Buffer& cells) {
+    pointers.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
+    cells.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
     marks_.bindBase(GL_SHADER_STORAGE_BUFFER, 2);
     remap_.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
     removals_.bindBase(GL_SHADER_STORAGE_BUFFER, 4);
     if (input_.bytes() > 0) input_.bindBase(GL_SHADER_STORAGE_BUFFER, 8), hits_.bindBase(GL_SHADER_STORAGE_BUFFER, 9);
     expansions_.bindBase(GL_SHADER_STORAGE_BUFFER, 10);
-    counter_.bindBase(GL_SHADER_STORAGE_BUFFER, 5);
+    state_.bindBase(GL_SHADER_STORAGE_BUFFER, 5);
   }
   // The write's op and the child scales, for expansionCut (tree_rules.glsl).
   void setExpansionUniforms(const gl::Program& program) const {
@@ -207,24 +355,27 @@ private:
   std::uint64_t run(const gl::Program& program, std::uint64_t threads, const char* stage) {
     profile_.stage(stage);
     const std::uint32_t zero[4] = {0, 0, 0, 0};
-    counter_.upload(zero, 16);
+    state_.upload(zero, 16);
     glUniform1ui(program.uniform("count"), std::uint32_t(threads));
     dispatch(program, threads);
     profile_.stage("read back pass counter");
     std::uint32_t n[4] = {0, 0, 0, 0};
-    counter_.download(n, 16);
+    state_.download(n, 16);
     reduces_ = n[1], grown_ = n[2], grownWrapped_ = n[3] != 0;
     return n[0];
   }
 
   const gl::Program &markInput_, &markCollapse_, &runs_, &plan_, &restructure_;
+  const gl::Program &begin_, &clear_, &gateMark_, &gatePlan_, &end_;  // a chained write's steps
   gl::GpuScan scan_;
   TreeFrame frame_;
   std::vector<float> scales_;
   Op op_ = Op::Union;  // the last mark's
   std::uint64_t count_ = 0, capacity_ = 0, spareCapacity_ = 0, inputCount_ = 0, reduces_ = 0, grown_ = 0;
+  std::uint32_t deepestVoxel_ = 0;  // of the input
   bool grownWrapped_ = false;
-  gl::Buffer pointers_, cells_, spare_, spareCells_, marks_, remap_, removals_, expansions_, input_, hits_, counter_;
+  gl::Buffer pointers_, cells_, spare_, spareCells_, marks_, remap_, removals_, expansions_, input_, hits_;
+  gl::Buffer state_;  // State: the passes' counters, the node count, a chained write's steps
   bool collapsing_ = false;  // since markCollapse, until the next write's mark: names the stages
   // ISOATLAS_GL_PROFILE=1: stage times per write (its collapse included), means over 20 writes.
   // Last: destroyed first, while the context is still current.

@@ -1,6 +1,8 @@
 // GpuTreePasses: the DVT passes (tree_passes.h) as GL 4.5 compute shaders (shaders/dvt_*.comp) in the
 // context current when it is made (which must be current whenever it is used). The streams live in
-// GPU buffers, ping-ponged by the restructure pass; only pass counters (4 bytes) come back per pass.
+// GPU buffers, ping-ponged by the restructure pass. A write runs as one chain of passes sized on the
+// GPU (writeChained: the state, 96 bytes, comes back once at its end); driven pass by pass (the
+// collapse, the node limit's iterations, TreeOptions::chainWrites = false) each pass's counters do.
 #pragma once
 #include <memory>
 

@@ -19,6 +19,7 @@
 // one restructure (restructureFinishesWrites).
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,13 @@
 #include "edit/dvt/volume_tree.h"
 
 namespace isoatlas::edit::dvt {
+
+// A write run by the backend through to its end (TreePasses::writeChained).
+struct ChainedWrite {
+  int iterations = 0;   // restructures
+  int reads = 0;        // times the host read the passes' state back: 1 unless the streams had to grow
+  bool finished = true; // false: stopped before the node limit's check, for the caller's iterations
+};
 
 struct Plan {
   std::uint64_t nodes = 0;    // after the restructure
@@ -55,6 +63,15 @@ public:
   // Whether a write's restructure leaves nothing for another mark to do (the CPU's: its expansions
   // go all the way down and give the voxels their values), so the write can end without one.
   virtual bool restructureFinishesWrites() const { return false; }
+  // The write of the last setInput as one chain of passes that the host does not wait on, where the
+  // backend has one (the GPU: each pass sized by the one before, through indirect dispatch; the host
+  // reads the passes' state once at the end). Nothing when it has none: the caller iterates mark,
+  // plan and restructure. Where a restructure could pass `nodeLimit`, the chain stops before it
+  // (finished false) and the caller's iterations finish the write from there, with the limit's rule.
+  virtual std::optional<ChainedWrite> writeChained(Op op, std::uint64_t nodeLimit) {
+    (void)op, (void)nodeLimit;
+    return std::nullopt;
+  }
 };
 
 }  // namespace isoatlas::edit::dvt

@@ -147,6 +147,42 @@ TEST(Dvt, GpuPassesMakeTheCpuStreamsNodeForNode) {
   }
 }
 
+// A GPU write runs as one chain of passes sized on the GPU (writeChained), reading its state back
+// once at the end; the host-driven passes read counters between every pass. Same trees, node for
+// node: from an empty tree (its streams grow mid-chain: more reads), deep writes under coarse
+// leaves (several restructures in one chain), reductions, a subtraction and collapses.
+TEST(Dvt, ChainedGpuWritesMakeTheHostDrivenTreesNodeForNode) {
+  const TreeFrame frame = frameAround({0, 0, 0}, {1, 1, 1}, 6);
+  test::glContext();  // made current
+  DynamicVolumeTree chained(VolumeTree::empty(frame), makeGpuTreePasses(), {.collapseEvery = 4});
+  DynamicVolumeTree driven(VolumeTree::empty(frame), makeGpuTreePasses(), {.collapseEvery = 4, .chainWrites = false});
+  const std::vector<std::tuple<std::string, std::uint32_t, Op>> writes{
+      {"sphere:0.5,0.5,0.5,0.3", 9, Op::Union},          {"torus:0.5,0.5,0.5,0.3,0.08", 19, Op::Union},
+      {"sphere:0.7,0.5,0.5,0.1", 20, Op::Union},         {"sphere:0.5,0.5,0.5,0.2", 12, Op::Union},
+      {"box:0.2,0.2,0.2,0.5,0.6,0.9", 18, Op::Subtract}, {"capsule:0.1,0.1,0.5,0.9,0.9,0.5,0.04", 20, Op::Union},
+      {"sphere:0.3,0.6,0.5,0.05", 19, Op::Subtract}};
+  int severalRestructures = 0, grew = 0;
+  for (std::size_t w = 0; w < writes.size(); ++w) {
+    const auto& [shape, depth, op] = writes[w];
+    const auto input = rasterise(*parseBrush(shape), frame, depth);
+    const WriteStats a = chained.write(input, op), b = driven.write(input, op);
+    ASSERT_TRUE(chained.tree() == driven.tree()) << "write " << w << " (" << shape << "): " << chained.nodeCount() << " and "
+                                                 << driven.nodeCount() << " nodes";
+    ASSERT_EQ(treeProblem(chained.tree()), "") << "write " << w;
+    EXPECT_EQ(a.iterations, b.iterations) << "write " << w;
+    EXPECT_EQ(b.chainReads, 0) << "the host drove those passes";
+    EXPECT_GE(a.chainReads, 1) << "write " << w;
+    severalRestructures += a.iterations > 1, grew += a.chainReads > 1;
+  }
+  EXPECT_GE(severalRestructures, 2) << "some writes restructure more than once in their chain";
+  EXPECT_GE(grew, 1) << "the streams grew in a chain at least once";
+  // Once the streams are large enough, a brush stroke's write is read back once.
+  const WriteStats dab = chained.write(rasterise(*parseBrush("sphere:0.52,0.5,0.5,0.04"), frame, 19), Op::Union);
+  driven.write(rasterise(*parseBrush("sphere:0.52,0.5,0.5,0.04"), frame, 19), Op::Union);
+  EXPECT_EQ(dab.chainReads, 1);
+  ASSERT_TRUE(chained.tree() == driven.tree());
+}
+
 // Voxels from anywhere are put in pre-order; the rasteriser makes them so (a write trusts it).
 TEST(Dvt, InputsComeInPreOrder) {
   const PreOrderInput made = rasterise(*parseBrush("torus:0.5,0.5,0.5,0.3,0.1"), unitFrame(), 16);

@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <numeric>
 
 #include "core/gl/context.h"
+#include "core/gl/gpu_scan.h"
 #include "core/gl/program.h"
 #include "core/gl/resources.h"
 #include "kTestShaders.h"
@@ -102,6 +104,33 @@ TEST(GlCompute, FloatTexturesReadInBandsAsWhole) {
     ASSERT_EQ(out, texels) << "bands of " << band << " bytes";
   }
   checkErrors("test");
+}
+
+// Exclusive prefix sums against std::exclusive_scan, across one, two and three levels of the
+// recursion; the device-count form scans as many as a buffer's word says, leaves the rest and reads
+// nothing back (a count of 0 scans nothing); the kept block sums serve a larger scan after a smaller.
+TEST(GlCompute, ScansMatchTheCpuWithTheCountFromTheHostOrTheDevice) {
+  test::glContext();
+  GpuScan scan;
+  for (const std::uint32_t count : {1u, 1023u, 1024u, 1025u, 300000u, 1024u * 1024u + 4097u, 7u}) {
+    std::vector<std::uint32_t> values(count + 100);
+    for (std::uint32_t i = 0; i < values.size(); ++i) values[i] = (i * 2654435761u) >> 28;
+    std::vector<std::uint32_t> want(values.size());
+    std::exclusive_scan(values.begin(), values.begin() + count, want.begin(), 0u);
+    std::copy(values.begin() + count, values.end(), want.begin() + count);
+    const std::uint32_t total = std::accumulate(values.begin(), values.begin() + count, 0u);
+    Buffer byHost = Buffer::of(values);
+    EXPECT_EQ(scan.exclusive(byHost, count), total) << count;
+    EXPECT_TRUE(byHost.read<std::uint32_t>(values.size()) == want) << count << " values, count from the host";
+    Buffer byDevice = Buffer::of(values);
+    const std::vector<std::uint32_t> counts{0u, count, 0u};
+    const Buffer countWords = Buffer::of(counts);
+    scan.exclusive(byDevice, countWords, 1, std::uint32_t(values.size()));
+    EXPECT_TRUE(byDevice.read<std::uint32_t>(values.size()) == want) << count << " values, count from the device";
+    Buffer none = Buffer::of(values);
+    scan.exclusive(none, countWords, 0, std::uint32_t(values.size()));
+    EXPECT_TRUE(none.read<std::uint32_t>(values.size()) == values) << "a count of 0 changed values";
+  }
 }
 
 TEST(GlCompute, CompileErrorsAreReported) {

@@ -3,12 +3,11 @@
 // per node the collapse test (markCollapse). Counts the marks set in `counter`.
 layout(local_size_x = 64) in;
 #include "tree_rules.glsl"
-uniform uint nodes;  // the tree's node count
 
 void main() {
   uint i = threadIndex();
-  if (i >= count) return;
 #ifdef MARK_INPUT
+  if (i >= count) return;
   InputVoxel v = inputs[i];
   uvec2 cell = uvec2(v.xy, v.zd);
   uint target = depthOf(cell);
@@ -34,7 +33,7 @@ void main() {
       marks[n] = MARK_REDUCE;
       // Its subtree's range, for the scan that removes it whole.
       atomicAdd(removals[n], 1);
-      atomicAdd(removals[subtreeEnd(n, nodes) - 1u], -1);
+      atomicAdd(removals[subtreeEnd(n) - 1u], -1);
       atomicAdd(counter, 1u);
       atomicAdd(reduces, 1u);
       return;
@@ -42,6 +41,7 @@ void main() {
     n = uint(childTowards(cell, d) == 0 ? p.left : p.right);
   }
 #else
+  if (i >= nodes) return;
   Pointer p = pointers[i];
   if (isLeaf(p) || !collapsible(pointers[p.left], pointers[p.right])) return;
   marks[i] = MARK_COLLAPSE;

@@ -7,7 +7,7 @@ uniform bool allowExpand;
 
 void main() {
   uint n = threadIndex();
-  if (n >= count) return;
+  if (n >= nodes) return;
   Pointer p = pointers[n];
   uint m = marks[n];
   uint emit = 1u;

@@ -63,7 +63,7 @@ void generate(uint o, Pointer leaf, uvec2 root, Expansion e) {
 
 void main() {
   uint n = threadIndex();
-  if (n >= count || remap[n + 1u] == remap[n]) return;
+  if (n >= nodes || remap[n + 1u] == remap[n]) return;
   uint o = remap[n];
   Pointer p = pointers[n];
   uint m = marks[n];

@@ -7,9 +7,21 @@ layout(std430, binding = 1) readonly buffer Cells { uvec2 cells[]; };
 layout(std430, binding = 2) buffer Marks { uint marks[]; };
 layout(std430, binding = 3) buffer Remap { uint remap[]; };
 layout(std430, binding = 4) buffer Removals { int removals[]; };  // reduced subtrees' ranges (dvt_mark.comp)
-// counter: the pass's count; reduces: the mark pass's reduce marks; grown, grownWrapped: the plan pass's
-// new nodes under expanded leaves (32-bit, so a wrap is flagged: the remap scan's total would wrap too).
-layout(std430, binding = 5) buffer Counter { uint counter, reduces, grown, grownWrapped; };
+// The passes' state (GpuTreePasses::State is its C++ twin).
+//   counter: the pass's count; reduces: the mark pass's reduce marks; grown, grownWrapped: the plan
+//   pass's new nodes under expanded leaves (32-bit, so a wrap is flagged: the remap scan's total would
+//   wrap too); nodes: the tree's node count, the node passes' threads.
+//   A chained write (dvt_chain.comp): running until its mark or plan finds nothing to do, or it stops
+//   (stopped: STOP_CAPACITY when the streams must grow first, `needed` nodes; STOP_LIMIT past the node
+//   limit); restructures it ran; the two scans' lengths (0 when it has stopped or with nothing to remove) and
+//   the indirect dispatch grids over nodes + 1 and over the input (zero once it has stopped).
+layout(std430, binding = 5) buffer State {
+  uint counter, reduces, grown, grownWrapped;
+  uint nodes, running, restructures, stopped;
+  uint capacity, nodeLimit, inputCount, needed;
+  uint remapScanCount, removalScanCount, unused0, unused1;
+  uvec4 nodeGroups, inputGroups;
+};
 layout(std430, binding = 8) readonly buffer Input { InputVoxel inputs[]; };
 layout(std430, binding = 9) buffer Hits { uint hits[]; };  // per input voxel: the leaf it expands, or NO_HIT
 struct Expansion {
@@ -20,7 +32,7 @@ const uint NO_HIT = 0xffffffffu;
 
 uvec2 inputCell(uint i) { return uvec2(inputs[i].xy, inputs[i].zd); }
 
-uniform uint count;  // the threads wanted: input voxels or nodes
+uniform uint count;  // the input passes' threads: the input voxels
 uniform uint op;     // the write's (OP_UNION or the subtraction)
 uniform float childScales[MAX_DEPTH + 1];
 
@@ -34,7 +46,7 @@ float combined(uint op, float leaf, float incoming) { return op == OP_UNION ? ma
 bool saturated(uint op, float leaf) { return op == OP_UNION ? leaf == INSIDE : leaf == OUTSIDE; }
 float childValue(float parent, float scale) { return clamp(parent * scale, OUTSIDE, INSIDE); }
 // The index just past n's subtree (CpuTreePasses::subtreeEnd).
-uint subtreeEnd(uint n, uint nodes) {
+uint subtreeEnd(uint n) {
   for (uint m = n; m != 0u;) {
     uint q = uint(pointers[m].parent);
     if (pointers[q].left == int(m)) return uint(pointers[q].right);
