@@ -89,21 +89,26 @@ struct Slice {
   double slope = 1, intercept = 0;
 };
 
-// The series' files, given a folder (or a file of it) and the UID asked for (empty: the folder's only one).
+// The series' files, given a folder (searched with its subfolders, as a study or PACS export lays
+// out its series) or a file of one (its own folder's files), and the UID asked for (empty: the only
+// one there). Files without a SeriesInstanceUID (a DICOMDIR, say) are no series' slices: passed over.
 std::vector<Slice> seriesSlices(const std::string& path, const std::string& series, gdcm::Scanner& scanner) {
   std::error_code ec;
   const bool folder = std::filesystem::is_directory(path, ec);
   const std::string dir = folder ? path : std::filesystem::path(path).parent_path().string();
   gdcm::Directory directory;
-  directory.Load(dir.empty() ? "." : dir, false);
+  directory.Load(dir.empty() ? "." : dir, folder);
   for (const gdcm::Tag& t : {kSeriesUid, kPosition, kOrientation, kPixelSpacing, kRows, kColumns, kFrames, kSamples, kTilt, kSlope,
                              kIntercept, kSliceThickness})
     scanner.AddTag(t);
   require(scanner.Scan(directory.GetFilenames()), path + ": could not scan the folder's DICOM files");
   std::map<std::string, std::vector<std::string>> bySeries;
-  for (const std::string& file : directory.GetFilenames())
-    if (scanner.IsKey(file.c_str())) bySeries[trimmed(scanner.GetValue(file.c_str(), kSeriesUid))].push_back(file);
-  if (bySeries.empty()) throw Error(path + ": " + (folder ? "the folder holds no DICOM files" : "is not a DICOM file"));
+  for (const std::string& file : directory.GetFilenames()) {
+    if (!scanner.IsKey(file.c_str())) continue;
+    const std::string uid = trimmed(scanner.GetValue(file.c_str(), kSeriesUid));
+    if (!uid.empty()) bySeries[uid].push_back(file);
+  }
+  if (bySeries.empty()) throw Error(path + ": " + (folder ? "the folder (with its subfolders) holds no DICOM series" : "is not a slice of a DICOM series"));
   std::string uid = series;
   if (uid.empty() && !folder) uid = trimmed(scanner.GetValue(path.c_str(), kSeriesUid));
   if (uid.empty()) {

@@ -116,6 +116,47 @@ def test_the_command_reads_a_folder_and_picks_a_series(tmp_path):
     assert run("info", str(folder), "--series", "1.2.3").returncode == 2
 
 
+def _no_series_file(path):
+    """A DICOM file without a SeriesInstanceUID, as a DICOMDIR at a study's top is."""
+    from pydicom.dataset import FileDataset, FileMetaDataset
+    from pydicom.uid import ExplicitVRLittleEndian, generate_uid
+    meta = FileMetaDataset()
+    meta.MediaStorageSOPClassUID = "1.2.840.10008.1.3.10"  # Media Storage Directory Storage
+    meta.MediaStorageSOPInstanceUID = generate_uid()
+    meta.TransferSyntaxUID = ExplicitVRLittleEndian
+    ds = FileDataset(path, {}, file_meta=meta, preamble=b"\0" * 128)
+    ds.is_little_endian, ds.is_implicit_VR = True, False
+    ds.FileSetID = "ISOATLAS"
+    ds.save_as(path, write_like_original=False)
+
+
+def test_a_study_folder_is_searched_with_its_subfolders(tmp_path):
+    """A PACS export's layout: study/PATIENT/SERIES/files, a DICOMDIR-like file at the top. The
+    study's two series are found in their subfolders (listed, then picked with --series), a series'
+    own subfolder reads alone, and the file without a series is passed over."""
+    data, affine = ch2_crop("axial")
+    study = tmp_path / "study"
+    first = write_series(str(study / "P1" / "SE1"), data, affine)
+    second = write_series(str(study / "P1" / "SE2" / "deeper"), data[:, :, :6], affine)
+    _no_series_file(str(study / "DICOMDIR"))
+    result = run("info", str(study))
+    assert result.returncode == 2
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "2 DICOM series" in lines[0] and first in lines[0] and second in lines[0], result.stderr
+    result = run("info", str(study), "--series", second)
+    assert result.returncode == 0, result.stderr
+    assert "40 x 36 x 6" in result.stdout
+    whole = isoatlas.read_volume(str(study), series=first)
+    alone = isoatlas.read_volume(str(study / "P1" / "SE1"))
+    assert np.array_equal(np.asarray(whole.data), np.asarray(alone.data))
+    assert np.array_equal(np.asarray(whole.data), data)
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    _no_series_file(str(empty / "DICOMDIR"))
+    result = run("info", str(empty))
+    assert result.returncode == 2 and "holds no DICOM series" in result.stderr, result.stderr
+
+
 @pytest.mark.parametrize("fault,message", [("uneven", "uneven slice spacing"), ("tilt", "gantry tilt"),
                                            ("sheared", "not stacked along their normal")])
 def test_a_bad_series_is_refused_with_one_line(tmp_path, fault, message):
@@ -150,3 +191,21 @@ def test_a_cohort_row_of_a_dicom_folder_is_run_again_when_a_slice_changes(tmp_pa
     assert input_hash(subject, DEFAULTS, ["segment"]) != before
     one.write_bytes(original)
     assert input_hash(subject, DEFAULTS, ["segment"]) == before
+
+
+
+def test_a_cohort_row_of_a_study_folder_hashes_its_subfolders(tmp_path):
+    from isoatlas.cohort.manifest import DEFAULTS, Subject
+    from isoatlas.cohort.subject import input_hash
+    data, affine = ch2_crop("axial")
+    write_series(str(tmp_path / "study" / "SE1"), data, affine)
+    subject = Subject(id="s", volume=str(tmp_path / "study"), seeds=[(0.0, 0.0, 0.0, 3.0)], target=80, width=20, alpha=0.8)
+    before = input_hash(subject, DEFAULTS, ["segment"])
+    one = tmp_path / "study" / "SE1" / sorted(os.listdir(tmp_path / "study" / "SE1"))[3]
+    original = one.read_bytes()
+    one.write_bytes(original[:-1] + bytes([original[-1] ^ 1]))
+    assert input_hash(subject, DEFAULTS, ["segment"]) != before, "a slice in a subfolder changed unseen"
+    one.write_bytes(original)
+    assert input_hash(subject, DEFAULTS, ["segment"]) == before
+    os.rename(tmp_path / "study" / "SE1", tmp_path / "study" / "SE2")
+    assert input_hash(subject, DEFAULTS, ["segment"]) != before, "the subfolder's name is part of the input"

@@ -31,15 +31,24 @@ def folder_of(out_dir, subject):
     return os.path.join(out_dir, subject.id)
 
 
+def _files_under(folder):
+    """Every file under folder, its subfolders' included, in an order that does not depend on the
+    file system's (a flat folder's: its names sorted, as before subfolders were searched)."""
+    found = []
+    for root, dirs, names in os.walk(folder):
+        dirs.sort()
+        found += [os.path.join(root, n) for n in names]
+    return sorted(found, key=lambda p: os.path.relpath(p, folder).split(os.sep))
+
+
 def input_hash(subject, config, stages):
-    """What decides the subject's outputs: the volume's bytes (a DICOM folder's files, names and
-    bytes), the row and the config, the stages."""
+    """What decides the subject's outputs: the volume's bytes (a DICOM folder's files with its
+    subfolders', as the reader searches them: paths and bytes), the row and the config, the stages."""
     h = hashlib.sha256()
-    files = ([os.path.join(subject.volume, n) for n in sorted(os.listdir(subject.volume))] if os.path.isdir(subject.volume)
-             else [subject.volume])
+    files = _files_under(subject.volume) if os.path.isdir(subject.volume) else [subject.volume]
     for path in files:
-        if path != subject.volume:  # a file of a folder: its name too (a single file's hash stays as it was)
-            h.update(os.path.basename(path).encode() + b"\0")
+        if path != subject.volume:  # a file of a folder: its path there too (a single file's hash stays as it was)
+            h.update(os.path.relpath(path, subject.volume).encode() + b"\0")
         try:
             with open(path, "rb") as f:
                 for block in iter(lambda: f.read(1 << 20), b""):
