@@ -35,6 +35,14 @@ VolumeFormat volumeWriteFormatOf(const std::string& path) {
   return format;
 }
 
+void requireVolumeIndex(const std::string& path, std::int64_t volumes, std::int64_t volume) {
+  if (volume < 0 && volumes > 1)
+    throw Error(path + ": holds " + std::to_string(volumes) + " volumes (a 4D series); pick one with --volume N (Python: volume=N), 0 to " +
+                std::to_string(volumes - 1));
+  if (volume >= volumes)
+    throw Error(path + ": holds " + std::to_string(volumes) + (volumes == 1 ? " volume" : " volumes") + "; --volume " +
+                std::to_string(volume) + " is past the last (" + std::to_string(volumes - 1) + ")");
+}
 
 Volume readVolume(const std::string& path, const VolumeReadOptions& options) {
   const VolumeFormat format = volumeFormatOf(path);
@@ -42,13 +50,13 @@ Volume readVolume(const std::string& path, const VolumeReadOptions& options) {
   if (!std::filesystem::is_regular_file(path, ec) && !(format == VolumeFormat::Dicom && std::filesystem::is_directory(path, ec)))
     throw Error(path + ": no such file");
   if (!options.series.empty() && format != VolumeFormat::Dicom) throw Error(path + ": --series picks a series of a DICOM folder; this is no DICOM");
-  // NRRD, INR and DICOM are read as 3D: asked for a later volume, refuse before reading them.
-  if (format != VolumeFormat::Nifti && options.volume > 0)
+  // INR and DICOM are read as 3D: asked for a later volume, refuse before reading them.
+  if (format != VolumeFormat::Nifti && format != VolumeFormat::Nrrd && options.volume > 0)
     throw Error(path + ": holds one volume; --volume " + std::to_string(options.volume) + " is past it (0 is the only one)");
   Volume v;
   switch (format) {
     case VolumeFormat::Nifti: v = readNifti(path, options.volume); break;
-    case VolumeFormat::Nrrd: v = readNrrd(path); break;
+    case VolumeFormat::Nrrd: v = readNrrd(path, options.volume); break;
     case VolumeFormat::Inr: v = readInr(path); break;
     case VolumeFormat::Dicom: v = readDicom(path, options.series); break;
   }

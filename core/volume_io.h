@@ -19,9 +19,9 @@ VolumeFormat volumeFormatOf(const std::string& path);  // throws Error for an un
 // volumeFormatOf for a file to write: throws Error for a format isoatlas only reads (DICOM).
 VolumeFormat volumeWriteFormatOf(const std::string& path);
 
-// Which volume of a 4D file to read (NIfTI's dimension 4, as fMRI and diffusion series hold them,
-// counted from 0). Unset, a file of more than one is refused with a line giving the count; a 3D
-// file is volume 0.
+// Which volume of a 4D file to read (NIfTI's dimension 4, or a NRRD's one non-spatial axis, as fMRI,
+// diffusion and 3D Slicer's sequences hold them, counted from 0). Unset, a file of more than one is
+// refused with a line giving the count; a 3D file is volume 0.
 // Which series of a DICOM folder to read (its SeriesInstanceUID): unset, a folder of more than one
 // is refused with a line listing them; a .dcm file is read as its own series.
 struct VolumeReadOptions {
@@ -34,7 +34,7 @@ void writeVolume(const std::string& path, const Volume& volume);
 // One reader and writer per format (core/volume_nifti.cpp, volume_nrrd.cpp, volume_inr.cpp).
 Volume readNifti(const std::string& path, std::int64_t volume = -1);
 void writeNifti(const std::string& path, const Volume& volume);
-Volume readNrrd(const std::string& path);
+Volume readNrrd(const std::string& path, std::int64_t volume = -1);
 void writeNrrd(const std::string& path, const Volume& volume);
 Volume readInr(const std::string& path);
 void writeInr(const std::string& path, const Volume& volume);
@@ -43,6 +43,10 @@ void writeInr(const std::string& path, const Volume& volume);
 // slice spacing, multi-frame and colour files with one line each.
 bool isDicomPath(const std::string& path);
 Volume readDicom(const std::string& path, const std::string& series = {});
+
+// For the readers of 4D files: throws Error unless `volume` (-1: unset) picks one of `volumes`,
+// with the count and the option to give.
+void requireVolumeIndex(const std::string& path, std::int64_t volumes, std::int64_t volume);
 
 // Splits an affine's 3x3 part (voxel index -> world) into spacing (column lengths) and direction
 // (unit columns). Throws Error naming `where` if a column is zero or not finite.

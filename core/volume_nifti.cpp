@@ -68,12 +68,7 @@ Volume readNifti(const std::string& path, std::int64_t volume) {
       throw Error(path + ": has " + std::to_string(nim->dim[d]) + " values along dimension " + std::to_string(d) +
                   "; isoatlas reads 3D scalar volumes, or one volume of a 4D series");
   const std::int64_t volumes = nim->ndim >= 4 ? std::max<std::int64_t>(nim->dim[4], 1) : 1;
-  if (volume < 0 && volumes > 1)
-    throw Error(path + ": holds " + std::to_string(volumes) + " volumes (a 4D series); pick one with --volume N (Python: volume=N), 0 to " +
-                std::to_string(volumes - 1));
-  if (volume >= volumes)
-    throw Error(path + ": holds " + std::to_string(volumes) + (volumes == 1 ? " volume" : " volumes") + "; --volume " +
-                std::to_string(volume) + " is past the last (" + std::to_string(volumes - 1) + ")");
+  requireVolumeIndex(path, volumes, volume);
   Volume v;
   if (!scalarTypeFromNifti(nim->datatype, v.type))
     throw Error(path + ": unsupported NIfTI datatype " + std::to_string(nim->datatype) + " (" +

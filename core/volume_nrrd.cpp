@@ -1,8 +1,10 @@
 // NRRD (.nrrd, .nhdr with its data file) through teem. World coordinates become RAS, as 3D Slicer
 // shows them: an LPS file's x and y are negated on reading and again on writing (we write LPS, the
-// space ITK and Slicer write).
+// space ITK and Slicer write). A 4D file is a series of 3D volumes along its one non-spatial axis
+// (a diffusion series' list axis, first; a Slicer sequence's, last), read one volume at a time.
 #include <teem/nrrd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -84,19 +86,80 @@ NrrdPtr load(const std::string& path, bool skipData) {
   return nrrd;
 }
 
+// The file's axes: the three (or fewer) that span the volume, in order, and the series axis of a
+// 4D file (kNoAxis for fewer axes). With a space, the spatial axes are those with a direction;
+// without one, the domain axes (time is one: a series with no other axis is along the last).
+constexpr unsigned kNoAxis = ~0u;
+struct Axes {
+  unsigned spatial[3] = {kNoAxis, kNoAxis, kNoAxis};
+  unsigned count = 0;  // spatial axes
+  unsigned series = kNoAxis;
+};
+
+Axes axesOf(const Nrrd& header, const std::string& path) {
+  Axes axes;
+  if (header.dim < 4) {
+    axes.count = header.dim;
+    for (unsigned a = 0; a < header.dim; ++a) axes.spatial[a] = a;
+    return axes;
+  }
+  unsigned index[NRRD_DIM_MAX] = {};
+  unsigned n = header.spaceDim > 0 ? nrrdSpatialAxesGet(&header, index) : nrrdDomainAxesGet(&header, index);
+  if (header.spaceDim == 0 && n == 4) n = 3;  // every axis a domain one: the last is the series
+  if (n != 3)
+    throw Error(path + ": NRRD has 4 axes of which " + std::to_string(n) + (header.spaceDim > 0 ? " have space directions" : " are domain axes") +
+                "; isoatlas reads a 4D file as 3D volumes along one other axis");
+  axes.count = 3;
+  for (unsigned a = 0; a < 3; ++a) axes.spatial[a] = index[a];
+  axes.series = 0 + 1 + 2 + 3 - index[0] - index[1] - index[2];
+  return axes;
+}
+
+// Volume `t` of `nrrd`'s data (along axes.series) into v.data: a gather, the series axis at any place.
+void copyVolume(const Nrrd& nrrd, const Axes& axes, std::int64_t t, Volume& v) {
+  const std::size_t voxel = bytesPerVoxel(v.type);
+  std::size_t stride[NRRD_DIM_MAX] = {};
+  for (unsigned a = 0, s = 1; a < nrrd.dim; ++a) stride[a] = s, s *= nrrd.axis[a].size;
+  const auto* src = static_cast<const std::byte*>(nrrd.data);
+  v.data.resize(v.voxelCount() * voxel);
+  if (axes.series == kNoAxis) {
+    std::copy(src, src + v.data.size(), v.data.data());
+    return;
+  }
+  const std::size_t base = std::size_t(t) * stride[axes.series];
+  std::size_t out = 0;
+  for (std::int64_t k = 0; k < v.dims[2]; ++k)
+    for (std::int64_t j = 0; j < v.dims[1]; ++j)
+      for (std::int64_t i = 0; i < v.dims[0]; ++i, out += voxel) {
+        const std::size_t at = base + std::size_t(i) * stride[axes.spatial[0]] + std::size_t(j) * stride[axes.spatial[1]] +
+                               std::size_t(k) * stride[axes.spatial[2]];
+        std::copy(src + at * voxel, src + (at + 1) * voxel, v.data.data() + out);
+      }
+}
+
 }  // namespace
 
-Volume readNrrd(const std::string& path) {
+Volume readNrrd(const std::string& path, std::int64_t volume) {
   Volume v;
+  Axes axes;
   {
     // Check the header before teem allocates the data it announces.
     NrrdPtr header = load(path, true);
-    if (header->dim < 1 || header->dim > 3)
-      throw Error(path + ": NRRD has " + std::to_string(header->dim) + " axes; isoatlas reads 3D scalar volumes");
+    if (header->dim < 1 || header->dim > 4)
+      throw Error(path + ": NRRD has " + std::to_string(header->dim) + " axes; isoatlas reads 3D scalar volumes, or one volume of a 4D series");
     if (!scalarTypeFromNrrd(header->type, v.type))
       throw Error(path + ": unsupported NRRD type " + airEnumStr(nrrdType, header->type));
-    for (unsigned a = 0; a < 3; ++a) v.dims[a] = a < header->dim ? std::int64_t(header->axis[a].size) : 1;
+    axes = axesOf(*header, path);
+    const std::int64_t volumes = axes.series == kNoAxis ? 1 : std::int64_t(header->axis[axes.series].size);
+    requireVolumeIndex(path, volumes, volume);
+    for (unsigned a = 0; a < 3; ++a) v.dims[a] = a < axes.count ? std::int64_t(header->axis[axes.spatial[a]].size) : 1;
     validateVolumeHeader(v, path);
+    // teem reads the whole series: it must fit too.
+    if (volumes > 1) {
+      Volume series = v;
+      series.dims[2] *= volumes;
+      validateVolumeHeader(series, path + " (all " + std::to_string(volumes) + " volumes, as teem reads them)");
+    }
   }
   NrrdPtr nrrd = load(path, false);
   if (!nrrd->data) throw Error(path + ": NRRD file has no data");
@@ -107,7 +170,7 @@ Volume readNrrd(const std::string& path) {
     if (nrrd->spaceDim != 3) throw Error(path + ": NRRD space dimension is " + std::to_string(nrrd->spaceDim) + ", not 3");
     for (unsigned a = 0; a < 3; ++a) {
       for (int r = 0; r < 3; ++r) {
-        const double d = a < nrrd->dim ? nrrd->axis[a].spaceDirection[r] : (r == int(a) ? 1.0 : 0.0);
+        const double d = a < axes.count ? nrrd->axis[axes.spatial[a]].spaceDirection[r] : (r == int(a) ? 1.0 : 0.0);
         linear.m[r][a] = std::isfinite(d) ? d : (r == int(a) ? 1.0 : 0.0);  // NaN: axis without direction
       }
     }
@@ -119,19 +182,17 @@ Volume readNrrd(const std::string& path) {
       if (flipX) linear.m[0][c] = -linear.m[0][c];
       if (flipY) linear.m[1][c] = -linear.m[1][c];
     }
-    if (flipX) origin.x = -origin.x;
-    if (flipY) origin.y = -origin.y;
+    if (flipX) origin.x = 0.0 - origin.x;  // not -0 at 0
+    if (flipY) origin.y = 0.0 - origin.y;
   } else {
     for (unsigned a = 0; a < 3; ++a) {
-      const double sp = a < nrrd->dim ? nrrd->axis[a].spacing : 1.0;
+      const double sp = a < axes.count ? nrrd->axis[axes.spatial[a]].spacing : 1.0;
       linear.m[a][a] = std::isfinite(sp) && sp > 0 ? sp : 1.0;
     }
   }
   setGeometryFromAffine(v, linear, origin, path);
   validateVolumeHeader(v, path);
-  const std::size_t bytes = v.voxelCount() * bytesPerVoxel(v.type);
-  const auto* src = static_cast<const std::byte*>(nrrd->data);
-  v.data.assign(src, src + bytes);
+  copyVolume(*nrrd, axes, std::max<std::int64_t>(volume, 0), v);
   return v;
 }
 

@@ -149,8 +149,8 @@ TEST(VolumeIo, NiftiScalingIsApplied) {
 
 // --- bad input ------------------------------------------------------------------------------
 
-std::string errorOf(const std::string& path) {
-  const Error e = test::thrownError([&] { readVolume(path); }, path);
+std::string errorOf(const std::string& path, const VolumeReadOptions& options = {}) {
+  const Error e = test::thrownError([&] { readVolume(path, options); }, path);
   EXPECT_EQ(e.exitCode(), 2) << e.what();
   return e.what();
 }
@@ -297,6 +297,59 @@ TEST(VolumeRoundTrip, OneVolumeOfA4DNiftiIsPicked) {
   writeVolume((dir / "3d.nrrd").string(), first);
   EXPECT_EQ(readVolume((dir / "3d.nrrd").string(), {.volume = 0}).data, first.data);
   EXPECT_THROW(readVolume((dir / "3d.nrrd").string(), {.volume = 1}), Error);
+}
+
+// 4D NRRD files as 3D Slicer and teem write them, written here by hand: a diffusion series (the
+// list axis first, "none" for its space direction), a sequence (the list axis last) and a file
+// without a space (spacings; a time axis, a domain one, last). Each volume reads as the 3D file of
+// the same header without that axis, voxel for voxel and in world space; unpicked it is refused
+// with the count, and past the last with the last.
+TEST(VolumeRoundTrip, OneVolumeOfA4DNrrdIsPicked) {
+  const auto dir = scratchDir();
+  const int nx = 5, ny = 4, nz = 3, nt = 3;
+  const auto value = [](int t, int i, int j, int k) { return std::uint8_t(60 * t + i + 5 * j + 20 * k); };
+  struct Layout {
+    std::string name, header3, header4;
+    bool seriesFirst;
+  };
+  const std::string space = "space: left-posterior-superior\nspace origin: (1.5,-2,7.25)\n";
+  const std::string directions = "(0.9,0.1,0) (-0.2,1.1,0) (0,0.3,2.5)";
+  const std::vector<Layout> layouts{
+      {"dwi", space + "space directions: " + directions + "\nkinds: domain domain domain\n",
+       space + "space directions: none " + directions + "\nkinds: list domain domain domain\n", true},
+      {"sequence", space + "space directions: " + directions + "\nkinds: domain domain domain\n",
+       space + "space directions: " + directions + " none\nkinds: domain domain domain list\n", false},
+      {"spacings", "spacings: 1.5 2 2.5\n", "spacings: 1.5 2 2.5 NaN\nkinds: domain domain domain time\n", false}};
+  for (const Layout& l : layouts) {
+    const std::string sizes3 = std::to_string(nx) + " " + std::to_string(ny) + " " + std::to_string(nz);
+    const std::string sizes4 = l.seriesFirst ? std::to_string(nt) + " " + sizes3 : sizes3 + " " + std::to_string(nt);
+    std::string data4;
+    for (int a = 0; a < (l.seriesFirst ? 1 : nt); ++a)
+      for (int k = 0; k < nz; ++k)
+        for (int j = 0; j < ny; ++j)
+          for (int i = 0; i < nx; ++i)
+            for (int b = 0; b < (l.seriesFirst ? nt : 1); ++b) data4 += char(value(l.seriesFirst ? b : a, i, j, k));
+    const auto four = dir / (l.name + "_4d.nrrd");
+    test::writeBytes(four, "NRRD0004\ntype: uint8\ndimension: 4\nsizes: " + sizes4 + "\n" + l.header4 + "encoding: raw\n\n" + data4);
+    EXPECT_NE(errorOf(four.string()).find("holds 3 volumes (a 4D series); pick one with --volume N"), std::string::npos) << l.name;
+    for (int t = 0; t < nt; ++t) {
+      std::string data3;
+      for (int k = 0; k < nz; ++k)
+        for (int j = 0; j < ny; ++j)
+          for (int i = 0; i < nx; ++i) data3 += char(value(t, i, j, k));
+      const auto three = dir / (l.name + "_3d.nrrd");
+      test::writeBytes(three, "NRRD0004\ntype: uint8\ndimension: 3\nsizes: " + sizes3 + "\n" + l.header3 + "encoding: raw\n\n" + data3);
+      const Volume want = readVolume(three.string()), got = readVolume(four.string(), {.volume = t});
+      EXPECT_EQ(got.dims, want.dims) << l.name;
+      EXPECT_EQ(got.data, want.data) << l.name << ", volume " << t;
+      for (int a = 0; a < 3; ++a) {
+        EXPECT_DOUBLE_EQ(got.spacing[a], want.spacing[a]) << l.name;
+        EXPECT_DOUBLE_EQ(got.origin[a], want.origin[a]) << l.name;
+        for (int b = 0; b < 3; ++b) EXPECT_DOUBLE_EQ(got.direction.m[a][b], want.direction.m[a][b]) << l.name;
+      }
+    }
+    EXPECT_NE(errorOf(four.string(), {.volume = 3}).find("--volume 3 is past the last (2)"), std::string::npos) << l.name;
+  }
 }
 
 TEST(VolumeBadInput, ByteLimitIsCheckedBeforeAllocation) {
