@@ -401,6 +401,36 @@ def test_a_preserved_topology_gives_the_commands_mask_and_a_sphere(tmp_path):
     assert ours.sum() > 1000 and np.array_equal(ours, np.asanyarray(nib.load(mask).dataobj))
 
 
+def test_a_volume_of_a_4d_file_is_picked_by_its_index(tmp_path):
+    """Run in this process: a 4D file of two phantoms (a ball, then a torus); the row's volume_index
+    picks one, and its mask is `isoatlas segment --volume N`'s; without the index the row fails with
+    the file's count; a bad index is refused naming the row and column."""
+    from isoatlas.cohort import manifest as manifests, subject
+
+    folder = tmp_path / "study"
+    make_study(str(folder))
+    ball, torus = (nib.load(str(folder / f"{name}.nii.gz")) for name in ("ball", "torus"))
+    series = np.stack([np.asanyarray(ball.dataobj), np.asanyarray(torus.dataobj)], axis=-1)
+    nib.save(nib.Nifti1Image(series, ball.affine), str(folder / "series.nii.gz"))
+    path = folder / "series.csv"
+    path.write_text("id,volume,seeds,volume_index\ntorus,series.nii.gz,\"15,0,0,3\",1\nwhole,series.nii.gz,\"15,0,0,3\",\n")
+    config = dict(manifests.DEFAULTS, **CONFIG)
+    rows = {s.id: s for s in manifests.read_manifest(str(path), config)}
+    assert rows["torus"].volume_index == 1 and rows["whole"].volume_index is None
+    report = subject.run_subject(rows["torus"], config, ["segment"], str(tmp_path / "out"), "hash")
+    assert report["status"] == "done", report
+    mask = str(tmp_path / "mask.nii.gz")
+    subprocess.run([EXE, "segment", rows["torus"].volume, "--volume", "1", "--seed", "30,20,20,2", "-T", "100", "-e", "30", "-a", "0.5",
+                    "-n", "1000", "--converge", "--backend", "cpu", "-o", mask, "-q"], check=True)
+    ours = np.asanyarray(nib.load(str(tmp_path / "out" / "torus" / "mask.nii.gz")).dataobj)
+    assert ours.sum() > 1000 and np.array_equal(ours, np.asanyarray(nib.load(mask).dataobj))
+    failed = subject.run_subject(rows["whole"], config, ["segment"], str(tmp_path / "out"), "hash")
+    assert failed["status"] == "failed" and "holds 2 volumes" in failed["error"], failed
+    path.write_text("id,volume,seeds,volume_index\ntorus,series.nii.gz,\"15,0,0,3\",-1\n")
+    with pytest.raises(manifests.InputError, match=r"line 2, volume_index: which volume of a 4D file"):
+        manifests.read_manifest(str(path), config)
+
+
 def test_the_docs_example_reads_and_its_seeds_lie_in_every_brain():
     """docs/cohort.md's manifest and config as written: three subjects whose world seeds fall inside
     each brain's grid (its affine read by nibabel) and on white matter (T1 near the config's target)."""

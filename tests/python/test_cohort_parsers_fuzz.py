@@ -20,10 +20,11 @@ manifest = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(manifest)
 
 GOOD_MANIFEST = (
-    "id,volume,seeds,target,width,alpha,edits,backend,series\n"
-    "ch2,ch2.nii.gz,\"64,115,101,4;70,110,100,3\",112,14,0.8,\"subtract sphere:18,0,0,8\",cpu,\n"
-    "bet,bet/ch2.nii.gz,\"1.5,-2,3e1,2\",,,,\"union box:0,0,0,4,4,4\",auto,1.2.840.1\n"
-    "dicom,series,\"0,0,0,4.5\",100,30,,,gpu,\n")
+    "id,volume,seeds,target,width,alpha,edits,backend,series,volume_index\n"
+    "ch2,ch2.nii.gz,\"64,115,101,4;70,110,100,3\",112,14,0.8,\"subtract sphere:18,0,0,8\",cpu,,\n"
+    "bet,bet/ch2.nii.gz,\"1.5,-2,3e1,2\",,,,\"union box:0,0,0,4,4,4\",auto,1.2.840.1,\n"
+    "dicom,series,\"0,0,0,4.5\",100,30,,,gpu,,\n"
+    "fmri,bold.nii.gz,\"0,0,0,4.5\",100,30,,,cpu,,12\n")
 GOOD_CONFIG = {"target": 100, "width": 30, "alpha": 0.7, "backend": "cpu", "iterations": 500, "topology": "preserve",
                "edits": "subtract sphere:1,2,3,4", "base_ratio": 0.05, "chart_size": 9, "samples": 20000,
                "thumbnail": [64, 64], "allowed_failures": 1, "threads_per_worker": 0}
@@ -102,6 +103,7 @@ def check_subjects(subjects):
             assert value is None or (isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)), s
         assert s.backend in ("gpu", "cpu", "auto")
         assert isinstance(s.volume, str) and isinstance(s.series, str)
+        assert s.volume_index is None or (type(s.volume_index) is int and s.volume_index >= 0), s
 
 
 def run(make_input, parse, path, seed, named=()):
@@ -131,7 +133,8 @@ def test_the_good_inputs_read(tmp_path):
     config = manifest.read_config(str(tmp_path / "c.json"))
     (tmp_path / "m.csv").write_text(GOOD_MANIFEST)
     subjects = manifest.read_manifest(str(tmp_path / "m.csv"), config)
-    assert [s.id for s in subjects] == ["ch2", "bet", "dicom"]
+    assert [s.id for s in subjects] == ["ch2", "bet", "dicom", "fmri"]
+    assert [s.volume_index for s in subjects] == [None, None, None, 12]
     check_subjects(subjects)
 
 

@@ -10,6 +10,8 @@ A manifest is a CSV file with a header. Columns:
     edits    boolean edits after the segmentation (optional), ``subtract sphere:x,y,z,r; union box:...``
              with the shapes ``isoatlas edit`` takes
     backend  gpu, cpu or auto (optional)
+    series   a DICOM folder's SeriesInstanceUID, where it holds several (optional, as ``--series``)
+    volume_index   which volume of a 4D file, from 0 (optional, as ``--volume``; a 4D file needs it)
 
 An empty cell takes the config's value. Errors name the file, the row and the column, and are raised
 as ``InputError``: the command prints its one line and exits 2 before any subject runs.
@@ -41,7 +43,7 @@ DEFAULTS = {
     "threads_per_worker": 1,  # the library's threads in each worker (0: every core)
 }
 
-COLUMNS = ("id", "volume", "seeds", "target", "width", "alpha", "edits", "backend", "series")
+COLUMNS = ("id", "volume", "seeds", "target", "width", "alpha", "edits", "backend", "series", "volume_index")
 _ID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
 
 
@@ -60,14 +62,18 @@ class Subject:
     edits: list = field(default_factory=list)  # [("union" | "subtract", SHAPE)]
     backend: str = "auto"
     series: str = ""                 # a DICOM folder's SeriesInstanceUID; "": its one series
+    volume_index: int | None = None  # which volume of a 4D file; None: a 3D file
 
     def parameters(self):
         """Everything of the row that decides its outputs (the volume's bytes are hashed apart). The
-        series only where given, so that the hashes of rows from before the column stay."""
+        series and the volume index only where given, so that the hashes of rows from before those
+        columns stay."""
         p = {"volume": self.volume, "seeds": self.seeds, "target": self.target, "width": self.width,
              "alpha": self.alpha, "edits": self.edits, "backend": self.backend}
         if self.series:
             p["series"] = self.series
+        if self.volume_index is not None:
+            p["volume_index"] = self.volume_index
         return p
 
 
@@ -199,6 +205,12 @@ def _number(text, where):
     return value
 
 
+def _volume_index(text, where):
+    if not re.fullmatch(r"[0-9]{1,9}", text):
+        raise InputError(f"{where}: which volume of a 4D file, from 0 (as --volume), not '{_shown(text)}'")
+    return int(text)
+
+
 def read_manifest(path, config):
     """The subjects of the manifest at `path`, each row's empty cells filled from `config`."""
     try:
@@ -245,5 +257,6 @@ def read_manifest(path, config):
             id=subject_id, volume=os.path.normpath(os.path.join(folder, cell["volume"])),
             seeds=parse_seeds(cell["seeds"], f"{where}, seeds"), target=setting("target"), width=setting("width"),
             alpha=setting("alpha"), edits=parse_edits(edits_text, f"{where}, edits"), backend=backend,
-            series=cell.get("series", "")))
+            series=cell.get("series", ""),
+            volume_index=_volume_index(cell["volume_index"], f"{where}, volume_index") if cell.get("volume_index") else None))
     return subjects

@@ -147,7 +147,7 @@ class _Stages:
 
     def segment(self):
         s, c = self.subject, self.config
-        volume = isoatlas.read_volume(s.volume, series=s.series)
+        volume = isoatlas.read_volume(s.volume, volume=s.volume_index, series=s.series)
         self.affine = volume.affine
         seeds = [_world_to_voxel(volume.affine, seed) for seed in s.seeds]
         target, width = s.target, s.width
