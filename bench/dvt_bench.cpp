@@ -84,12 +84,12 @@ double median(std::vector<double> v) {
 }
 double mean(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / double(v.size()); }
 
-// `chain`: the GPU's writes as one chain of passes (TreeOptions::chainWrites), or driven pass by pass.
+// `chain`: the GPU's writes as one chain of passes (TreeOptions::chainPasses), or driven pass by pass.
 Trace drawOurs(int k, bool collapse, bool hierarchical, std::unique_ptr<dvt::TreePasses> passes, bool chain = true) {
   const dvt::TreeFrame frame = unitCube(k);
   const bool onGpu = passes->name() == "gpu";
   dvt::DynamicVolumeTree tree(dvt::VolumeTree::empty(frame), std::move(passes),
-                              {.nodeLimit = std::uint64_t(1) << 28, .collapseEvery = collapse ? 10 : 0, .chainWrites = chain});
+                              {.nodeLimit = std::uint64_t(1) << 28, .collapseEvery = collapse ? 10 : 0, .chainPasses = chain});
   Trace t;
   for (int step = 0; step < 2 * kSteps; ++step) {
     const bool carve = step >= kSteps;

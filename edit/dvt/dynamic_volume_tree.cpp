@@ -26,8 +26,8 @@ WriteStats DynamicVolumeTree::write(PreOrderInput input, Op op) {
   stats.inputVoxels = input.size();
   passes_->setInput(std::move(input).take());
   bool allowExpand = true;
-  std::optional<ChainedWrite> chained;
-  if (options_.chainWrites) chained = passes_->writeChained(op, options_.nodeLimit);
+  std::optional<ChainRun> chained;
+  if (options_.chainPasses) chained = passes_->writeChained(op, options_.nodeLimit);
   if (chained) stats.iterations = chained->iterations, stats.chainReads = chained->reads;
   for (; !chained || !chained->finished; ++stats.iterations) {
     // No marks: the voxels were written into leaves of their depth and nothing is left to change.
@@ -63,7 +63,8 @@ WriteStats DynamicVolumeTree::write(PreOrderInput input, Op op) {
 
 std::uint64_t DynamicVolumeTree::collapse() {
   const std::uint64_t before = passes_->nodeCount();
-  while (passes_->markCollapse() > 0) passes_->restructure(passes_->plan(false), false, options_.nodeLimit);
+  if (!options_.chainPasses || !passes_->collapseChained())
+    while (passes_->markCollapse() > 0) passes_->restructure(passes_->plan(false), false, options_.nodeLimit);
   return before - passes_->nodeCount();
 }
 

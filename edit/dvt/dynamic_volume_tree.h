@@ -21,9 +21,10 @@ namespace isoatlas::edit::dvt {
 struct TreeOptions {
   std::uint64_t nodeLimit = kDefaultNodeLimit;  // at most kMaxTreeNodes
   int collapseEvery = 0;  // 0: only when collapse() is called
-  // Whether writes run as the backend's chain of passes where it has one (TreePasses::writeChained);
-  // false: the host drives every pass and reads its counters (the GPU's stepwise path, to compare).
-  bool chainWrites = true;
+  // Whether writes and collapses run as the backend's chains of passes where it has them
+  // (TreePasses::writeChained, collapseChained); false: the host drives every pass and reads its
+  // counters (the GPU's stepwise path, to compare).
+  bool chainPasses = true;
 };
 
 struct WriteStats {

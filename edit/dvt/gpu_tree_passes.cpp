@@ -32,6 +32,8 @@ constexpr std::uint32_t kStopCapacity = 1, kStopLimit = 2;
 // iteration, so a write whose deepest voxel is at depth d ends within ceil(d / kExpandLevels)
 // restructures and one mark that finds nothing left.
 int chainIterationsFor(std::uint32_t deepestVoxel) { return int((deepestVoxel + kExpandLevels - 1) / kExpandLevels) + 1; }
+// A collapse joins one level of siblings an iteration: a batch of this many between reads.
+constexpr int kCollapseIterations = 8;
 
 gl::Defines withRules(gl::Defines extra) {
   gl::Defines d = ruleDefines();
@@ -193,12 +195,25 @@ public:
     profile_.end();
   }
 
-  std::optional<ChainedWrite> writeChained(Op op, std::uint64_t nodeLimit) override {
+  std::optional<ChainRun> writeChained(Op op, std::uint64_t nodeLimit) override {
     collapsing_ = false;
     op_ = op;
-    ChainedWrite done;
+    return runChain(nodeLimit, chainIterationsFor(deepestVoxel_));
+  }
+
+  std::optional<ChainRun> collapseChained() override {
+    collapsing_ = true;
+    inputCount_ = 0;  // as markCollapse: no voxel expands anything (setInput brings them back)
+    return runChain(count_, kCollapseIterations);  // a collapse only removes nodes: never past its count
+  }
+
+private:
+  // The chain of a write or (collapsing_) a collapse: `iterations` at a time, the host reading the
+  // state after each batch, until it has ended or stopped at the node limit.
+  ChainRun runChain(std::uint64_t nodeLimit, int iterations) {
+    ChainRun done;
     for (;;) {
-      profile_.stage("chain: start");
+      stage("chain: start", "collapse chain: start");
       // Both streams and the per-node buffers hold `capacity` nodes (the spare may be smaller after a
       // load, the per-node buffers after a swap to a larger stream).
       if (spareCapacity_ < capacity_) {
@@ -212,9 +227,8 @@ public:
       s.nodeLimit = std::uint32_t(nodeLimit), s.inputCount = std::uint32_t(inputCount_);
       state_.upload(&s, sizeof s);
       setChainUniforms();
-      const int iterations = chainIterationsFor(deepestVoxel_);
       for (int i = 0; i < iterations; ++i) chainIteration(i % 2 == 0);
-      profile_.stage("chain: read back state");
+      stage("chain: read back state", "collapse chain: read back state");
       state_.download(&s, sizeof s);
       profile_.end();
       // Iteration i read the streams of parity i: after an odd number of restructures the spare holds the tree.
@@ -228,13 +242,12 @@ public:
       }
       if (s.stopped == kStopCapacity) grow(s.needed, nodeLimit);
       else if (s.running == 0) break;
-      // Else more levels to grow than the input's depth foresaw, or grown streams: go on from here.
+      // Else more to do than a batch (a collapse of a deep tree; a write's grown streams): go on from here.
     }
-    setNodes();  // for the passes the host drives (the limit's iterations, collapse)
+    setNodes();  // for the passes the host drives (the limit's iterations)
     return done;
   }
 
-private:
   static const gl::Program& chainStep(gl::Context& context, const char* step) {
     return context.compute(gl::kDvtShaders, "edit/dvt/shaders/dvt_chain.comp",
                            withRules({{step, "1"}, {"STOP_CAPACITY", std::to_string(kStopCapacity) + "u"},
@@ -271,6 +284,7 @@ private:
     profile_.end();
   }
   void setChainUniforms() {
+    const bool expand = !collapsing_;
     markInput_.use();
     glUniform1ui(markInput_.uniform("op"), std::uint32_t(op_));
     glUniform1ui(markInput_.uniform("count"), std::uint32_t(inputCount_));
@@ -278,13 +292,14 @@ private:
     setExpansionUniforms(runs_);
     glUniform1ui(runs_.uniform("count"), std::uint32_t(inputCount_));
     plan_.use();
-    glUniform1ui(plan_.uniform("allowExpand"), 1);
+    glUniform1ui(plan_.uniform("allowExpand"), expand);
     restructure_.use();
-    glUniform1ui(restructure_.uniform("allowExpand"), 1);
+    glUniform1ui(restructure_.uniform("allowExpand"), expand);
     setExpansionUniforms(restructure_);
   }
-  // One iteration of a write (mark, plan, restructure) with the steps of dvt_chain.comp between, on
-  // the streams of one parity (`even`: pointers_ and cells_) into the other's. Reads nothing back.
+  // One iteration of a write (mark, plan, restructure) or of a collapse (markCollapse per node, no
+  // expansions) with the steps of dvt_chain.comp between, on the streams of one parity (`even`:
+  // pointers_ and cells_) into the other's. Reads nothing back.
   void chainIteration(bool even) {
     gl::Buffer &from = even ? pointers_ : spare_, &fromCells = even ? cells_ : spareCells_;
     gl::Buffer &to = even ? spare_ : pointers_, &toCells = even ? spareCells_ : cells_;
@@ -298,24 +313,27 @@ private:
     const auto step = [&](const gl::Program& p) { p.dispatch(1, 1, 1, kStepBarrier); };
     const auto maxScan = std::uint32_t(capacity_ + 1);
     bind();
-    profile_.stage("chain: begin, clear");
+    stage("chain: begin, clear", "collapse chain: begin, clear");
     step(begin_);
     overNodes(clear_);
-    profile_.stage("chain: mark");
-    overInput(markInput_);
+    stage("chain: mark", "collapse chain: mark");
+    if (collapsing_) overNodes(markCollapse_);
+    else overInput(markInput_);
     step(gateMark_);
-    profile_.stage("chain: scan removals");
-    scan_.exclusive(removals_, state_, offsetof(State, removalScanCount) / 4, maxScan);
-    bind();
-    profile_.stage("chain: expansion runs");
-    overInput(runs_);
-    profile_.stage("chain: plan");
+    if (!collapsing_) {  // a collapse reduces nothing and has no input
+      profile_.stage("chain: scan removals");
+      scan_.exclusive(removals_, state_, offsetof(State, removalScanCount) / 4, maxScan);
+      bind();
+      profile_.stage("chain: expansion runs");
+      overInput(runs_);
+    }
+    stage("chain: plan", "collapse chain: plan");
     overNodes(plan_);
-    profile_.stage("chain: scan remap");
+    stage("chain: scan remap", "collapse chain: scan remap");
     scan_.exclusive(remap_, state_, offsetof(State, remapScanCount) / 4, maxScan);
     bind();
     step(gatePlan_);
-    profile_.stage("chain: restructure");
+    stage("chain: restructure", "collapse chain: restructure");
     overNodes(restructure_);
     step(end_);
     profile_.end();

@@ -2,7 +2,7 @@
 // context current when it is made (which must be current whenever it is used). The streams live in
 // GPU buffers, ping-ponged by the restructure pass. A write runs as one chain of passes sized on the
 // GPU (writeChained: the state, 96 bytes, comes back once at its end); driven pass by pass (the
-// collapse, the node limit's iterations, TreeOptions::chainWrites = false) each pass's counters do.
+// collapse, the node limit's iterations, TreeOptions::chainPasses = false) each pass's counters do.
 #pragma once
 #include <memory>
 

@@ -28,10 +28,10 @@
 
 namespace isoatlas::edit::dvt {
 
-// A write run by the backend through to its end (TreePasses::writeChained).
-struct ChainedWrite {
+// A write or collapse run by the backend through to its end (TreePasses::writeChained, collapseChained).
+struct ChainRun {
   int iterations = 0;   // restructures
-  int reads = 0;        // times the host read the passes' state back: 1 unless the streams had to grow
+  int reads = 0;        // times the host read the passes' state back: a write's 1 unless the streams had to grow
   bool finished = true; // false: stopped before the node limit's check, for the caller's iterations
 };
 
@@ -68,10 +68,13 @@ public:
   // reads the passes' state once at the end). Nothing when it has none: the caller iterates mark,
   // plan and restructure. Where a restructure could pass `nodeLimit`, the chain stops before it
   // (finished false) and the caller's iterations finish the write from there, with the limit's rule.
-  virtual std::optional<ChainedWrite> writeChained(Op op, std::uint64_t nodeLimit) {
+  virtual std::optional<ChainRun> writeChained(Op op, std::uint64_t nodeLimit) {
     (void)op, (void)nodeLimit;
     return std::nullopt;
   }
+  // A collapse (markCollapse, plan, restructure until nothing is marked) as such a chain, where the
+  // backend has one; the host reads its state once a batch of iterations.
+  virtual std::optional<ChainRun> collapseChained() { return std::nullopt; }
 };
 
 }  // namespace isoatlas::edit::dvt

@@ -148,14 +148,15 @@ TEST(Dvt, GpuPassesMakeTheCpuStreamsNodeForNode) {
 }
 
 // A GPU write runs as one chain of passes sized on the GPU (writeChained), reading its state back
-// once at the end; the host-driven passes read counters between every pass. Same trees, node for
-// node: from an empty tree (its streams grow mid-chain: more reads), deep writes under coarse
-// leaves (several restructures in one chain), reductions, a subtraction and collapses.
+// once at the end, and a collapse as a chain read once a batch (collapseChained); the host-driven
+// passes read counters between every pass. Same trees, node for node: from an empty tree (its
+// streams grow mid-chain: more reads), deep writes under coarse leaves (several restructures in one
+// chain), reductions, a subtraction and collapses (every 4 writes, and at the end).
 TEST(Dvt, ChainedGpuWritesMakeTheHostDrivenTreesNodeForNode) {
   const TreeFrame frame = frameAround({0, 0, 0}, {1, 1, 1}, 6);
   test::glContext();  // made current
   DynamicVolumeTree chained(VolumeTree::empty(frame), makeGpuTreePasses(), {.collapseEvery = 4});
-  DynamicVolumeTree driven(VolumeTree::empty(frame), makeGpuTreePasses(), {.collapseEvery = 4, .chainWrites = false});
+  DynamicVolumeTree driven(VolumeTree::empty(frame), makeGpuTreePasses(), {.collapseEvery = 4, .chainPasses = false});
   const std::vector<std::tuple<std::string, std::uint32_t, Op>> writes{
       {"sphere:0.5,0.5,0.5,0.3", 9, Op::Union},          {"torus:0.5,0.5,0.5,0.3,0.08", 19, Op::Union},
       {"sphere:0.7,0.5,0.5,0.1", 20, Op::Union},         {"sphere:0.5,0.5,0.5,0.2", 12, Op::Union},
@@ -181,6 +182,15 @@ TEST(Dvt, ChainedGpuWritesMakeTheHostDrivenTreesNodeForNode) {
   driven.write(rasterise(*parseBrush("sphere:0.52,0.5,0.5,0.04"), frame, 19), Op::Union);
   EXPECT_EQ(dab.chainReads, 1);
   ASSERT_TRUE(chained.tree() == driven.tree());
+  // And a collapse as a chain (a level of siblings an iteration, read once a batch) joins what the
+  // host-driven one joins, after a fine ball where there was nothing (fine inside leaves to join).
+  for (DynamicVolumeTree* t : {&chained, &driven}) t->write(rasterise(*parseBrush("sphere:0.85,0.15,0.2,0.08"), frame, 18), Op::Union);
+  ASSERT_TRUE(chained.tree() == driven.tree());
+  const std::uint64_t joined = chained.collapse();
+  EXPECT_GT(joined, 0u);
+  EXPECT_EQ(joined, driven.collapse());
+  ASSERT_TRUE(chained.tree() == driven.tree());
+  EXPECT_EQ(chained.collapse(), 0u);
 }
 
 // Voxels from anywhere are put in pre-order; the rasteriser makes them so (a write trusts it).
