@@ -48,7 +48,7 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
     volumeWriteFormatOf(o->output);  // throws for a name that is no volume format to write, before any work
     if (!o->phi.empty()) volumeWriteFormatOf(o->phi);
     require(!o->seeds.empty() || !o->seedMask.empty(), "give at least one --seed X,Y,Z[,R] or a --seed-mask");
-    pipeline::requireTopologyWithStart(levelset::topologyFor(o->topology), o->halfResolutionStart);
+    levelset::topologyFor(o->topology);  // a wrong word before any work
     require(levelset::isPageSize(o->page), "--page " + std::to_string(o->page) + ": a power of two from 4 to " +
                                                std::to_string(levelset::kMaxPageSize));
     const levelset::SpeedParams params{float(o->target), float(o->width), float(o->alpha)};

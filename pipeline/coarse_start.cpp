@@ -45,7 +45,7 @@ Volume halfResolution(const Volume& volume) {
 
 CoarseStart solveAtHalfResolution(const Volume& volume, const levelset::SpeedParams& params, const std::vector<Ball>& seeds,
                                   const Volume* seedMask, const levelset::LevelSetOptions& options,
-                                  const levelset::RunOptions& run) {
+                                  const levelset::RunOptions& run, const std::function<bool(const Volume&)>& acceptStart) {
   const Volume half = halfResolution(volume);
   levelset::LevelSet coarse(half, params, options);
   if (seedMask) {
@@ -62,6 +62,10 @@ CoarseStart solveAtHalfResolution(const Volume& volume, const levelset::SpeedPar
   // Block (x, y, z) covers voxels 2x and 2x + 1, so voxel X lies at (X - 0.5) / 2; radii at least a voxel.
   for (const Ball& b : seeds) coarse.addSphere((b.centre - Vec3{0.5, 0.5, 0.5}) * 0.5, std::max(1.0, b.radius / 2));
   CoarseStart start;
+  if (acceptStart && !acceptStart(coarse.mask())) {
+    start.started = false;
+    return start;
+  }
   start.stats = coarse.run(run);
   const Volume halfMask = coarse.mask();
   start.mask = volume.sameGeometry(ScalarType::UInt8);

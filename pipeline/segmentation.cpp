@@ -1,25 +1,21 @@
 #include "pipeline/segmentation.h"
 
 #include <chrono>
+#include <optional>
 
 #include "core/error.h"
 #include "core/progress.h"
 #include "levelset/fill_threads.h"
 #include "pipeline/coarse_start.h"
+#include "pipeline/mask_topology.h"
 
 namespace isoatlas::pipeline {
-
-void requireTopologyWithStart(levelset::Topology topology, bool halfResolutionStart) {
-  require(!halfResolutionStart || topology == levelset::Topology::Free,
-          "--half-resolution-start with --topology preserve: the start from half resolution does not keep the seeds' topology; leave one out");
-}
 
 Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& request) {
   Segmentation s;
   s.backend = request.backend;
   s.renderer = request.renderer;
   s.topology = request.topology;
-  requireTopologyWithStart(request.topology, request.halfResolutionStart);
   s.levelSet = std::make_unique<levelset::LevelSet>(
       volume, request.params, levelset::LevelSetOptions{.backend = s.backend, .pageSize = request.pageSize, .topology = request.topology});
   const auto start = std::chrono::steady_clock::now();
@@ -30,16 +26,47 @@ Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& requ
                                 .progress = [&progress](int i, std::int64_t) { progress.update(std::uint64_t(i)); }};
   };
   require(!request.halfResolutionStart || request.untilConverged, "the half-resolution start needs the run until converged (--converge)");
-  if (request.halfResolutionStart) {
-    Progress progress(request.label + " at half resolution", std::uint64_t(request.maxIterations), "iterations");
-    CoarseStart coarse = solveAtHalfResolution(volume, request.params, request.seeds, request.seedMask,
-                                               {.backend = s.backend, .pageSize = request.pageSize}, runOptions(progress));
-    progress.finish();
-    s.halfResolution = coarse.stats;
-    s.levelSet->setMask(coarse.mask);
-  } else {
+  const bool preserve = request.topology == levelset::Topology::Preserve;
+  // The seeds at full resolution: the start, unless the half-resolution one takes its place. With the
+  // topology preserved, that one must start from seeds of the same topology on its own grid (halving
+  // can join two seeds or close a gap); else the start stays here, and one line says why.
+  const auto seedAtFullResolution = [&] {
     if (request.seedMask) s.levelSet->setMask(*request.seedMask);
     for (const Ball& b : request.seeds) s.levelSet->addSphere(b.centre, b.radius);
+  };
+  if (!request.halfResolutionStart || preserve) seedAtFullResolution();
+  if (request.halfResolutionStart) {
+    MaskTopology seeds;
+    if (preserve) seeds = maskTopology(s.levelSet->mask());
+    // The progress line only for a run that happens.
+    std::optional<Progress> progress;
+    const auto sameTopology = [&](const Volume& halfSeeds) {
+      const bool same = !preserve || maskTopology(halfSeeds) == seeds;
+      if (same) progress.emplace(request.label + " at half resolution", std::uint64_t(request.maxIterations), "iterations");
+      if (same) return true;
+      const MaskTopology half = maskTopology(halfSeeds);
+      const auto said = [](const MaskTopology& t) {
+        const auto count = [](std::int64_t n, const char* what) { return std::to_string(n) + " " + what + (n == 1 ? "" : "s"); };
+        return count(t.components, "component") + " and " + count(t.surfaces, "surface") + " of Euler number " + std::to_string(t.euler);
+      };
+      logInfo(request.label + ": --half-resolution-start left out: at half resolution the seeds have " + said(half) +
+              ", at full resolution " + said(seeds) + ", and --topology preserve keeps the seeds' own");
+      return false;
+    };
+    const levelset::RunOptions halfRun{.maxIterations = request.maxIterations,
+                                       .untilConverged = request.untilConverged,
+                                       .progress = [&progress](int i, std::int64_t) {
+                                         if (progress) progress->update(std::uint64_t(i));
+                                       }};
+    CoarseStart coarse = solveAtHalfResolution(volume, request.params, request.seeds, request.seedMask,
+                                               {.backend = s.backend, .pageSize = request.pageSize, .topology = request.topology},
+                                               halfRun, sameTopology);
+    if (progress) progress->finish();
+    s.halfResolutionStarted = coarse.started;
+    if (coarse.started) {
+      s.halfResolution = coarse.stats;
+      s.levelSet->setMask(coarse.mask);
+    }
   }
   Progress progress(request.label, std::uint64_t(request.maxIterations), "iterations");
   s.stats = s.levelSet->run(runOptions(progress));
@@ -83,6 +110,7 @@ nlohmann::json Segmentation::figures() const {
           {"physical_bytes_peak", levelSet->physicalBytesPeak()},
           {"half_resolution_iterations", halfResolution.iterations},
           {"half_resolution_seconds", halfResolution.seconds},
+          {"half_resolution_started", halfResolutionStarted},
           {"topology", topology == levelset::Topology::Preserve ? "preserve" : "free"},
           {"thread_voxels_filled", threadVoxelsFilled}};
 }

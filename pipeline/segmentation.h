@@ -34,8 +34,11 @@ struct SegmentationRequest {
   bool readPhi = false;           // read phi back whole (for a phi file)
   // Start from the solution at half the resolution (pipeline/coarse_start.h) instead of the seeds;
   // only with untilConverged (a count of steps from the seeds means what it says; Error otherwise).
+  // With topology Preserve it is solved with the topology preserved too, from seeds of the full
+  // resolution's topology (pipeline/mask_topology.h); where halving changes that, the start is the
+  // full resolution's seeds (halfResolutionStarted false, one line saying why).
   bool halfResolutionStart = false;
-  levelset::Topology topology = levelset::Topology::Free;  // Preserve: the seeds' topology kept (not with the half-resolution start)
+  levelset::Topology topology = levelset::Topology::Free;  // Preserve: the seeds' topology kept
 };
 
 struct Segmentation {
@@ -44,6 +47,7 @@ struct Segmentation {
   std::string renderer;
   levelset::RunStats stats;            // the full-resolution run
   levelset::RunStats halfResolution;   // the start's run, when there was one (else 0 iterations)
+  bool halfResolutionStarted = false;  // the start was the half resolution's solution
   levelset::Topology topology = levelset::Topology::Free;
   std::int64_t threadVoxelsFilled = 0;  // preserved: levelset/fill_threads.h's, before the front ran on
   int iterationsAfterFill = 0;          // of stats.iterations, those after the filling
@@ -51,13 +55,10 @@ struct Segmentation {
   Volume phi, mask;  // phi: empty unless asked for
   std::int64_t insideVoxels = 0;
   // backend, renderer, iterations, seconds, converged, inside_voxels, active_pages_peak,
-  // physical_bytes_peak, half_resolution_iterations, half_resolution_seconds, topology, thread_voxels_filled
+  // physical_bytes_peak, half_resolution_iterations, half_resolution_seconds, half_resolution_started,
+  // topology, thread_voxels_filled
   nlohmann::json figures() const;
 };
-
-// The start at half resolution is a mask made on another grid, which nothing holds to the seeds'
-// topology: Error (bad input) for the two together.
-void requireTopologyWithStart(levelset::Topology topology, bool halfResolutionStart);
 
 Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& request);
 

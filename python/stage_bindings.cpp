@@ -136,7 +136,6 @@ void bindStages(py::module_& m) {
                       const std::string& backend, int iterations, bool converge, bool halfResolutionStart, const py::object& progress,
                       const py::object& affine, const std::string& topology) {
         const levelset::Topology kept = levelset::topologyFor(topology, "topology=");
-        pipeline::requireTopologyWithStart(kept, halfResolutionStart);
         const VolumeArgument argument(volume, affine, "segment");
         const Volume& v = argument.get();
         const levelset::SpeedParams params{float(target), float(width), float(alpha)};

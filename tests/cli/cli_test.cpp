@@ -449,11 +449,18 @@ TEST(Cli, RunPreservingTheTopologyStopsTheRingAsASphere) {
   EXPECT_EQ(gifti.code, 2);
   EXPECT_NE(gifti.err.find("a GIfTI surface is in RAS"), std::string::npos) << gifti.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "lps.surf.gii"));
-  const Result refused = run("run " + torus.string() + " -o " + (dir / "refused").string() +
-                             " --seed 31,18,14,2 --target 200 --width 60 --topology preserve --half-resolution-start");
-  EXPECT_EQ(refused.code, 2);
-  EXPECT_NE(refused.err.find("--half-resolution-start with --topology preserve"), std::string::npos) << refused.err;
-  EXPECT_FALSE(std::filesystem::exists(dir / "refused"));
+  // With the half-resolution start: solved there with the topology kept too, so still a sphere.
+  const auto half = dir / "kept-half";
+  const Result h = run("run " + torus.string() + " -o " + half.string() + " --seed 31,18,14,2 --target 200 --width 60 " +
+                       "--backend cpu --samples 5000 --levels 0 --topology preserve --half-resolution-start");
+  ASSERT_EQ(h.code, 0) << h.err;
+  const MeshTopology th = analyzeTopology(readMesh((half / "surface.ply").string()));
+  EXPECT_TRUE(th.closed && th.manifold) << th.firstProblem;
+  EXPECT_EQ(th.genus, 0) << "the start from half resolution lost the seed's topology";
+  EXPECT_EQ(th.components, 1u);
+  const auto halfReport = nlohmann::json::parse(test::readBytes(half / "report.json"));
+  EXPECT_EQ(halfReport["segment"]["half_resolution_started"], true);
+  EXPECT_GT(halfReport["segment"]["half_resolution_iterations"], 0);
 }
 
 // run's edit before extraction: a box cutting the phantom's ring leaves a closed surface of genus 0.

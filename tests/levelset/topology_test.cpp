@@ -2,9 +2,12 @@
 // configurations whose answer is known; random flips of the points it calls simple leave the marching
 // cubes surface's components and Euler characteristic as they were (the connectivity the two share);
 // a ball in the torus phantom stops as a sphere where the free solver makes a torus; two seeds stay
-// two components; the GPU gives its CPU twin's mask voxel for voxel.
+// two components; the GPU gives its CPU twin's mask voxel for voxel; a mask's topology figures on
+// known shapes; the half-resolution start keeps the seeds' topology, or is left out where halving
+// would change it.
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <random>
 
 #include "core/mesh_topology.h"
@@ -12,6 +15,8 @@
 #include "levelset/fill_threads.h"
 #include "levelset/level_set.h"
 #include "levelset/simple_point.h"
+#include "pipeline/mask_topology.h"
+#include "pipeline/segmentation.h"
 #include "tests/gl_context.h"
 #include "tests/levelset/phantom.h"
 
@@ -158,6 +163,60 @@ TEST(TopologyPreservingLevelSet, TwoSeedsStayTwoComponents) {
   EXPECT_EQ(k.components, 2u);
   EXPECT_EQ(k.genus, 0);
   EXPECT_GE(dice(maskOf(kept), p.truth), 0.95);
+}
+
+// maskTopology on shapes of known topology: a ball, a hollow ball, two balls, a solid torus.
+TEST(MaskTopology, CountsComponentsCavitiesAndHandles) {
+  const auto shape = [](const std::function<bool(double, double, double)>& inside) {
+    Volume m = Volume::zeros({40, 40, 30}, ScalarType::UInt8);
+    for (std::int64_t z = 0; z < 30; ++z)
+      for (std::int64_t y = 0; y < 40; ++y)
+        for (std::int64_t x = 0; x < 40; ++x) m.setValue(m.index(x, y, z), inside(double(x) - 20, double(y) - 20, double(z) - 15));
+    return m;
+  };
+  const auto r = [](double x, double y, double z) { return std::sqrt(x * x + y * y + z * z); };
+  using pipeline::MaskTopology, pipeline::maskTopology;
+  EXPECT_EQ(maskTopology(shape([&](double x, double y, double z) { return r(x, y, z) < 8; })), (MaskTopology{1, 1, 2}));
+  EXPECT_EQ(maskTopology(shape([&](double x, double y, double z) { return r(x, y, z) < 10 && r(x, y, z) > 5; })), (MaskTopology{1, 2, 4}));
+  EXPECT_EQ(maskTopology(shape([&](double x, double y, double z) { return r(x - 9, y, z) < 6 || r(x + 9, y, z) < 6; })),
+            (MaskTopology{2, 2, 4}));
+  EXPECT_EQ(maskTopology(shape([&](double x, double y, double z) { return std::pow(std::hypot(x, y) - 11, 2) + z * z < 16; })),
+            (MaskTopology{1, 1, 0}));
+}
+
+// --half-resolution-start with the topology preserved: the half-resolution solve keeps it too, so the
+// ball in the ring still stops as a sphere, as the full start's does, with nearly its voxels.
+TEST(HalfResolutionStart, KeepsTheSeedsTopologyWhenPreserved) {
+  const Phantom p = torusPhantom();
+  pipeline::SegmentationRequest request{.params = {100, 30, 0.7f}, .seeds = {{p.seedA, 3}}, .maxIterations = 600,
+                                        .untilConverged = true, .topology = Topology::Preserve};
+  const pipeline::Segmentation full = pipeline::segmentVolume(p.image, request);
+  request.halfResolutionStart = true;
+  const pipeline::Segmentation half = pipeline::segmentVolume(p.image, request);
+  EXPECT_TRUE(half.halfResolutionStarted);
+  EXPECT_GT(half.halfResolution.iterations, 0);
+  EXPECT_EQ(pipeline::maskTopology(half.mask), (pipeline::MaskTopology{1, 1, 2})) << "a sphere, as the full start's";
+  EXPECT_EQ(pipeline::maskTopology(full.mask), (pipeline::MaskTopology{1, 1, 2}));
+  EXPECT_GE(dice(half.mask, full.mask), 0.97);
+  // Free, the half-resolution start closes the ring as the full start does.
+  request.topology = Topology::Free;
+  EXPECT_LE(pipeline::maskTopology(pipeline::segmentVolume(p.image, request).mask).euler, 0);
+}
+
+// Two seeds a voxel apart are two components; halved, they touch: the start from half resolution
+// would make them one, so it is left out and the segmentation is the full start's, voxel for voxel.
+TEST(HalfResolutionStart, SeedsThatHalvingJoinsStartAtFullResolution) {
+  const Phantom p = torusPhantom();
+  pipeline::SegmentationRequest request{.params = {100, 30, 0.7f},
+                                        .seeds = {{p.seedA - Vec3{1, 0, 0}, 1.2}, {p.seedA + Vec3{3, 0, 0}, 1.2}},
+                                        .maxIterations = 600, .untilConverged = true, .topology = Topology::Preserve};
+  const pipeline::Segmentation full = pipeline::segmentVolume(p.image, request);
+  request.halfResolutionStart = true;
+  const pipeline::Segmentation half = pipeline::segmentVolume(p.image, request);
+  EXPECT_FALSE(half.halfResolutionStarted);
+  EXPECT_EQ(half.halfResolution.iterations, 0);
+  EXPECT_EQ(pipeline::maskTopology(full.mask).components, 2);
+  EXPECT_TRUE(half.mask.data == full.mask.data);
 }
 
 // The GPU's eight parity passes give the CPU twin's decisions: the same mask, voxel for voxel.

@@ -281,8 +281,6 @@ def test_ctrl_c_stops_cleanly_and_the_next_run_goes_on(tmp_path):
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"base_ratio": 2}, [], "'base_ratio' must be null (build's default) or in (0, 1]"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"half_resolution_start": "yes"}, [], "'half_resolution_start' must be true or false"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"topology": "keep"}, [], "'topology' must be free or preserve"),
-    ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", {"topology": "preserve", "half_resolution_start": True}, [],
-     "'half_resolution_start' with 'topology' preserve"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--stages", "build"], "--stages: build needs extract"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--stages", "segment,mesh"], "unknown stage 'mesh'"),
     ("id,volume,seeds\na,x.nii.gz,\"0,0,0,1\"\n", CONFIG, ["--workers", "0"], "--workers must be >= 1"),

@@ -146,9 +146,6 @@ def _check_config(c, where):
         raise InputError(f"{where}: 'half_resolution_start' must be true or false")
     if c["topology"] not in ("free", "preserve"):
         raise InputError(f"{where}: 'topology' must be free or preserve, not {_shown(repr(c['topology']))}")
-    if c["topology"] == "preserve" and c["half_resolution_start"]:
-        raise InputError(f"{where}: 'half_resolution_start' with 'topology' preserve: the start from half resolution "
-                         "does not keep the seeds' topology; leave one out")
 
 
 def parse_stages(text):
