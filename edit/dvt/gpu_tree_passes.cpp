@@ -120,7 +120,6 @@ public:
     markInput_.use();
     op_ = op;
     glUniform1ui(markInput_.uniform("op"), std::uint32_t(op));
-    glUniform1ui(markInput_.uniform("nodes"), std::uint32_t(count_));
     const std::uint64_t marks = run(markInput_, inputCount_, "mark");
     // The reduced subtrees' ranges summed before each node: > 0 below a reduced node (the plan
     // removes those whole). Signed sums in unsigned words come out right: every prefix is >= 0.
@@ -181,7 +180,6 @@ public:
     restructure_.use();
     glUniform1ui(restructure_.uniform("allowExpand"), allowExpand);
     setExpansionUniforms(restructure_);
-    glUniform1ui(restructure_.uniform("count"), std::uint32_t(count_));
     dispatch(restructure_, count_);
     std::swap(pointers_, spare_);
     std::swap(cells_, spareCells_);
@@ -224,7 +222,7 @@ private:
       if (marks_.bytes() < capacity_ * 4) perNodeFor(capacity_);
       State s{};
       s.nodes = std::uint32_t(count_), s.running = 1, s.capacity = std::uint32_t(capacity_);
-      s.nodeLimit = std::uint32_t(nodeLimit), s.inputCount = std::uint32_t(inputCount_);
+      s.nodeLimit = std::uint32_t(std::min(nodeLimit, kMaxTreeNodes)), s.inputCount = std::uint32_t(inputCount_);
       state_.upload(&s, sizeof s);
       setChainUniforms();
       for (int i = 0; i < iterations; ++i) chainIteration(i % 2 == 0);
@@ -242,6 +240,9 @@ private:
       }
       if (s.stopped == kStopCapacity) grow(s.needed, nodeLimit);
       else if (s.running == 0) break;
+      else if (s.restructures == 0)  // a batch that ran on without changing anything: its steps did not run
+        throw Error("the GPU tree's chained passes made no progress (the GL device is lost or broken); use --backend cpu",
+                    ErrorKind::Failure);
       // Else more to do than a batch (a collapse of a deep tree; a write's grown streams): go on from here.
     }
     setNodes();  // for the passes the host drives (the limit's iterations)
@@ -251,7 +252,8 @@ private:
   static const gl::Program& chainStep(gl::Context& context, const char* step) {
     return context.compute(gl::kDvtShaders, "edit/dvt/shaders/dvt_chain.comp",
                            withRules({{step, "1"}, {"STOP_CAPACITY", std::to_string(kStopCapacity) + "u"},
-                                      {"STOP_LIMIT", std::to_string(kStopLimit) + "u"}}));
+                                      {"STOP_LIMIT", std::to_string(kStopLimit) + "u"},
+                                      {"MAX_TREE_NODES", std::to_string(kMaxTreeNodes) + "u"}}));
   }
   // The node count the node passes read (State::nodes), for the passes driven from the host.
   void setNodes() {

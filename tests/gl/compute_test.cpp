@@ -130,6 +130,13 @@ TEST(GlCompute, ScansMatchTheCpuWithTheCountFromTheHostOrTheDevice) {
     Buffer none = Buffer::of(values);
     scan.exclusive(none, countWords, 0, std::uint32_t(values.size()));
     EXPECT_TRUE(none.read<std::uint32_t>(values.size()) == values) << "a count of 0 changed values";
+    // A most far above the count (the tree's chains scan their node count against their capacity):
+    // levels the count does not reach run with counts of one block or none.
+    const std::uint32_t room = 2u * 1024u * 1024u + 5u;
+    Buffer roomy(std::size_t(room) * 4);
+    roomy.upload(values.data(), values.size() * 4);
+    scan.exclusive(roomy, countWords, 1, room);
+    EXPECT_TRUE(roomy.read<std::uint32_t>(values.size()) == want) << count << " values, room for 2^21 + 5";
   }
 }
 

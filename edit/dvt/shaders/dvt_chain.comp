@@ -60,8 +60,9 @@ void main() {
     return;
   }
   uint total = remap[nodes];
-  // Conservative where 32 bits could wrap: the caller's iterations then count exactly.
-  if (grownWrapped != 0u || grown > 0x7fffffffu || total > nodeLimit) {
+  // As the host-driven plan rules (a total that 32 bits could wrap is over any limit), so that the
+  // caller's iterations, which then finish the write, decide as they would have.
+  if (grownWrapped != 0u || grown > MAX_TREE_NODES - nodes || total > nodeLimit) {
     stopped = STOP_LIMIT;
     stop();
   } else if (total > capacity) {
