@@ -177,7 +177,7 @@ void ScriptPlayer::step(window::Viewer& viewer, std::string& screenshot, bool& q
 void ScriptPlayer::perform(const ViewAction& a, window::Viewer& v, std::string& screenshot, bool& quit) {
   const auto& n = a.numbers;
   const std::string& verb = a.verb;
-  if (verb == "open") v.show(window::load(a.word));
+  if (verb == "open") v.show(window::load(a.word, v.readOptions()));
   else if (verb == "mode") v.setMode(a.word);
   else if (verb == "tool") v.setTool(a.word);
   else if (verb == "slice") v.slice({n[0], n[1], n[2]});

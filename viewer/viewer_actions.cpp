@@ -35,6 +35,8 @@ Loaded load(const std::string& file, const VolumeReadOptions& read) {
 Viewer::Viewer(const ViewerOptions& options)
     : softwareGl_(gl::Context::current().info().software()), options_(options), backend_(levelset::backendFor(options.backend, softwareGl_)) {}
 
+const VolumeReadOptions& Viewer::readOptions() const { return options_.read; }
+
 void Viewer::show(Loaded loaded) {
   if (loaded.volume) {
     segment_.emplace();

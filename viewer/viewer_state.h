@@ -169,6 +169,7 @@ public:
 
   // ---- actions (throw Error on bad input; the panels show it, the script stops with it) ----
   void show(Loaded loaded);
+  const VolumeReadOptions& readOptions() const;  // the command's --volume and --series, for every volume it opens
   void setMode(const std::string& name);
   void slice(const Vec3& p);
   void probe(const Vec3& p, double radius);

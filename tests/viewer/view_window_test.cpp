@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <atomic>
 #include <functional>
 #include <map>
@@ -157,6 +158,38 @@ TEST(ViewWindow, PaintsATreeADabAFrame) {
   EXPECT_TRUE(painted["cpu"] == painted["gpu"]) << "the GPU tree passes paint the CPU's tree, node for node";
 }
 
+
+// The script's `open` reads with the command's --volume, as the files given to it: a 4D file of a
+// dark volume and then the head, opened as volume 1, is the head (50 steps from a seed fill most of
+// the brain); without --volume the open is refused with the count.
+TEST(ViewWindow, TheScriptsOpenReadsTheVolumeTheCommandPicked) {
+  const auto dir = test::scratchDir();
+  const test::HeadPhantom head = test::headPhantom();
+  const auto series = dir / "series.nii";
+  writeVolume(series.string(), head.image.sameGeometry(head.image.type));  // volume 0: all 0
+  std::string bytes = test::readBytes(series);
+  const std::int16_t four = 4, two = 2;
+  std::memcpy(bytes.data() + 40, &four, 2);  // dim[0]
+  std::memcpy(bytes.data() + 48, &two, 2);   // dim[4]
+  bytes.append(reinterpret_cast<const char*>(head.image.data.data()), head.image.data.size());
+  test::writeBytes(series, bytes);
+  const std::string script = (dir / "open.txt").string(), mask = (dir / "mask.nii.gz").string();
+  std::ofstream(script) << "open " << series.string() << "\nprobe 0,0,0,4.5\nseed 0,0,0,6\nset eps 30\nrun 50\nsave-mask " << mask << "\nquit\n";
+  runViewer({.script = script, .width = 480, .height = 320, .backend = "cpu", .read = {.volume = 1}});
+  const Volume m = readVolume(mask);
+  std::int64_t both = 0, inMask = 0, inTruth = 0;
+  for (std::size_t n = 0; n < m.voxelCount(); ++n) {
+    both += m.value(n) > 0 && head.brain.value(n) > 0;
+    inMask += m.value(n) > 0, inTruth += head.brain.value(n) > 0;
+  }
+  EXPECT_GT(2.0 * double(both) / double(inMask + inTruth), 0.8) << "Dice with the brain: volume 1 was not the one opened";
+  try {
+    runViewer({.script = script, .width = 480, .height = 320, .backend = "cpu"});
+    ADD_FAILURE() << "a 4D file opened without --volume";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("holds 2 volumes"), std::string::npos) << e.what();
+  }
+}
 
 // A scripted session as a user would have it on a head: probe the brain, seed it, widen eps, run
 // 50 steps, brush a hole, look at the tree, build the model, change levels; each screenshot is
