@@ -1,8 +1,8 @@
 """DICOM series in: series written by pydicom from a crop of ch2, in two orientations and with a
 rescale, read back voxel for voxel and affine for affine against the same volume as NIfTI; dcm2niix's
 conversion of the same series agrees with ours in world space; the command reads a folder, picks a
-series with --series, and refuses uneven spacing, gantry tilt and a folder of several series with one
-line each."""
+series with --series (searching subfolders; so does the window), and refuses uneven spacing, gantry
+tilt and a folder of several series with one line each."""
 import os
 import subprocess
 
@@ -155,6 +155,26 @@ def test_a_study_folder_is_searched_with_its_subfolders(tmp_path):
     _no_series_file(str(empty / "DICOMDIR"))
     result = run("info", str(empty))
     assert result.returncode == 2 and "holds no DICOM series" in result.stderr, result.stderr
+
+
+def test_the_window_opens_a_study_folder_and_picks_its_series(tmp_path):
+    """isoatlas view on a study folder of two series (under Xvfb, llvmpipe): with --series the picked
+    one opens (its mask, saved by the script, has that series' grid); without it, one line lists them."""
+    data, affine = ch2_crop("axial")
+    study = tmp_path / "study"
+    write_series(str(study / "SE1"), data, affine)
+    second = write_series(str(study / "SE2"), data[:, :, :6], affine)
+    script, mask = tmp_path / "s.txt", tmp_path / "mask.nii.gz"
+    script.write_text(f"save-mask {mask}\nquit\n")
+    view = ["xvfb-run", "-a", "-s", "-screen 0 640x480x24", EXE, "view", str(study), "--size", "480,320", "--backend", "cpu",
+            "--script", str(script)]
+    result = subprocess.run(view + ["--series", second], capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert nib.load(str(mask)).shape == (40, 36, 6)
+    mask.unlink()
+    result = subprocess.run(view, capture_output=True, text=True)
+    assert result.returncode == 2 and "2 DICOM series" in result.stderr and second in result.stderr, result.stderr
+    assert not mask.exists()
 
 
 @pytest.mark.parametrize("fault,message", [("uneven", "uneven slice spacing"), ("tilt", "gantry tilt"),
