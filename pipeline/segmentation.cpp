@@ -10,6 +10,52 @@
 #include "pipeline/mask_topology.h"
 
 namespace isoatlas::pipeline {
+namespace {
+
+// The run's options: iterations, the stopping rule, and `progress`'s line (none while it is unset).
+levelset::RunOptions runOptionsOf(const SegmentationRequest& request, std::optional<Progress>& progress) {
+  return {.maxIterations = request.maxIterations,
+          .untilConverged = request.untilConverged,
+          .progress = [&progress](int i, std::int64_t) {
+            if (progress) progress->update(std::uint64_t(i));
+          }};
+}
+
+std::string topologyWords(const MaskTopology& t) {
+  const auto count = [](std::int64_t n, const char* what) { return std::to_string(n) + " " + what + (n == 1 ? "" : "s"); };
+  return count(t.components, "component") + " and " + count(t.surfaces, "surface") + " of Euler number " + std::to_string(t.euler);
+}
+
+// The half-resolution start (coarse_start.h) in place of the seeds s.levelSet holds. With the topology
+// preserved, the half resolution keeps it too, from seeds of the full resolution's topology: where
+// halving changes theirs (it can join two seeds or close a gap), the seeds stay, one line says why,
+// and this returns false.
+bool startAtHalfResolution(const Volume& volume, const SegmentationRequest& request, Segmentation& s) {
+  const bool preserve = request.topology == levelset::Topology::Preserve;
+  MaskTopology seeds;
+  if (preserve) seeds = maskTopology(s.levelSet->mask());
+  std::optional<Progress> progress;  // the line only for a run that happens
+  const auto sameTopology = [&](const Volume& halfSeeds) {
+    const MaskTopology half = preserve ? maskTopology(halfSeeds) : seeds;
+    if (half == seeds) {
+      progress.emplace(request.label + " at half resolution", std::uint64_t(request.maxIterations), "iterations");
+      return true;
+    }
+    logInfo(request.label + ": --half-resolution-start left out: at half resolution the seeds have " + topologyWords(half) +
+            ", at full resolution " + topologyWords(seeds) + ", and --topology preserve keeps the seeds' own");
+    return false;
+  };
+  const CoarseStart coarse = solveAtHalfResolution(volume, request.params, request.seeds, request.seedMask,
+                                                   {.backend = s.backend, .pageSize = request.pageSize, .topology = request.topology},
+                                                   runOptionsOf(request, progress), sameTopology);
+  if (progress) progress->finish();
+  if (!coarse.started) return false;
+  s.halfResolution = coarse.stats;
+  s.levelSet->setMask(coarse.mask);
+  return true;
+}
+
+}  // namespace
 
 Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& request) {
   Segmentation s;
@@ -19,58 +65,18 @@ Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& requ
   s.levelSet = std::make_unique<levelset::LevelSet>(
       volume, request.params, levelset::LevelSetOptions{.backend = s.backend, .pageSize = request.pageSize, .topology = request.topology});
   const auto start = std::chrono::steady_clock::now();
-  // One progress line a run: iterations out of the most allowed.
-  auto runOptions = [&](Progress& progress) {
-    return levelset::RunOptions{.maxIterations = request.maxIterations,
-                                .untilConverged = request.untilConverged,
-                                .progress = [&progress](int i, std::int64_t) { progress.update(std::uint64_t(i)); }};
-  };
   require(!request.halfResolutionStart || request.untilConverged, "the half-resolution start needs the run until converged (--converge)");
-  const bool preserve = request.topology == levelset::Topology::Preserve;
-  // The seeds at full resolution: the start, unless the half-resolution one takes its place. With the
-  // topology preserved, that one must start from seeds of the same topology on its own grid (halving
-  // can join two seeds or close a gap); else the start stays here, and one line says why.
-  const auto seedAtFullResolution = [&] {
+  // The seeds: the start, unless the half-resolution one takes their place (it needs them to compare
+  // topologies when the topology is preserved).
+  if (!request.halfResolutionStart || request.topology == levelset::Topology::Preserve) {
     if (request.seedMask) s.levelSet->setMask(*request.seedMask);
     for (const Ball& b : request.seeds) s.levelSet->addSphere(b.centre, b.radius);
-  };
-  if (!request.halfResolutionStart || preserve) seedAtFullResolution();
-  if (request.halfResolutionStart) {
-    MaskTopology seeds;
-    if (preserve) seeds = maskTopology(s.levelSet->mask());
-    // The progress line only for a run that happens.
-    std::optional<Progress> progress;
-    const auto sameTopology = [&](const Volume& halfSeeds) {
-      const bool same = !preserve || maskTopology(halfSeeds) == seeds;
-      if (same) progress.emplace(request.label + " at half resolution", std::uint64_t(request.maxIterations), "iterations");
-      if (same) return true;
-      const MaskTopology half = maskTopology(halfSeeds);
-      const auto said = [](const MaskTopology& t) {
-        const auto count = [](std::int64_t n, const char* what) { return std::to_string(n) + " " + what + (n == 1 ? "" : "s"); };
-        return count(t.components, "component") + " and " + count(t.surfaces, "surface") + " of Euler number " + std::to_string(t.euler);
-      };
-      logInfo(request.label + ": --half-resolution-start left out: at half resolution the seeds have " + said(half) +
-              ", at full resolution " + said(seeds) + ", and --topology preserve keeps the seeds' own");
-      return false;
-    };
-    const levelset::RunOptions halfRun{.maxIterations = request.maxIterations,
-                                       .untilConverged = request.untilConverged,
-                                       .progress = [&progress](int i, std::int64_t) {
-                                         if (progress) progress->update(std::uint64_t(i));
-                                       }};
-    CoarseStart coarse = solveAtHalfResolution(volume, request.params, request.seeds, request.seedMask,
-                                               {.backend = s.backend, .pageSize = request.pageSize, .topology = request.topology},
-                                               halfRun, sameTopology);
-    if (progress) progress->finish();
-    s.halfResolutionStarted = coarse.started;
-    if (coarse.started) {
-      s.halfResolution = coarse.stats;
-      s.levelSet->setMask(coarse.mask);
-    }
   }
-  Progress progress(request.label, std::uint64_t(request.maxIterations), "iterations");
-  s.stats = s.levelSet->run(runOptions(progress));
-  progress.finish();
+  if (request.halfResolutionStart) s.halfResolutionStarted = startAtHalfResolution(volume, request, s);
+  std::optional<Progress> progress;
+  progress.emplace(request.label, std::uint64_t(request.maxIterations), "iterations");
+  s.stats = s.levelSet->run(runOptionsOf(request, progress));
+  progress->finish();
   if (request.topology == levelset::Topology::Preserve) {
     // The threads of background the held voxels leave (fill_threads.h) filled, and the front run on
     // from there (phi is rebuilt from the mask).
@@ -78,9 +84,9 @@ Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& requ
     s.threadVoxelsFilled = levelset::fillThreads(mask);
     if (s.threadVoxelsFilled > 0) {
       s.levelSet->setMask(mask);
-      Progress again(request.label + " (threads filled)", std::uint64_t(request.maxIterations), "iterations");
-      const levelset::RunStats more = s.levelSet->run(runOptions(again));
-      again.finish();
+      progress.emplace(request.label + " (threads filled)", std::uint64_t(request.maxIterations), "iterations");
+      const levelset::RunStats more = s.levelSet->run(runOptionsOf(request, progress));
+      progress->finish();
       s.stats.iterations += more.iterations;
       s.iterationsAfterFill = more.iterations;
       s.stats.seconds += more.seconds;
