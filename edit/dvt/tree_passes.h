@@ -63,7 +63,7 @@ public:
   // Whether a write's restructure leaves nothing for another mark to do (the CPU's: its expansions
   // go all the way down and give the voxels their values), so the write can end without one.
   virtual bool restructureFinishesWrites() const { return false; }
-  // The write of the last setInput as one chain of passes that the host does not wait on, where the
+  // The write of the last setInput as one chain of passes the host does not wait on between, where the
   // backend has one (the GPU: each pass sized by the one before, through indirect dispatch; the host
   // reads the passes' state once at the end). Nothing when it has none: the caller iterates mark,
   // plan and restructure. Where a restructure could pass `nodeLimit`, the chain stops before it
