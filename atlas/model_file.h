@@ -14,7 +14,7 @@
 //   ATLS  chart count, columns, rows (u32 x 3; charts = tiles, columns x rows slots hold them),
 //         then per chart (quantised_atlas.h): its box's low corner and step (f32 x 3 each), the
 //         length of its packed codes (u32), its packed codes (packChartCodes: zlib's deflate of
-//         N x N position codes, 14 bits in u16 x 3: lo + code * step, row by row, and N x N normals,
+//         N x N position codes, 12 bits in u16 x 3 (the reader takes up to 16): lo + code * step, row by row, and N x N normals,
 //         u8 x 2, octahedral; each channel's residual from the parallelogram prediction, in byte
 //         planes). Shared sides are taken from the lower-numbered chart and corners are their base
 //         vertices, so borders come back identical.

@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "atlas/separate_codes.h"
+#include "atlas/unfold_codes.h"
 #include "atlas/tile_sides.h"
 #include "core/deflate.h"
 #include "core/error.h"
@@ -61,6 +62,7 @@ std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas, const multires::Ba
         q.normals.push_back(encodeOctahedral(unpackNormal(atlas.normals[at])));
       }
   });
+  unfoldRoundedTexels(atlas, base, charts);
   const SeparatedTexels moved = separateJoinedTexels(atlas, base, charts);
   if (separated) *separated = moved;
   return charts;

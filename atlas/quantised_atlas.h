@@ -1,6 +1,8 @@
-// The atlas as the model file stores it (version 4): each chart's positions as 14-bit codes within
-// the chart's own bounding box (at most a 32766th of the box from the atlas's own along each axis;
-// bench/RESULTS.md compares it with level 10's largest distance), and
+// The atlas as the model file stores it (version 4): each chart's positions as 12-bit codes within
+// the chart's own bounding box (rounded: at most an 8190th of the box from the atlas's own along each
+// axis; a texel whose rounding would fold a triangle round it, or join it to another texel, then
+// moved up to two and three steps more: unfold_codes.h, separate_codes.h; bench/RESULTS.md compares
+// the error with level 10's largest distance), and
 // every normal as an octahedral code of two bytes (8 + 8 bits). Decoding gives each border point two
 // values (each chart its own box), so the decoder copies every shared side from the lower-numbered
 // chart into the other and sets every corner to its base vertex: neighbouring charts agree bit for
@@ -8,8 +10,9 @@
 // (position = lo + code * step).
 //   QuantisedChart  one chart's box (lo, step per axis: position = lo + code * step, in f32) and codes
 //   quantiseAtlas   inputs: the atlas (its charts' texels) and its base mesh; output: one QuantisedChart
-//                   per chart, where texels the atlas holds apart decode apart (separate_codes.h;
-//                   `separated`, when given, gets how many moved)
+//                   per chart, where rounding folds as few texel triangles as nudging codes can
+//                   (unfold_codes.h) and texels the atlas holds apart decode apart (separate_codes.h;
+//                   `separated`, when given, gets how many moved for that)
 //   dequantiseAtlas inputs: the charts, the base mesh (for the shared sides), the layout; output: the
 //                   atlas's positions and normals (details untouched)
 //   largestQuantisationError  how far (mm) the charts, decoded, lie from the atlas's own positions
@@ -32,7 +35,11 @@
 
 namespace isoatlas::atlas {
 
-inline constexpr std::uint16_t kLargestPositionCode = 16383;  // 14 bits
+// 12 bits: over the corpus level 10 is as accurate as with 14 (quantisation error under a tenth of
+// its largest distance), the files a fifth smaller, and fewer texel quads folded, since a coarser
+// code grid gives unfoldRoundedTexels more room (bench/RESULTS.md, "Position codes").
+inline constexpr int kPositionBits = 12;
+inline constexpr std::uint16_t kLargestPositionCode = (1u << kPositionBits) - 1;  // 4095
 
 struct QuantisedChart {
   std::array<float, 3> lo{}, step{};

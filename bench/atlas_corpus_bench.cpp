@@ -67,11 +67,18 @@ struct Case {
   Mesh dense;
 };
 
-// The corpus: data/meshes' closed oriented 2-manifolds up to `most` triangles, by name.
-std::vector<Case> corpus(const std::string& data, std::size_t most, bool whiteMatter) {
+// Whether a file's stem is one of `only`'s comma-separated names (all when `only` is empty).
+bool chosen(const std::string& only, const std::string& stem) {
+  return only.empty() || ("," + only + ",").find("," + stem + ",") != std::string::npos;
+}
+
+// The corpus: data/meshes' closed oriented 2-manifolds up to `most` triangles, by name; of them only
+// those `only` names (comma-separated stems), when it names any.
+std::vector<Case> corpus(const std::string& data, std::size_t most, bool whiteMatter, const std::string& only) {
   std::vector<std::filesystem::path> files;
   for (const auto& entry : std::filesystem::directory_iterator(data + "/meshes"))
-    if (entry.path().extension() == ".off" || entry.path().extension() == ".ply") files.push_back(entry.path());
+    if ((entry.path().extension() == ".off" || entry.path().extension() == ".ply") && chosen(only, entry.path().stem().string()))
+      files.push_back(entry.path());
   std::sort(files.begin(), files.end());
   std::vector<Case> cases;
   for (const auto& file : files) {
@@ -311,7 +318,8 @@ int main(int argc, char** argv) {
   const std::string data = argc > 1 ? argv[1] : "data";
   const auto context = gl::Context::headless();
   const std::vector<Case> cases = corpus(data, envCount("ISOATLAS_BENCH_CORPUS_MOST_TRIANGLES", 500000),
-                                         envCount("ISOATLAS_BENCH_CORPUS_WHITE_MATTER", 1) != 0);
+                                         envCount("ISOATLAS_BENCH_CORPUS_WHITE_MATTER", 1) != 0,
+                                         std::getenv("ISOATLAS_BENCH_CORPUS_ONLY") ? std::getenv("ISOATLAS_BENCH_CORPUS_ONLY") : "");
   std::vector<Figures> figures;
   for (const Case& c : cases) {
     figures.push_back(measure(c));

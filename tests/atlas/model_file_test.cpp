@@ -38,8 +38,9 @@ Model torusModel(bool keepDense) {
 }
 
 // Every field, compared as bits, but the atlas: positions within the quantisation error the writer
-// reported (and that error within a kLargestPositionCode-th of each chart's box, its code's half step
-// along each axis), normals within the octahedral codes' angle, borders identical again.
+// reported (and that error within 5.5 steps of each chart's code grid along each axis: rounded to half
+// a step, then moved up to 2 steps where rounding folded a triangle and 3 where it joined texels),
+// normals within the octahedral codes' angle, borders identical again.
 void expectSame(const Model& a, const Model& b) {
   EXPECT_EQ(b.chartSize, a.chartSize);
   EXPECT_EQ(b.coincidentTexels, a.coincidentTexels);
@@ -57,7 +58,7 @@ void expectSame(const Model& a, const Model& b) {
   EXPECT_EQ(b.atlas.layout.rows, a.atlas.layout.rows);
   ASSERT_EQ(b.atlas.positions.size(), a.atlas.positions.size());
   const std::uint32_t n = a.atlas.layout.chartSize;
-  double worst = 0, largestHalfStep = 0;
+  double worst = 0, largestStep = 0;
   for (std::uint32_t c = 0; c < a.atlas.layout.charts; ++c) {
     Vec3 lo = a.atlas.position(c, 0, 0), hi = lo;
     for (std::uint32_t j = 0; j < n; ++j)
@@ -69,11 +70,11 @@ void expectSame(const Model& a, const Model& b) {
         // Octahedral codes of 8 + 8 bits: within 1.2 degrees (0.93 measured at worst).
         ASSERT_GT(dot(b.atlas.normal(c, i, j), a.atlas.normal(c, i, j)), std::cos(0.021)) << "chart " << c;
       }
-    largestHalfStep = std::max(largestHalfStep, norm(hi - lo) / kLargestPositionCode / 2);
+    largestStep = std::max(largestStep, norm(hi - lo) / kLargestPositionCode);
   }
   EXPECT_NEAR(worst, b.quantisationError, 1e-9 * worst);
   EXPECT_GT(worst, 0);
-  EXPECT_LE(worst, largestHalfStep * 1.01);
+  EXPECT_LE(worst, largestStep * 5.5 * 1.01);
   test::expectIdenticalBorders(b.base, b.atlas);
 }
 
