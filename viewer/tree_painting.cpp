@@ -11,16 +11,23 @@ namespace isoatlas::viewer {
 
 namespace dvt = edit::dvt;
 
-TreePainting::TreePainting(const dvt::VolumeTree& tree, levelset::Backend backend) {
+TreePainting::TreePainting(const dvt::VolumeTree& tree, levelset::Backend backend, const dvt::TreeOptions& options) {
   auto passes = backend == levelset::Backend::Gpu ? dvt::makeGpuTreePasses() : dvt::makeCpuTreePasses();
-  tree_ = std::make_unique<dvt::DynamicVolumeTree>(tree, std::move(passes));
+  tree_ = std::make_unique<dvt::DynamicVolumeTree>(tree, std::move(passes), options);
   if (tree_->backend() != "gpu") upload();
 }
 
 void TreePainting::dabTo(const Vec3& centre, double radius, bool add) {
   const auto brush = last_ ? dvt::capsuleBrush(*last_, centre, radius) : dvt::sphereBrush(centre, radius);
   const dvt::TreeFrame& frame = tree_->frame();
-  tree_->write(dvt::rasterise(*brush, frame, frame.voxelDepth()), add ? dvt::Op::Union : dvt::Op::Subtract);
+  try {
+    tree_->write(dvt::rasterise(*brush, frame, frame.voxelDepth()), add ? dvt::Op::Union : dvt::Op::Subtract);
+  } catch (...) {
+    // A write past the node limit leaves the tree changed where it needed no new nodes: the picture
+    // must be drawn from that tree, not from the streams uploaded before it (fewer nodes than nodeCount()).
+    if (tree_->backend() != "gpu") upload();
+    throw;
+  }
   last_ = centre;
   ++dabs_;
   if (tree_->backend() != "gpu") upload();

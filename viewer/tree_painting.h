@@ -5,9 +5,10 @@
 // from the tree passes' buffers (nothing crosses to the host between the dab and its picture), on the
 // CPU from its streams, uploaded after each dab.
 //   TreePainting  tree: where the painting starts; backend: the tree passes' (Gpu: compute shaders in
-//                 the current context, which must stay current); depth: the brush's cells (default
-//                 the voxels')
-//   dabTo         one dab of `radius` (world units) at `centre`, union (add) or subtraction
+//                 the current context, which must stay current); options: the node limit
+//   dabTo         one dab of `radius` (world units) at `centre`, union (add) or subtraction; a dab past
+//                 the node limit throws Error with the tree changed where it needed no new nodes
+//                 (dynamic_volume_tree.h), and buffers() then hold that tree
 //   endStroke     the stroke's tree collapsed (one edit); the next dab starts a new sweep
 //   buffers, nodeCount, frame   what render::DvtRenderer::draw takes, valid until the next dab
 //   tree          the tree as it is now (the GPU's read back)
@@ -26,7 +27,7 @@ namespace isoatlas::viewer {
 
 class TreePainting {
 public:
-  TreePainting(const edit::dvt::VolumeTree& tree, levelset::Backend backend);
+  TreePainting(const edit::dvt::VolumeTree& tree, levelset::Backend backend, const edit::dvt::TreeOptions& options = {});
   void dabTo(const Vec3& centre, double radius, bool add);
   void endStroke();
   std::size_t dabs() const { return dabs_; }

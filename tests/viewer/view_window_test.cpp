@@ -30,6 +30,7 @@
 #include "core/gl/resources.h"
 #include "core/progress.h"
 #include "viewer/model_job.h"
+#include "viewer/tree_painting.h"
 #include "viewer/viewer_app.h"
 
 namespace isoatlas::viewer {
@@ -112,6 +113,28 @@ double segmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
   const Vec3 ab = b - a;
   const double t = std::clamp(dot(p - a, ab) / dot(ab, ab), 0.0, 1.0);
   return norm(p - (a + ab * t));
+}
+
+// A dab past the node limit throws, and the tree it leaves (changed where it needed no new nodes) is
+// what the picture is drawn from: on both backends the buffers the renderer reads hold the painting's
+// tree, node for node, not the streams of the dab before.
+TEST(TreePainting, ADabPastTheNodeLimitLeavesTheBuffersAsTheTree) {
+  const auto context = gl::Context::headless();
+  const dvt::VolumeTree ball = dvt::readDvt(ballTree(test::scratchDir()));
+  for (const levelset::Backend backend : {levelset::Backend::Cpu, levelset::Backend::Gpu}) {
+    viewer::TreePainting painting(ball, backend, {.nodeLimit = ball.nodeCount() + 64});
+    EXPECT_THROW(painting.dabTo({0.6, 0.1, 0.2}, 0.3, true), Error) << "a dab needing more nodes than the limit";
+    const dvt::VolumeTree now = painting.tree();
+    ASSERT_NE(now.pointers, ball.pointers) << "the dab changed the tree where it needed no new nodes";
+    const dvt::GpuTreeBuffers buffers = painting.buffers();
+    std::vector<dvt::Pointer> pointers(now.pointers.size());
+    std::vector<std::uint32_t> cells(now.cells.size());
+    glGetNamedBufferSubData(buffers.pointers, 0, GLsizeiptr(pointers.size() * sizeof(dvt::Pointer)), pointers.data());
+    glGetNamedBufferSubData(buffers.cells, 0, GLsizeiptr(cells.size() * sizeof(std::uint32_t)), cells.data());
+    const char* name = backend == levelset::Backend::Cpu ? "cpu" : "gpu";
+    EXPECT_EQ(painting.nodeCount(), now.nodeCount()) << name;
+    EXPECT_TRUE(pointers == now.pointers && cells == now.cells) << name << ": the buffers are not the tree the dab left";
+  }
 }
 
 // A script's stroke in tree mode paints the tree on show, a dab a frame, each drawn before the next:
