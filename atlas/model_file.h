@@ -14,9 +14,9 @@
 //   ATLS  chart count, columns, rows (u32 x 3; charts = tiles, columns x rows slots hold them),
 //         then per chart (quantised_atlas.h): its box's low corner and step (f32 x 3 each), the
 //         length of its packed codes (u32), its packed codes (packChartCodes: zlib's deflate of
-//         N x N position codes, 12 bits in u16 x 3 (the reader takes up to 16): lo + code * step, row by row, and N x N normals,
-//         u8 x 2, octahedral; each channel's residual from the parallelogram prediction, in byte
-//         planes). Shared sides are taken from the lower-numbered chart and corners are their base
+//         N x N position codes, 12 bits in u16 x 3 (a reader takes up to 16): lo + code * step,
+//         row by row, and N x N normals, u8 x 2, octahedral; each channel's residual from the
+//         parallelogram prediction, in byte planes). Shared sides are taken from the lower-numbered chart and corners are their base
 //         vertices, so borders come back identical.
 //   DETL  (only where detail was stamped) detail chart count and size M (u32 x 2; M = 2^k + 1 above
 //         N), then per detail chart in increasing tile order: its tile (u32), M x M positions

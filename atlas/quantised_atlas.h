@@ -1,8 +1,8 @@
 // The atlas as the model file stores it (version 4): each chart's positions as 12-bit codes within
 // the chart's own bounding box (rounded: at most an 8190th of the box from the atlas's own along each
-// axis; a texel whose rounding would fold a triangle round it, or join it to another texel, then
-// moved up to two and three steps more: unfold_codes.h, separate_codes.h; bench/RESULTS.md compares
-// the error with level 10's largest distance), and
+// axis; a texel whose rounding would fold a triangle round it then moved up to two steps from its
+// rounded code, unfold_codes.h, and one that would join another texel three more, separate_codes.h;
+// bench/RESULTS.md compares the error with level 10's largest distance), and
 // every normal as an octahedral code of two bytes (8 + 8 bits). Decoding gives each border point two
 // values (each chart its own box), so the decoder copies every shared side from the lower-numbered
 // chart into the other and sets every corner to its base vertex: neighbouring charts agree bit for
@@ -35,9 +35,10 @@
 
 namespace isoatlas::atlas {
 
-// 12 bits: over the corpus level 10 is as accurate as with 14 (quantisation error under a tenth of
-// its largest distance), the files a fifth smaller, and fewer texel quads folded, since a coarser
-// code grid gives unfoldRoundedTexels more room (bench/RESULTS.md, "Position codes").
+// 12 bits: over the corpus level 10's median is as with 14 (it fell only where the model was
+// within float precision of a polyhedron, and by up to 1.1 dB in three cases), the files are a fifth
+// smaller, and fewer texel quads fold, since a coarser code grid gives unfoldRoundedTexels more room
+// (bench/RESULTS.md, "Position codes").
 inline constexpr int kPositionBits = 12;
 inline constexpr std::uint16_t kLargestPositionCode = (1u << kPositionBits) - 1;  // 4095
 

@@ -4,6 +4,8 @@
 #include <bit>
 #include <unordered_map>
 
+#include "atlas/code_shell.h"
+
 namespace isoatlas::atlas {
 namespace {
 
@@ -43,23 +45,12 @@ SeparatedTexels separateJoinedTexels(const Atlas& atlas, const multires::BaseMes
     for (int reach = 1; reach <= 3; ++reach) {
       double best = -1;
       std::array<std::uint16_t, 3> bestCode{};
-      for (int dz = -reach; dz <= reach; ++dz)
-        for (int dy = -reach; dy <= reach; ++dy)
-          for (int dx = -reach; dx <= reach; ++dx) {
-            if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != reach) continue;  // this shell only
-            std::array<std::uint16_t, 3> next{};
-            bool valid = true;
-            const int d[3] = {dx, dy, dz};
-            for (int a = 0; a < 3; ++a) {
-              const int v = int(code[a]) + d[a];
-              valid &= (d[a] == 0 || q.step[a] > 0) && v >= 0 && v <= int(kLargestPositionCode);
-              next[a] = std::uint16_t(std::clamp(v, 0, int(kLargestPositionCode)));
-            }
-            const Position p = decodePosition(q, next);
-            if (!valid || taken.contains(p)) continue;
-            const double e = distance2(p, want);
-            if (best < 0 || e < best) best = e, bestCode = next;
-          }
+      forEachCodeInShell(q, code, reach, [&](const std::array<std::uint16_t, 3>& next) {
+        const Position p = decodePosition(q, next);
+        if (taken.contains(p)) return;
+        const double e = distance2(p, want);
+        if (best < 0 || e < best) best = e, bestCode = next;
+      });
       if (best >= 0) {
         code = bestCode;
         return decodePosition(q, code);

@@ -2,16 +2,17 @@
 
 #include <tbb/parallel_for.h>
 
-#include <algorithm>
 #include <array>
 #include <atomic>
 
+#include "atlas/code_shell.h"
 #include "atlas/reconstruct.h"
 
 namespace isoatlas::atlas {
 namespace {
 
 using Code = std::array<std::uint16_t, 3>;
+constexpr int kFolded = 16;  // above the eight triangles round a texel, collapsed
 
 Vec3 vec(const std::array<float, 3>& p) { return {p[0], p[1], p[2]}; }
 
@@ -22,8 +23,10 @@ struct ChartFolds {
   std::uint32_t c, n;
   bool faceNormals;
 
-  // Whether triangle t of square (a, b) folds with texel (i, j) at `at` (the others where decoded).
-  bool folds(std::uint32_t a, std::uint32_t b, int t, std::uint32_t i, std::uint32_t j, const Vec3& at) const {
+  // Whether triangle t of square (a, b) folds with texel (i, j) at `at` (the others where decoded):
+  // 16 when it faces against the surface, 1 when it has no area (a nudge must not trade a fold for a
+  // collapse, nor a collapse for a fold), 0 otherwise.
+  int folds(std::uint32_t a, std::uint32_t b, int t, std::uint32_t i, std::uint32_t j, const Vec3& at) const {
     static constexpr std::array<std::array<std::uint32_t, 2>, 4> kCorner{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}};
     Vec3 p[3], q[3];
     for (int k = 0; k < 3; ++k) {
@@ -33,9 +36,11 @@ struct ChartFolds {
       q[k] = atlas.position(c, x, y);
     }
     const Vec3 facing = faceNormals ? atlas.triangleFaceNormal(c, a, b, t) : cross(q[1] - q[0], q[2] - q[0]);
-    return dot(cross(p[1] - p[0], p[2] - p[0]), facing) < 0;
+    const double turn = dot(cross(p[1] - p[0], p[2] - p[0]), facing);
+    return turn < 0 ? kFolded : turn == 0 && dot(facing, facing) > 0 ? 1 : 0;
   }
-  // How many triangles of the (up to) four squares round texel (i, j) fold with it at `at`.
+  // The triangles of the (up to) four squares round texel (i, j) that fold with it at `at`, scored as
+  // `folds` scores them (fewer folds first, then fewer collapses).
   int foldsRound(std::uint32_t i, std::uint32_t j, const Vec3& at) const {
     int count = 0;
     for (std::uint32_t b = j > 0 ? j - 1 : 0; b <= j && b + 1 < n; ++b)
@@ -44,6 +49,28 @@ struct ChartFolds {
     return count;
   }
 };
+
+// Texel (i, j)'s code `code` to the code within kReach steps of its rounded code `rounded` along every
+// axis with the fewest folds round it, fewer than `code` has (the nearest to the atlas's position
+// `want` among those), trying the nearer shells first. Returns whether it moved.
+constexpr int kReach = 2;
+bool nudge(const ChartFolds& chart, const QuantisedChart& q, const Code& rounded, const Vec3& want, std::uint32_t i,
+           std::uint32_t j, Code& code) {
+  int fewest = chart.foldsRound(i, j, vec(decodePosition(q, code)));
+  if (fewest == 0) return false;
+  Code best = code;
+  double nearest = -1;
+  for (int reach = 0; reach <= kReach && fewest > 0; ++reach)  // 0: back to the rounded code
+    forEachCodeInShell(q, rounded, reach, [&](const Code& next) {
+      const Vec3 p = vec(decodePosition(q, next));
+      const int folds = chart.foldsRound(i, j, p);
+      const double e = dot(p - want, p - want);
+      if (folds < fewest || (folds == fewest && nearest >= 0 && e < nearest)) fewest = folds, best = next, nearest = e;
+    });
+  if (nearest < 0) return false;
+  code = best;
+  return true;
+}
 
 }  // namespace
 
@@ -58,47 +85,20 @@ std::uint64_t unfoldRoundedTexels(const Atlas& atlas, const multires::BaseMesh& 
   tbb::parallel_for(std::uint32_t(0), layout.charts, [&](std::uint32_t c) {  // moves stay inside their chart
     const ChartFolds chart{atlas, decoded, c, n, faceNormals};
     QuantisedChart& q = charts[c];
-    std::uint64_t movedHere = 0;
-    for (int sweep = 0; sweep < 3; ++sweep) {
-      std::uint64_t movedNow = 0;
+    const std::vector<Code> rounded = q.positions;
+    for (int sweep = 0; sweep < 3; ++sweep) {  // a move can unfold, or fold, its neighbours' triangles
+      bool any = false;
       for (std::uint32_t j = 1; j + 1 < n; ++j)
         for (std::uint32_t i = 1; i + 1 < n; ++i) {
-          const std::size_t at = layout.texel(c, i, j);
-          int fewest = chart.foldsRound(i, j, decoded.position(c, i, j));
-          if (fewest == 0) continue;
-          Code& code = q.positions[std::size_t(j) * n + i];
-          const Vec3 want = vec(atlas.positions[at]);
-          for (int reach = 1; reach <= 2 && fewest > 0; ++reach) {
-            Code best = code;
-            double nearest = -1;
-            for (int dz = -reach; dz <= reach; ++dz)
-              for (int dy = -reach; dy <= reach; ++dy)
-                for (int dx = -reach; dx <= reach; ++dx) {
-                  if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != reach) continue;  // this shell only
-                  const int d[3] = {dx, dy, dz};
-                  Code next = code;
-                  bool valid = true;
-                  for (int a = 0; a < 3; ++a) {
-                    const int v = int(code[a]) + d[a];
-                    valid &= (d[a] == 0 || q.step[a] > 0) && v >= 0 && v <= int(kLargestPositionCode);
-                    next[a] = std::uint16_t(std::clamp(v, 0, int(kLargestPositionCode)));
-                  }
-                  if (!valid) continue;
-                  const Vec3 p = vec(decodePosition(q, next));
-                  const int folds = chart.foldsRound(i, j, p);
-                  const double e = dot(p - want, p - want);
-                  if (folds < fewest || (folds == fewest && nearest >= 0 && e < nearest)) fewest = folds, best = next, nearest = e;
-                }
-            if (nearest >= 0) {
-              code = best;
-              decoded.positions[at] = decodePosition(q, code);
-              ++movedNow;
-            }
-          }
+          const std::size_t k = std::size_t(j) * n + i, at = layout.texel(c, i, j);
+          if (!nudge(chart, q, rounded[k], vec(atlas.positions[at]), i, j, q.positions[k])) continue;
+          decoded.positions[at] = decodePosition(q, q.positions[k]);
+          any = true;
         }
-      movedHere += movedNow;
-      if (movedNow == 0) break;
+      if (!any) break;
     }
+    std::uint64_t movedHere = 0;
+    for (std::size_t k = 0; k < rounded.size(); ++k) movedHere += q.positions[k] != rounded[k];
     moved += movedHere;
   });
   return moved;

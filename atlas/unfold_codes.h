@@ -4,15 +4,17 @@
 // more. A triangle folds as countFoldedQuads counts it (backfacing_quads.h): it faces against the
 // dense face under its centroid, or, in an atlas without those normals (one read from a file),
 // against the same triangle of the atlas's float positions.
-// Each texel off the chart's border with a folded triangle round it tries every code one step
-// round its own (any axes), then two: a code is taken when fewer of the triangles of its four
-// squares fold, the nearest to the atlas's own position among those with the fewest. Border codes
-// stay: they are shared with the charts across (the squares' inner corners move instead). Run before
-// separateJoinedTexels, which then keeps texels the atlas holds apart apart.
+// Each texel off the chart's border with a folded triangle round it (or one of no area) tries the
+// codes one step from its rounded code along any axes, then two: a code is taken when fewer of the
+// triangles of its four squares fold (as many, and fewer have no area), the nearest to the atlas's own
+// position among those with the fewest; three sweeps, since a move changes its neighbours' triangles too. No code ends more than two
+// steps from its rounded one along any axis. Border codes stay: they are shared with the charts across
+// (the squares' inner corners move instead). Run before separateJoinedTexels, which then keeps texels
+// the atlas holds apart apart.
 //   atlas   the positions the codes stand for (and their dense face normals, where it has them)
 //   base    its base mesh (which charts share each side, for the decoded borders)
 //   charts  quantiseAtlas's codes; changed in place
-// Returns how many codes moved.
+// Returns how many texels' codes moved.
 #pragma once
 #include <cstdint>
 #include <vector>

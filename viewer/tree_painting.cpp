@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/error.h"
 #include "edit/dvt/cpu_tree_passes.h"
 #include "edit/solids/rasterise.h"
 #include "edit/solids/volume_solid.h"
@@ -22,7 +23,7 @@ void TreePainting::dabTo(const Vec3& centre, double radius, bool add) {
   const dvt::TreeFrame& frame = tree_->frame();
   try {
     tree_->write(dvt::rasterise(*brush, frame, frame.voxelDepth()), add ? dvt::Op::Union : dvt::Op::Subtract);
-  } catch (...) {
+  } catch (const Error&) {
     // A write past the node limit leaves the tree changed where it needed no new nodes: the picture
     // must be drawn from that tree, not from the streams uploaded before it (fewer nodes than nodeCount()).
     if (tree_->backend() != "gpu") upload();

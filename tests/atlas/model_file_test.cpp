@@ -38,8 +38,8 @@ Model torusModel(bool keepDense) {
 }
 
 // Every field, compared as bits, but the atlas: positions within the quantisation error the writer
-// reported (and that error within 5.5 steps of each chart's code grid along each axis: rounded to half
-// a step, then moved up to 2 steps where rounding folded a triangle and 3 where it joined texels),
+// reported (and that error, a distance, within 5.5 code steps of the coarsest chart's grid: rounded to
+// half a step, then moved up to 2 steps where rounding folded a triangle and 3 where it joined texels),
 // normals within the octahedral codes' angle, borders identical again.
 void expectSame(const Model& a, const Model& b) {
   EXPECT_EQ(b.chartSize, a.chartSize);
