@@ -256,10 +256,10 @@ TEST(Cli, InfoGlReportsOpenGL45OrLater) {
 TEST(Cli, AKilledBuildLeavesTheOldModelWhole) {
   const auto dir = test::scratchDir();
   const std::string mesh = (dir / "torus.off").string(), model = (dir / "torus.isoatlas").string();
-  writeMesh(mesh, test::torusMesh(160, 64));
+  writeMesh(mesh, test::torusMesh(80, 32));
   ASSERT_EQ(run("build " + mesh + " -o " + model + " -q --no-hausdorff").code, 0);
   const std::string old = test::readBytes(model);
-  // A second build with larger charts (a model of some 13 MB), killed once its temporary holds data.
+  // A second build with larger charts (a model of some 1 MB), killed once its temporary holds data.
   const pid_t pid = fork();
   if (pid == 0) {
     std::freopen("/dev/null", "w", stdout);

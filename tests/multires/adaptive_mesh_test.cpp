@@ -153,11 +153,20 @@ TEST(AdaptiveMesh, WeldThenSplitRestoresTheFaces) {
     if (!a.canWeld(v)) continue;
     const auto before = facePositions(a);
     const int level = a.level(v);
+    // A split's vertex neighbours the edge's two ends, so the edge that restores v joins two of v's
+    // neighbours: only those edges are tried (by position, as facePositions compares).
+    auto rounded = [&](VertexH u) {
+      const auto p = a.mesh().point(u);
+      return std::array<double, 3>{std::round(p[0] * 1e6), std::round(p[1] * 1e6), std::round(p[2] * 1e6)};
+    };
+    std::set<std::array<double, 3>> ring;
+    for (const VertexH u : a.mesh().vv_range(v)) ring.insert(rounded(u));
     a.weld(v);
     // The restored edge is the one splittable edge whose split lands on v's old place.
     bool restored = false;
     for (const EdgeH e : a.mesh().edges())
-      if (a.canSplit(e)) {
+      if (a.canSplit(e) && ring.count(rounded(a.mesh().from_vertex_handle(a.mesh().halfedge_handle(e, 0)))) &&
+          ring.count(rounded(a.mesh().to_vertex_handle(a.mesh().halfedge_handle(e, 0))))) {
         AdaptiveMesh copy = a;
         const VertexH m = copy.split(e);
         if (facePositions(copy) == before) {
