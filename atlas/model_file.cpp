@@ -242,8 +242,9 @@ double writeModel(const std::string& path, const Model& model) {
 
   Writer head;
   const bool keepCodes = decodesTo(model.codes, b, model.atlas);
-  const std::vector<QuantisedChart> charts = keepCodes ? model.codes : quantiseAtlas(model.atlas, b);
-  const double quantisationError = keepCodes ? model.quantisationError : largestQuantisationError(model.atlas, charts, b);
+  Atlas decoded;
+  const std::vector<QuantisedChart> charts = keepCodes ? model.codes : quantiseAtlas(model.atlas, b, nullptr, &decoded);
+  const double quantisationError = keepCodes ? model.quantisationError : largestQuantisationError(model.atlas, decoded);
   head.put(model.chartSize), head.put(model.coincidentTexels), head.put(model.gapTexels), head.put(quantisationError);
   out.section("HEAD", head);
 

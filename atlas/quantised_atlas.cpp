@@ -38,7 +38,8 @@ Vec3 decodeOctahedral(const std::array<std::uint8_t, 2>& code) {
   return n * (1 / norm(n));
 }
 
-std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas, const multires::BaseMesh& base, SeparatedTexels* separated) {
+std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas, const multires::BaseMesh& base, SeparatedTexels* separated,
+                                          Atlas* decoded) {
   const std::uint32_t n = atlas.layout.chartSize;
   std::vector<QuantisedChart> charts(atlas.layout.charts);
   tbb::parallel_for(std::uint32_t(0), atlas.layout.charts, [&](std::uint32_t c) {  // charts apart: on every core
@@ -62,8 +63,12 @@ std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas, const multires::Ba
         q.normals.push_back(encodeOctahedral(unpackNormal(atlas.normals[at])));
       }
   });
-  unfoldRoundedTexels(atlas, base, charts);
-  const SeparatedTexels moved = separateJoinedTexels(atlas, base, charts);
+  Atlas decodedHere;
+  Atlas& decode = decoded ? *decoded : decodedHere;
+  decode.layout = atlas.layout;
+  dequantiseAtlas(charts, base, decode);  // once: the two below keep it as they move codes
+  unfoldRoundedTexels(atlas, charts, decode);
+  const SeparatedTexels moved = separateJoinedTexels(atlas, charts, decode);
   if (separated) *separated = moved;
   return charts;
 }
@@ -118,10 +123,7 @@ void dequantiseAtlas(const std::vector<QuantisedChart>& charts, const multires::
   }
 }
 
-double largestQuantisationError(const Atlas& atlas, const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base) {
-  Atlas decoded;
-  decoded.layout = atlas.layout;
-  dequantiseAtlas(charts, base, decoded);
+double largestQuantisationError(const Atlas& atlas, const Atlas& decoded) {
   return tbb::parallel_reduce(
       tbb::blocked_range<std::size_t>(0, atlas.positions.size()), 0.0,
       [&](const tbb::blocked_range<std::size_t>& r, double worst) {

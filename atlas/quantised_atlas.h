@@ -12,10 +12,11 @@
 //   quantiseAtlas   inputs: the atlas (its charts' texels) and its base mesh; output: one QuantisedChart
 //                   per chart, where rounding folds as few texel triangles as nudging codes can
 //                   (unfold_codes.h) and texels the atlas holds apart decode apart (separate_codes.h;
-//                   `separated`, when given, gets how many moved for that)
+//                   `separated`, when given, gets how many moved for that; `decoded`, the charts'
+//                   decode, which the two keep as they move codes)
 //   dequantiseAtlas inputs: the charts, the base mesh (for the shared sides), the layout; output: the
 //                   atlas's positions and normals (details untouched)
-//   largestQuantisationError  how far (mm) the charts, decoded, lie from the atlas's own positions
+//   largestQuantisationError  how far (mm) the charts' decode lies from the atlas's own positions
 //   decodesTo       whether charts decode to exactly this atlas: a file's codes, as read, are then
 //                   written back as they are (quantising a decoded atlas again would move it: its
 //                   shared borders hold a neighbour's values, which can widen the chart's box)
@@ -57,9 +58,10 @@ inline std::array<float, 3> decodePosition(const QuantisedChart& q, const std::a
   return {q.lo[0] + float(code[0]) * q.step[0], q.lo[1] + float(code[1]) * q.step[1], q.lo[2] + float(code[2]) * q.step[2]};
 }
 
-std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas, const multires::BaseMesh& base, SeparatedTexels* separated = nullptr);
+std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas, const multires::BaseMesh& base, SeparatedTexels* separated = nullptr,
+                                          Atlas* decoded = nullptr);
 void dequantiseAtlas(const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base, Atlas& atlas);
-double largestQuantisationError(const Atlas& atlas, const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base);
+double largestQuantisationError(const Atlas& atlas, const Atlas& decoded);
 bool decodesTo(const std::vector<QuantisedChart>& charts, const multires::BaseMesh& base, const Atlas& atlas);
 
 std::vector<std::uint8_t> packChartCodes(const QuantisedChart& chart, std::uint32_t n);

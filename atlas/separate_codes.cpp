@@ -27,12 +27,9 @@ double distance2(const Position& a, const Position& b) {
 
 }  // namespace
 
-SeparatedTexels separateJoinedTexels(const Atlas& atlas, const multires::BaseMesh& base, std::vector<QuantisedChart>& charts) {
+SeparatedTexels separateJoinedTexels(const Atlas& atlas, std::vector<QuantisedChart>& charts, Atlas& decoded) {
   const AtlasLayout& layout = atlas.layout;
   const std::uint32_t n = layout.chartSize;
-  Atlas decoded;
-  decoded.layout = layout;
-  dequantiseAtlas(charts, base, decoded);
 
   std::unordered_map<Position, std::size_t, PositionBits> taken;  // decoded position -> its texel in the image
   taken.reserve(std::size_t(layout.charts) * n * n);

@@ -8,9 +8,9 @@
 // step, else two or three, along any axes (the texel off the chart's border moves: border codes are
 // shared with the charts across). Texels the atlas holds at the same place (shared samples, or the
 // coincident texels makeAtlas counts) stay together.
-//   atlas   the positions the codes stand for
-//   base    its base mesh (which charts share each side)
-//   charts  quantiseAtlas's codes; changed in place
+//   atlas    the positions the codes stand for
+//   charts   quantiseAtlas's codes; changed in place
+//   decoded  the charts as dequantiseAtlas decodes them; kept so as texels move (only inner ones do)
 // Returns how many texels moved and how many pairs stayed joined (both on a border: none seen).
 #pragma once
 #include <cstdint>
@@ -24,6 +24,6 @@ struct SeparatedTexels {
   std::uint64_t moved = 0, joined = 0;
 };
 
-SeparatedTexels separateJoinedTexels(const Atlas& atlas, const multires::BaseMesh& base, std::vector<QuantisedChart>& charts);
+SeparatedTexels separateJoinedTexels(const Atlas& atlas, std::vector<QuantisedChart>& charts, Atlas& decoded);
 
 }  // namespace isoatlas::atlas

@@ -74,12 +74,9 @@ bool nudge(const ChartFolds& chart, const QuantisedChart& q, const Code& rounded
 
 }  // namespace
 
-std::uint64_t unfoldRoundedTexels(const Atlas& atlas, const multires::BaseMesh& base, std::vector<QuantisedChart>& charts) {
+std::uint64_t unfoldRoundedTexels(const Atlas& atlas, std::vector<QuantisedChart>& charts, Atlas& decoded) {
   const AtlasLayout& layout = atlas.layout;
   const std::uint32_t n = layout.chartSize;
-  Atlas decoded;
-  decoded.layout = layout;
-  dequantiseAtlas(charts, base, decoded);
   const bool faceNormals = atlas.triangleFaceNormals.size() == 2 * atlas.normals.size();
   std::atomic<std::uint64_t> moved = 0;
   tbb::parallel_for(std::uint32_t(0), layout.charts, [&](std::uint32_t c) {  // moves stay inside their chart

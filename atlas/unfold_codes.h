@@ -11,9 +11,10 @@
 // steps from its rounded one along any axis. Border codes stay: they are shared with the charts across
 // (the squares' inner corners move instead). Run before separateJoinedTexels, which then keeps texels
 // the atlas holds apart apart.
-//   atlas   the positions the codes stand for (and their dense face normals, where it has them)
-//   base    its base mesh (which charts share each side, for the decoded borders)
-//   charts  quantiseAtlas's codes; changed in place
+//   atlas    the positions the codes stand for (and their dense face normals, where it has them)
+//   charts   quantiseAtlas's codes; changed in place
+//   decoded  the charts as dequantiseAtlas decodes them (shared borders included); kept so as the
+//            codes move (only inner codes move, and an inner texel decodes from its own code alone)
 // Returns how many texels' codes moved.
 #pragma once
 #include <cstdint>
@@ -23,6 +24,6 @@
 
 namespace isoatlas::atlas {
 
-std::uint64_t unfoldRoundedTexels(const Atlas& atlas, const multires::BaseMesh& base, std::vector<QuantisedChart>& charts);
+std::uint64_t unfoldRoundedTexels(const Atlas& atlas, std::vector<QuantisedChart>& charts, Atlas& decoded);
 
 }  // namespace isoatlas::atlas

@@ -39,8 +39,9 @@ Model torusModel(bool keepDense) {
 
 // Every field, compared as bits, but the atlas: positions within the quantisation error the writer
 // reported (and that error, a distance, within 5.5 code steps of the coarsest chart's grid: rounded to
-// half a step, then moved up to 2 steps where rounding folded a triangle and 3 where it joined texels),
-// normals within the octahedral codes' angle, borders identical again.
+// half a step, then moved up to 2 steps where rounding folded a triangle and 3 where it joined texels;
+// a texel off the border, decoded from its own chart's codes alone, within 5.5 of that chart's steps
+// along each axis), normals within the octahedral codes' angle, borders identical again.
 void expectSame(const Model& a, const Model& b) {
   EXPECT_EQ(b.chartSize, a.chartSize);
   EXPECT_EQ(b.coincidentTexels, a.coincidentTexels);
@@ -69,6 +70,15 @@ void expectSame(const Model& a, const Model& b) {
         worst = std::max(worst, norm(b.atlas.position(c, i, j) - p));
         // Octahedral codes of 8 + 8 bits: within 1.2 degrees (0.93 measured at worst).
         ASSERT_GT(dot(b.atlas.normal(c, i, j), a.atlas.normal(c, i, j)), std::cos(0.021)) << "chart " << c;
+      }
+    const Vec3 step = (hi - lo) * (1.0 / kLargestPositionCode);
+    for (std::uint32_t j = 1; j + 1 < n; ++j)
+      for (std::uint32_t i = 1; i + 1 < n; ++i) {
+        const Vec3 d = b.atlas.position(c, i, j) - a.atlas.position(c, i, j);
+        // float boxes: a 1e-6 relative slack on the chart's extent
+        ASSERT_LE(std::abs(d.x), 5.5 * step.x + 1e-6 * norm(hi - lo)) << "chart " << c << " texel (" << i << ", " << j << ") along x";
+        ASSERT_LE(std::abs(d.y), 5.5 * step.y + 1e-6 * norm(hi - lo)) << "chart " << c << " texel (" << i << ", " << j << ") along y";
+        ASSERT_LE(std::abs(d.z), 5.5 * step.z + 1e-6 * norm(hi - lo)) << "chart " << c << " texel (" << i << ", " << j << ") along z";
       }
     largestStep = std::max(largestStep, norm(hi - lo) / kLargestPositionCode);
   }

@@ -85,7 +85,12 @@ TEST(UnfoldCodes, NudgesOnlyInnerCodesAndAtMostTwoSteps) {
           v = std::uint16_t(std::clamp(int(v) + int(seed >> 30) - 1, 0, int(kLargestPositionCode)));  // -1, 0, 1 or 2
         }
   const std::vector<QuantisedChart> jittered = codes;
-  const std::uint64_t moved = unfoldRoundedTexels(b->atlas, b->base, codes);
+  Atlas decoded, again;
+  decoded.layout = again.layout = b->atlas.layout;
+  dequantiseAtlas(codes, b->base, decoded);
+  const std::uint64_t moved = unfoldRoundedTexels(b->atlas, codes, decoded);
+  dequantiseAtlas(codes, b->base, again);
+  EXPECT_TRUE(decoded.positions == again.positions) << "the decode it keeps is not the codes' decode";
   std::uint64_t changed = 0;
   for (std::size_t c = 0; c < codes.size(); ++c)
     for (std::uint32_t j = 0; j < n; ++j)
