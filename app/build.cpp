@@ -22,7 +22,7 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
   sub->add_option("mesh", *input, "a 2-manifold mesh (.off, .ply, .obj, .stl), closed or with boundaries")->required();
   sub->add_option("-o,--output", *output, "the model file (.isoatlas)")->check(outputFile());
   auto* ratio = sub->add_option("--base-ratio", o->baseRatio,
-                  "base vertices as a fraction of the dense ones (default: 2 % up to 1000 vertices, at least 1 %)")
+                  "base vertices as a fraction of the dense ones (default: 2 % up to 1000 vertices, at least 1 %; a mesh of at most 100 vertices is its own base)")
       ->check(inRange(1e-6, 1));
   auto* vertices = sub->add_option("--base-vertices", o->baseVertices, "base vertex count (instead of --base-ratio), at least 4")
       ->check(inRange(4, 1e9));

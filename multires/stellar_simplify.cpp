@@ -286,6 +286,10 @@ std::size_t share(double ratio, std::size_t n) { return std::size_t(std::llround
 }  // namespace
 
 std::size_t defaultBaseVertices(std::size_t denseVertices) {
+  return denseVertices <= kWholeMeshMostVertices ? denseVertices : simplifiedBaseVertices(denseVertices);
+}
+
+std::size_t simplifiedBaseVertices(std::size_t denseVertices) {
   return std::max({std::size_t(4), share(kLargeMeshBaseRatio, denseVertices),
                    std::min(share(kSmallMeshBaseRatio, denseVertices), kSmallMeshMostBaseVertices)});
 }

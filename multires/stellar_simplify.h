@@ -28,9 +28,14 @@ namespace isoatlas::multires {
 // and 2 % still keeps the model smaller than the dense mesh; a large one at 1 % already has
 // thousands of tiles, where 2 % costs much time for a gain in RMS but not in the largest distance
 // (bench/RESULTS.md, "the default base size").
+// A mesh of at most kWholeMeshMostVertices is its own base mesh (a cage already, as a subdivision
+// surface's control mesh is): at 2 % it would be a tetrahedron, and two charts cannot follow a cube's
+// or a CAD part's creases (level 10 of such cases 23 to 37 dB; whole, 61 dB or more: bench/RESULTS.md,
+// "Small meshes whole"). simplifiedBaseVertices is the ratio rule alone.
 inline constexpr double kSmallMeshBaseRatio = 0.02, kLargeMeshBaseRatio = 0.01;
-inline constexpr std::size_t kSmallMeshMostBaseVertices = 1000;
+inline constexpr std::size_t kSmallMeshMostBaseVertices = 1000, kWholeMeshMostVertices = 100;
 std::size_t defaultBaseVertices(std::size_t denseVertices);
+std::size_t simplifiedBaseVertices(std::size_t denseVertices);
 
 struct SimplifyOptions {
   std::optional<double> vertexRatio;  // stop at this fraction of the dense vertices, in (0, 1]; unset: defaultBaseVertices

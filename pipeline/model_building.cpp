@@ -9,6 +9,8 @@
 #include "core/distance/mesh_distance.h"
 #include "atlas/backfacing_quads.h"
 #include "atlas/make_atlas.h"
+#include "atlas/quantised_atlas.h"
+#include "atlas/separate_codes.h"
 #include "atlas/reconstruct.h"
 #include "atlas/stamp_detail.h"
 #include "atlas/tile_sides.h"
@@ -44,29 +46,65 @@ void checkModelRequest(const ModelRequest& request) {
   require(request.relaxSweeps >= 0 && request.relaxSweeps <= 1000, "--relax-sweeps must be between 0 and 1000");
 }
 
+namespace {
+
+// The base mesh, its tiles and the atlas for one simplification.
+struct Built {
+  atlas::Model model;
+  multires::SimplifyStats stats;
+  multires::PairingStats pairing;
+  atlas::ChartStats charts;
+};
+
+Built simplifyPairAndChart(const Mesh& dense, const ModelRequest& request, const multires::SimplifyOptions& simplify) {
+  Built b;
+  b.model.chartSize = request.chartSize;
+  multires::BaseMesh& base = b.model.base;
+  base = multires::simplifyStellar(dense, simplify, &b.stats);
+  logInfo("build: " + std::to_string(b.stats.denseVertices) + " -> " + std::to_string(b.stats.baseVertices) +
+          " vertices in " + std::to_string(b.stats.seconds) + " s");
+  b.pairing = multires::pairTriangles(base, dense);
+  logInfo("build: " + std::to_string(b.pairing.tiles) + " tiles, " + std::to_string(b.pairing.splits) +
+          " edge splits for the matching, " + std::to_string(b.pairing.seconds) + " s");
+  b.model.atlas = atlas::makeAtlas(dense, base, request.chartSize, &b.charts, request.relaxSweeps);
+  b.model.coincidentTexels = b.charts.coincidentTexels, b.model.gapTexels = b.charts.gapTexels;
+  const atlas::AtlasLayout& layout = b.model.atlas.layout;
+  logInfo("build: " + std::to_string(layout.charts) + " charts in a " + std::to_string(layout.width()) + " x " +
+          std::to_string(layout.height()) + " atlas (" + std::to_string(layout.efficiency() * 100) + " % full), " +
+          std::to_string(b.charts.coincidentTexels) + " coincident texels, " + std::to_string(b.charts.seconds) + " s");
+  return b;
+}
+
+}  // namespace
+
 atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann::json& r) {
-  require(request.baseVertices < dense.vertexCount(), "--base-vertices " + std::to_string(request.baseVertices) +
+  require(request.baseVertices <= dense.vertexCount(), "--base-vertices " + std::to_string(request.baseVertices) +
                                                          ": the mesh has only " + std::to_string(dense.vertexCount()) + " vertices");
   multires::SimplifyOptions simplify{.vertexRatio = request.baseRatio, .targetVertices = request.baseVertices};
   if (request.maxError > 0) simplify.maxError = request.maxError;
-  multires::SimplifyStats stats;
-  atlas::Model model;
-  model.chartSize = request.chartSize;
+  Built built = simplifyPairAndChart(dense, request, simplify);
+  // A small mesh kept whole by default (multires::defaultBaseVertices) stays so only where its tiles
+  // sample cleanly: a sliver tile can put two texels at one place, in floats or in the codes (along a
+  // tile side shorter than its texels' code steps), and the capture then welds them into a
+  // non-manifold. Such a mesh is simplified as a larger one is (mpi, corner_poly: bench/RESULTS.md).
+  const bool whole = !request.baseRatio && request.baseVertices == 0 && built.stats.targetVertices == dense.vertexCount();
+  if (whole) {
+    atlas::SeparatedTexels codes;
+    atlas::quantiseAtlas(built.model.atlas, built.model.base, &codes);
+    if (built.charts.coincidentTexels > 0 || codes.joined > 0) {
+      logInfo("build: the mesh kept whole puts texels at one place (" + std::to_string(built.charts.coincidentTexels) +
+              " coincident, " + std::to_string(codes.joined) + " joined by their codes): simplified instead");
+      simplify.targetVertices = multires::simplifiedBaseVertices(dense.vertexCount());
+      built = simplifyPairAndChart(dense, request, simplify);
+    }
+  }
+  atlas::Model& model = built.model;
   multires::BaseMesh& base = model.base;
-  base = multires::simplifyStellar(dense, simplify, &stats);
-  logInfo("build: " + std::to_string(stats.denseVertices) + " -> " + std::to_string(stats.baseVertices) +
-          " vertices in " + std::to_string(stats.seconds) + " s");
-  const multires::PairingStats pairing = multires::pairTriangles(base, dense);
-  logInfo("build: " + std::to_string(pairing.tiles) + " tiles, " + std::to_string(pairing.splits) +
-          " edge splits for the matching, " + std::to_string(pairing.seconds) + " s");
+  const multires::SimplifyStats& stats = built.stats;
+  const multires::PairingStats& pairing = built.pairing;
+  const atlas::ChartStats& charts = built.charts;
+  r["base_whole"] = base.vertexCount() == dense.vertexCount();
   r["folded_dense_triangles"] = multires::countFoldedTriangles(dense, base);
-  atlas::ChartStats charts;
-  model.atlas = atlas::makeAtlas(dense, base, request.chartSize, &charts, request.relaxSweeps);
-  model.coincidentTexels = charts.coincidentTexels, model.gapTexels = charts.gapTexels;
-  const atlas::AtlasLayout& layout = model.atlas.layout;
-  logInfo("build: " + std::to_string(layout.charts) + " charts in a " + std::to_string(layout.width()) + " x " +
-          std::to_string(layout.height()) + " atlas (" + std::to_string(layout.efficiency() * 100) + " % full), " +
-          std::to_string(charts.coincidentTexels) + " coincident texels, " + std::to_string(charts.seconds) + " s");
 
   r["dense_vertices"] = dense.vertexCount();
   r["dense_triangles"] = dense.faceCount();
@@ -119,7 +157,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
     base.denseTriangle.clear();
     base.denseBary.clear();
   }
-  return model;
+  return std::move(model);
 }
 
 nlohmann::json atlasFigures(const atlas::Model& model) {

@@ -793,6 +793,38 @@ TEST(Cli, EditDetailEngravesAWordAndTheModelStaysClosed) {
                  "text.png: not a PNG file");
 }
 
+// A small mesh is its own base mesh by default: a cube's model lies on the cube at level 10 (to its codes'
+// steps), and the capture of level 10 is a closed manifold. One whose tiles would put two texels at one
+// place (mpi: a sliver tile's side shorter than its codes' steps joins border texels) is simplified
+// instead, and its level 10 stays a manifold (306 non-manifold edges when kept whole).
+TEST(Cli, ASmallMeshIsItsOwnBaseWhereItsTilesSampleCleanly) {
+  const auto dir = test::scratchDir();
+  Mesh cube;
+  cube.positions = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}};
+  for (const auto& q : std::vector<std::array<std::uint32_t, 4>>{{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}})
+    cube.addFace({q[0], q[1], q[2]}), cube.addFace({q[0], q[2], q[3]});
+  const std::string mpi = std::string(ISOATLAS_DATA) + "/meshes/mpi.off";
+  if (!std::filesystem::exists(mpi)) GTEST_SKIP() << "run scripts/fetch-data for " << mpi;
+  writeMesh((dir / "cube.off").string(), cube);
+  for (const auto& [name, whole] : {std::pair{std::string("cube"), true}, {std::string("mpi"), false}}) {
+    const std::string mesh = name == "cube" ? (dir / "cube.off").string() : mpi, model = (dir / (name + ".isoatlas")).string();
+    const std::string built = (dir / (name + "_build.json")).string(), rendered = (dir / (name + "_render.json")).string();
+    ASSERT_EQ(run("build " + mesh + " -o " + model + " -q --no-hausdorff --report " + built).code, 0) << name;
+    EXPECT_EQ(nlohmann::json::parse(test::readBytes(built))["base_whole"].get<bool>(), whole) << name;
+    const Result r = run("render " + model + " --cpu-level 0 --gpu-level 5 --size 64,48 -o " + (dir / (name + ".png")).string() +
+                         " --capture " + (dir / (name + ".ply")).string() + " --report " + rendered);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto j = nlohmann::json::parse(test::readBytes(rendered));
+    EXPECT_TRUE(j["captured_closed"].get<bool>()) << name << ": " << j["captured_non_manifold_edges"] << " non-manifold edges";
+  }
+  const std::string report = (dir / "eval.json").string();
+  ASSERT_EQ(run("eval " + (dir / "cube.isoatlas").string() + " --dense " + (dir / "cube.off").string() + " --levels 0,10 -q --report " + report).code, 0);
+  const auto levels = nlohmann::json::parse(test::readBytes(report))["levels"];
+  ASSERT_EQ(levels.size(), 2u);
+  EXPECT_LT(levels[0]["hausdorff"].get<double>(), 1e-9) << "level 0 is the cube itself";
+  EXPECT_LT(levels[1]["hausdorff"].get<double>(), 2.0 / 4095) << "level 10 lies on the cube to within a code step";
+}
+
 TEST(Cli, RenderDrawsAModelWithoutCracksAndAGridOfThem) {
   const auto dir = test::scratchDir();
   const std::string torus = (dir / "torus.off").string(), model = (dir / "torus.isoatlas").string();

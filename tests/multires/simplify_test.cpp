@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
 
 #include "core/error.h"
 #include "core/mesh_topology.h"
@@ -10,6 +11,7 @@
 #include "multires/stellar_simplify.h"
 #include "tests/multires/mesh_shapes.h"
 #include "tests/multires/parametrisation_checks.h"
+#include "tests/test_util.h"
 #include "tests/thread_count.h"
 
 namespace isoatlas::multires {
@@ -157,16 +159,27 @@ TEST(StellarSimplify, TorusKeepsGenusAndReachesTheRatio) {
   expectParametrisation(dense, base, 0.5);  // the minor radius is 1
 }
 
-TEST(StellarSimplify, TheDefaultBaseSizeIsTwoPercentUpToAThousandAndNeverUnderOnePercent) {
+TEST(StellarSimplify, TheDefaultBaseSizeIsTwoPercentUpToAThousandNeverUnderOnePercentAndASmallMeshWhole) {
   EXPECT_EQ(defaultBaseVertices(2775), 56u);      // 2 %
   EXPECT_EQ(defaultBaseVertices(50000), 1000u);   // 2 %, at the cap
   EXPECT_EQ(defaultBaseVertices(80000), 1000u);   // capped, still above 1 %
   EXPECT_EQ(defaultBaseVertices(385000), 3850u);  // 1 %
-  EXPECT_EQ(defaultBaseVertices(100), 4u);        // never below 4
+  EXPECT_EQ(defaultBaseVertices(101), 4u);        // never below 4
+  EXPECT_EQ(defaultBaseVertices(100), 100u);      // a small mesh is its own base mesh
+  EXPECT_EQ(defaultBaseVertices(8), 8u);
   SimplifyStats stats;
   simplifyStellar(torusMesh(80, 40), {}, &stats);  // 3200 vertices
   EXPECT_EQ(stats.targetVertices, 64u);
   EXPECT_TRUE(stats.reachedTarget);
+  // An octahedron is its own base mesh: every vertex and triangle where it was.
+  const Mesh octahedron = test::octahedron();
+  const BaseMesh whole = simplifyStellar(octahedron);
+  ASSERT_EQ(whole.vertexCount(), 6u);
+  ASSERT_EQ(whole.triangleCount(), 8u);
+  std::set<std::array<double, 3>> dense, base;
+  for (const Vec3& p : octahedron.positions) dense.insert({p.x, p.y, p.z});
+  for (const Vec3& p : whole.positions) base.insert({p.x, p.y, p.z});
+  EXPECT_EQ(base, dense);
 }
 
 TEST(StellarSimplify, DoubleTorusKeepsGenusTwo) {
