@@ -68,7 +68,7 @@ std::vector<QuantisedChart> quantiseAtlas(const Atlas& atlas, const multires::Ba
   decode.layout = atlas.layout;
   dequantiseAtlas(charts, base, decode);  // once: the two below keep it as they move codes
   unfoldRoundedTexels(atlas, charts, decode);
-  const SeparatedTexels moved = separateJoinedTexels(atlas, charts, decode);
+  const SeparatedTexels moved = separateJoinedTexels(atlas, base, charts, decode);
   if (separated) *separated = moved;
   return charts;
 }

@@ -1,13 +1,13 @@
 // The atlas as the model file stores it (version 4): each chart's positions as 12-bit codes within
-// the chart's own bounding box (rounded: at most an 8190th of the box from the atlas's own along each
-// axis; a texel whose rounding would fold a triangle round it then moved up to two steps from its
-// rounded code, unfold_codes.h, and one that would join another texel three more, separate_codes.h;
-// bench/RESULTS.md compares the error with level 10's largest distance), and
-// every normal as an octahedral code of two bytes (8 + 8 bits). Decoding gives each border point two
-// values (each chart its own box), so the decoder copies every shared side from the lower-numbered
-// chart into the other and sets every corner to its base vertex: neighbouring charts agree bit for
-// bit again. Version 3 files held 16-bit codes; the decoder takes codes of any width up to 16 bits
-// (position = lo + code * step).
+// the chart's own bounding box (rounded: at most an 8190th of the box from the atlas's own along
+// each axis; a texel whose rounding would fold a triangle round it then moved up to two steps from
+// its rounded code, unfold_codes.h, and one that would join another texel up to four more, a side's
+// code moving with both its copies, separate_codes.h; bench/RESULTS.md compares the error with
+// level 10's largest distance), and every normal as an octahedral code of two bytes (8 + 8 bits).
+// Decoding gives each border point two values (each chart its own box), so the decoder copies every
+// shared side from the lower-numbered chart into the other and sets every corner to its base
+// vertex: neighbouring charts agree bit for bit again. Version 3 files held 16-bit codes; the
+// decoder takes codes of any width up to 16 bits (position = lo + code * step).
 //   QuantisedChart  one chart's box (lo, step per axis: position = lo + code * step, in f32) and codes
 //   quantiseAtlas   inputs: the atlas (its charts' texels) and its base mesh; output: one QuantisedChart
 //                   per chart, where rounding folds as few texel triangles as nudging codes can

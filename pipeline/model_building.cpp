@@ -84,9 +84,9 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   if (request.maxError > 0) simplify.maxError = request.maxError;
   Built built = simplifyPairAndChart(dense, request, simplify);
   // A small mesh kept whole by default (multires::defaultBaseVertices) stays so only where its tiles
-  // sample cleanly: a sliver tile can put two texels at one place, in floats or in the codes (along a
-  // tile side shorter than its texels' code steps), and the capture then welds them into a
-  // non-manifold. Such a mesh is simplified as a larger one is (mpi, corner_poly: bench/RESULTS.md).
+  // sample cleanly: a sliver tile can put two texels at one place, in floats or in the codes (where
+  // no free code lies within reach), and the capture then welds them into a non-manifold. Such a
+  // mesh is simplified as a larger one is (corner_poly: bench/RESULTS.md).
   const bool whole = !request.baseRatio && request.baseVertices == 0 && built.stats.targetVertices == dense.vertexCount();
   if (whole) {
     atlas::SeparatedTexels codes;

@@ -794,20 +794,21 @@ TEST(Cli, EditDetailEngravesAWordAndTheModelStaysClosed) {
 }
 
 // A small mesh is its own base mesh by default: a cube's model lies on the cube at level 10 (to its codes'
-// steps), and the capture of level 10 is a closed manifold. One whose tiles would put two texels at one
-// place (mpi: a sliver tile's side shorter than its codes' steps joins border texels) is simplified
-// instead, and its level 10 stays a manifold (306 non-manifold edges when kept whole).
+// steps), and the capture of level 10 is a closed manifold; so is mpi's, whose sliver tiles join border
+// texels in the codes until their side codes move apart (306 non-manifold edges before). One whose
+// tiles put two texels at one place in the atlas itself (corner_poly: coincident texels) is simplified
+// instead, and its level 10 stays a manifold.
 TEST(Cli, ASmallMeshIsItsOwnBaseWhereItsTilesSampleCleanly) {
   const auto dir = test::scratchDir();
   Mesh cube;
   cube.positions = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}};
   for (const auto& q : std::vector<std::array<std::uint32_t, 4>>{{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}})
     cube.addFace({q[0], q[1], q[2]}), cube.addFace({q[0], q[2], q[3]});
-  const std::string mpi = std::string(ISOATLAS_DATA) + "/meshes/mpi.off";
-  if (!std::filesystem::exists(mpi)) GTEST_SKIP() << "run scripts/fetch-data for " << mpi;
+  const std::string meshes = std::string(ISOATLAS_DATA) + "/meshes/";
+  if (!std::filesystem::exists(meshes + "mpi.off")) GTEST_SKIP() << "run scripts/fetch-data for " << meshes;
   writeMesh((dir / "cube.off").string(), cube);
-  for (const auto& [name, whole] : {std::pair{std::string("cube"), true}, {std::string("mpi"), false}}) {
-    const std::string mesh = name == "cube" ? (dir / "cube.off").string() : mpi, model = (dir / (name + ".isoatlas")).string();
+  for (const auto& [name, whole] : {std::pair{std::string("cube"), true}, {std::string("mpi"), true}, {std::string("corner_poly"), false}}) {
+    const std::string mesh = name == "cube" ? (dir / "cube.off").string() : meshes + name + ".off", model = (dir / (name + ".isoatlas")).string();
     const std::string built = (dir / (name + "_build.json")).string(), rendered = (dir / (name + "_render.json")).string();
     ASSERT_EQ(run("build " + mesh + " -o " + model + " -q --no-hausdorff --report " + built).code, 0) << name;
     EXPECT_EQ(nlohmann::json::parse(test::readBytes(built))["base_whole"].get<bool>(), whole) << name;
