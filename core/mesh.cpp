@@ -1,9 +1,9 @@
 #include "core/mesh.h"
 
+#include <algorithm>
 #include <unordered_map>
 
-#include <algorithm>
-#include <limits>
+#include "core/polygon_triangulation.h"
 
 namespace isoatlas {
 
@@ -93,10 +93,10 @@ std::vector<std::array<std::uint32_t, 3>> triangleNeighbours(std::span<const std
 
 std::vector<Vec3> vertexNormals(const Mesh& m) {
   std::vector<Vec3> n(m.vertexCount(), Vec3{0, 0, 0});
-  forEachFanTriangle(m, [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    const Vec3 twiceArea = cross(m.positions[b] - m.positions[a], m.positions[c] - m.positions[a]);
-    for (const std::uint32_t v : {a, b, c}) n[v] = n[v] + twiceArea;
-  });
+  for (std::size_t f = 0; f < m.faceCount(); ++f) {
+    const Vec3 twiceArea = newellNormal(m.positions, m.face(f));
+    for (const std::uint32_t v : m.face(f)) n[v] = n[v] + twiceArea;
+  }
   for (Vec3& v : n) {
     const double len = norm(v);
     if (len > 0) v = v * (1 / len);
@@ -104,46 +104,22 @@ std::vector<Vec3> vertexNormals(const Mesh& m) {
   return n;
 }
 
-namespace {
-
-// The smallest twice-area of the fan of `face` around its corner `apex`.
-double smallestFanArea(const Mesh& mesh, std::span<const std::uint32_t> face, std::size_t apex) {
-  double least = std::numeric_limits<double>::infinity();
-  const std::size_t k = face.size();
-  for (std::size_t i = 1; i + 1 < k; ++i) {
-    const Vec3 &a = mesh.positions[face[apex]], &b = mesh.positions[face[(apex + i) % k]], &c = mesh.positions[face[(apex + i + 1) % k]];
-    least = std::min(least, norm(cross(b - a, c - a)));
-  }
-  return least;
-}
-
-}  // namespace
-
-Mesh fanTriangulated(const Mesh& mesh) {
+Mesh triangulated(const Mesh& mesh) {
   Mesh out;
   out.positions = mesh.positions;
   out.normals = mesh.normals;
   for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
     const auto face = mesh.face(f);
-    const std::size_t k = face.size();
-    std::size_t apex = 0;
-    if (k > 3) {
-      double extent = 0;  // the face's size squared: "no area" is relative to it
-      for (std::size_t i = 1; i < k; ++i) extent = std::max(extent, dot(mesh.positions[face[i]] - mesh.positions[face[0]], mesh.positions[face[i]] - mesh.positions[face[0]]));
-      double best = smallestFanArea(mesh, face, 0);
-      for (std::size_t c = 1; c < k && !(best > 1e-12 * extent); ++c)
-        if (const double area = smallestFanArea(mesh, face, c); area > best) best = area, apex = c;
-    }
-    for (std::size_t i = 1; i + 1 < k; ++i) out.addFace({face[apex], face[(apex + i) % k], face[(apex + i + 1) % k]});
+    if (face.size() == 3) out.addFace(face);
+    else
+      for (const auto& t : triangulatePolygon(mesh.positions, face)) out.addFace({t[0], t[1], t[2]});
   }
   return out;
 }
 
 double surfaceArea(const Mesh& m) {
   double twice = 0;
-  forEachFanTriangle(m, [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    twice += norm(cross(m.positions[b] - m.positions[a], m.positions[c] - m.positions[a]));
-  });
+  for (std::size_t f = 0; f < m.faceCount(); ++f) twice += norm(newellNormal(m.positions, m.face(f)));
   return twice / 2;
 }
 

@@ -75,27 +75,16 @@ VertexAdjacency vertexAdjacency(const Mesh& mesh);
 inline constexpr std::uint32_t kNoTriangle = ~0u;
 std::vector<std::array<std::uint32_t, 3>> triangleNeighbours(std::span<const std::array<std::uint32_t, 3>> triangles);
 
-// Calls triangle(a, b, c) for each triangle of each face taken as a fan around its first corner.
-template <class Triangle>
-void forEachFanTriangle(const Mesh& mesh, const Triangle& triangle) {
-  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
-    const auto face = mesh.face(f);
-    for (std::size_t i = 1; i + 1 < face.size(); ++i) triangle(face[0], face[i], face[i + 1]);
-  }
-}
+// The mesh with each polygon split into triangles that cover it once, each turning as the polygon
+// does (core/polygon_triangulation.h: a fan round a corner that sees the whole polygon, else ear
+// clipping); positions and normals kept. A triangle of no area maps a stretch of the model's charts
+// onto one point, and one turned over folds them (mpi.off, corner_poly.off: level 10 not a manifold).
+Mesh triangulated(const Mesh& mesh);
 
-// The mesh with each face split as a fan around its first corner (positions and normals kept), or,
-// where that fan has a triangle of no area (three corners on a line: a CAD polygon with a vertex in
-// the middle of a straight side), around the next corner whose fan has none (else whose fan's
-// smallest triangle is largest). A
-// triangle of no area maps a stretch of the model's charts onto one point (mpi.off: four border
-// samples at one place, and level 10 not a manifold).
-Mesh fanTriangulated(const Mesh& mesh);
-
-// The total area of the faces (polygons as fans), in the positions' units squared.
+// The total area of the faces (each polygon's vector area), in the positions' units squared.
 double surfaceArea(const Mesh& mesh);
 
-// Per-vertex normals: the area-weighted sum of the faces' normals (polygons as fans), normalised;
+// Per-vertex normals: the area-weighted sum of the faces' normals (Newell's, for polygons), normalised;
 // zero where every face around the vertex is flat.
 std::vector<Vec3> vertexNormals(const Mesh& mesh);
 

@@ -27,7 +27,7 @@ namespace isoatlas::pipeline {
 
 Mesh prepareModelInput(Mesh mesh) {
   if (!mesh.allFacesHave(3)) {
-    Mesh triangles = fanTriangulated(mesh);
+    Mesh triangles = triangulated(mesh);
     logInfo("build: " + std::to_string(mesh.faceCount()) + " polygons split into " +
             std::to_string(triangles.faceCount()) + " triangles");
     mesh = std::move(triangles);
@@ -86,7 +86,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   // A small mesh kept whole by default (multires::defaultBaseVertices) stays so only where its tiles
   // sample cleanly: a sliver tile can put two texels at one place, in floats or in the codes (where
   // no free code lies within reach), and the capture then welds them into a non-manifold. Such a
-  // mesh is simplified as a larger one is (corner_poly: bench/RESULTS.md).
+  // mesh is simplified as a larger one is (a triangle of no area does it; no mesh of the corpus now).
   const bool whole = !request.baseRatio && request.baseVertices == 0 && built.stats.targetVertices == dense.vertexCount();
   if (whole) {
     atlas::SeparatedTexels codes;

@@ -57,8 +57,8 @@ void bindMeshes(py::module_& m) {
   m.def("read_mesh", [](const std::string& path) {
         requireFile(path);
         const Mesh mesh = readMesh(path);
-        return meshArrays(mesh.allFacesHave(3) ? mesh : fanTriangulated(mesh));
-      }, py::arg("path"), "(vertices N x 3, triangles M x 3) of a .ply, .off, .obj or .stl (polygons split as fans)");
+        return meshArrays(mesh.allFacesHave(3) ? mesh : triangulated(mesh));
+      }, py::arg("path"), "(vertices N x 3, triangles M x 3) of a .ply, .off, .obj or .stl (polygons split as build splits them: each triangle turning as its polygon)");
   m.def("write_mesh", [](const std::string& path, const py::object& vertices, const py::object& triangles, const std::string& space) {
         const MeshSpace frame = parseMeshSpace(space, "write_mesh");
         const Mesh mesh = toMesh(vertices, triangles);

@@ -7,6 +7,7 @@
 #include "core/gl/context.h"
 #include "core/gl/program.h"
 #include "core/gl/resources.h"
+#include "core/polygon_triangulation.h"
 #include "kRenderShaders.h"
 
 namespace isoatlas::render {
@@ -27,7 +28,12 @@ Image renderMesh(const Mesh& mesh, const MeshRenderOptions& o) {
   }
   std::vector<std::uint32_t> corners;
   corners.reserve(mesh.faceCount() * 3);
-  forEachFanTriangle(mesh, [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) { corners.insert(corners.end(), {a, b, c}); });
+  for (std::size_t f = 0; f < mesh.faceCount(); ++f) {
+    const auto face = mesh.face(f);
+    if (face.size() == 3) corners.insert(corners.end(), face.begin(), face.end());
+    else
+      for (const auto& t : triangulatePolygon(mesh.positions, face)) corners.insert(corners.end(), t.begin(), t.end());
+  }
   const gl::Buffer buffer = gl::Buffer::of(vertices), indices = gl::Buffer::of(corners);
   gl::VertexArray vao;
   glVertexArrayVertexBuffer(vao.id(), 0, buffer.id(), 0, 6 * sizeof(float));

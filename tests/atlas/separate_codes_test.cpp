@@ -27,7 +27,7 @@ namespace {
 // manifold. Returns what the separation moved.
 SeparatedTexels expectSeparated(const std::string& name, bool whole) {
   const std::filesystem::path file = std::filesystem::path(ISOATLAS_DATA) / "meshes" / (name + ".off");
-  const Mesh dense = dropUnusedVertices(fanTriangulated(readMesh(file.string())));  // as `isoatlas build` prepares it
+  const Mesh dense = dropUnusedVertices(triangulated(readMesh(file.string())));  // as `isoatlas build` prepares it
   // as `isoatlas build` makes it: simplified, or the mesh its own base (a small one's default)
   multires::BaseMesh base = multires::simplifyStellar(dense, {.targetVertices = whole ? dense.vertexCount() : 0});
   multires::pairTriangles(base, dense);

@@ -114,34 +114,3 @@ TEST(MeshTopology, DegenerateFaceIsNamed) {
 
 }  // namespace
 }  // namespace isoatlas
-
-namespace isoatlas {
-namespace {
-
-// fanTriangulated keeps every polygon's area and orientation, and splits a polygon with three corners
-// on a line (a square with a vertex in the middle of a side, first) without a triangle of no area.
-TEST(FanTriangulated, NoTriangleOfNoAreaWhereThreeCornersLieOnALine) {
-  Mesh m;
-  m.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}};  // (1, 0, 0) in the middle of a side
-  m.addFace({0, 1, 2, 3, 4});  // around its first corner, (0, 1, 2) has no area
-  const Mesh t = fanTriangulated(m);
-  ASSERT_EQ(t.faceCount(), 3u);
-  double area = 0;
-  for (std::size_t f = 0; f < t.faceCount(); ++f) {
-    const auto c = t.face(f);
-    const Vec3 n = cross(t.positions[c[1]] - t.positions[c[0]], t.positions[c[2]] - t.positions[c[0]]);
-    EXPECT_GT(n.z, 1e-9) << "triangle " << f << " has no area or turns over";
-    area += n.z / 2;
-  }
-  EXPECT_DOUBLE_EQ(area, 4);
-  // A polygon whose first corner's fan is fine keeps it.
-  Mesh square;
-  square.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-  square.addFace({0, 1, 2, 3});
-  const Mesh s = fanTriangulated(square);
-  EXPECT_EQ(s.face(0)[0], 0u);
-  EXPECT_EQ(s.face(1)[0], 0u);
-}
-
-}  // namespace
-}  // namespace isoatlas
