@@ -34,8 +34,8 @@ void addBuildCommand(CLI::App& app, int& exitCode) {
       ->capture_default_str()
       ->check(inRange(3, multires::kMaxChartSize));
   sub->add_option("--relax-sweeps", o->relaxSweeps,
-                  "sweeps moving the texels over each tile to follow the surface's bending (0: a uniform grid per tile)")
-      ->capture_default_str()
+                  "sweeps moving the texels over each tile to follow the surface's bending (0: a uniform grid per tile; "
+                  "default 8, and 0 for a mesh that is its own base)")
       ->check(inRange(0, 1000));
   sub->add_flag("--keep-dense", o->keepDense, "keep the dense mesh and its parametrisation in the model");
   sub->add_option("--previews", *previews, "write position_atlas.png, normal_atlas.png and backfacing_atlas.png into this folder");

@@ -184,8 +184,8 @@ void addRunCommand(CLI::App& app, int& exitCode) {
       ->check(inRange(1e-6, 1));
   sub->add_option("--chart", options->chart, "chart size of the model, 2^k + 1")->capture_default_str()->check(inRange(3, multires::kMaxChartSize));
   sub->add_option("--relax-sweeps", options->model.relaxSweeps,
-                  "sweeps moving the model's texels to follow the surface's bending (0: a uniform grid per tile)")
-      ->capture_default_str()
+                  "sweeps moving the model's texels to follow the surface's bending (0: a uniform grid per tile; "
+                  "default 8, and 0 for a mesh that is its own base)")
       ->check(inRange(0, 1000));
   sub->add_option("--samples", options->model.hausdorffFacePoints, "Hausdorff face samples per mesh for the model's accuracy")
       ->capture_default_str()

@@ -43,7 +43,7 @@ void checkModelRequest(const ModelRequest& request) {
   require(request.maxError >= 0, "--max-error must be positive");
   require(multires::isChartSize(request.chartSize),
           "--chart must be 2^k + 1 between 3 and " + std::to_string(multires::kMaxChartSize) + " (e.g. 33)");
-  require(request.relaxSweeps >= 0 && request.relaxSweeps <= 1000, "--relax-sweeps must be between 0 and 1000");
+  require(!request.relaxSweeps || (*request.relaxSweeps >= 0 && *request.relaxSweeps <= 1000), "--relax-sweeps must be between 0 and 1000");
 }
 
 namespace {
@@ -54,10 +54,18 @@ struct Built {
   multires::SimplifyStats stats;
   multires::PairingStats pairing;
   atlas::ChartStats charts;
+  int relaxSweeps = 0;
 };
+
+// The relaxation's sweeps: the request's, else none where the base is the dense mesh itself.
+int relaxSweepsFor(const ModelRequest& request, const multires::SimplifyOptions& simplify, std::size_t denseVertices) {
+  if (request.relaxSweeps) return *request.relaxSweeps;
+  return multires::targetBaseVertices(simplify, denseVertices) == denseVertices ? 0 : atlas::kDefaultRelaxSweeps;
+}
 
 Built simplifyPairAndChart(const Mesh& dense, const ModelRequest& request, const multires::SimplifyOptions& simplify) {
   Built b;
+  b.relaxSweeps = relaxSweepsFor(request, simplify, dense.vertexCount());
   b.model.chartSize = request.chartSize;
   multires::BaseMesh& base = b.model.base;
   base = multires::simplifyStellar(dense, simplify, &b.stats);
@@ -66,7 +74,7 @@ Built simplifyPairAndChart(const Mesh& dense, const ModelRequest& request, const
   b.pairing = multires::pairTriangles(base, dense);
   logInfo("build: " + std::to_string(b.pairing.tiles) + " tiles, " + std::to_string(b.pairing.splits) +
           " edge splits for the matching, " + std::to_string(b.pairing.seconds) + " s");
-  b.model.atlas = atlas::makeAtlas(dense, base, request.chartSize, &b.charts, request.relaxSweeps);
+  b.model.atlas = atlas::makeAtlas(dense, base, request.chartSize, &b.charts, b.relaxSweeps);
   b.model.coincidentTexels = b.charts.coincidentTexels, b.model.gapTexels = b.charts.gapTexels;
   const atlas::AtlasLayout& layout = b.model.atlas.layout;
   logInfo("build: " + std::to_string(layout.charts) + " charts in a " + std::to_string(layout.width()) + " x " +
@@ -132,7 +140,7 @@ atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann
   r["unturned_texels"] = charts.unturnedTexels;
   r["level_two_centres_moved"] = charts.levelTwoCentresMoved;
   r["kept_diagonals"] = charts.keptDiagonals;
-  r["relax_sweeps"] = request.relaxSweeps;
+  r["relax_sweeps"] = built.relaxSweeps;
   r["seconds_simplify"] = stats.seconds;
   r["seconds_match"] = pairing.seconds;
   r["seconds_chart"] = charts.seconds;

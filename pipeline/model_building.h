@@ -23,7 +23,10 @@ struct ModelRequest {
   std::size_t baseVertices = 0;     // instead of baseRatio when set
   double maxError = 0;              // 0: unbounded
   std::uint32_t chartSize = 33;
-  int relaxSweeps = atlas::kDefaultRelaxSweeps;  // texels follow the surface's bending (0: uniform in each tile)
+  // Texels follow the surface's bending (0: uniform in each tile). Unset: atlas::kDefaultRelaxSweeps,
+  // or 0 where the mesh is its own base (each tile two of its triangles, which a uniform grid
+  // samples exactly; relaxed, it folds: bench/RESULTS.md, "Whole meshes unrelaxed").
+  std::optional<int> relaxSweeps;
   bool keepDense = false;  // the model keeps the dense mesh and its parametrisation
   bool hausdorff = true;   // measure the base mesh against the dense one
   std::size_t hausdorffFacePoints = kHausdorffFacePoints;

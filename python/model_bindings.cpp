@@ -48,7 +48,7 @@ void bindModels(py::module_& m) {
       .def_readonly("report", &PyModel::figures, "what `isoatlas build` reports (empty for a loaded model)");
 
   m.def("build", [](const py::object& vertices, const py::object& triangles, std::optional<double> baseRatio, std::uint32_t chartSize, bool hausdorff,
-                    const py::object& progress, int relaxSweeps) {
+                    const py::object& progress, std::optional<int> relaxSweeps) {
         pipeline::ModelRequest request{.baseRatio = baseRatio, .chartSize = chartSize, .relaxSweeps = relaxSweeps, .hausdorff = hausdorff};
         pipeline::checkModelRequest(request);
         const Mesh dense = pipeline::prepareModelInput(toMesh(vertices, triangles));
@@ -62,7 +62,7 @@ void bindModels(py::module_& m) {
         p.figures = toDict(figures);
         return p;
       }, py::arg("vertices"), py::arg("triangles"), py::arg("base_ratio") = py::none(), py::arg("chart_size") = 33, py::arg("hausdorff") = true,
-      py::arg("progress") = py::none(), py::arg("relax_sweeps") = atlas::kDefaultRelaxSweeps,
+      py::arg("progress") = py::none(), py::arg("relax_sweeps") = py::none(),
       "the multiresolution model of a closed triangle mesh (isoatlas build)");
 
   m.def("load_model", [](const std::string& path) {

@@ -824,7 +824,13 @@ TEST(Cli, ASmallMeshIsItsOwnBaseWhereItsTilesSampleCleanly) {
     const std::string model = (dir / (name + ".isoatlas")).string();
     const std::string built = (dir / (name + "_build.json")).string(), rendered = (dir / (name + "_render.json")).string();
     ASSERT_EQ(run("build " + mesh + " -o " + model + " -q --no-hausdorff --report " + built).code, 0) << name;
-    EXPECT_EQ(nlohmann::json::parse(test::readBytes(built))["base_whole"].get<bool>(), whole) << name;
+    const auto b = nlohmann::json::parse(test::readBytes(built));
+    EXPECT_EQ(b["base_whole"].get<bool>(), whole) << name;
+    // Kept whole, each tile is two of the mesh's triangles: its uniform grid lies on them, unfolded
+    // (relaxed by the default 8 sweeps, corner_poly folded 6 quads). mpi's sliver tiles still fold
+    // 349 quads (bench/RESULTS.md).
+    EXPECT_EQ(b["relax_sweeps"].get<int>(), whole ? 0 : 8) << name;
+    if (whole && name != "mpi") EXPECT_EQ(b["folded_texel_quads"].get<std::uint64_t>(), 0u) << name;
     const Result r = run("render " + model + " --cpu-level 0 --gpu-level 5 --size 64,48 -o " + (dir / (name + ".png")).string() +
                          " --capture " + (dir / (name + ".ply")).string() + " --report " + rendered);
     ASSERT_EQ(r.code, 0) << r.err;
