@@ -37,8 +37,8 @@ void checkModelRequest(const ModelRequest& request);
 // `dense`: a triangle mesh (prepareModelInput's). Fills `figures` with what each stage measured.
 atlas::Model buildModel(const Mesh& dense, const ModelRequest& request, nlohmann::json& figures);
 
-// Polygons become triangle fans and vertices no face uses are dropped: the multiresolution stage
-// takes any manifold polygon mesh a scanner or modeller writes.
+// Polygons are split into triangles (core/mesh.h, triangulated) and vertices no face uses are
+// dropped: the multiresolution stage takes any manifold polygon mesh a scanner or modeller writes.
 Mesh prepareModelInput(Mesh mesh);
 
 // chart_size, charts, atlas_width, atlas_height, atlas_efficiency, coincident_texels, gap_texels,
