@@ -10,6 +10,10 @@ namespace {
 // and no file seen has a polygon near it.
 constexpr std::size_t kMostSearched = 256;
 
+// Up to this many corners a polygon whose fans are all slivers or turned is split by the
+// triangulation whose smallest triangle is largest (cubic in the corners), past it by ear clipping.
+constexpr std::size_t kMostOptimised = 64;
+
 using Triangles = std::vector<std::array<std::uint32_t, 3>>;
 
 struct Polygon {
@@ -78,6 +82,81 @@ Triangles ears(const Polygon& p) {
   return out;
 }
 
+// The smallest signed twice-area of `triangles` (as indices into the positions).
+double smallestOf(const Polygon& p, const Triangles& triangles) {
+  double least = std::numeric_limits<double>::infinity();
+  for (const auto& t : triangles) {
+    const Vec3 &a = p.positions[t[0]], &b = p.positions[t[1]], &c = p.positions[t[2]];
+    least = std::min(least, dot(cross(b - a, c - a), p.normal));
+  }
+  return least;
+}
+
+// Whether segments (a, b) and (c, d) meet, seen along the normal (touching and overlapping included).
+bool meet(const Polygon& p, std::size_t a, std::size_t b, std::size_t c, std::size_t d) {
+  const double abc = p.turn(a, b, c), abd = p.turn(a, b, d), cda = p.turn(c, d, a), cdb = p.turn(c, d, b);
+  if (((abc > 0 && abd < 0) || (abc < 0 && abd > 0)) && ((cda > 0 && cdb < 0) || (cda < 0 && cdb > 0))) return true;
+  // Collinear: whether an end of one lies on the other.
+  auto on = [&](std::size_t u, std::size_t v, std::size_t w, double turn) {
+    return turn == 0 && dot(p.at(w) - p.at(u), p.at(w) - p.at(v)) <= 0;
+  };
+  return on(a, b, c, abc) || on(a, b, d, abd) || on(c, d, a, cda) || on(c, d, b, cdb);
+}
+
+// Whether corners a and b (not neighbours) are joined by a diagonal inside the polygon: it leaves a
+// into the polygon's side of a's two edges and meets no edge that does not end at a or b.
+bool isDiagonal(const Polygon& p, std::size_t a, std::size_t b) {
+  const std::size_t k = p.corners.size(), before = (a + k - 1) % k, after = (a + 1) % k;
+  const bool inCone = p.turn(before, a, after) >= 0 ? p.turn(a, b, before) > 0 && p.turn(b, a, after) > 0
+                                                    : !(p.turn(a, b, after) >= 0 && p.turn(b, a, before) >= 0);
+  if (!inCone) return false;
+  for (std::size_t e = 0; e < k; ++e) {
+    const std::size_t f = (e + 1) % k;
+    if (e == a || e == b || f == a || f == b) continue;
+    if (meet(p, a, b, e, f)) return false;
+  }
+  return true;
+}
+
+// The triangulation whose smallest triangle is largest (dynamic programming over the diagonals,
+// O(k^3)); empty where none has every triangle turning as the polygon (it crosses itself).
+Triangles largestSmallest(const Polygon& p) {
+  const std::size_t k = p.corners.size();
+  std::vector<std::uint8_t> joined(k * k, 0);  // the polygon's sides and its diagonals
+  for (std::size_t a = 0; a < k; ++a) {
+    joined[a * k + (a + 1) % k] = joined[((a + 1) % k) * k + a] = 1;
+    for (std::size_t b = a + 2; b < k; ++b)
+      if (!(a == 0 && b + 1 == k) && isDiagonal(p, a, b) && isDiagonal(p, b, a)) joined[a * k + b] = joined[b * k + a] = 1;
+  }
+  constexpr double kNone = -std::numeric_limits<double>::infinity();
+  std::vector<double> best(k * k, kNone);  // best[i k + j]: the chain i .. j closed by j -> i
+  std::vector<std::size_t> apex(k * k, 0);
+  for (std::size_t i = 0; i + 1 < k; ++i) best[i * k + i + 1] = std::numeric_limits<double>::infinity();
+  for (std::size_t gap = 2; gap < k; ++gap)
+    for (std::size_t i = 0; i + gap < k; ++i) {
+      const std::size_t j = i + gap;
+      if (!joined[i * k + j]) continue;
+      for (std::size_t m = i + 1; m < j; ++m) {
+        const double turn = p.turn(i, m, j);
+        if (!(turn > p.tolerance) || !joined[i * k + m] || !joined[m * k + j]) continue;
+        const double least = std::min({turn, best[i * k + m], best[m * k + j]});
+        if (least > best[i * k + j]) best[i * k + j] = least, apex[i * k + j] = m;
+      }
+    }
+  if (best[k - 1] == kNone) return {};
+  Triangles out;
+  std::vector<std::pair<std::size_t, std::size_t>> chains{{0, k - 1}};
+  while (!chains.empty()) {
+    const auto [i, j] = chains.back();
+    chains.pop_back();
+    if (j - i < 2) continue;
+    const std::size_t m = apex[i * k + j];
+    out.push_back({p.corners[i], p.corners[m], p.corners[j]});
+    chains.push_back({i, m}), chains.push_back({m, j});
+  }
+  return out;
+}
+
 }  // namespace
 
 Vec3 newellNormal(std::span<const Vec3> positions, std::span<const std::uint32_t> corners) {
@@ -99,8 +178,15 @@ Triangles triangulatePolygon(std::span<const Vec3> positions, std::span<const st
   p.tolerance = 1e-12 * extent;
 
   const std::size_t searched = k <= kMostSearched ? k : 1;
+  const double sliver = 1e-6 * norm(n);  // a triangle this thin samples the model's charts onto a line
   for (std::size_t apex = 0; apex < searched; ++apex)
-    if (smallestTurn(p, apex) > p.tolerance) return fan(p, apex);
+    if (const double least = smallestTurn(p, apex); least > p.tolerance) {
+      if (least < sliver && k <= kMostOptimised)
+        if (Triangles t = largestSmallest(p); !t.empty() && smallestOf(p, t) > least) return t;
+      return fan(p, apex);
+    }
+  if (k <= kMostOptimised)
+    if (Triangles t = largestSmallest(p); !t.empty()) return t;
   if (k <= kMostSearched)
     if (Triangles t = ears(p); !t.empty()) return t;
   // Crossing itself, or of no area: the fan whose smallest triangle is largest, by unsigned area.

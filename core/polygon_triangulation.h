@@ -5,8 +5,12 @@
 // and mpi.off), and the model built on them folds. So:
 //   - a fan round the first corner whose fan has every triangle turning as the polygon, none of no
 //     area (the first corner for a convex polygon: most files' polygons split as before);
-//   - where no corner sees the whole polygon (a comb, 11 of mpi.off's polygons), ear clipping in the
-//     polygon's plane: an ear is a corner turning as the polygon whose triangle holds no other corner;
+//   - where that fan has a sliver (a triangle under a millionth of the polygon's area: a corner a
+//     file's rounding leaves a hair off a straight side, two of mpi.off's polygons), or no corner
+//     sees the whole polygon (a comb, 11 of mpi.off's), the split whose smallest triangle is largest,
+//     over the diagonals inside the polygon (up to 64 corners; cubic in them);
+//   - past 64 corners, ear clipping in the polygon's plane: an ear is a corner turning as the
+//     polygon whose triangle holds no other corner;
 //   - a polygon with no ear (it crosses itself, or has no area): the fan whose smallest triangle is
 //     largest.
 // "Turning as the polygon" is along the polygon's Newell normal (its vector area), so a polygon a

@@ -77,12 +77,48 @@ TEST(Triangulated, AnLShapeSplitsRoundTheCornerThatSeesItAll) {
   expectCoveredOnce(polygon(tilted), n, 3);
 }
 
-// A comb: no corner sees the whole polygon, so no fan covers it once (ear clipping does).
-TEST(Triangulated, ACombThatNoCornerSeesWholeIsClippedByEars) {
-  const Mesh m = polygon({{0, 0, 0}, {5, 0, 0}, {5, 3, 0}, {4, 3, 0}, {4, 1, 0}, {3, 1, 0}, {3, 3, 0}, {2, 3, 0},
-                          {2, 1, 0}, {1, 1, 0}, {1, 3, 0}, {0, 3, 0}});
-  for (std::size_t apex = 0; apex < m.vertexCount(); ++apex) ASSERT_TRUE(fanTurns(m, apex, {0, 0, 1})) << apex;
-  expectCoveredOnce(m, {0, 0, 1}, 11);
+// A comb of `prongs` prongs (1 wide, 2 tall, 1 apart, on a base 1 tall): no corner sees it whole,
+// so no fan covers it once. 4 prongs is split by the largest smallest triangle, 17 (68 corners) by
+// ear clipping.
+Mesh comb(int prongs) {
+  std::vector<Vec3> corners{{0, 0, 0}, {2.0 * prongs - 1, 0, 0}};
+  for (int p = prongs - 1; p >= 0; --p) {
+    corners.push_back({2.0 * p + 1, 3, 0}), corners.push_back({2.0 * p, 3, 0});
+    if (p > 0) corners.push_back({2.0 * p, 1, 0}), corners.push_back({2.0 * p - 1, 1, 0});
+  }
+  return polygon(corners);
+}
+
+TEST(Triangulated, ACombThatNoCornerSeesWholeIsCoveredOnce) {
+  for (const int prongs : {3, 17}) {
+    const Mesh m = comb(prongs);
+    for (std::size_t apex = 0; apex < m.vertexCount(); ++apex) ASSERT_TRUE(fanTurns(m, apex, {0, 0, 1})) << apex;
+    expectCoveredOnce(m, {0, 0, 1}, 4.0 * prongs - 1);
+  }
+}
+
+// A corner a hair off a straight side (as a file's rounding leaves a mid-side vertex): the fan round
+// the first corner is valid but lays a sliver, which maps a stretch of a chart onto a line; the split
+// whose smallest triangle is largest has none.
+TEST(Triangulated, ACornerAHairOffASideGetsNoSliver) {
+  const auto smallest = [](const Mesh& t) {
+    double least = 1e300;
+    for (std::size_t f = 0; f < t.faceCount(); ++f) {
+      const auto c = t.face(f);
+      least = std::min(least, cross(t.positions[c[1]] - t.positions[c[0]], t.positions[c[2]] - t.positions[c[0]]).z);
+    }
+    return least;
+  };
+  const Mesh m = polygon({{0, 0, 0}, {1, -1e-9, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}});
+  ASSERT_FALSE(fanTurns(m, 0, {0, 0, 1}));  // valid round its first corner, with (0, 1, 2) of 2e-9
+  expectCoveredOnce(m, {0, 0, 1}, 4 + 1e-9);
+  EXPECT_GT(smallest(triangulated(m)), 0.5);
+  // The same in float32 decimals: (0.4, 0.35) lies on the side from (0.1, 0.2) to (0.7, 0.5) to rounding.
+  std::vector<Vec3> rounded;
+  for (const auto& [x, y] : std::vector<std::pair<float, float>>{{0.1f, 0.2f}, {0.4f, 0.35f}, {0.7f, 0.5f}, {0.5f, 0.9f}, {0, 0.6f}})
+    rounded.push_back({double(x), double(y), 0});
+  const Mesh r = polygon(rounded);
+  EXPECT_GT(smallest(triangulated(r)), 1e-3 * newellNormal(r.positions, r.face(0)).z);
 }
 
 TEST(Triangulated, NewellNormalIsTwiceTheVectorArea) {
