@@ -76,8 +76,8 @@ inline constexpr std::uint32_t kNoTriangle = ~0u;
 std::vector<std::array<std::uint32_t, 3>> triangleNeighbours(std::span<const std::array<std::uint32_t, 3>> triangles);
 
 // The mesh with each polygon split into triangles that cover it once, each turning as the polygon
-// does (core/polygon_triangulation.h: a fan round a corner that sees the whole polygon, else ear
-// clipping); positions and normals kept. A triangle of no area maps a stretch of the model's charts
+// does (core/polygon_triangulation.h: a fan round a corner that sees the whole polygon, else the
+// split whose smallest triangle is largest, else ear clipping); positions and normals kept. A triangle of no area maps a stretch of the model's charts
 // onto one point, and one turned over folds them (mpi.off, corner_poly.off: level 10 not a manifold).
 Mesh triangulated(const Mesh& mesh);
 
