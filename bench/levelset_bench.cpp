@@ -184,12 +184,14 @@ Convergence runItk(Filter* filter, int maxIterations, float insideSign) {
 // halfResolutionStart: start from the solution at half the resolution (pipeline/coarse_start.h), as
 // `segment --converge` does; its time is counted in the seconds to convergence.
 // topology: Preserve for "-topology" (segment --topology preserve), its cost beside the free front's.
+// pagesOnHost: on the GPU, the host applies each iteration's messages (LevelSetOptions::pagesOnDevice
+// false, "-host-pages"), to compare with the GPU managing its pages.
 Convergence runOurs(const Volume& v, const Case& c, levelset::Backend backend, bool halfResolutionStart = false,
-                    levelset::Topology topology = levelset::Topology::Free) {
+                    levelset::Topology topology = levelset::Topology::Free, bool pagesOnHost = false) {
   // The GPU solver runs in the caller's context, made here before it (so destroyed after it).
   const auto context = backend == levelset::Backend::Gpu ? gl::Context::headless() : nullptr;
   const auto start = Clock::now();
-  levelset::LevelSet ls(v, c.params, {.backend = backend, .topology = topology});
+  levelset::LevelSet ls(v, c.params, {.backend = backend, .topology = topology, .pagesOnDevice = !pagesOnHost});
   std::vector<pipeline::Ball> seeds;
   for (const auto& s : c.seeds) seeds.push_back({{s[0], s[1], s[2]}, s[3]});
   if (halfResolutionStart) {
@@ -199,9 +201,13 @@ Convergence runOurs(const Volume& v, const Case& c, levelset::Backend backend, b
   }
   Convergence conv;
   if (context) conv.device = context->info().renderer;
-  std::vector<std::size_t> activePages;  // each iteration's
-  for (int i = 1; i <= c.maxIterations; ++i) {
-    activePages.push_back(ls.step().messages.size());
+  std::vector<std::size_t> activePages;  // each iteration's, as it ends
+  // Runs of at most 64 iterations up to each snapshot (LevelSet::run: on the GPU, the page chain).
+  for (int i = 0; i < c.maxIterations;) {
+    const int n = std::min({64, conv.next - i, c.maxIterations - i});
+    ls.run({.maxIterations = n, .untilConverged = false,
+            .progress = [&](int, std::int64_t active) { activePages.push_back(std::size_t(active)); }});
+    i += n;
     if (std::chrono::duration<double>(Clock::now() - start).count() > capSeconds()) break;
     if (i < conv.next) continue;
     const Volume m = ls.mask();
@@ -225,10 +231,13 @@ Convergence runOurs(const Volume& v, const Case& c, levelset::Backend backend, b
   return conv;
 }
 
-// Our solvers: isoatlas-cpu, isoatlas-gpu, and each with "-half-start" or "-topology" (preserved).
+// Our solvers: isoatlas-cpu, isoatlas-gpu, and each with "-half-start" or "-topology" (preserved);
+// isoatlas-gpu-host-pages.
 bool isHalfStart(const std::string& solver) { return solver.ends_with("-half-start"); }
 bool isTopology(const std::string& solver) { return solver.ends_with("-topology"); }
+bool isHostPages(const std::string& solver) { return solver.ends_with("-host-pages"); }
 bool isOurs(const std::string& solver) {
+  if (solver == "isoatlas-gpu-host-pages") return true;
   for (const char* s : {"isoatlas-cpu", "isoatlas-gpu"})
     if (solver == s || solver == std::string(s) + "-half-start" || solver == std::string(s) + "-topology") return true;
   return false;
@@ -241,7 +250,8 @@ int runOne(const std::string& solver, const Case& c, const Volume& v, const std:
   const float lower = c.params.target - c.params.width, upper = c.params.target + c.params.width;
   if (isOurs(solver)) {
     conv = runOurs(v, c, solver.rfind("isoatlas-gpu", 0) == 0 ? levelset::Backend::Gpu : levelset::Backend::Cpu,
-                   isHalfStart(solver), isTopology(solver) ? levelset::Topology::Preserve : levelset::Topology::Free);
+                   isHalfStart(solver), isTopology(solver) ? levelset::Topology::Preserve : levelset::Topology::Free,
+                   isHostPages(solver));
   } else if (solver == "itk-serial") {
     using Filter = itk::ThresholdSegmentationLevelSetImageFilter<Image, Image>;
     auto f = Filter::New();
@@ -320,7 +330,7 @@ int main(int argc, char** argv) {
   const std::string self = std::filesystem::canonical("/proc/self/exe").string();
   std::vector<std::string> solvers = {"isoatlas-cpu", "isoatlas-cpu-half-start", "isoatlas-cpu-topology", "itk-serial", "itk-parallel"};
   if (std::getenv("ISOATLAS_BENCH_GPU"))
-    solvers.insert(solvers.begin() + 3, {"isoatlas-gpu", "isoatlas-gpu-half-start", "isoatlas-gpu-topology"});
+    solvers.insert(solvers.begin() + 3, {"isoatlas-gpu", "isoatlas-gpu-host-pages", "isoatlas-gpu-half-start", "isoatlas-gpu-topology"});
   // ISOATLAS_BENCH_SOLVERS=a,b keeps only those (a GPU lease too short for ITK's serial filter, say).
   if (const char* keep = std::getenv("ISOATLAS_BENCH_SOLVERS")) {
     std::vector<std::string> kept;
@@ -367,6 +377,18 @@ int main(int argc, char** argv) {
                       figures[fullStartOf(ours)]["seconds"], true, device);
         bench::report("levelset", c.name + ", " + ours, "Dice with the peer's result", dice(maskOf(ours), maskOf(fullStartOf(ours))),
                       full, 1.0, false, device);
+      }
+      // The GPU managing its own pages beside the host applying each iteration's messages: the same
+      // phi bit for bit (level_set_test), so Dice 1; the time is what the host's work cost.
+      if (isHostPages(ours) && figures.count("isoatlas-gpu")) {
+        const std::string device = figures[ours]["device"].get<std::string>();
+        const std::string host = "isoatlas-gpu with the host applying each iteration's messages";
+        for (const char* figure : {"ms_per_iteration", "seconds"})
+          bench::report("levelset", c.name + ", isoatlas-gpu", std::string(figure) == "seconds" ? "seconds to convergence" : "ms per iteration",
+                        figures["isoatlas-gpu"][figure], host, figures[ours][figure], true, device);
+        bench::report("levelset", c.name + ", isoatlas-gpu", "Dice with the peer's result", dice(maskOf("isoatlas-gpu"), maskOf(ours)), host,
+                      1.0, false, device);
+        continue;
       }
       // The preserved topology's cost beside the free front on the same backend, and how far its voxels differ.
       if (isTopology(ours) && figures.count(fullStartOf(ours))) {

@@ -1,6 +1,9 @@
 #include "levelset/gpu_solver.h"
 
+#include <cstddef>
 #include <cstring>
+#include <memory>
+#include <optional>
 
 #include "core/error.h"
 #include "core/gl/context.h"
@@ -8,6 +11,7 @@
 #include "core/gl/resources.h"
 #include "core/gl/stage_profile.h"
 #include "kLevelsetShaders.h"
+#include "levelset/gpu_page_chain.h"
 #include "levelset/simple_point.h"
 #include "levelset/speed.h"
 
@@ -44,14 +48,12 @@ public:
                           {"PRESERVE_TOPOLOGY", topology_ == Topology::Preserve ? "1" : "0"},
                           {"HELD_OFF_FRONT", gl::glslFloat(kHeldOffFront)}};
       for (const auto& d : simplePointDefines()) defines.push_back(d);
-      speed_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/speed.comp", defines);
-      update_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/update.comp", defines);
-      message_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/message.comp", defines);
+      defines_ = defines;
+      hostDriven_ = passes(defines, false);
       writePages_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/write_pages.comp", defines);
-      if (topology_ == Topology::Preserve) topologyPass_ = &ctx_.compute(gl::kLevelsetShaders, "levelset/shaders/topology.comp", defines);
     }
     profile_.stage("pages changed: grow pool");
-    growPool(pm);
+    growPool(pm.poolPagesX(), pm.capacity());
     profile_.stage("pages changed: fill new pages");
     if (!filled.empty()) {
       std::vector<std::pair<Origin, float>> fills;
@@ -100,51 +102,8 @@ public:
     const std::size_t messageBytes = (std::size_t(pageCount_) + 3) / 4 * 4;  // a byte per active page
     messages_.fillZero(2 * messageBytes);  // the messages, then the moved bytes
     evaluate_.upload(evaluate.data(), evaluate.size());  // the last word's bytes past the pages are never read
-    pageTable_.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
-    counters_.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
-    messages_.bindBase(GL_SHADER_STORAGE_BUFFER, 2);
-    evaluate_.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
-    const auto [groupsX, groupsY] = gl::dispatchGrid(std::uint64_t(pageCount_));
-
-    profile_.stage("speed");
-    setCommon(*speed_);
-    glUniform1f(speed_->uniform("target"), params.target);
-    glUniform1f(speed_->uniform("width"), params.width);
-    glUniform1f(speed_->uniform("alpha"), params.alpha);
-    glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-    glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    glBindImageTexture(2, sourcePool_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-    speed_->dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-
-    profile_.stage("update");
-    setCommon(*update_);
-    glUniform1f(update_->uniform("alpha"), params.alpha);
-    glUniform1f(update_->uniform("settledChange"), settledChange);
-    glUniform1i(update_->uniform("movedOffset"), int(messageBytes / 4));
-    glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-    const bool preserve = topology_ == Topology::Preserve;
-    glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, preserve ? GL_READ_WRITE : GL_READ_ONLY, GL_R32F);
-    glBindImageTexture(2, phi_[1 - current_].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
-    update_->dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-    if (preserve) {
-      profile_.stage("topology: sides changed where simple");
-      setCommon(*topologyPass_);
-      glUniform1f(topologyPass_->uniform("settledChange"), settledChange);
-      glUniform1i(topologyPass_->uniform("movedOffset"), int(messageBytes / 4));
-      glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-      glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-      glBindImageTexture(2, phi_[1 - current_].id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
-      for (int parity = 0; parity < 8; ++parity) {  // one class after another: each reads the ones before
-        glUniform1i(topologyPass_->uniform("parity"), parity);
-        topologyPass_->dispatch(groupsX, groupsY, 1, GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-      }
-    }
+    solverPasses(hostDriven_, params, settledChange, int(messageBytes / 4));
     current_ = 1 - current_;
-
-    profile_.stage("messages");
-    setCommon(*message_);
-    glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
-    message_->dispatch(groupsX, groupsY, 1, GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
 
     // The only read back: 16 bytes of counters and two bytes per active page.
     profile_.stage("read back counters and messages");
@@ -160,6 +119,69 @@ public:
     result.bytesReadBack = sizeof counters + bytes.size();
     profile_.end();
     return result;
+  }
+
+  std::optional<DeviceRun> runOnDevice(PageManager& pm, const SpeedParams& params, const std::vector<std::uint8_t>& evaluate,
+                                       float settledChange, const DeviceRunRequest& request) override {
+    requireCurrent();
+    if (request.window < 1 || request.window > kChainRingSize || P_ == 0) return std::nullopt;
+    if (!chain_) {
+      if (!GpuPageChain::fits(source_.size())) return std::nullopt;
+      chain_ = std::make_unique<GpuPageChain>(ctx_, defines_, pm.pages(), dims_, source_);
+      onDevice_ = passes(defines_, true);
+    }
+    DeviceRun run;
+    std::int32_t capacity = pm.capacity();
+    std::int64_t growths = 0;
+    startChain(pm, evaluate);
+    const ChainStop stop{request.untilConverged, request.window, double(request.changedVoxels), request.changedShare};
+    auto targets = [&] {
+      return ChainTargets{phi_[current_].id(), sourcePool_.id(), pageTable_, messages_, evaluate_, movedOffsetOnDevice(capacity)};
+    };
+    const bool evaluateAll = !(settledChange > 0);
+    // Each iteration writes the other phi copy; iterations queued past a stop or a stall do nothing,
+    // so which copy is current follows the iterations done, not those queued.
+    const int firstCurrent = current_;
+    bool resumed = false;  // a stalled iteration was finished after the last read
+    while (true) {
+      const int n = std::min(kChainIterations, request.maxIterations - run.iterations - (resumed ? 1 : 0));
+      for (int i = 0; i < n; ++i) {
+        profile_.stage("clear messages");
+        messages_.fillZero();
+        solverPasses(onDevice_, params, settledChange, movedOffsetOnDevice(capacity));
+        current_ = 1 - current_;  // solverPasses wrote the other copy
+        profile_.stage("page passes (on the device)");
+        chain_->pagePasses(targets(), evaluateAll, stop);
+        profile_.endCall();  // with profiling on, stage times are means per iteration
+      }
+      if (n <= 0 && !resumed) break;
+      profile_.stage("read back the page state");
+      const PageState state = chain_->readState();
+      profile_.end();
+      logIterations(state, request, run);
+      current_ = firstCurrent ^ (run.iterations & 1);
+      resumed = false;
+      if (state.stopped) {
+        run.converged = true;
+        break;
+      }
+      if (state.stalled) {  // more new pages than free slots: grow the pool, then finish the iteration
+        std::int32_t grownTo = capacity;
+        while (state.freeTop + (grownTo - capacity) < state.newCount) grownTo = pm.grownCapacity(grownTo);
+        growPool(pm.poolPagesX(), grownTo);
+        sizeForChain(grownTo);
+        chain_->grow(capacity, grownTo, state);
+        capacity = grownTo;
+        ++growths;
+        current_ = firstCurrent ^ ((run.iterations + 1) & 1);  // the stalled iteration's phi
+        chain_->pagePasses(targets(), evaluateAll, stop, true);
+        resumed = true;
+        continue;
+      }
+      if (run.iterations >= request.maxIterations) break;
+    }
+    finishChain(pm, capacity, growths, run);
+    return run;
   }
 
   std::vector<float> readSlots(const PageManager& pm, const std::vector<std::int32_t>& slots) override {
@@ -233,13 +255,135 @@ private:
     glUniform3i(p.uniform("dims"), int(dims_[0]), int(dims_[1]), int(dims_[2]));
   }
 
-  // Grows the pool textures to the page manager's capacity, keeping what they hold: rows are appended,
-  // so every slot keeps its origin. The static pages are written once, into both copies.
-  void growPool(const PageManager& pm) {
-    const int width = pm.poolPagesX() * P_, height = pm.capacity() / pm.poolPagesX() * P_;
+  // The solver's passes, driven by the host (pageCount a uniform) or on the device (PAGES_ON_GPU: the
+  // count and the grids from the chain's state).
+  struct Passes {
+    const gl::Program *speed = nullptr, *update = nullptr, *message = nullptr, *topology = nullptr;
+    bool onDevice = false;
+  };
+  Passes passes(gl::Defines defines, bool onDevice) {
+    defines.push_back({"PAGES_ON_GPU", onDevice ? "1" : "0"});
+    auto program = [&](const char* path) { return &ctx_.compute(gl::kLevelsetShaders, path, defines); };
+    Passes p{program("levelset/shaders/speed.comp"), program("levelset/shaders/update.comp"),
+             program("levelset/shaders/message.comp"), nullptr, onDevice};
+    if (topology_ == Topology::Preserve) p.topology = program("levelset/shaders/topology.comp");
+    return p;
+  }
+
+  // Speed, update (and the topology's classes) and messages over the active pages, from phi_[current_]
+  // into the other copy.
+  void solverPasses(const Passes& p, const SpeedParams& params, float settledChange, int movedOffset) {
+    pageTable_.bindBase(GL_SHADER_STORAGE_BUFFER, 0);
+    counters_.bindBase(GL_SHADER_STORAGE_BUFFER, 1);
+    messages_.bindBase(GL_SHADER_STORAGE_BUFFER, 2);
+    evaluate_.bindBase(GL_SHADER_STORAGE_BUFFER, 3);
+    if (p.onDevice) chain_->state().bindBase(GL_SHADER_STORAGE_BUFFER, 5);
+    const std::array<GLuint, 2> grid = gl::dispatchGrid(std::uint64_t(pageCount_));  // no structured binding: clang 14 captures none
+    const GLbitfield barrier = GL_SHADER_IMAGE_ACCESS_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT;
+    auto dispatch = [&](const gl::Program& program, GLbitfield after) {
+      if (p.onDevice) program.dispatchIndirect(chain_->state().id(), offsetof(PageState, pageArgs), after | GL_COMMAND_BARRIER_BIT);
+      else program.dispatch(grid[0], grid[1], 1, after);
+    };
+    profile_.stage("speed");
+    setCommon(*p.speed);
+    glUniform1f(p.speed->uniform("target"), params.target);
+    glUniform1f(p.speed->uniform("width"), params.width);
+    glUniform1f(p.speed->uniform("alpha"), params.alpha);
+    glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    glBindImageTexture(2, sourcePool_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    dispatch(*p.speed, barrier);
+
+    profile_.stage("update");
+    setCommon(*p.update);
+    glUniform1f(p.update->uniform("alpha"), params.alpha);
+    glUniform1f(p.update->uniform("settledChange"), settledChange);
+    glUniform1i(p.update->uniform("movedOffset"), movedOffset);
+    glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    const bool preserve = topology_ == Topology::Preserve;
+    glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, preserve ? GL_READ_WRITE : GL_READ_ONLY, GL_R32F);
+    glBindImageTexture(2, phi_[1 - current_].id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_R32F);
+    dispatch(*p.update, barrier);
+    if (preserve) {
+      profile_.stage("topology: sides changed where simple");
+      setCommon(*p.topology);
+      glUniform1f(p.topology->uniform("settledChange"), settledChange);
+      glUniform1i(p.topology->uniform("movedOffset"), movedOffset);
+      glBindImageTexture(0, phi_[current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+      glBindImageTexture(1, rate_.id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+      glBindImageTexture(2, phi_[1 - current_].id(), 0, GL_FALSE, 0, GL_READ_WRITE, GL_R32F);
+      for (int parity = 0; parity < 8; ++parity) {  // one class after another: each reads the ones before
+        glUniform1i(p.topology->uniform("parity"), parity);
+        dispatch(*p.topology, barrier);
+      }
+    }
+
+    profile_.stage("messages");
+    setCommon(*p.message);
+    glBindImageTexture(0, phi_[1 - current_].id(), 0, GL_FALSE, 0, GL_READ_ONLY, GL_R32F);
+    dispatch(*p.message, GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+  }
+
+  // The page manager's state and the first iteration's evaluate bytes onto the GPU, the counters at 0.
+  void startChain(const PageManager& pm, const std::vector<std::uint8_t>& evaluate) {
+    sizeForChain(pm.capacity());
+    evaluate_.fillZero();
+    if (!evaluate.empty()) evaluate_.upload(evaluate.data(), evaluate.size());
+    const std::uint32_t zeros[4] = {0, 0, 0, 0};
+    counters_.upload(zeros, sizeof zeros);
+    chain_->upload(pm);
+  }
+
+  // The iterations the state logs since the last read: their time steps, and progress.
+  static void logIterations(const PageState& state, const DeviceRunRequest& request, DeviceRun& run) {
+    run.bytesReadBack += sizeof(PageState);
+    for (int i = run.iterations; i < state.iterations; ++i) {
+      const auto& entry = state.log[i % kChainLogSize];
+      float dt;
+      std::memcpy(&dt, &entry[1], 4);
+      run.dt.push_back(dt);
+      if (request.progress) request.progress(i + 1, entry[2]);
+    }
+    run.iterations = state.iterations;
+  }
+
+  // The GPU's pages back into pm, and which of them the next iteration evaluates.
+  void finishChain(PageManager& pm, std::int32_t capacity, std::int64_t growths, DeviceRun& run) {
+    chain_->download(pm, capacity, growths);
+    pageCount_ = std::int32_t(pm.activePages().size());
+    run.nextEvaluate.resize((std::size_t(pageCount_) + 3) / 4 * 4);
+    if (pageCount_ > 0) evaluate_.download(run.nextEvaluate.data(), run.nextEvaluate.size());
+    run.nextEvaluate.resize(std::size_t(pageCount_));
+    // The chain copied the active pages' intensities into their slots; what the others hold is unknown.
+    slotPage_.assign(std::size_t(pm.capacity()), -1);
+    for (std::int64_t page : pm.activePages()) slotPage_[std::size_t(pm.slotOf(page))] = page;
+    run.bytesReadBack += pm.pageTable().size() * 4 + (pm.activePages().size() + pm.freeSlots().size()) * 4 + run.nextEvaluate.size();
+  }
+
+  // On the device, the moved bytes follow room for every slot's message.
+  static int movedOffsetOnDevice(std::int32_t capacity) { return (capacity + 3) / 4; }
+
+  // The per-page buffers the chain writes, room for `capacity` pages, keeping what they hold.
+  void sizeForChain(std::int32_t capacity) {
+    auto atLeast = [](gl::Buffer& b, std::size_t bytes) {
+      if (b.bytes() >= bytes) return;
+      gl::Buffer grown(bytes);
+      if (b.bytes() > 0) glCopyNamedBufferSubData(b.id(), grown.id(), 0, 0, GLsizeiptr(b.bytes()));
+      b = std::move(grown);
+    };
+    const std::size_t words = std::size_t(movedOffsetOnDevice(capacity));
+    atLeast(pageTable_, std::size_t(capacity) * sizeof(PageEntry));
+    atLeast(messages_, 2 * words * 4);
+    atLeast(evaluate_, words * 4);
+  }
+
+  // Grows the pool textures to `capacity` slots, keeping what they hold: rows are appended, so every
+  // slot keeps its origin. The static pages are written once, into both copies.
+  void growPool(std::int32_t poolPagesX, std::int32_t capacity) {
+    const int width = poolPagesX * P_, height = capacity / poolPagesX * P_;
     if (height <= poolHeight_) return;
     if (height > ctx_.info().maxTextureSize)
-      throw Error("the GPU's physical page pool is full (" + std::to_string(pm.capacity()) + " pages); use --backend cpu",
+      throw Error("the GPU's physical page pool is full (" + std::to_string(capacity) + " pages); use --backend cpu",
                   ErrorKind::Failure);
     glMemoryBarrier(GL_ALL_BARRIER_BITS);  // image stores before the copies below read the texels
     for (gl::Texture* t : {&phi_[0], &phi_[1], &rate_, &sourcePool_}) {
@@ -248,7 +392,7 @@ private:
       *t = std::move(grown);
     }
     if (poolHeight_ == 0) {
-      const auto out = pm.slotOrigin(kOutsideSlot), in = pm.slotOrigin(kInsideSlot);
+      const Origin out{0, 0}, in{P_, 0};  // slots 0 and 1 (PageManager::slotOrigin)
       const std::vector<std::pair<Origin, float>> statics{{out, -kClamp}, {in, kClamp}};
       fillPages(phi_[0], statics);
       fillPages(phi_[1], statics);
@@ -319,8 +463,10 @@ private:
   std::vector<std::int64_t> slotPage_;  // per slot: the page whose intensities sourcePool_ holds there
   gl::Texture phi_[2], rate_, sourcePool_;
   gl::Buffer pageTable_, counters_, messages_, evaluate_;  // evaluate_: a byte per active page, iterate's
-  const gl::Program *speed_ = nullptr, *update_ = nullptr, *message_ = nullptr, *writePages_ = nullptr;  // ctx_'s
-  const gl::Program* topologyPass_ = nullptr;  // Topology::Preserve's pass 2b
+  gl::Defines defines_;  // the shaders' constants, for the chain's programs
+  Passes hostDriven_, onDevice_;  // ctx_'s programs
+  const gl::Program* writePages_ = nullptr;
+  std::unique_ptr<GpuPageChain> chain_;  // made at the first run on the device
   std::vector<float> hostPool_;  // phiPoolOnHost's copy
   int current_ = 0, P_ = 0, poolWidth_ = 0, poolHeight_ = 0;
   std::int32_t pageCount_ = 0;

@@ -40,6 +40,7 @@ LevelSet::LevelSet(const Volume& source, const SpeedParams& params, const LevelS
   backend_ = options.backend == Backend::Gpu ? makeGpuSolver(std::move(intensities), source.dims, options.topology)
                                              : makeCpuSolver(intensities, source.dims, options.pageSize, options.topology);
   renumberPages_ = options.renumberPages && options.backend != Backend::Gpu;
+  pagesOnDevice_ = options.pagesOnDevice && options.backend == Backend::Gpu;
   mark_.assign(std::size_t(pages_->virtualPageCount()), 0);
   movedPage_.assign(std::size_t(pages_->virtualPageCount()), 0);
   wake_.assign(std::size_t(pages_->virtualPageCount()), 0);
@@ -251,7 +252,10 @@ void LevelSet::markMoved(std::int64_t page) {
 std::vector<std::uint8_t> LevelSet::pagesToEvaluate() {
   const std::vector<std::int64_t>& active = pages_->activePages();
   std::vector<std::uint8_t> evaluate(active.size(), 1);
+  std::vector<std::uint8_t> fromDevice = std::move(evaluateNext_);
+  evaluateNext_.clear();
   if (wakeAll_ || !(settledChange_ > 0)) return evaluate;
+  if (!fromDevice.empty() || active.empty()) return fromDevice;  // a run on the device found them
   // The moved pages' neighbourhoods marked, then read per active page: the moved pages are the fewer.
   const auto np = pages_->pages();
   std::vector<std::int64_t> woken;
@@ -290,9 +294,33 @@ bool windowConverged(std::int64_t changesInWindow, std::int64_t activeVoxels, co
   return double(changesInWindow) < std::max(double(options.changedVoxels), options.changedShare * double(activeVoxels));
 }
 
+bool LevelSet::runOnDevice(const RunOptions& options, RunStats& stats) {
+  if (!pagesOnDevice_ || options.maxIterations <= 0) return false;
+  const DeviceRunRequest request{options.maxIterations, options.untilConverged, options.window, double(options.changedVoxels),
+                                 options.changedShare, options.progress};
+  std::optional<DeviceRun> run = backend_->runOnDevice(*pages_, params_, pagesToEvaluate(), settledChange_, request);
+  if (!run) return false;
+  wakeAll_ = false;
+  for (const std::int64_t page : movedList_) movedPage_[std::size_t(page)] = 0;
+  movedList_.clear();
+  evaluateNext_ = std::move(run->nextEvaluate);
+  for (const float dt : run->dt) simulatedTime_ += dt;
+  iterations_ += run->iterations;
+  physicalBytesPeak_ = std::max(physicalBytesPeak_, backend_->physicalBytes());
+  stats.iterations = run->iterations;
+  stats.converged = run->converged;
+  stats.bytesReadBackPerIteration = run->iterations ? run->bytesReadBack / std::uint64_t(run->iterations) : 0;
+  return true;
+}
+
 RunStats LevelSet::run(const RunOptions& options) {
   RunStats stats;
   const auto start = std::chrono::steady_clock::now();
+  if (runOnDevice(options, stats)) {
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    stats.simulatedTime = simulatedTime_;
+    return stats;
+  }
   std::uint64_t bytes = 0;
   std::deque<std::int64_t> recentSignChanges;  // over the last `window` iterations
   while (stats.iterations < options.maxIterations) {

@@ -34,6 +34,11 @@ struct LevelSetOptions {
   // components), as Han, Xu and Prince's level set (solver_backend.h). Steering (spheres, masks) is
   // not held to it.
   Topology topology = Topology::Free;
+  // GPU backend: run() leaves the page manager's work to the GPU (levelset/gpu_page_chain.h), the host
+  // reading a small state block every kChainIterations iterations instead of the messages every
+  // iteration. phi is the same bit for bit; false: the host applies each iteration's messages, as
+  // step() always does (to compare).
+  bool pagesOnDevice = true;
 };
 
 // --topology's words: "free" or "preserve"; throws Error (bad input) for another, naming `option`
@@ -107,6 +112,8 @@ private:
   Volume dense(ScalarType type, Convert convert) const;
   void commit(const std::vector<std::pair<std::int32_t, float>>& filled);
   void renumberWhenScattered();
+  // run() on the backend alone (SolverBackend::runOnDevice); false where it cannot.
+  bool runOnDevice(const RunOptions& options, RunStats& stats);
 
   Volume geometry_;  // the source's geometry, no data
   SpeedParams params_;
@@ -116,9 +123,11 @@ private:
   float settledChange_;
   bool wakeAll_ = true;                  // the next iteration evaluates every active page
   bool renumberPages_ = false;           // the CPU backend's pool: slots kept in page order (renumberWhenScattered)
+  bool pagesOnDevice_ = false;           // run() asks the backend to run on its own first (LevelSetOptions)
   std::vector<std::uint8_t> movedPage_;  // per virtual page: it moved in the last iteration, or was activated
   std::vector<std::int64_t> movedList_;  // the pages movedPage_ marks
   std::vector<std::uint8_t> wake_;       // per virtual page, within pagesToEvaluate
+  std::vector<std::uint8_t> evaluateNext_;  // after a run on the device: its pagesToEvaluate, found there
   std::uint32_t epoch_ = 0;
   int iterations_ = 0;
   double simulatedTime_ = 0;

@@ -22,10 +22,8 @@ PageManager::PageManager(std::array<std::int64_t, 3> dims, int pageSize, std::in
 }
 
 void PageManager::grow() {
-  // Whole rows, doubling the pool (at least one row), so slot origins never move.
-  const std::int32_t rows = capacity_ == 0 ? 1 : std::max<std::int32_t>(1, capacity_ / poolPagesX_);
   const std::int32_t old = capacity_;
-  capacity_ += rows * poolPagesX_;
+  capacity_ = grownCapacity(capacity_);
   inverseTable_.resize(std::size_t(capacity_), -1);
   activePosition_.resize(std::size_t(capacity_), -1);
   // Pushed in reverse so low slots are used first; slots 0 and 1 stay static.
@@ -82,6 +80,31 @@ std::vector<std::pair<std::int32_t, std::int32_t>> PageManager::renumberInPageOr
   freeStack_.clear();  // the slots past the active ones, low ones first, as grow() stacks them
   for (std::int32_t s = capacity_ - 1; s > kInsideSlot + std::int32_t(active_.size()); --s) freeStack_.push_back(s);
   return moves;
+}
+
+void PageManager::adopt(std::vector<std::int32_t> pageTable, std::vector<std::int64_t> active, std::vector<std::int32_t> freeStack,
+                        std::int32_t capacity, const Stats& since) {
+  require(pageTable.size() == pageTable_.size() && capacity >= capacity_ && capacity % poolPagesX_ == 0,
+          "the GPU's page state does not fit the page manager");
+  pageTable_ = std::move(pageTable);
+  active_ = std::move(active);
+  freeStack_ = std::move(freeStack);
+  capacity_ = capacity;
+  inverseTable_.assign(std::size_t(capacity_), -1);
+  activePosition_.assign(std::size_t(capacity_), -1);
+  for (std::size_t k = 0; k < active_.size(); ++k) {
+    const std::int32_t slot = slotOf(active_[k]);
+    require(slot > kInsideSlot && slot < capacity_ && inverseTable_[std::size_t(slot)] < 0,
+            "the GPU's page state gives two active pages one slot, or a static one");
+    inverseTable_[std::size_t(slot)] = active_[k];
+    activePosition_[std::size_t(slot)] = std::int32_t(k);
+  }
+  require(active_.size() + freeStack_.size() + 2 == std::size_t(capacity_), "the GPU's page state lost slots");
+  stats_.activations += since.activations;
+  stats_.releases += since.releases;
+  stats_.growths += since.growths;
+  stats_.active = std::int64_t(active_.size());
+  stats_.peakActive = std::max(stats_.peakActive, since.peakActive);
 }
 
 void PageManager::setStatic(std::int64_t page, bool inside) {

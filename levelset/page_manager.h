@@ -15,6 +15,7 @@
 //   renumbering:    renumberInPageOrder gives the active pages the lowest slots in page order again;
 //                   the backend moves their values (the CPU's level set, as slots scatter).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <utility>
@@ -85,6 +86,11 @@ public:
   std::array<std::int32_t, 27> neighbourSlots(std::int64_t page) const;
 
   std::int32_t poolPagesX() const { return poolPagesX_; }
+  // The capacity one growth gives a pool of `capacity` slots: whole rows, doubling (at least a row),
+  // so slot origins never move. The GPU's page passes grow by the same rule.
+  std::int32_t grownCapacity(std::int32_t capacity) const {
+    return capacity + (capacity == 0 ? 1 : std::max<std::int32_t>(1, capacity / poolPagesX_)) * poolPagesX_;
+  }
   std::int32_t capacity() const { return capacity_; }  // slots, static ones included
   std::array<std::int32_t, 2> slotOrigin(std::int32_t slot) const {
     return {(slot % poolPagesX_) * pageSize_, (slot / poolPagesX_) * pageSize_};
@@ -100,10 +106,19 @@ public:
     return slotTexel(slotOf(pageIndex(x / pageSize_, y / pageSize_, z)), x % pageSize_, y % pageSize_);
   }
 
+  // The free stack, its top last (the GPU's page passes take slots from the same stack).
+  const std::vector<std::int32_t>& freeSlots() const { return freeStack_; }
+
   struct Stats {
     std::int64_t active = 0, peakActive = 0, activations = 0, releases = 0, growths = 0, renumberings = 0;
   };
   const Stats& stats() const { return stats_; }
+
+  // Takes the state the GPU's page passes left (levelset/gpu_page_chain.h): the page table, the active
+  // list, the free stack and the pool's capacity (it only grows); `since` counts what they did since
+  // this manager's state went to the GPU (activations, releases, growths; peakActive their peak).
+  void adopt(std::vector<std::int32_t> pageTable, std::vector<std::int64_t> active, std::vector<std::int32_t> freeStack,
+             std::int32_t capacity, const Stats& since);
 
 private:
   void grow();

@@ -5,6 +5,8 @@
 // everything before pass 2 writes).
 #pragma once
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,6 +31,25 @@ struct IterationResult {
   std::uint64_t bytesReadBack = 0;     // GPU -> CPU this iteration
 };
 
+// Iterations a run on the device queues between two reads of its state (gpu_page_chain.h).
+inline constexpr int kChainIterations = 16;
+
+// A run of iterations the backend drives itself (SolverBackend::runOnDevice), and what it did.
+struct DeviceRunRequest {
+  int maxIterations = 0;
+  bool untilConverged = true;
+  int window = 20;  // windowConverged's test (level_set.h's RunOptions)
+  double changedVoxels = 10, changedShare = 5e-5;
+  std::function<void(int iteration, std::int64_t activePages)> progress;  // per iteration, a few at a time
+};
+struct DeviceRun {
+  int iterations = 0;
+  bool converged = false;  // stopped by the window's test, or with no page left
+  std::vector<float> dt;   // per iteration
+  std::vector<std::uint8_t> nextEvaluate;  // which active pages the next iteration evaluates (pm's order)
+  std::uint64_t bytesReadBack = 0;
+};
+
 class SolverBackend {
 public:
   virtual ~SolverBackend() = default;
@@ -41,6 +62,14 @@ public:
   // step's CFL bound, as if no voxel of theirs moved.
   virtual IterationResult iterate(const PageManager& pm, const SpeedParams& params, const std::vector<std::uint8_t>& evaluate,
                                   float settledChange) = 0;
+  // Iterations with the page manager's work done by the backend itself (LevelSet::run's loop, the
+  // messages applied and the settled pages found without the host), the first evaluating the pages
+  // `evaluate` says; pm takes the pages as they end. nullopt where the backend cannot (the CPU's, a
+  // volume too large for the GPU's source buffer, a window past kChainRingSize): the host drives.
+  virtual std::optional<DeviceRun> runOnDevice(PageManager&, const SpeedParams&, const std::vector<std::uint8_t>& /*evaluate*/,
+                                               float /*settledChange*/, const DeviceRunRequest&) {
+    return std::nullopt;
+  }
   // P*P values per slot, row-major, from the current phi.
   virtual std::vector<float> readSlots(const PageManager& pm, const std::vector<std::int32_t>& slots) = 0;
   virtual void writeSlots(const PageManager& pm, const std::vector<std::int32_t>& slots, const std::vector<float>& values) = 0;

@@ -1,5 +1,7 @@
 #include "viewer/segmentation_session.h"
 
+#include "levelset/gpu_page_chain.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -129,9 +131,13 @@ int SegmentationSession::advance(double budgetMs) {
   int steps = 0;
   double ms = 0;
   do {
-    levelSet_->step();
-    ++steps;
-    if (pendingSteps_ > 0) --pendingSteps_;
+    // Runs of as many steps as the last frames' rate fits in the budget (at most a chain's: on the GPU
+    // the pages are then managed there, levelset/gpu_page_chain.h), and never past the steps asked for.
+    int n = std::clamp(int(budgetMs * stepsPerSecond_ / 1000), 1, levelset::kChainIterations);
+    if (!running_) n = std::min(n, pendingSteps_);
+    levelSet_->run({.maxIterations = n, .untilConverged = false});
+    steps += n;
+    pendingSteps_ = std::max(0, pendingSteps_ - n);
     ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
   } while (running() && ms < budgetMs);
   stepsPerSecond_ = ms > 0 ? 1000.0 * steps / ms : 0;

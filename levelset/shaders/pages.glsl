@@ -8,7 +8,13 @@ struct PageEntry {
 };
 layout(std430, binding = 0) readonly buffer Pages { PageEntry pages[]; };
 
+// How many pages are active: a uniform the host sets, or (PAGES_ON_GPU 1, the passes gpu_page_chain.h
+// runs between them) the first word of the page state the GPU keeps, page_state.glsl's.
+#if PAGES_ON_GPU
+layout(std430, binding = 5) readonly buffer ActivePageCount { int pageCount; };
+#else
 uniform int pageCount;
+#endif
 uniform ivec3 dims;
 
 // (P+2) x (P+2) x 3 values around the page.

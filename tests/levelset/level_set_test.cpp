@@ -499,6 +499,63 @@ TEST(LevelSet, BallPastTheCornerKeepsABandAtTheEdge) {
   EXPECT_LT(largestDifference(cpu.phi(), gpu.phi()), 1e-3);
 }
 
+// The GPU's page passes (gpu_page_chain.h) do the host's page work: the same phi bit for bit as the
+// host applying each iteration's messages, the same pages active, the same iterations to
+// convergence, on a pool that must grow on the GPU (small pages, 1024 slots), for a run whose length
+// is not a multiple of the chain's, for both topologies (the preserving front converges after an
+// odd number of iterations past the last full chain: which phi copy is current follows the
+// iterations done) and with every page evaluated; and steps after the run go on from the same state.
+TEST(LevelSet, GpuPagesOnTheDeviceGiveTheHostDrivenPhiBitForBit) {
+  test::glContext();
+  const Phantom p = torusPhantom();
+  struct Case {
+    int pageSize;
+    RunOptions run;
+    Topology topology = Topology::Free;
+    float settledChange = kSettledChange;
+  };
+  const Case cases[] = {{4, {.maxIterations = 600}},
+                        {16, {.maxIterations = 37, .untilConverged = false}},
+                        {8, {.maxIterations = 300}, Topology::Preserve},
+                        {16, {.maxIterations = 100, .window = 7}, Topology::Free, 0.0f}};
+  for (const Case& c : cases) {
+    auto segment = [&](bool onDevice) {
+      auto ls = std::make_unique<LevelSet>(p.image, SpeedParams{100, 30, 0.7f},
+                                           LevelSetOptions{.backend = Backend::Gpu, .pageSize = c.pageSize, .settledChange = c.settledChange,
+                                                           .topology = c.topology, .pagesOnDevice = onDevice});
+      ls->addSphere(p.seedA, 3);
+      ls->addSphere(p.seedB, 3);
+      int progressed = 0;
+      RunOptions run = c.run;
+      run.progress = [&](int iteration, std::int64_t) { EXPECT_EQ(iteration, ++progressed); };
+      const RunStats stats = ls->run(run);
+      EXPECT_EQ(progressed, stats.iterations);
+      return std::pair{std::move(ls), stats};
+    };
+    const auto [device, onDevice] = segment(true);
+    const auto [host, hostDriven] = segment(false);
+    const std::string name = "page size " + std::to_string(c.pageSize) + ", " + std::to_string(c.run.maxIterations) + " iterations";
+    EXPECT_EQ(onDevice.iterations, hostDriven.iterations) << name;
+    EXPECT_EQ(onDevice.converged, hostDriven.converged) << name;
+    EXPECT_LT(onDevice.bytesReadBackPerIteration, hostDriven.bytesReadBackPerIteration) << name;
+    EXPECT_EQ(device->simulatedTime(), host->simulatedTime()) << name;
+    EXPECT_TRUE(device->phi().data == host->phi().data) << name << ": phi bit for bit";
+    auto activeSet = [](const LevelSet& ls) {
+      return std::set<std::int64_t>(ls.pages().activePages().begin(), ls.pages().activePages().end());
+    };
+    EXPECT_EQ(activeSet(*device), activeSet(*host)) << name;
+    const auto &d = device->pages().stats(), &h = host->pages().stats();
+    EXPECT_EQ(d.activations, h.activations) << name;
+    EXPECT_EQ(d.releases, h.releases) << name;
+    EXPECT_EQ(d.peakActive, h.peakActive) << name;
+    if (c.pageSize == 4) {
+      EXPECT_GT(d.growths, 0) << name << ": the pool grew on the device";
+    }
+    for (int i = 0; i < 5; ++i) device->step(), host->step();
+    EXPECT_TRUE(device->phi().data == host->phi().data) << name << ": steps after the run";
+  }
+}
+
 // Two GPU solvers in one context, used in turn and destroyed in either order: each keeps its own pool
 // (the same steps give the same phi), and whichever goes first leaves the other working.
 TEST(LevelSet, TwoGpuSolversShareOneContextAndDieInAnyOrder) {
