@@ -22,25 +22,31 @@ BaseDomain::BaseDomain(const BaseMesh& base)
       across_(base.triangleNeighbours()),
       stars_(vertexFaces(base.vertexCount(), base.triangleCount(), [&](std::size_t t) { return base.triangles[t]; })) {}
 
+bool BaseDomain::inTriangle(std::uint32_t t, const Bary& bary, std::uint32_t u, Bary& out) const {
+  if (u == t) {
+    out = bary;
+    return true;
+  }
+  out = {0, 0, 0};
+  for (int i = 0; i < 3; ++i) {
+    if (bary[i] == 0) continue;
+    const int at = cornerOf(base_.triangles[u], base_.triangles[t][i]);
+    if (at < 0) return false;
+    out[at] = bary[i];
+  }
+  return true;
+}
+
 bool BaseDomain::inStar(std::uint32_t vertex, std::uint32_t t, const Bary& bary, std::uint32_t& into, Bary& out) const {
   if (cornerOf(base_.triangles[t], vertex) >= 0) {
     into = t, out = bary;
     return true;
   }
-  for (const std::uint32_t s : stars_.of(vertex)) {
-    Bary w{0, 0, 0};
-    bool holds = true;
-    for (int i = 0; i < 3 && holds; ++i) {
-      if (bary[i] == 0) continue;
-      const int at = cornerOf(base_.triangles[s], base_.triangles[t][i]);
-      if (at < 0) holds = false;
-      else w[at] = bary[i];
-    }
-    if (holds) {
-      into = s, out = w;
+  for (const std::uint32_t s : stars_.of(vertex))
+    if (inTriangle(t, bary, s, out)) {
+      into = s;
       return true;
     }
-  }
   return false;
 }
 
@@ -122,6 +128,26 @@ bool BaseDomain::chartDenseTriangle(std::span<const std::uint32_t> corners, Char
   for (int i = 0; i < 3; ++i) {
     from[i] = base_.denseTriangle[corners[std::size_t(i)]];
     bary[i] = base_.denseBary[corners[std::size_t(i)]];
+  }
+  // One base triangle holding all three corners (a corner on a base vertex lies in every triangle
+  // around it): its own frame draws the triangle exactly. A mesh that is its own base needs it: each
+  // corner is a base vertex, placed in any one triangle around it, and three such triangles may
+  // share no vertex.
+  auto holdsAll = [&](std::uint32_t u) {
+    Bary w[3];
+    for (int i = 0; i < 3; ++i)
+      if (!inTriangle(from[i], bary[i], u, w[i])) return false;
+    chart = {};
+    chart.home = u;
+    for (int i = 0; i < 3; ++i) toChart(chart, u, w[i], points[std::size_t(i)]);
+    return true;
+  };
+  for (int i = 0; i < 3; ++i) {
+    if (holdsAll(from[i])) return true;
+    for (int k = 0; k < 3; ++k)
+      if (bary[i][std::size_t(k)] == 1)
+        for (const std::uint32_t u : stars_.of(base_.triangles[from[i]][std::size_t(k)]))
+          if (holdsAll(u)) return true;
   }
   if (!chartFor(from, bary, 3, from[0], chart)) return false;
   for (int i = 0; i < 3; ++i)

@@ -55,6 +55,9 @@ private:
   // The unfold of a point of `from` into neighbour `to` across their shared edge.
   bool unfold(std::uint32_t from, const Bary& bary, std::uint32_t to, Bary& out) const;
   void starChart(std::uint32_t vertex, std::uint32_t someTriangle, Chart& chart) const;
+  // Point (t, bary) in the frame of u, where u holds it (u is t, or the point lies on a vertex or an
+  // edge u shares with t); false where u does not hold it.
+  bool inTriangle(std::uint32_t t, const Bary& bary, std::uint32_t u, Bary& out) const;
   // A triangle around `vertex` that holds point (t, bary) (t itself, or one that holds the corners
   // with weight, for a point on a base vertex or edge), and the point's weights there.
   bool inStar(std::uint32_t vertex, std::uint32_t t, const Bary& bary, std::uint32_t& into, Bary& out) const;

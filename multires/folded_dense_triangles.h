@@ -3,7 +3,9 @@
 // their corners (BaseDomain::chartFor), turn clockwise or flat there. A measure of the forward
 // parametrisation's distortion: the atlas does not draw dense triangles (it samples the dense surface
 // through the exact history, ParametrisationHistory), so a dense triangle counted here folds no
-// texel. Corners in base triangles that share no vertex have no chart and count as folded.
+// texel. Where one base triangle holds all three corners (a corner on a base vertex lies in every
+// triangle around it: a mesh kept whole, its own base), its own frame draws the triangle; corners in
+// base triangles that share no vertex have no chart and count as folded.
 #pragma once
 #include <cstddef>
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <random>
 
 #include "multires/folded_dense_triangles.h"
 #include "tests/multires/mesh_shapes.h"
@@ -63,6 +64,30 @@ TEST(FoldedDenseTriangles, NoneOnASubdividedBaseMesh) {
   for (BaseMesh base : {octahedron(), openPyramid()}) {
     const Mesh dense = subdivide(base, 8);
     EXPECT_EQ(countFoldedTriangles(dense, base), 0u);
+  }
+}
+
+// A mesh that is its own base (isoatlas build keeps small meshes whole): each dense vertex is a base
+// vertex, placed in any one triangle around it, so a triangle's three corners can lie in three
+// triangles that share no vertex. Over random placements (seeded), none folds.
+TEST(FoldedDenseTriangles, NoneOnAMeshThatIsItsOwnBase) {
+  std::mt19937 random(7);
+  for (BaseMesh base : {octahedron(), openPyramid()}) {
+    const Mesh dense = subdivide(base, 1);
+    for (int trial = 0; trial < 50; ++trial) {
+      for (std::size_t v = 0; v < dense.vertexCount(); ++v) {
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> around;  // (triangle, corner)
+        for (std::uint32_t t = 0; t < base.triangleCount(); ++t)
+          for (std::uint32_t k = 0; k < 3; ++k)
+            if (base.denseVertex[base.triangles[t][k]] == std::int64_t(v)) around.push_back({t, k});
+        ASSERT_FALSE(around.empty());
+        const auto [t, k] = around[std::uniform_int_distribution<std::size_t>(0, around.size() - 1)(random)];
+        base.denseTriangle[v] = t;
+        base.denseBary[v] = {0, 0, 0};
+        base.denseBary[v][k] = 1;
+      }
+      ASSERT_EQ(countFoldedTriangles(dense, base), 0u) << "trial " << trial;
+    }
   }
 }
 
