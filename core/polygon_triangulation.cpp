@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 
 namespace isoatlas {
 namespace {
@@ -53,29 +54,43 @@ bool holds(const Polygon& p, std::size_t a, std::size_t b, std::size_t c, std::s
   return side(a, b) >= 0 && side(b, c) >= 0 && side(c, a) >= 0;
 }
 
-// Ear clipping; empty where some remaining ring has no ear.
+// How well shaped triangle (a, b, c) is: twice its area over its longest side squared (0 for a
+// sliver, at most sqrt(3) / 2 for an equilateral one).
+double shape(const Polygon& p, std::size_t a, std::size_t b, std::size_t c) {
+  const Vec3 &x = p.at(a), &y = p.at(b), &z = p.at(c);
+  const double longest = std::max({dot(y - x, y - x), dot(z - y, z - y), dot(x - z, x - z)});
+  return longest > 0 ? p.turn(a, b, c) / longest : 0;
+}
+
+// Ear clipping, the best shaped ear first, judged with the ears the clip leaves beside it (so a
+// corner a hair off a side is not left to the end as a sliver); empty where some remaining ring has
+// no ear.
 Triangles ears(const Polygon& p) {
   std::vector<std::size_t> ring(p.corners.size());
   for (std::size_t i = 0; i < ring.size(); ++i) ring[i] = i;
   Triangles out;
-  std::size_t start = 0;
   while (ring.size() > 3) {
     const std::size_t m = ring.size();
-    bool clipped = false;
-    for (std::size_t step = 0; step < m && !clipped; ++step) {
-      const std::size_t r = (start + step) % m;
+    std::size_t best = m;
+    double bestShape = -1;
+    for (std::size_t r = 0; r < m; ++r) {
       const std::size_t a = ring[(r + m - 1) % m], b = ring[r], c = ring[(r + 1) % m];
       if (!(p.turn(a, b, c) > p.tolerance)) continue;
+      // The ear's shape, and that of the ears the clip makes at its two neighbours (where they turn
+      // as the polygon): a good ear must not leave a sliver to be clipped later.
+      double quality = shape(p, a, b, c);
+      const std::size_t before = ring[(r + m - 2) % m], after = ring[(r + 2) % m];
+      if (p.turn(before, a, c) > p.tolerance) quality = std::min(quality, shape(p, before, a, c));
+      if (p.turn(a, c, after) > p.tolerance) quality = std::min(quality, shape(p, a, c, after));
+      if (quality <= bestShape) continue;
       bool empty = true;
       for (std::size_t s = 0; s < m && empty; ++s)
         if (ring[s] != a && ring[s] != b && ring[s] != c && holds(p, a, b, c, ring[s])) empty = false;
-      if (!empty) continue;
-      out.push_back({p.corners[a], p.corners[b], p.corners[c]});
-      ring.erase(ring.begin() + std::ptrdiff_t(r));
-      start = r % ring.size();
-      clipped = true;
+      if (empty) best = r, bestShape = quality;
     }
-    if (!clipped) return {};
+    if (best == m) return {};
+    out.push_back({p.corners[ring[(best + m - 1) % m]], p.corners[ring[best]], p.corners[ring[(best + 1) % m]]});
+    ring.erase(ring.begin() + std::ptrdiff_t(best));
   }
   if (!(p.turn(ring[0], ring[1], ring[2]) > p.tolerance)) return {};
   out.push_back({p.corners[ring[0]], p.corners[ring[1]], p.corners[ring[2]]});
@@ -157,11 +172,30 @@ Triangles largestSmallest(const Polygon& p) {
   return out;
 }
 
+// A polygon that meets itself at a vertex (two loops joined there, or a spike out and back) split
+// there into its loops, each triangulated alone; nullopt for a polygon that meets itself nowhere.
+std::optional<Triangles> splitWhereItMeetsItself(std::span<const Vec3> positions, std::span<const std::uint32_t> corners) {
+  const std::size_t k = corners.size();
+  for (std::size_t i = 0; i < k; ++i)
+    for (std::size_t j = i + 1; j < k; ++j) {
+      if (corners[i] != corners[j]) continue;
+      std::vector<std::uint32_t> inner(corners.begin() + std::ptrdiff_t(i), corners.begin() + std::ptrdiff_t(j));
+      std::vector<std::uint32_t> outer(corners.begin(), corners.begin() + std::ptrdiff_t(i));
+      outer.insert(outer.end(), corners.begin() + std::ptrdiff_t(j), corners.end());
+      Triangles out;
+      for (const auto& loop : {inner, outer})
+        for (const auto& t : triangulatePolygon(positions, loop)) out.push_back(t);
+      return out;
+    }
+  return std::nullopt;
+}
+
 }  // namespace
 
 Vec3 newellNormal(std::span<const Vec3> positions, std::span<const std::uint32_t> corners) {
   Vec3 n{0, 0, 0};
   const std::size_t k = corners.size();
+  if (k < 3) return n;
   const Vec3& o = positions[corners[0]];  // about a corner, not the origin: far from it, the sum would cancel
   for (std::size_t i = 1; i + 1 < k; ++i) n = n + cross(positions[corners[i]] - o, positions[corners[i + 1]] - o);
   return n;
@@ -170,7 +204,10 @@ Vec3 newellNormal(std::span<const Vec3> positions, std::span<const std::uint32_t
 Triangles triangulatePolygon(std::span<const Vec3> positions, std::span<const std::uint32_t> corners) {
   const std::size_t k = corners.size();
   Polygon p{positions, corners, {0, 0, 0}, 0};
+  if (k < 3) return {};
   if (k == 3) return fan(p, 0);
+  if (k <= kMostSearched)
+    if (std::optional<Triangles> loops = splitWhereItMeetsItself(positions, corners)) return *loops;
   const Vec3 n = newellNormal(positions, corners);
   if (norm(n) > 0) p.normal = unit(n);
   double extent = 0;  // the polygon's size squared: "no area" is relative to it
@@ -181,8 +218,10 @@ Triangles triangulatePolygon(std::span<const Vec3> positions, std::span<const st
   const double sliver = 1e-6 * norm(n);  // a triangle this thin samples the model's charts onto a line
   for (std::size_t apex = 0; apex < searched; ++apex)
     if (const double least = smallestTurn(p, apex); least > p.tolerance) {
-      if (least < sliver && k <= kMostOptimised)
-        if (Triangles t = largestSmallest(p); !t.empty() && smallestOf(p, t) > least) return t;
+      if (least < sliver) {
+        Triangles t = k <= kMostOptimised ? largestSmallest(p) : ears(p);
+        if (!t.empty() && smallestOf(p, t) > least) return t;
+      }
       return fan(p, apex);
     }
   if (k <= kMostOptimised)

@@ -3,6 +3,7 @@
 // bounded by the polygon's own edges (so they cover it once).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 #include <utility>
 
@@ -119,6 +120,58 @@ TEST(Triangulated, ACornerAHairOffASideGetsNoSliver) {
     rounded.push_back({double(x), double(y), 0});
   const Mesh r = polygon(rounded);
   EXPECT_GT(smallest(triangulated(r)), 1e-3 * newellNormal(r.positions, r.face(0)).z);
+}
+
+// Every triangle of `t` turns along +z by more than `least` (twice-area), none repeats a vertex, and
+// their areas sum to `area`.
+void expectTurnedUpSumming(const Mesh& t, double least, double area) {
+  double sum = 0;
+  for (std::size_t f = 0; f < t.faceCount(); ++f) {
+    const auto c = t.face(f);
+    EXPECT_TRUE(c[0] != c[1] && c[1] != c[2] && c[2] != c[0]) << "triangle " << f << " repeats a vertex";
+    const double turn = cross(t.positions[c[1]] - t.positions[c[0]], t.positions[c[2]] - t.positions[c[0]]).z;
+    EXPECT_GT(turn, least) << "triangle " << f;
+    sum += turn / 2;
+  }
+  EXPECT_NEAR(sum, area, 1e-9 * area);
+}
+
+// Polygons that meet themselves at a vertex (a review's cases; no corpus mesh has one): each loop is
+// split alone. Through the fans and ears, both ended in the fallback fan, which turned triangles over.
+TEST(Triangulated, APolygonThatMeetsItselfIsSplitIntoItsLoops) {
+  // A spike out of vertex 2 to vertex 3 and back: the spike has no area and gives no triangle.
+  Mesh spike;
+  spike.positions = {{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {3, 1, 0}, {2, 2, 0}, {0, 2, 0}};
+  spike.addFace({0, 1, 2, 3, 2, 4, 5});
+  const Mesh s = triangulated(spike);
+  EXPECT_EQ(s.faceCount(), 3u);
+  expectTurnedUpSumming(s, 1e-9, 4);
+  // Two squares meeting at a corner, one polygon round both.
+  Mesh squares;
+  squares.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {2, 1, 0}, {2, 2, 0}, {1, 2, 0}, {0, 1, 0}};
+  squares.addFace({0, 1, 2, 3, 4, 5, 2, 6});
+  const Mesh q = triangulated(squares);
+  EXPECT_EQ(q.faceCount(), 4u);
+  expectTurnedUpSumming(q, 1e-9, 2);
+  // A face of fewer than three corners (a mesh built in code) gives no triangle and no normal.
+  Mesh two;
+  two.positions = {{0, 0, 0}, {1, 0, 0}};
+  EXPECT_TRUE(triangulatePolygon(two.positions, std::vector<std::uint32_t>{0, 1}).empty());
+  EXPECT_EQ(norm(newellNormal(two.positions, std::vector<std::uint32_t>{})), 0);
+}
+
+// Past 64 corners (no optimal split): a corner a hair off a side, beside the first corner, lays a
+// sliver in the first corner's fan; ear clipping, the best shaped ear first, lays none.
+TEST(Triangulated, ALargePolygonsCornerAHairOffASideGetsNoSliver) {
+  std::vector<Vec3> corners{{1, 0, 0}};
+  const Vec3 next{std::cos(2 * M_PI / 80), std::sin(2 * M_PI / 80), 0};
+  corners.push_back((corners[0] + next) * (0.5 + 1e-6));  // mid-chord, a hair outwards
+  for (int i = 1; i < 80; ++i) corners.push_back({std::cos(2 * M_PI * i / 80), std::sin(2 * M_PI * i / 80), 0});
+  const Mesh m = polygon(corners);
+  ASSERT_FALSE(fanTurns(m, 0, {0, 0, 1}));  // valid round its first corner, with (0, 1, 2) a sliver
+  const double area = newellNormal(m.positions, m.face(0)).z / 2;
+  expectCoveredOnce(m, {0, 0, 1}, area);
+  expectTurnedUpSumming(triangulated(m), 1e-6, area);
 }
 
 TEST(Triangulated, NewellNormalIsTwiceTheVectorArea) {
