@@ -9,14 +9,6 @@
 namespace isoatlas::levelset {
 namespace {
 
-// A buffer of `bytes` holding what `old` held at its start (its bytes, or fewer).
-gl::Buffer grown(const gl::Buffer& old, std::size_t bytes) {
-  gl::Buffer out(bytes);
-  const std::size_t kept = std::min(old.bytes(), bytes);
-  if (old.id() != 0 && kept > 0) glCopyNamedBufferSubData(old.id(), out.id(), 0, 0, GLsizeiptr(kept));
-  return out;
-}
-
 }  // namespace
 
 bool GpuPageChain::fits(std::uint64_t voxels) {
@@ -52,9 +44,7 @@ GpuPageChain::GpuPageChain(gl::Context& ctx, const gl::Defines& solverDefines, s
 void GpuPageChain::sizeSlots(std::int32_t capacity) {
   if (capacity <= capacity_) return;
   const std::size_t bytes = std::size_t(capacity) * 4;
-  activeList_ = grown(activeList_, bytes);
-  nextList_ = grown(nextList_, bytes);
-  freeStack_ = grown(freeStack_, bytes);
+  for (gl::Buffer* b : {&activeList_, &nextList_, &freeStack_}) b->growTo(bytes);
   capacity_ = capacity;
 }
 
@@ -126,10 +116,17 @@ void GpuPageChain::pagePasses(const ChainTargets& t, bool evaluateAll, const Cha
   end_->dispatch(1);
 }
 
-PageState GpuPageChain::readState() const {
+PageState GpuPageChain::readState() {
   PageState s;
   state_.download(&s, sizeof s);
+  epoch_ = s.epoch;  // the marks hold epochs up to this one, whatever the caller does next
   return s;
+}
+
+std::uint64_t GpuPageChain::bytes() const {
+  std::uint64_t sum = 0;
+  for (const gl::Buffer* b : {&state_, &pageTable_, &marks_, &activeList_, &nextList_, &newList_, &freeStack_, &source_}) sum += b->bytes();
+  return sum;
 }
 
 void GpuPageChain::grow(std::int32_t oldCapacity, std::int32_t capacity, const PageState& state) {
@@ -144,7 +141,6 @@ void GpuPageChain::grow(std::int32_t oldCapacity, std::int32_t capacity, const P
 
 void GpuPageChain::download(PageManager& pm, std::int32_t capacity, std::int64_t growths) {
   const PageState s = readState();
-  epoch_ = s.epoch;
   const std::size_t virtualPages = pm.pageTable().size();
   std::vector<std::int32_t> table(virtualPages), active(std::size_t(s.activeCount)), free(std::size_t(s.freeTop));
   pageTable_.download(table.data(), table.size() * 4);

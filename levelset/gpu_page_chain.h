@@ -27,7 +27,6 @@
 
 namespace isoatlas::levelset {
 
-inline constexpr int kChainRingSize = 64;  // the longest convergence window the chain tests
 inline constexpr int kChainLogSize = 64;   // iterations logged between two reads of the state
 
 // Mirrors PageState in shaders/page_state.glsl (std430).
@@ -68,7 +67,9 @@ public:
   void upload(const PageManager& pm);
   // The page passes of one iteration (after the solver's), or from `plan` on, for a stalled one.
   void pagePasses(const ChainTargets& targets, bool evaluateAll, const ChainStop& stop, bool fromPlan = false);
-  PageState readState() const;
+  PageState readState();
+  // GPU memory the chain holds: the whole source volume, per-page tables and lists.
+  std::uint64_t bytes() const;
   // The pool grew to `capacity` slots: the stack gets the new ones (lowest on top, as
   // PageManager::grow stacks them), and the stall is cleared.
   void grow(std::int32_t oldCapacity, std::int32_t capacity, const PageState& state);

@@ -167,12 +167,11 @@ public:
       }
       if (state.stalled) {  // more new pages than free slots: grow the pool, then finish the iteration
         std::int32_t grownTo = capacity;
-        while (state.freeTop + (grownTo - capacity) < state.newCount) grownTo = pm.grownCapacity(grownTo);
+        while (state.freeTop + (grownTo - capacity) < state.newCount) grownTo = pm.grownCapacity(grownTo), ++growths;  // as PageManager counts them
         growPool(pm.poolPagesX(), grownTo);
         sizeForChain(grownTo);
         chain_->grow(capacity, grownTo, state);
         capacity = grownTo;
-        ++growths;
         current_ = firstCurrent ^ ((run.iterations + 1) & 1);  // the stalled iteration's phi
         chain_->pagePasses(targets(), evaluateAll, stop, true);
         resumed = true;
@@ -232,8 +231,9 @@ public:
 
   std::uint64_t physicalBytes() const override {
     // GPU memory: four pool textures (phi twice, rate, source) and the tables, following the active
-    // pages, not the volume (the host keeps the source's intensities for pages yet to come).
-    return std::uint64_t(poolWidth_) * std::uint64_t(poolHeight_) * 4 * 4 + pageTable_.bytes() + messages_.bytes();
+    // pages, and once a run has managed its pages on the GPU, the chain's buffers with the whole source.
+    return std::uint64_t(poolWidth_) * std::uint64_t(poolHeight_) * 4 * 4 + pageTable_.bytes() + messages_.bytes() +
+           (chain_ ? chain_->bytes() : 0);
   }
 
 private:
@@ -365,16 +365,10 @@ private:
 
   // The per-page buffers the chain writes, room for `capacity` pages, keeping what they hold.
   void sizeForChain(std::int32_t capacity) {
-    auto atLeast = [](gl::Buffer& b, std::size_t bytes) {
-      if (b.bytes() >= bytes) return;
-      gl::Buffer grown(bytes);
-      if (b.bytes() > 0) glCopyNamedBufferSubData(b.id(), grown.id(), 0, 0, GLsizeiptr(b.bytes()));
-      b = std::move(grown);
-    };
     const std::size_t words = std::size_t(movedOffsetOnDevice(capacity));
-    atLeast(pageTable_, std::size_t(capacity) * sizeof(PageEntry));
-    atLeast(messages_, 2 * words * 4);
-    atLeast(evaluate_, words * 4);
+    pageTable_.growTo(std::size_t(capacity) * sizeof(PageEntry));
+    messages_.growTo(2 * words * 4);
+    evaluate_.growTo(words * 4);
   }
 
   // Grows the pool textures to `capacity` slots, keeping what they hold: rows are appended, so every
@@ -457,7 +451,7 @@ private:
   }
 
   gl::Context& ctx_;
-  std::vector<float> source_;  // the whole volume, in host memory; the GPU holds active pages only
+  std::vector<float> source_;  // the whole volume, in host memory (and in chain_'s buffer once made)
   std::array<std::int64_t, 3> dims_;
   Topology topology_;
   std::vector<std::int64_t> slotPage_;  // per slot: the page whose intensities sourcePool_ holds there

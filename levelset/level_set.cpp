@@ -298,8 +298,12 @@ bool LevelSet::runOnDevice(const RunOptions& options, RunStats& stats) {
   if (!pagesOnDevice_ || options.maxIterations <= 0) return false;
   const DeviceRunRequest request{options.maxIterations, options.untilConverged, options.window, double(options.changedVoxels),
                                  options.changedShare, options.progress};
-  std::optional<DeviceRun> run = backend_->runOnDevice(*pages_, params_, pagesToEvaluate(), settledChange_, request);
-  if (!run) return false;
+  std::vector<std::uint8_t> evaluate = pagesToEvaluate();
+  std::optional<DeviceRun> run = backend_->runOnDevice(*pages_, params_, evaluate, settledChange_, request);
+  if (!run) {  // declined: the host's first step evaluates what this run would have
+    evaluateNext_ = std::move(evaluate);
+    return false;
+  }
   wakeAll_ = false;
   for (const std::int64_t page : movedList_) movedPage_[std::size_t(page)] = 0;
   movedList_.clear();

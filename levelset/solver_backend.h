@@ -33,6 +33,8 @@ struct IterationResult {
 
 // Iterations a run on the device queues between two reads of its state (gpu_page_chain.h).
 inline constexpr int kChainIterations = 16;
+// The longest convergence window a run on the device tests (longer: the host drives).
+inline constexpr int kChainRingSize = 64;
 
 // A run of iterations the backend drives itself (SolverBackend::runOnDevice), and what it did.
 struct DeviceRunRequest {

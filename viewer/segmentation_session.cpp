@@ -1,7 +1,5 @@
 #include "viewer/segmentation_session.h"
 
-#include "levelset/gpu_page_chain.h"
-
 #include <algorithm>
 #include <cmath>
 
@@ -135,9 +133,10 @@ int SegmentationSession::advance(double budgetMs) {
     // the pages are then managed there, levelset/gpu_page_chain.h), and never past the steps asked for.
     int n = std::clamp(int(budgetMs * stepsPerSecond_ / 1000), 1, levelset::kChainIterations);
     if (!running_) n = std::min(n, pendingSteps_);
-    levelSet_->run({.maxIterations = n, .untilConverged = false});
-    steps += n;
-    pendingSteps_ = std::max(0, pendingSteps_ - n);
+    const int done = levelSet_->run({.maxIterations = n, .untilConverged = false}).iterations;
+    steps += done;
+    pendingSteps_ = std::max(0, pendingSteps_ - done);
+    if (done < n) break;  // nothing left that can move
     ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count();
   } while (running() && ms < budgetMs);
   stepsPerSecond_ = ms > 0 ? 1000.0 * steps / ms : 0;

@@ -67,6 +67,13 @@ void Buffer::download(void* data, std::size_t bytes, std::size_t offset) const {
 // real GPU"). On a software renderer by the driver's clear by words, which is faster there. The
 // caller's program is restored and the fill's binding point (the last, which no algorithm binds) is
 // left unbound, so a caller's state holds.
+void Buffer::growTo(std::size_t bytes) {
+  if (bytes <= bytes_ && id() != 0) return;
+  Buffer grown(bytes);
+  if (id() != 0 && bytes_ > 0) glCopyNamedBufferSubData(id(), grown.id(), 0, 0, GLsizeiptr(bytes_));
+  *this = std::move(grown);
+}
+
 void Buffer::fillZero() { fillZero(bytes_); }
 
 void Buffer::fillZero(std::size_t bytes) {

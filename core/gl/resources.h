@@ -72,6 +72,8 @@ public:
   }
   void fillZero();
   void fillZero(std::size_t bytes);  // the first `bytes` only (all of it if it is smaller)
+  // At least `bytes` of storage, what it held kept at its start (a new buffer where it must grow).
+  void growTo(std::size_t bytes);
   void bindBase(GLenum target, GLuint index) const { glBindBufferBase(target, index, id()); }
   // fillZero's way on a GPU, by a compute shader; public so that a software renderer's tests run it.
   void zeroWords(std::size_t words);

@@ -504,7 +504,8 @@ TEST(LevelSet, BallPastTheCornerKeepsABandAtTheEdge) {
 // convergence, on a pool that must grow on the GPU (small pages, 1024 slots), for a run whose length
 // is not a multiple of the chain's, for both topologies (the preserving front converges after an
 // odd number of iterations past the last full chain: which phi copy is current follows the
-// iterations done) and with every page evaluated; and steps after the run go on from the same state.
+// iterations done) and with every page evaluated; and steps after the run, or a run the GPU
+// declines, go on from the same state.
 TEST(LevelSet, GpuPagesOnTheDeviceGiveTheHostDrivenPhiBitForBit) {
   test::glContext();
   const Phantom p = torusPhantom();
@@ -548,11 +549,19 @@ TEST(LevelSet, GpuPagesOnTheDeviceGiveTheHostDrivenPhiBitForBit) {
     EXPECT_EQ(d.activations, h.activations) << name;
     EXPECT_EQ(d.releases, h.releases) << name;
     EXPECT_EQ(d.peakActive, h.peakActive) << name;
+    EXPECT_EQ(d.growths, h.growths) << name;
     if (c.pageSize == 4) {
       EXPECT_GT(d.growths, 0) << name << ": the pool grew on the device";
     }
     for (int i = 0; i < 5; ++i) device->step(), host->step();
     EXPECT_TRUE(device->phi().data == host->phi().data) << name << ": steps after the run";
+    // A run the GPU declines (a window past kChainRingSize) right after one it ran: the host goes on
+    // from the pages the GPU found to evaluate.
+    for (LevelSet* ls : {device.get(), host.get()}) {
+      ls->run({.maxIterations = 7, .untilConverged = false});
+      ls->run({.maxIterations = 9, .untilConverged = false, .window = kChainRingSize + 1});
+    }
+    EXPECT_TRUE(device->phi().data == host->phi().data) << name << ": a run the GPU declines";
   }
 }
 
