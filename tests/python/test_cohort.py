@@ -242,6 +242,40 @@ def test_a_killed_worker_s_subject_is_run_elsewhere(tmp_path):
     assert not [f for f in files_of(out) if ".partial." in f]
 
 
+def test_lines_said_from_two_threads_never_share_a_line(monkeypatch):
+    """The progress line and Dask's event handler (another thread) write stderr at once: each line
+    must go out whole, or a log line lands behind a progress line and the log cannot be read."""
+    from isoatlas.cohort.runner import _Progress
+
+    class Recorder:
+        def __init__(self):
+            self.writes = []
+
+        def write(self, text):
+            self.writes.append(text)
+            time.sleep(0)  # lets the other thread in between writes, as a busy machine does
+
+        def flush(self):
+            pass
+
+        def isatty(self):
+            return False
+
+    recorder = Recorder()
+    monkeypatch.setattr(sys, "stderr", recorder)
+    progress = _Progress(6, quiet=False)
+    threads = [threading.Thread(target=lambda: [progress.show(i, 0, 2) for i in range(200)]),
+               threading.Thread(target=lambda: [progress.say(f"cohort: ball: started on here {i}") for i in range(200)])]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    lines = "".join(recorder.writes).split("\n")
+    assert lines[-1] == "" and len(lines) == 401
+    assert all(re.fullmatch(r"cohort: (\d+/6 subjects: .*|ball: started on here \d+)", line) for line in lines[:-1])
+    assert all(w.endswith("\n") and w.count("\n") == 1 for w in recorder.writes)
+
+
 def test_ctrl_c_stops_cleanly_and_the_next_run_goes_on(tmp_path):
     manifest = make_study(str(tmp_path / "study"))
     out = str(tmp_path / "out")

@@ -4,6 +4,7 @@ gathered as they finish, with one progress line over the subjects and a log line
 import logging
 import os
 import sys
+import threading
 import time
 
 from . import subject as subjects_
@@ -12,11 +13,19 @@ from .table import row_of, write_index, write_table
 
 
 class _Progress:
-    """One line over the subjects: rewritten in place on a terminal, else printed as it changes."""
+    """One line over the subjects: rewritten in place on a terminal, else printed as it changes.
+    Dask's event handler says its lines from another thread, so each line goes out in one write under
+    a lock (print writes the text and its end apart, and two threads' lines would interleave)."""
 
     def __init__(self, total, quiet):
         self.total, self.quiet, self.started = total, quiet, time.monotonic()
         self.tty = sys.stderr.isatty()
+        self.lock = threading.Lock()
+
+    def _write(self, text):
+        with self.lock:
+            sys.stderr.write(text)
+            sys.stderr.flush()
 
     def line(self, done, failed, running):
         finished = done + failed
@@ -29,20 +38,17 @@ class _Progress:
         if self.quiet:
             return
         text = self.line(done, failed, running)
-        if self.tty:
-            print("\r" + text + "\033[K", end="", file=sys.stderr, flush=True)
-        else:
-            print(text, file=sys.stderr, flush=True)
+        self._write("\r" + text + "\033[K" if self.tty else text + "\n")
 
     def say(self, text):
         """A log line, above the progress line on a terminal."""
         if self.quiet:
             return
-        print(("\r\033[K" if self.tty else "") + text, file=sys.stderr, flush=True)
+        self._write(("\r\033[K" if self.tty else "") + text + "\n")
 
     def end(self):
         if self.tty and not self.quiet:
-            print(file=sys.stderr, flush=True)
+            self._write("\n")
 
 
 def _client(workers, scheduler, allowed_failures):
