@@ -162,6 +162,15 @@ Mesh extractLevelSet(const levelset::LevelSet& ls, const ExtractOptions& o, Extr
   return march(grid, gpu ? levelset::Backend::Gpu : levelset::Backend::Cpu, "pages", activeBlocks(ls.pages()), ls.geometry(), o, s, start);
 }
 
+GpuSurface marchLevelSetOnGpu(const levelset::LevelSet& ls, GpuMarchingCubes& mc, float iso) {
+  if (ls.phiPoolTexture() == 0)
+    throw Error("the level set's phi is not on the GPU: its surface can be left there only from a GPU level set", ErrorKind::Failure);
+  Grid grid{ls.pages().dims()};
+  grid.paged.pages = &ls.pages();
+  grid.pagedTexture = ls.phiPoolTexture();
+  return mc.march(grid, iso, kBlock, activeBlocks(ls.pages()));
+}
+
 Mesh extractLevelSet(const levelset::LevelSet& ls, const Volume& phi, const ExtractOptions& o, ExtractStats* stats) {
   require(phi.type == ScalarType::Float32 && phi.dims == ls.pages().dims(),
           "extractLevelSet: phi must be the level set's own (float, its dimensions)");

@@ -13,6 +13,7 @@
 
 #include "core/mesh.h"
 #include "core/volume.h"
+#include "extract/gpu_marching_cubes.h"
 #include "levelset/level_set.h"
 
 namespace isoatlas::extract {
@@ -44,6 +45,12 @@ Mesh extractLevelSet(const levelset::LevelSet& levelSet, const ExtractOptions& o
 // tested and benchmarked against.
 Mesh extractLevelSet(const levelset::LevelSet& levelSet, const Volume& phi, const ExtractOptions& options,
                      ExtractStats* stats = nullptr);
+
+// The level set's surface {phi = iso} left on the GPU, in mc's buffers, for drawing where it lies: a
+// GPU level set's pool read in place, in its GL context (current). Nothing after marching cubes (no
+// components kept, no smoothing); positions in voxel index coordinates (the level set's geometry
+// maps them to the world). Throws Error(Failure) for a level set whose phi is not on the GPU.
+GpuSurface marchLevelSetOnGpu(const levelset::LevelSet& levelSet, GpuMarchingCubes& mc, float iso = 0);
 
 // Whether a volume is a mask: integer voxels with at most two distinct values.
 bool isBinaryMask(const Volume& volume);

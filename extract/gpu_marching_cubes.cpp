@@ -6,8 +6,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <optional>
 #include <algorithm>
+#include <cstring>
+#include <optional>
 
 #include "core/error.h"
 #include "core/gl/context.h"
@@ -74,8 +75,7 @@ BlockStorage blockStorage(const std::array<std::int64_t, 3>& d, int blockSize,
 
 }  // namespace
 
-MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
-                                const std::function<bool(std::int64_t, std::int64_t, std::int64_t)>& visitBlock) {
+GpuSurface GpuMarchingCubes::march(const Grid& grid, float iso, int blockSize, const VisitBlock& visitBlock) {
   require(blockSize == 8, "the GPU extraction works in blocks of 8^3 cells");
   const bool paged = grid.pagedTexture != 0;
   require(paged || grid.values, "marchingCubesGpu: the grid has neither values nor a GPU page pool");
@@ -85,8 +85,10 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   const auto d = grid.dims;
   require(visitBlock || !paged, "marchingCubesGpu: a paged grid needs the blocks to visit");
   const BlockStorage storage = blockStorage(d, blockSize, visitBlock ? visitBlock : straddlingBlocks(grid, iso, blockSize));
-  MarchingResult result;
-  if (storage.visited == 0) return result;
+  surface_ = {};
+  edgeVertexCount_ = centreCount_ = 0;
+  marched_ = storage.visited > 0;
+  if (!marched_) return surface_;
   const std::uint64_t blockCells = std::uint64_t(blockSize) * std::uint64_t(blockSize) * std::uint64_t(blockSize);
   const std::uint64_t cells = std::uint64_t(storage.visited) * blockCells;
   const std::uint64_t points = std::uint64_t(storage.count()) * blockCells;
@@ -110,25 +112,44 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
 
   // The field: the dense values, or the page table through which the shaders read the pool.
   profile.stage(paged ? "upload page table" : "upload phi");
-  gl::Buffer field;
   std::optional<levelset::PagedPhiGpu> pagedPhi;
-  if (paged) pagedPhi.emplace(*grid.paged.pages, grid.pagedTexture);
-  else field = gl::Buffer(grid.voxels() * sizeof(float), grid.values);
-  profile.stage("upload tables, allocate and clear buffers");
-  const PackedCaseTable& table = packedCaseTable();
-  gl::Buffer blockBuffer = gl::Buffer::of(storage.blocks), slotBuffer = gl::Buffer::of(storage.slots);
-  gl::Buffer caseIndex = gl::Buffer::of(table.index), polygons = gl::Buffer::of(table.polygons);
-  gl::Buffer cellTriangles(cells * 4), cellCentres(cells * 4), edgeBits(points * 4), edgeOffset(points * 4), visited(16);
-  for (gl::Buffer* b : {&cellTriangles, &cellCentres, &edgeBits, &visited}) b->fillZero();
+  if (paged) {
+    pagedPhi.emplace(*grid.paged.pages, grid.pagedTexture);
+  } else {
+    field_.reserve(grid.voxels() * sizeof(float));
+    field_.upload(grid.values, grid.voxels() * sizeof(float));
+  }
+  profile.stage("upload tables, size and clear buffers");
+  if (caseIndex_.id() == 0) {
+    const PackedCaseTable& table = packedCaseTable();
+    caseIndex_ = gl::Buffer::of(table.index), polygons_ = gl::Buffer::of(table.polygons);
+  }
+  auto put = [](gl::Buffer& b, const std::vector<std::int32_t>& v) {
+    b.reserve(v.size() * 4);
+    b.upload(v.data(), v.size() * 4);
+  };
+  put(blocks_, storage.blocks);
+  put(slots_, storage.slots);
+  for (gl::Buffer* b : {&cellTriangles_, &cellCentres_}) b->reserve(cells * 4);
+  for (gl::Buffer* b : {&edgeBits_, &edgeOffset_}) b->reserve(points * 4);
+  visited_.reserve(16);
+  bounds_.reserve(32);
+  cellTriangles_.fillZero(cells * 4);
+  cellCentres_.fillZero(cells * 4);
+  edgeBits_.fillZero(points * 4);
+  visited_.fillZero(16);
+  // The box as the bits of (position + 1), which are never negative, so that uint order is float order.
+  const std::uint32_t emptyBox[8] = {~0u, ~0u, ~0u, 0, 0, 0, 0, 0};
+  bounds_.upload(emptyBox, sizeof emptyBox);
 
   // The shaders' bindings (marching.glsl and the passes), in binding order; the scans reuse 0 and 1,
   // so this runs again after them.
-  const gl::Buffer* bound[] = {&field, &blockBuffer, &caseIndex, &polygons, &cellTriangles, &cellCentres,
-                               &edgeBits, &visited, &edgeOffset};
+  const gl::Buffer* bound[] = {&field_, &blocks_, &caseIndex_, &polygons_, &cellTriangles_, &cellCentres_,
+                               &edgeBits_, &visited_, &edgeOffset_};
   auto bindAll = [&] {
     for (GLuint binding = 0; binding < std::size(bound); ++binding) bound[binding]->bindBase(GL_SHADER_STORAGE_BUFFER, binding);
     if (pagedPhi) pagedPhi->bindData();  // the page table at binding 0, in the dense field's place
-    slotBuffer.bindBase(GL_SHADER_STORAGE_BUFFER, 11);
+    slots_.bindBase(GL_SHADER_STORAGE_BUFFER, 11);
   };
   bindAll();
   auto common = [&](const gl::Program& p) {
@@ -151,36 +172,71 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   countEdges.dispatch(px, py, 1, GL_SHADER_STORAGE_BARRIER_BIT);
 
   profile.stage("scan cell triangles");
-  const std::uint32_t triangleCount = scan.exclusive(cellTriangles, std::uint32_t(cells));
+  const std::uint32_t triangleCount = scan.exclusive(cellTriangles_, std::uint32_t(cells));
   profile.stage("scan cell centres");
-  const std::uint32_t centreCount = scan.exclusive(cellCentres, std::uint32_t(cells));
+  const std::uint32_t centreCount = scan.exclusive(cellCentres_, std::uint32_t(cells));
   profile.stage("scan edge vertices");
-  const std::uint32_t edgeVertexCount = scan.exclusive(edgeOffset, std::uint32_t(points));
+  const std::uint32_t edgeVertexCount = scan.exclusive(edgeOffset_, std::uint32_t(points));
 
   profile.stage("emit vertices");
-  gl::Buffer vertices(std::size_t(std::max<std::uint32_t>(edgeVertexCount, 1)) * sizeof(GpuVertex));
-  gl::Buffer triangles(std::size_t(std::max<std::uint32_t>(triangleCount, 1)) * 12);
+  const std::size_t vertexCount = std::size_t(edgeVertexCount) + centreCount;
+  edgeVertices_.reserve(std::size_t(edgeVertexCount) * sizeof(GpuVertex));
+  vertices_.reserve(vertexCount * 32);
+  triangles_.reserve(std::size_t(triangleCount) * 12);
   bindAll();
-  vertices.bindBase(GL_SHADER_STORAGE_BUFFER, 9);
-  triangles.bindBase(GL_SHADER_STORAGE_BUFFER, 10);
+  edgeVertices_.bindBase(GL_SHADER_STORAGE_BUFFER, 9);
+  triangles_.bindBase(GL_SHADER_STORAGE_BUFFER, 10);
+  vertices_.bindBase(GL_SHADER_STORAGE_BUFFER, 12);
+  bounds_.bindBase(GL_SHADER_STORAGE_BUFFER, 13);
   common(makeVertices);
   glUniform1ui(makeVertices.uniform("pointCount"), GLuint(points));
   makeVertices.dispatch(px, py, 1, GL_SHADER_STORAGE_BARRIER_BIT);
   profile.stage("emit triangles");
   common(makeTriangles);
   glUniform1ui(makeTriangles.uniform("edgeVertexCount"), edgeVertexCount);
-  makeTriangles.dispatch(bx, by, 1, GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT);
+  makeTriangles.dispatch(bx, by, 1,
+                         GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT |
+                             GL_ELEMENT_ARRAY_BARRIER_BIT);
+  profile.stage("read back the box");
+  std::uint32_t box[8];
+  bounds_.download(box, sizeof box);
+  gl::checkErrors("GPU marching cubes");
+  profile.end();
+  edgeVertexCount_ = edgeVertexCount, centreCount_ = centreCount;
+  surface_.vertexBuffer = vertices_.id();
+  surface_.indexBuffer = triangles_.id();
+  surface_.vertexCount = std::uint32_t(vertexCount);
+  surface_.triangleCount = triangleCount;
+  for (int a = 0; a < 3; ++a) {
+    std::memcpy(&surface_.lo[std::size_t(a)], &box[a], 4);
+    std::memcpy(&surface_.hi[std::size_t(a)], &box[3 + a], 4);
+    surface_.lo[std::size_t(a)] -= 1, surface_.hi[std::size_t(a)] -= 1;
+  }
+  return surface_;
+}
 
+std::uint64_t GpuMarchingCubes::gpuBytes() const {
+  std::uint64_t bytes = 0;
+  for (const gl::Buffer* b : {&blocks_, &slots_, &caseIndex_, &polygons_, &cellTriangles_, &cellCentres_, &edgeBits_, &edgeOffset_,
+                              &visited_, &edgeVertices_, &vertices_, &triangles_, &bounds_})
+    bytes += b->bytes();
+  return bytes;
+}
+
+MarchingResult GpuMarchingCubes::readBack() const {
+  MarchingResult result;
+  if (!marched_) return result;
+  gl::StageProfile profile("extract gpu: marching cubes");
   // Read back: vertices as (grid point, t) made positions in double, as the CPU does; centres as
   // the mean of their ring, which every fan (centre, a, b) lists once as a.
   profile.stage("read back mesh");
-  const auto gpuVertices = vertices.read<GpuVertex>(edgeVertexCount);
-  auto corners = triangles.read<std::uint32_t>(std::size_t(triangleCount) * 3);
+  const std::uint32_t edgeVertexCount = edgeVertexCount_, centreCount = centreCount_, triangleCount = surface_.triangleCount;
+  const auto gpuVertices = edgeVertices_.read<GpuVertex>(edgeVertexCount);
+  auto corners = triangles_.read<std::uint32_t>(std::size_t(triangleCount) * 3);
   std::uint32_t visitedCells = 0;
-  visited.download(&visitedCells, 4);
+  visited_.download(&visitedCells, 4);
   result.cellsVisited = visitedCells;
-  for (const gl::Buffer* b : bound) result.gpuBytes += b->bytes();
-  for (const gl::Buffer* b : {&slotBuffer, &vertices, &triangles}) result.gpuBytes += b->bytes();
+  result.gpuBytes = gpuBytes() + field_.bytes();
   profile.stage("assemble mesh (cpu)");
   Mesh& mesh = result.mesh;
   mesh.positions.resize(std::size_t(edgeVertexCount) + centreCount, Vec3{0, 0, 0});
@@ -206,7 +262,14 @@ MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize,
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, triangleCount + 1), [&](const auto& range) {
     for (std::uint32_t t = range.begin(); t != range.end(); ++t) mesh.faceOffsets[t] = 3 * t;
   });
-  gl::checkErrors("GPU marching cubes");
+  gl::checkErrors("reading back the GPU marching cubes' mesh");
+  return result;
+}
+
+MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize, const VisitBlock& visitBlock) {
+  GpuMarchingCubes mc;
+  mc.march(grid, iso, blockSize, visitBlock);
+  MarchingResult result = mc.readBack();
   return result;
 }
 

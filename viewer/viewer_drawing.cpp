@@ -12,15 +12,31 @@
 
 namespace isoatlas::viewer::window {
 
+namespace {
+
+// The background alone, where there is no surface yet.
+Image surfacePictureOfNothing(int width, int height) {
+  Image blank(width, height, 3);
+  std::fill(blank.pixels.begin(), blank.pixels.end(), std::uint8_t(255));
+  return blank;
+}
+
+}  // namespace
+
 Image Viewer::surfacePicture(int width, int height) {
   SegmentationSession& session = *segment_->session;
   render::MeshRenderOptions o{.width = width, .height = height, .viewDirection = segment_->orbit.direction() * -1.0};
-  if (session.activePages() == 0) {  // nothing segmented yet: the background
-    Image blank(width, height, 3);
-    std::fill(blank.pixels.begin(), blank.pixels.end(), std::uint8_t(255));
-    return blank;
+  if (session.activePages() == 0) return surfacePictureOfNothing(width, height);  // nothing segmented yet
+  const levelset::LevelSet& ls = session.levelSet();
+  if (backend_ == levelset::Backend::Gpu && ls.phiPoolTexture() != 0) {  // marched and drawn on the GPU, never read back
+    if (!segment_->marching) segment_->marching = std::make_unique<extract::GpuMarchingCubes>();
+    const extract::GpuSurface surface = extract::marchLevelSetOnGpu(ls, *segment_->marching);
+    if (surface.triangleCount == 0) return surfacePictureOfNothing(width, height);
+    render::GpuMeshView view{surface.vertexBuffer, surface.indexBuffer, surface.triangleCount};
+    render::placeInVolume(view, ls.geometry(), {{surface.lo[0], surface.lo[1], surface.lo[2]}, {surface.hi[0], surface.hi[1], surface.hi[2]}});
+    return render::renderMesh(view, o);
   }
-  const Mesh surface = extract::extractLevelSet(session.levelSet(), {.backend = backend_});
+  const Mesh surface = extract::extractLevelSet(ls, {.backend = backend_});
   return render::renderMesh(surface, o);
 }
 

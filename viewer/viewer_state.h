@@ -22,6 +22,7 @@
 #include "core/volume_io.h"
 #include "core/volume.h"
 #include "edit/dvt/volume_tree.h"
+#include "extract/gpu_marching_cubes.h"
 #include "viewer/brush_edit.h"
 #include "viewer/image_panel.h"
 #include "viewer/model_job.h"
@@ -105,6 +106,9 @@ struct SegmentView {
   std::unique_ptr<levelset::PagedPhiGpu> pagedPhi;
   std::uint64_t pagedPhiVersion = ~0ull;
   ImagePanel surface;
+  // On a GPU level set, the surface is marched where phi lies and drawn from the buffers it is left
+  // in, which persist from one picture to the next.
+  std::unique_ptr<extract::GpuMarchingCubes> marching;
   std::uint64_t view3dVersion = ~0ull;
   bool view3dDirty = true;
   std::chrono::steady_clock::time_point view3dAt;

@@ -74,6 +74,11 @@ void Buffer::growTo(std::size_t bytes) {
   *this = std::move(grown);
 }
 
+void Buffer::reserve(std::size_t bytes) {
+  if (bytes <= bytes_ && id() != 0) return;
+  *this = Buffer(std::max<std::size_t>(id() == 0 ? bytes : bytes + bytes / 4, 16));
+}
+
 void Buffer::fillZero() { fillZero(bytes_); }
 
 void Buffer::fillZero(std::size_t bytes) {

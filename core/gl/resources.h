@@ -74,6 +74,9 @@ public:
   void fillZero(std::size_t bytes);  // the first `bytes` only (all of it if it is smaller)
   // At least `bytes` of storage, what it held kept at its start (a new buffer where it must grow).
   void growTo(std::size_t bytes);
+  // At least `bytes` of storage (16 at least), its contents not kept: a new buffer only where it must
+  // grow, then a quarter larger (buffers reused call after call, for work whose size changes a little).
+  void reserve(std::size_t bytes);
   void bindBase(GLenum target, GLuint index) const { glBindBufferBase(target, index, id()); }
   // fillZero's way on a GPU, by a compute shader; public so that a software renderer's tests run it.
   void zeroWords(std::size_t words);

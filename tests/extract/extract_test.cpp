@@ -17,6 +17,7 @@
 #include "extract/cpu_marching_cubes.h"
 #include "extract/marching_cubes.h"
 #include "extract/straddling_blocks.h"
+#include "tests/extract/same_mesh.h"
 #include "levelset/level_set.h"
 #include "tests/gl_context.h"
 #include "tests/test_util.h"
@@ -24,6 +25,9 @@
 
 namespace isoatlas::extract {
 namespace {
+
+using test_mesh::expectIdenticalMesh;
+using test_mesh::expectSameMesh;
 
 double area(const Mesh& m) {
   double a = 0;
@@ -236,63 +240,6 @@ TEST(ExtractSurface, ComponentsAndSmoothing) {
   EXPECT_NEAR(enclosedVolume(smooth), enclosedVolume(largest), 0.03 * enclosedVolume(largest)) << "Taubin keeps volume";
 }
 
-// Both paths number vertices by grid edge and triangles by cell, the CPU across the grid and the GPU
-// block by block. So a mesh is put in a canonical numbering first: edge vertices in (point, axis)
-// order (the axis is the coordinate off the grid: crossings stay 1e-3 from grid points), centre
-// vertices after them by cell and position; each triangle rotated to start at its least vertex, the
-// list sorted.
-struct CanonicalMesh {
-  std::vector<Vec3> positions;
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-};
-CanonicalMesh canonical(const Mesh& m) {
-  auto key = [](const Vec3& p) {
-    std::array<double, 5> k{};  // z, y, x of the lower grid point or cell, axis (3: a centre), then x
-    int offGrid = 0, axis = 3;
-    for (int a = 0; a < 3; ++a)
-      if (std::fabs(p[a] - std::round(p[a])) > 1e-4) ++offGrid, axis = a;
-    if (offGrid > 1) axis = 3;
-    for (int a = 0; a < 3; ++a) k[std::size_t(2 - a)] = axis == a || axis == 3 ? std::floor(p[a]) : std::round(p[a]);
-    k[3] = axis;
-    k[4] = axis == 3 ? p.x + 1e3 * p.y : 0;  // centres sharing a cell, apart by position
-    return k;
-  };
-  std::vector<std::uint32_t> order(m.vertexCount());
-  std::vector<std::array<double, 5>> keys(m.vertexCount());
-  for (std::uint32_t v = 0; v < order.size(); ++v) order[v] = v, keys[v] = key(m.positions[v]);
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return keys[a] < keys[b]; });
-  CanonicalMesh c;
-  std::vector<std::uint32_t> rank(order.size());
-  for (std::uint32_t i = 0; i < order.size(); ++i) rank[order[i]] = i, c.positions.push_back(m.positions[order[i]]);
-  for (std::size_t f = 0; f < m.faceCount(); ++f) {
-    const auto t = m.face(f);
-    std::array<std::uint32_t, 3> r{rank[t[0]], rank[t[1]], rank[t[2]]};
-    std::rotate(r.begin(), std::min_element(r.begin(), r.end()), r.end());
-    c.triangles.push_back(r);
-  }
-  std::sort(c.triangles.begin(), c.triangles.end());
-  return c;
-}
-
-// The same mesh up to numbering: the same vertices (positions to 1e-5) and the same oriented triangles.
-void expectSameMesh(const Mesh& cpu, const Mesh& gpu) {
-  ASSERT_EQ(cpu.vertexCount(), gpu.vertexCount());
-  ASSERT_EQ(cpu.faceCount(), gpu.faceCount());
-  const CanonicalMesh a = canonical(cpu), b = canonical(gpu);
-  for (std::size_t v = 0; v < a.positions.size(); ++v)
-    for (int k = 0; k < 3; ++k) ASSERT_NEAR(a.positions[v][k], b.positions[v][k], 1e-5) << "vertex " << v;
-  EXPECT_TRUE(a.triangles == b.triangles);
-}
-
-// The same mesh in the same numbering (one path, two ways of reading the field).
-void expectIdenticalMesh(const Mesh& a, const Mesh& b) {
-  ASSERT_EQ(a.vertexCount(), b.vertexCount());
-  ASSERT_EQ(a.faceCount(), b.faceCount());
-  for (std::size_t v = 0; v < a.vertexCount(); ++v)
-    for (int k = 0; k < 3; ++k) ASSERT_NEAR(a.positions[v][k], b.positions[v][k], 1e-5) << "vertex " << v;
-  EXPECT_TRUE(a.faceVertices == b.faceVertices);
-}
-
 TEST(MarchingCubesGpu, GivesTheCpuMesh) {
   test::glContext();
   const Volume torus = test::fieldVolume({44, 44, 20}, [](double x, double y, double z) {
@@ -305,7 +252,8 @@ TEST(MarchingCubesGpu, GivesTheCpuMesh) {
   expectSameMesh(cpu, gpu);
   EXPECT_EQ(cpuStats.cellsVisited, gpuStats.cellsVisited);
   expectClosedManifold(gpu, 1);
-  // Random fields with exact-iso corners exercise every case and the centre vertices.
+  // Random fields with exact-iso corners exercise every case. (No case of today's table fans from a
+  // centre vertex: chooseApex finds an apex for every polygon of the 256; the centres' code stands by.)
   std::mt19937 rng(5);
   std::uniform_int_distribution<int> value(-2, 2);
   for (int trial = 0; trial < 8; ++trial) {
@@ -343,9 +291,9 @@ TEST(MarchingCubesGpu, ProfileNamesItsStagesAndLeavesTheMeshAlone) {
   ::testing::internal::CaptureStderr();
   const Mesh profiled = extractSurface(torus, gpu);
   const std::string log = ::testing::internal::GetCapturedStderr();
-  for (const char* stage : {"choose blocks (cpu)", "programs", "upload phi", "upload tables, allocate and clear buffers",
+  for (const char* stage : {"choose blocks (cpu)", "programs", "upload phi", "upload tables, size and clear buffers",
                             "classify cells", "count edges", "scan cell triangles", "scan cell centres",
-                            "scan edge vertices", "emit vertices", "emit triangles", "read back mesh",
+                            "scan edge vertices", "emit vertices", "emit triangles", "read back the box", "read back mesh",
                             "assemble mesh (cpu)", "total"})
     EXPECT_NE(log.find(std::string("isoatlas gl profile: extract gpu: marching cubes: ") + stage + ": "), std::string::npos)
         << stage << " missing from:\n" << log;
