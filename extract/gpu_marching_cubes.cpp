@@ -85,10 +85,11 @@ GpuSurface GpuMarchingCubes::march(const Grid& grid, float iso, int blockSize, c
   const auto d = grid.dims;
   require(visitBlock || !paged, "marchingCubesGpu: a paged grid needs the blocks to visit");
   const BlockStorage storage = blockStorage(d, blockSize, visitBlock ? visitBlock : straddlingBlocks(grid, iso, blockSize));
+  // Until this march ends, readBack gives nothing (a throw below leaves no earlier surface to read).
   surface_ = {};
   edgeVertexCount_ = centreCount_ = 0;
-  marched_ = storage.visited > 0;
-  if (!marched_) return surface_;
+  marched_ = false;
+  if (storage.visited == 0) return surface_;
   const std::uint64_t blockCells = std::uint64_t(blockSize) * std::uint64_t(blockSize) * std::uint64_t(blockSize);
   const std::uint64_t cells = std::uint64_t(storage.visited) * blockCells;
   const std::uint64_t points = std::uint64_t(storage.count()) * blockCells;
@@ -113,8 +114,10 @@ GpuSurface GpuMarchingCubes::march(const Grid& grid, float iso, int blockSize, c
   // The field: the dense values, or the page table through which the shaders read the pool.
   profile.stage(paged ? "upload page table" : "upload phi");
   std::optional<levelset::PagedPhiGpu> pagedPhi;
+  denseField_ = !paged;
   if (paged) {
     pagedPhi.emplace(*grid.paged.pages, grid.pagedTexture);
+    field_ = {};  // a dense copy from an earlier call, no longer read
   } else {
     field_.reserve(grid.voxels() * sizeof(float));
     field_.upload(grid.values, grid.voxels() * sizeof(float));
@@ -203,6 +206,7 @@ GpuSurface GpuMarchingCubes::march(const Grid& grid, float iso, int blockSize, c
   gl::checkErrors("GPU marching cubes");
   profile.end();
   edgeVertexCount_ = edgeVertexCount, centreCount_ = centreCount;
+  marched_ = true;
   surface_.vertexBuffer = vertices_.id();
   surface_.indexBuffer = triangles_.id();
   surface_.vertexCount = std::uint32_t(vertexCount);
@@ -212,6 +216,7 @@ GpuSurface GpuMarchingCubes::march(const Grid& grid, float iso, int blockSize, c
     std::memcpy(&surface_.hi[std::size_t(a)], &box[3 + a], 4);
     surface_.lo[std::size_t(a)] -= 1, surface_.hi[std::size_t(a)] -= 1;
   }
+  if (vertexCount == 0) surface_.lo = surface_.hi = {0, 0, 0};  // no vertex: no box
   return surface_;
 }
 
@@ -236,7 +241,7 @@ MarchingResult GpuMarchingCubes::readBack() const {
   std::uint32_t visitedCells = 0;
   visited_.download(&visitedCells, 4);
   result.cellsVisited = visitedCells;
-  result.gpuBytes = gpuBytes() + field_.bytes();
+  result.gpuBytes = gpuBytes() + (denseField_ ? field_.bytes() : 0);
   profile.stage("assemble mesh (cpu)");
   Mesh& mesh = result.mesh;
   mesh.positions.resize(std::size_t(edgeVertexCount) + centreCount, Vec3{0, 0, 0});

@@ -7,7 +7,7 @@
 // The field is the grid's dense values (uploaded), or, for a Grid whose pagedTexture is set, phi in
 // a GPU level set's page pool, read in place through its page table: no dense copy of phi on the host
 // or the GPU. Its GPU memory, the field's besides, follows the visited blocks (about 24 bytes per
-// visited cell, 32 per vertex and 12 per triangle), plus two small tables over the grid (4 bytes per
+// visited cell, 64 per vertex (its edge and parameter, and the vertex as drawn) and 12 per triangle), plus two small tables over the grid (4 bytes per
 // page and per 8^3 block).
 // With no visitBlock, a dense grid's straddling blocks are chosen on the host (straddling_blocks.h);
 // a paged grid needs visitBlock.
@@ -34,7 +34,7 @@ struct GpuSurface {
   unsigned vertexBuffer = 0;
   unsigned indexBuffer = 0;  // per triangle its three vertices (u32), counter-clockwise from outside
   std::uint32_t vertexCount = 0, triangleCount = 0;
-  std::array<float, 3> lo{}, hi{};  // the vertices' bounding box (voxel index coordinates)
+  std::array<float, 3> lo{}, hi{};  // the vertices' bounding box (voxel index coordinates; 0 with no vertex)
 };
 
 class GpuMarchingCubes {
@@ -44,7 +44,7 @@ public:
   // The last march's mesh on the host, as marchingCubesGpu returns it (positions made in double from
   // each vertex's grid point and edge parameter, as the CPU makes them).
   MarchingResult readBack() const;
-  // The GPU memory these buffers hold (the field's, and a paged field's pool, not counted).
+  // The GPU memory these buffers hold (a dense field's copy, and a paged field's pool, not counted).
   std::uint64_t gpuBytes() const;
 
 private:
@@ -52,7 +52,8 @@ private:
       visited_, edgeVertices_, vertices_, triangles_, bounds_;
   GpuSurface surface_;
   std::uint32_t edgeVertexCount_ = 0, centreCount_ = 0;
-  bool marched_ = false;  // the last march visited blocks
+  bool marched_ = false;     // the last march visited blocks and ended
+  bool denseField_ = false;  // the last march read a dense field (field_), not a page pool
 };
 
 MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize = 8, const VisitBlock& visitBlock = {});

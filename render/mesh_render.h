@@ -37,7 +37,8 @@ struct GpuMeshView {
 Image renderMesh(const GpuMeshView& mesh, const MeshRenderOptions& options = {});
 // Sets view's maps to the world to a volume's index-to-world map (for positions in its voxel index
 // coordinates; its direction orthonormal, as every volume read is), and its box to the world box
-// round `voxelBox` (the positions' box in voxel index coordinates) so mapped.
+// round `voxelBox` (the positions' box in voxel index coordinates) so mapped: the mesh's own box
+// where the volume's axes are the world's (up to order and sign), a little wider for an oblique one.
 void placeInVolume(GpuMeshView& view, const Volume& geometry, const Box& voxelBox);
 
 }  // namespace isoatlas::render

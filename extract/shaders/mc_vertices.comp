@@ -30,6 +30,7 @@ void main() {
     for (int a = 0; a < 3; ++a) groupLowest[a] = 0xffffffffu, groupHighest[a] = 0u;
     groupHasVertices = false;
   }
+  memoryBarrierShared();
   barrier();
   uint i = gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * 256u) + gl_GlobalInvocationID.x;
   uint bits = i < pointCount ? edgeBits[i] : 0u;
@@ -50,9 +51,11 @@ void main() {
       v.axis = axis;
       vec3 position = vec3(p);
       position[axis] += v.t;
-      // Inside is above iso: the outward normal runs down the gradient.
+      // Inside is above iso: the outward normal runs down the gradient (down the edge where the
+      // central differences cancel).
       vec3 g = mix(gradientP, gradientAt(q), v.t);
-      drawn[slot] = DrawnVertex(vec4(position, 1.0), vec4(length(g) > 0.0 ? -normalize(g) : vec3(0.0), 0.0));
+      if (length(g) == 0.0) g[axis] = b - a;
+      drawn[slot] = DrawnVertex(vec4(position, 1.0), vec4(-normalize(g), 0.0));
       vertices[slot++] = v;
       for (int k = 0; k < 3; ++k) {
         atomicMin(groupLowest[k], floatBitsToUint(position[k] + 1.0));
@@ -60,6 +63,7 @@ void main() {
       }
     }
   }
+  memoryBarrierShared();
   barrier();
   if (gl_LocalInvocationIndex == 0u && groupHasVertices) {
     for (int k = 0; k < 3; ++k) {

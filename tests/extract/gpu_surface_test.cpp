@@ -65,9 +65,13 @@ TEST(GpuMarchingCubes, KeptBuffersGiveTheCpuMeshCallAfterCall) {
   EXPECT_EQ(bytes[2], bytes[1]);
   EXPECT_EQ(surfaces[2].vertexBuffer, surfaces[1].vertexBuffer);
   EXPECT_EQ(surfaces[2].indexBuffer, surfaces[1].indexBuffer);
+  EXPECT_EQ(surfaces[2].lo, surfaces[0].lo) << "the box is the last march's, not the larger one's before";
+  EXPECT_EQ(surfaces[2].hi, surfaces[0].hi);
   // Nothing to march: an empty surface, and the mesh read back empty.
   const Volume outside = ball(-1);
-  EXPECT_EQ(mc.march(gridOf(outside), 0.0f).triangleCount, 0u);
+  const GpuSurface none = mc.march(gridOf(outside), 0.0f);
+  EXPECT_EQ(none.triangleCount, 0u);
+  EXPECT_EQ(none.lo, (std::array<float, 3>{0, 0, 0}));
   EXPECT_EQ(mc.readBack().mesh.faceCount(), 0u);
 }
 
