@@ -25,13 +25,11 @@ constexpr int kSelf = besideAt(0, 0);
 
 class CpuSolver final : public SolverBackend {
 public:
-  CpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims, int pageSize, Topology topology)
-      : dims_(dims), pagesX_((dims[0] + pageSize - 1) / pageSize), pagesY_((dims[1] + pageSize - 1) / pageSize),
-        topology_(topology), P_(pageSize) {
-    if (std::all_of(source.begin(), source.end(), [](float v) { return v >= 0 && v <= 255 && v == std::floor(v); }))
-      sourceBytes_ = pageBlocked<std::uint8_t>(source);
-    else
-      sourceFloats_ = pageBlocked<float>(source);
+  CpuSolver(std::shared_ptr<const VolumeSource> source, int pageSize, Topology topology)
+      : source_(std::move(source)), dims_(source_->geometry().dims), pagesX_((dims_[0] + pageSize - 1) / pageSize),
+        pagesY_((dims_[1] + pageSize - 1) / pageSize), topology_(topology), P_(pageSize), bytes_(source_->wholeBytes()) {
+    sourceOf_.assign(std::size_t(pagesX_ * pagesY_ * dims_[2]), -1);
+    isActive_.assign(sourceOf_.size(), 0);
   }
 
   std::string name() const override {
@@ -54,10 +52,12 @@ public:
     }
     for (const auto& [slot, value] : filled) fill(pm, slot, value);
     const auto& active = pm.activePages();
+    keepSourcesOf(active);
     pages_.resize(active.size());
     for (std::size_t i = 0; i < active.size(); ++i) {
       PageInfo& info = pages_[i];
       info.slot = pm.slotOf(active[i]);
+      info.source = sourceOf_[std::size_t(active[i])];
       info.coords = pm.pageCoords(active[i]);
       const auto slots = pm.neighbourSlots(active[i]);
       for (int dz = -1; dz <= 1; ++dz)
@@ -187,7 +187,7 @@ public:
     for (const auto& m : moving_) moving += m.capacity();
     return (phi_.size() + edges_.size()) * sizeof(float) + moving * sizeof(Moving) + pages_.size() * sizeof(PageInfo) +
            around_.size() * sizeof(around_[0]) +
-           sourceFloats_.size() * sizeof(float) + sourceBytes_.size();
+           sourceFloats_.size() * sizeof(float) + sourceBytes_.size() + sourceOf_.size() * (sizeof(std::int32_t) + 1);
   }
 
 private:
@@ -196,6 +196,7 @@ private:
   using Origin = std::array<std::int32_t, 2>;
   struct PageInfo {
     std::int32_t slot;
+    std::int32_t source;  // where its intensities lie in sourceBytes_ or sourceFloats_, in pages
     std::array<std::int64_t, 3> coords;
     // The pages beside it at dx = 0 (origins, the page itself at kSelf), and where those at dx = -1
     // and +1 keep their edge columns in edges_: the only parts of the 27 that are read.
@@ -411,40 +412,64 @@ private:
     return bits;
   }
 
-  // The source's intensities page by page, as the pool's pages lie (a page's P x P together, x
-  // fastest), so that pass 1 reads a page's in a few neighbouring cache lines.
-  template <class T>
-  HugePageVector<T> pageBlocked(const std::vector<float>& volume) const {
-    const int P = P_;
-    const std::size_t side = std::size_t(P);
-    HugePageVector<T> out(std::size_t(pagesX_ * pagesY_ * dims_[2]) * side * side, T(0));
-    for (std::int64_t z = 0; z < dims_[2]; ++z)
-      for (std::int64_t y = 0; y < dims_[1]; ++y)
-        for (std::int64_t x = 0; x < dims_[0]; ++x)
-          out[(sourcePage(x / P, y / P, z) * side + std::size_t(y % P)) * side + std::size_t(x % P)] =
-              T(volume[std::size_t((z * dims_[1] + y) * dims_[0] + x)]);
-    return out;
+  // The source's intensities of the active pages, each page's P x P together, x fastest, so that
+  // pass 1 reads a page's in a few neighbouring cache lines: read from the source when a page becomes
+  // active, given back when it stops (kept apart from phi's slots, which renumbering moves).
+  void keepSourcesOf(const std::vector<std::int64_t>& active) {
+    const std::size_t area = std::size_t(P_) * std::size_t(P_);
+    for (const std::int64_t page : active) isActive_[std::size_t(page)] = 1;
+    std::erase_if(kept_, [&](std::int64_t page) {
+      if (isActive_[std::size_t(page)]) return false;
+      freeSources_.push_back(sourceOf_[std::size_t(page)]);
+      sourceOf_[std::size_t(page)] = -1;
+      return true;
+    });
+    for (const std::int64_t page : active) isActive_[std::size_t(page)] = 0;
+    std::vector<float> row(static_cast<std::size_t>(P_), 0.0f);
+    for (const std::int64_t page : active) {
+      std::int32_t& at = sourceOf_[std::size_t(page)];
+      if (at >= 0) continue;
+      if (freeSources_.empty()) {  // room for a quarter more pages
+        const std::size_t held = (bytes_ ? sourceBytes_.size() : sourceFloats_.size()) / area, grown = held + held / 4 + 16;
+        if (bytes_) sourceBytes_.resize(grown * area, 0);
+        else sourceFloats_.resize(grown * area, 0.0f);
+        for (std::size_t k = grown; k-- > held;) freeSources_.push_back(std::int32_t(k));
+      }
+      at = freeSources_.back();
+      freeSources_.pop_back();
+      kept_.push_back(page);
+      // Its rows from the source; past the volume's edge 0 (never read).
+      const std::int64_t px = page % pagesX_, py = page / pagesX_ % pagesY_, z = page / (pagesX_ * pagesY_);
+      const std::int64_t x0 = px * P_, n = std::min<std::int64_t>(P_, dims_[0] - x0);
+      for (int y = 0; y < P_; ++y) {
+        std::fill(row.begin(), row.end(), 0.0f);
+        if (py * P_ + y < dims_[1]) source_->readRow(x0, py * P_ + y, z, n, row.data());
+        const std::size_t to = (std::size_t(at) * std::size_t(P_) + std::size_t(y)) * std::size_t(P_);
+        if (bytes_) std::transform(row.begin(), row.end(), &sourceBytes_[to], [](float v) { return std::uint8_t(v); });
+        else std::copy(row.begin(), row.end(), &sourceFloats_[to]);
+      }
+    }
   }
   // Rows y0 <= y < y1 of a page's intensities (P a row), as floats: in place, or from bytes into scratch.
   const float* intensities(const PageInfo& page, int y0, int y1, float* scratch) const {
-    const std::size_t from = (sourcePage(page.coords[0], page.coords[1], page.coords[2]) * std::size_t(P_) + std::size_t(y0)) *
-                             std::size_t(P_);
-    if (sourceBytes_.empty()) return &sourceFloats_[from];
+    const std::size_t from = (std::size_t(page.source) * std::size_t(P_) + std::size_t(y0)) * std::size_t(P_);
+    if (!bytes_) return &sourceFloats_[from];
     const std::uint8_t* bytes = &sourceBytes_[from];
     for (std::size_t k = 0, n = std::size_t(y1 - y0) * std::size_t(P_); k < n; ++k) scratch[k] = float(bytes[k]);
     return scratch;
   }
-  std::size_t sourcePage(std::int64_t px, std::int64_t py, std::int64_t z) const {
-    return std::size_t((z * pagesY_ + py) * pagesX_ + px);
-  }
 
+  std::shared_ptr<const VolumeSource> source_;
   std::array<std::int64_t, 3> dims_;
   std::int64_t pagesX_, pagesY_;
-  // The source page by page (pageBlocked): as bytes where every intensity is a whole number from 0
-  // to 255, as in most MRI volumes (a quarter of the memory to wait on, the same floats read), else as
-  // floats.
+  // The active pages' intensities (keepSourcesOf): as bytes where every intensity is a whole number
+  // from 0 to 255, as in most MRI volumes (a quarter of the memory to wait on, the same floats read),
+  // else as floats; per virtual page, where its intensities lie (-1: none).
   HugePageVector<std::uint8_t> sourceBytes_;
   Pool sourceFloats_;
+  std::vector<std::int32_t> sourceOf_, freeSources_;
+  std::vector<std::int64_t> kept_;  // the pages holding intensities
+  std::vector<std::uint8_t> isActive_;  // per virtual page, scratch for keepSourcesOf (all 0 between calls)
   Pool phi_;
   std::vector<float> edges_;  // per slot, its first and last columns (refreshEdges)
   std::vector<std::vector<Moving>> moving_;  // per active page, from pass 1
@@ -452,15 +477,15 @@ private:
   std::vector<std::vector<SideChange>> sideChanges_;  // per active page, pass 2's for pass 2b (Preserve)
   std::vector<std::array<Origin, 27>> around_;        // per active page, its 3 x 3 x 3's origins (Preserve)
   int P_ = 16;
+  bool bytes_ = false;
   std::size_t width_ = 0;
   std::vector<PageInfo> pages_;
 };
 
 }  // namespace
 
-std::unique_ptr<SolverBackend> makeCpuSolver(const std::vector<float>& source, std::array<std::int64_t, 3> dims, int pageSize,
-                                             Topology topology) {
-  return std::make_unique<CpuSolver>(source, dims, pageSize, topology);
+std::unique_ptr<SolverBackend> makeCpuSolver(std::shared_ptr<const VolumeSource> source, int pageSize, Topology topology) {
+  return std::make_unique<CpuSolver>(std::move(source), pageSize, topology);
 }
 
 }  // namespace isoatlas::levelset

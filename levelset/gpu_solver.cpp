@@ -31,8 +31,8 @@ using Origin = std::array<std::int32_t, 2>;  // std430 ivec2
 
 class GpuSolver final : public SolverBackend {
 public:
-  GpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims, Topology topology)
-      : ctx_(gl::Context::current()), source_(std::move(source)), dims_(dims), topology_(topology), counters_(16) {}
+  GpuSolver(std::shared_ptr<const VolumeSource> source, Topology topology)
+      : ctx_(gl::Context::current()), source_(std::move(source)), dims_(source_->geometry().dims), topology_(topology), counters_(16) {}
 
   std::string name() const override { return "gpu (" + ctx_.info().renderer + ")"; }
 
@@ -126,8 +126,13 @@ public:
     requireCurrent();
     if (request.window < 1 || request.window > kChainRingSize || P_ == 0) return std::nullopt;
     if (!chain_) {
-      if (!GpuPageChain::fits(source_.size())) return std::nullopt;
-      chain_ = std::make_unique<GpuPageChain>(ctx_, defines_, pm.pages(), dims_, source_);
+      const std::size_t voxels = std::size_t(dims_[0] * dims_[1] * dims_[2]);
+      if (!GpuPageChain::fits(voxels)) return std::nullopt;
+      std::vector<float> whole(voxels);  // the chain activates pages on its own: it holds the whole source
+      for (std::int64_t z = 0; z < dims_[2]; ++z)
+        for (std::int64_t y = 0; y < dims_[1]; ++y)
+          source_->readRow(0, y, z, dims_[0], &whole[std::size_t((z * dims_[1] + y) * dims_[0])]);
+      chain_ = std::make_unique<GpuPageChain>(ctx_, defines_, pm.pages(), dims_, whole);
       onDevice_ = passes(defines_, true);
     }
     DeviceRun run;
@@ -414,7 +419,7 @@ private:
       const auto c = pm.pageCoords(page);
       const std::int64_t x0 = c[0] * P_, n = std::min<std::int64_t>(P_, dims_[0] - x0);
       for (int y = 0; y < P_ && c[1] * P_ + y < dims_[1]; ++y)
-        std::copy_n(&source_[std::size_t((c[2] * dims_[1] + c[1] * P_ + y) * dims_[0] + x0)], n, out + y * P_);
+        source_->readRow(x0, c[1] * P_ + y, c[2], n, out + y * P_);
     }
     writePages(sourcePool_, origins, values);
   }
@@ -451,7 +456,7 @@ private:
   }
 
   gl::Context& ctx_;
-  std::vector<float> source_;  // the whole volume, in host memory (and in chain_'s buffer once made)
+  std::shared_ptr<const VolumeSource> source_;  // read page by page (and whole into chain_'s buffer once made)
   std::array<std::int64_t, 3> dims_;
   Topology topology_;
   std::vector<std::int64_t> slotPage_;  // per slot: the page whose intensities sourcePool_ holds there
@@ -471,8 +476,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<SolverBackend> makeGpuSolver(std::vector<float> source, std::array<std::int64_t, 3> dims, Topology topology) {
-  return std::make_unique<GpuSolver>(std::move(source), dims, topology);
+std::unique_ptr<SolverBackend> makeGpuSolver(std::shared_ptr<const VolumeSource> source, Topology topology) {
+  return std::make_unique<GpuSolver>(std::move(source), topology);
 }
 
 }  // namespace isoatlas::levelset

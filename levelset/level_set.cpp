@@ -24,21 +24,33 @@ Topology topologyFor(const std::string& word, const std::string& option) {
   throw Error(option + (option.ends_with("=") ? "'" + word + "'" : " " + word) + ": say free or preserve", ErrorKind::BadInput);
 }
 
+namespace {
+
+// The volume held in memory as a source, once its voxels are known to be finite.
+std::shared_ptr<const VolumeSource> sourceInMemory(const Volume& source) {
+  requireFiniteVoxels(source, "the source volume");
+  return std::make_shared<VolumeInMemory>(source);
+}
+
+}  // namespace
+
 LevelSet::LevelSet(const Volume& source, const SpeedParams& params, const LevelSetOptions& options)
+    : LevelSet(sourceInMemory(source), params, options) {}
+
+LevelSet::LevelSet(std::shared_ptr<const VolumeSource> source, const SpeedParams& params, const LevelSetOptions& options)
     : params_(params), settledChange_(options.settledChange) {
   validateParams(params);
-  require(source.voxelCount() > 0, "the source volume is empty");
-  require(source.dims[0] <= (1 << 20) && source.dims[1] <= (1 << 20), "volume too wide for the page table");
-  geometry_.dims = source.dims;  // the geometry only, not the voxels
-  geometry_.spacing = source.spacing;
-  geometry_.origin = source.origin;
-  geometry_.direction = source.direction;
-  pages_ = std::make_unique<PageManager>(source.dims, options.pageSize, options.initialSlots,
+  const Volume& g = source->geometry();
+  require(g.voxelCount() > 0, "the source volume is empty");
+  require(g.dims[0] <= (1 << 20) && g.dims[1] <= (1 << 20), "volume too wide for the page table");
+  geometry_.dims = g.dims;  // the geometry only, not the voxels
+  geometry_.spacing = g.spacing;
+  geometry_.origin = g.origin;
+  geometry_.direction = g.direction;
+  pages_ = std::make_unique<PageManager>(g.dims, options.pageSize, options.initialSlots,
                                          options.backend == Backend::Gpu ? PoolLayout::Texture : PoolLayout::Contiguous);
-  requireFiniteVoxels(source, "the source volume");
-  std::vector<float> intensities = source.toFloat();
-  backend_ = options.backend == Backend::Gpu ? makeGpuSolver(std::move(intensities), source.dims, options.topology)
-                                             : makeCpuSolver(intensities, source.dims, options.pageSize, options.topology);
+  backend_ = options.backend == Backend::Gpu ? makeGpuSolver(std::move(source), options.topology)
+                                             : makeCpuSolver(std::move(source), options.pageSize, options.topology);
   renumberPages_ = options.renumberPages && options.backend != Backend::Gpu;
   pagesOnDevice_ = options.pagesOnDevice && options.backend == Backend::Gpu;
   mark_.assign(std::size_t(pages_->virtualPageCount()), 0);

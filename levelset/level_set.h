@@ -11,6 +11,7 @@
 #include <string>
 
 #include "core/volume.h"
+#include "core/volume_source.h"
 #include "levelset/backend.h"
 #include "levelset/page_manager.h"
 #include "levelset/solver_backend.h"
@@ -70,8 +71,12 @@ struct RunStats {
 
 class LevelSet {
 public:
-  // source: the intensities the speed reads (any scalar type; finite values).
+  // source: the intensities the speed reads (any scalar type; finite values), copied.
   LevelSet(const Volume& source, const SpeedParams& params, const LevelSetOptions& options = {});
+  // The same read from `source` page by page as the band reaches them (core/volume_source.h): the
+  // solvers hold the active pages' intensities, not the volume's (finite values expected: a
+  // non-finite one makes its page's speed so).
+  LevelSet(std::shared_ptr<const VolumeSource> source, const SpeedParams& params, const LevelSetOptions& options = {});
   ~LevelSet();
 
   void setParams(const SpeedParams& params);  // takes effect at the next step

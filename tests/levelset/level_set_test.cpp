@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <map>
@@ -312,10 +313,60 @@ TEST(LevelSet, PagesAreReleasedBehindTheFrontAndReused) {
   EXPECT_GT(stats.releases, 0);
   EXPECT_LT(stats.peakActive, stats.activations) << "freed slots were taken again";
   EXPECT_EQ(ls.pages().staticSlot(ls.pages().pageIndex(6, 6, 24)), kInsideSlot) << "the centre page went static inside";
-  // The CPU backend's memory counts the source volume it reads (48^3 floats), the pool of phi and
-  // the per-page tables besides.
+  // The CPU backend's memory counts the pool of phi, the per-page tables and the active pages'
+  // intensities (TheSolversReadTheSourcePageByPage below).
   const std::uint64_t pool = std::uint64_t(ls.pages().capacity()) * 4 * 4 * sizeof(float);
-  EXPECT_GE(ls.physicalBytes(), std::uint64_t(48 * 48 * 48) * sizeof(float) + pool);
+  EXPECT_GE(ls.physicalBytes(), pool);
+}
+
+// A source that counts the rows read from it.
+class CountingSource final : public VolumeSource {
+public:
+  explicit CountingSource(Volume v) : VolumeSource(v), inner_(std::move(v)) {}
+  void readRow(std::int64_t x0, std::int64_t y, std::int64_t z, std::int64_t n, float* out) const override {
+    ++rows;
+    inner_.readRow(x0, y, z, n, out);
+  }
+  bool wholeBytes() const override { return inner_.wholeBytes(); }
+  mutable std::atomic<std::int64_t> rows{0};
+
+private:
+  VolumeInMemory inner_;
+};
+
+// The solvers read the source page by page as pages become active (P rows each), hold only the
+// active pages' intensities, and give the answer of the volume held whole.
+TEST(LevelSet, TheSolversReadTheSourcePageByPage) {
+  test::glContext();
+  const Phantom p = torusPhantom();
+  // Intensities off whole numbers, so the CPU keeps floats (4 bytes a voxel, were it the volume).
+  Volume fractional = p.image.sameGeometry(ScalarType::Float32);
+  for (std::size_t n = 0; n < p.image.voxelCount(); ++n) fractional.setValue(n, p.image.value(n) + 0.25);
+  for (const Backend backend : {Backend::Cpu, Backend::Gpu}) {
+    SCOPED_TRACE(backend == Backend::Cpu ? "cpu" : "gpu");
+    const LevelSetOptions options{.backend = backend, .pageSize = 8, .initialSlots = 16, .pagesOnDevice = false};
+    auto source = std::make_shared<CountingSource>(fractional);
+    LevelSet paged(source, {100, 30, 0.7f}, options), whole(fractional, {100, 30, 0.7f}, options);
+    for (LevelSet* ls : {&paged, &whole}) {
+      ls->addSphere(p.seedA, 3);
+      ls->run({.maxIterations = 60, .untilConverged = false});
+    }
+    EXPECT_EQ(largestDifference(paged.phi(), whole.phi()), 0.0);
+    // Each page read once a time it became active (8 rows, fewer at the volume's edge), none other.
+    const std::int64_t activations = paged.pages().stats().activations;
+    EXPECT_GT(activations, 0);
+    EXPECT_LE(source->rows.load(), 8 * activations);
+    EXPECT_GT(source->rows.load(), 4 * activations);
+  }
+  // A small band in a large volume: the CPU solver's memory is the band's, not the volume's (16 MB of
+  // floats, which it held whole before).
+  LevelSet small(uniformVolume({256, 256, 64}, 10.25f), {10, 0.5f, 1}, {.pageSize = 16, .initialSlots = 64});
+  small.addSphere({128, 128, 32}, 4);
+  for (int i = 0; i < 5; ++i) small.step();
+  const std::uint64_t volumeFloats = std::uint64_t(256 * 256 * 64) * sizeof(float);
+  const std::uint64_t activeFloats = std::uint64_t(small.pages().activePages().size()) * 16 * 16 * sizeof(float);
+  EXPECT_LT(small.physicalBytes(), volumeFloats / 8) << "the band's pages, not the volume";
+  EXPECT_GE(small.physicalBytes(), 2 * activeFloats) << "phi and the intensities of every active page";
 }
 
 // On both backends: growing keeps every slot's content (phi and, on the GPU, the source's pages).
@@ -639,7 +690,9 @@ TEST(LevelSet, TheCpuSolverRefusesAnActiveListItWasNotToldOf) {
   // sorts the list back without moving a slot. A backend whose tables still follow the order before
   // would credit each page with another's results: it must refuse to iterate, not answer wrongly.
   PageManager pm({64, 16, 4}, 16, 8, PoolLayout::Contiguous);
-  const auto solver = makeCpuSolver(std::vector<float>(64 * 16 * 4, 10.0f), pm.dims(), 16);
+  Volume ten = Volume::zeros({64, 16, 4}, ScalarType::Float32);
+  for (std::size_t n = 0; n < ten.voxelCount(); ++n) ten.setValue(n, 10);
+  const auto solver = makeCpuSolver(std::make_shared<VolumeInMemory>(ten), 16);
   for (std::int64_t x = 0; x < 3; ++x) pm.activate(pm.pageIndex(x, 0, 1));
   pm.renumberInPageOrder();  // slots 2, 3, 4 (the pages hold no values yet)
   solver->pagesChanged(pm, {});

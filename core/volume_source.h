@@ -1,0 +1,40 @@
+// VolumeSource: a scalar volume read a row at a time, as floats, so that what reads it (the level
+// set's solvers, page by page as the band reaches them) holds only the parts it works on, not the
+// volume. VolumeInMemory is a Volume held in memory; sources that read a file as they go are issue
+// 67's next step.
+//   geometry()  dims, spacing, origin, direction and scalar type; no voxels
+//   readRow     voxels x0 .. x0 + n - 1 of row (y, z), as floats (the row must lie inside)
+//   wholeBytes  whether every voxel is a whole number from 0 to 255 (a reader may then keep bytes)
+#pragma once
+#include <cstdint>
+
+#include "core/volume.h"
+
+namespace isoatlas {
+
+class VolumeSource {
+public:
+  virtual ~VolumeSource() = default;
+  const Volume& geometry() const { return geometry_; }
+  virtual void readRow(std::int64_t x0, std::int64_t y, std::int64_t z, std::int64_t n, float* out) const = 0;
+  virtual bool wholeBytes() const = 0;
+
+protected:
+  explicit VolumeSource(const Volume& v);  // takes v's geometry, not its voxels
+
+private:
+  Volume geometry_;
+};
+
+class VolumeInMemory final : public VolumeSource {
+public:
+  explicit VolumeInMemory(Volume volume);  // holds the volume: move it in to spare a copy
+  void readRow(std::int64_t x0, std::int64_t y, std::int64_t z, std::int64_t n, float* out) const override;
+  bool wholeBytes() const override { return wholeBytes_; }
+
+private:
+  Volume volume_;
+  bool wholeBytes_ = false;
+};
+
+}  // namespace isoatlas
