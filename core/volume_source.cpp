@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <cstring>
+#include <string>
+
+#include "core/error.h"
 
 namespace isoatlas {
 namespace {
@@ -17,6 +20,16 @@ void convertRow(const std::byte* data, std::size_t from, std::int64_t n, float* 
   }
 }
 
+// Whether every voxel, as readRow gives it, is a whole number from 0 to 255.
+bool wholeBytesIn(const Volume& volume) {
+  if (volume.type == ScalarType::UInt8) return true;
+  for (std::size_t n = 0; n < volume.voxelCount(); ++n) {
+    const float v = float(volume.value(n));
+    if (!(v >= 0 && v <= 255 && v == std::floor(v))) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 VolumeSource::VolumeSource(const Volume& v) {
@@ -28,12 +41,22 @@ VolumeSource::VolumeSource(const Volume& v) {
 }
 
 VolumeInMemory::VolumeInMemory(Volume volume) : VolumeSource(volume), volume_(std::move(volume)) {
-  wholeBytes_ = true;
-  if (volume_.type == ScalarType::UInt8) return;
-  for (std::size_t n = 0; n < volume_.voxelCount() && wholeBytes_; ++n) {
-    const float v = float(volume_.value(n));  // as readRow gives it
-    wholeBytes_ = v >= 0 && v <= 255 && v == std::floor(v);
+  require(volume_.data.size() == volume_.voxelCount() * bytesPerVoxel(volume_.type),
+          "a volume's voxels do not fill its dimensions (" + std::to_string(volume_.data.size()) + " bytes)");
+  wholeBytes_ = wholeBytesIn(volume_);
+}
+
+std::shared_ptr<const VolumeInMemory> VolumeInMemory::compact(const Volume& volume) {
+  const bool bytes = wholeBytesIn(volume);
+  const ScalarType type = bytes ? ScalarType::UInt8 : ScalarType::Float32;
+  if (volume.type == type) return std::make_shared<const VolumeInMemory>(volume);
+  Volume converted = volume.sameGeometry(type);
+  for (std::size_t n = 0; n < volume.voxelCount(); ++n) {
+    const float v = float(volume.value(n));  // as readRow gives it
+    if (bytes) converted.data[n] = std::byte(std::uint8_t(v));
+    else std::memcpy(converted.data.data() + n * sizeof(float), &v, sizeof v);
   }
+  return std::make_shared<const VolumeInMemory>(std::move(converted));
 }
 
 void VolumeInMemory::readRow(std::int64_t x0, std::int64_t y, std::int64_t z, std::int64_t n, float* out) const {

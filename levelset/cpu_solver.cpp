@@ -187,7 +187,8 @@ public:
     for (const auto& m : moving_) moving += m.capacity();
     return (phi_.size() + edges_.size()) * sizeof(float) + moving * sizeof(Moving) + pages_.size() * sizeof(PageInfo) +
            around_.size() * sizeof(around_[0]) +
-           sourceFloats_.size() * sizeof(float) + sourceBytes_.size() + sourceOf_.size() * (sizeof(std::int32_t) + 1);
+           sourceFloats_.size() * sizeof(float) + sourceBytes_.size() + sourceOf_.size() * (sizeof(std::int32_t) + 1) +
+           (kept_.capacity() + freeSources_.capacity()) * 8 + source_->heldBytes();
   }
 
 private:
@@ -435,19 +436,21 @@ private:
         else sourceFloats_.resize(grown * area, 0.0f);
         for (std::size_t k = grown; k-- > held;) freeSources_.push_back(std::int32_t(k));
       }
-      at = freeSources_.back();
-      freeSources_.pop_back();
-      kept_.push_back(page);
-      // Its rows from the source; past the volume's edge 0 (never read).
+      const std::int32_t store = freeSources_.back();
+      // Its rows from the source (past the volume's edge 0, never read), then the page marked as held,
+      // so that a source that throws leaves nothing half read.
       const std::int64_t px = page % pagesX_, py = page / pagesX_ % pagesY_, z = page / (pagesX_ * pagesY_);
       const std::int64_t x0 = px * P_, n = std::min<std::int64_t>(P_, dims_[0] - x0);
       for (int y = 0; y < P_; ++y) {
         std::fill(row.begin(), row.end(), 0.0f);
         if (py * P_ + y < dims_[1]) source_->readRow(x0, py * P_ + y, z, n, row.data());
-        const std::size_t to = (std::size_t(at) * std::size_t(P_) + std::size_t(y)) * std::size_t(P_);
+        const std::size_t to = (std::size_t(store) * std::size_t(P_) + std::size_t(y)) * std::size_t(P_);
         if (bytes_) std::transform(row.begin(), row.end(), &sourceBytes_[to], [](float v) { return std::uint8_t(v); });
         else std::copy(row.begin(), row.end(), &sourceFloats_[to]);
       }
+      freeSources_.pop_back();
+      at = store;
+      kept_.push_back(page);
     }
   }
   // Rows y0 <= y < y1 of a page's intensities (P a row), as floats: in place, or from bytes into scratch.

@@ -26,20 +26,23 @@ Topology topologyFor(const std::string& word, const std::string& option) {
 
 namespace {
 
-// The volume held in memory as a source, once its voxels are known to be finite.
-std::shared_ptr<const VolumeSource> sourceInMemory(const Volume& source) {
+// The volume held in memory as a source (as bytes or floats, as the solvers held it before they read
+// a source), once its parameters are valid and its voxels known to be finite.
+std::shared_ptr<const VolumeSource> sourceInMemory(const Volume& source, const SpeedParams& params) {
+  validateParams(params);
   requireFiniteVoxels(source, "the source volume");
-  return std::make_shared<VolumeInMemory>(source);
+  return VolumeInMemory::compact(source);
 }
 
 }  // namespace
 
 LevelSet::LevelSet(const Volume& source, const SpeedParams& params, const LevelSetOptions& options)
-    : LevelSet(sourceInMemory(source), params, options) {}
+    : LevelSet(sourceInMemory(source, params), params, options) {}
 
 LevelSet::LevelSet(std::shared_ptr<const VolumeSource> source, const SpeedParams& params, const LevelSetOptions& options)
     : params_(params), settledChange_(options.settledChange) {
   validateParams(params);
+  require(source != nullptr, "the level set has no source volume");
   const Volume& g = source->geometry();
   require(g.voxelCount() > 0, "the source volume is empty");
   require(g.dims[0] <= (1 << 20) && g.dims[1] <= (1 << 20), "volume too wide for the page table");

@@ -71,11 +71,13 @@ struct RunStats {
 
 class LevelSet {
 public:
-  // source: the intensities the speed reads (any scalar type; finite values), copied.
+  // source: the intensities the speed reads (any scalar type; finite values), copied (as bytes where
+  // every voxel is a whole number from 0 to 255, else as floats).
   LevelSet(const Volume& source, const SpeedParams& params, const LevelSetOptions& options = {});
   // The same read from `source` page by page as the band reaches them (core/volume_source.h): the
-  // solvers hold the active pages' intensities, not the volume's (finite values expected: a
-  // non-finite one makes its page's speed so).
+  // CPU solver holds the active pages' intensities besides what the source holds (the GPU's run on
+  // the device, gpu_page_chain.h, the whole volume on the GPU). Finite values expected: a non-finite
+  // one makes its page's speed so.
   LevelSet(std::shared_ptr<const VolumeSource> source, const SpeedParams& params, const LevelSetOptions& options = {});
   ~LevelSet();
 

@@ -83,7 +83,8 @@ public:
   // The GL texture (r32f) holding that pool, in the context the solver was made in; 0 on the CPU.
   virtual unsigned phiPoolTexture() const { return 0; }
   // The solver's memory: phi (both copies on the GPU), per-page tables, and the source it reads where
-  // that lives in the same memory (the CPU's volume; the GPU's source pages).
+  // that lives in the same memory (the CPU: the active pages' intensities and what its VolumeSource
+  // holds; the GPU: its source pages, and the whole source once a run manages its pages there).
   virtual std::uint64_t physicalBytes() const = 0;
 };
 

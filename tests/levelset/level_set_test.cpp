@@ -328,14 +328,32 @@ public:
     inner_.readRow(x0, y, z, n, out);
   }
   bool wholeBytes() const override { return inner_.wholeBytes(); }
+  std::uint64_t heldBytes() const override { return inner_.heldBytes(); }
   mutable std::atomic<std::int64_t> rows{0};
 
 private:
   VolumeInMemory inner_;
 };
 
-// The solvers read the source page by page as pages become active (P rows each), hold only the
-// active pages' intensities, and give the answer of the volume held whole.
+// One value everywhere, made as it is read: a source that holds nothing.
+class UniformSource final : public VolumeSource {
+public:
+  UniformSource(std::array<std::int64_t, 3> dims, float value) : VolumeSource(geometryOf(dims)), value_(value) {}
+  void readRow(std::int64_t, std::int64_t, std::int64_t, std::int64_t n, float* out) const override { std::fill_n(out, n, value_); }
+  bool wholeBytes() const override { return false; }
+  std::uint64_t heldBytes() const override { return 0; }
+
+private:
+  static Volume geometryOf(std::array<std::int64_t, 3> dims) {
+    Volume v;
+    v.dims = dims;
+    return v;
+  }
+  float value_;
+};
+
+// The solvers read the source page by page as pages become active (P rows each), and (the CPU's)
+// hold only the active pages' intensities besides what the source holds.
 TEST(LevelSet, TheSolversReadTheSourcePageByPage) {
   test::glContext();
   const Phantom p = torusPhantom();
@@ -346,27 +364,30 @@ TEST(LevelSet, TheSolversReadTheSourcePageByPage) {
     SCOPED_TRACE(backend == Backend::Cpu ? "cpu" : "gpu");
     const LevelSetOptions options{.backend = backend, .pageSize = 8, .initialSlots = 16, .pagesOnDevice = false};
     auto source = std::make_shared<CountingSource>(fractional);
-    LevelSet paged(source, {100, 30, 0.7f}, options), whole(fractional, {100, 30, 0.7f}, options);
-    for (LevelSet* ls : {&paged, &whole}) {
-      ls->addSphere(p.seedA, 3);
-      ls->run({.maxIterations = 60, .untilConverged = false});
-    }
-    EXPECT_EQ(largestDifference(paged.phi(), whole.phi()), 0.0);
+    LevelSet paged(source, {100, 30, 0.7f}, options);
+    paged.addSphere(p.seedA, 3);
+    paged.run({.maxIterations = 60, .untilConverged = false});
     // Each page read once a time it became active (8 rows, fewer at the volume's edge), none other.
     const std::int64_t activations = paged.pages().stats().activations;
     EXPECT_GT(activations, 0);
     EXPECT_LE(source->rows.load(), 8 * activations);
     EXPECT_GT(source->rows.load(), 4 * activations);
   }
-  // A small band in a large volume: the CPU solver's memory is the band's, not the volume's (16 MB of
-  // floats, which it held whole before).
-  LevelSet small(uniformVolume({256, 256, 64}, 10.25f), {10, 0.5f, 1}, {.pageSize = 16, .initialSlots = 64});
-  small.addSphere({128, 128, 32}, 4);
-  for (int i = 0; i < 5; ++i) small.step();
+  // A small band in a large volume (16 MB of floats, which the CPU solver held whole before): from a
+  // source that holds nothing, the solver's memory is the band's; from a Volume, its copy counts too.
+  const std::array<std::int64_t, 3> dims{256, 256, 64};
   const std::uint64_t volumeFloats = std::uint64_t(256 * 256 * 64) * sizeof(float);
+  const LevelSetOptions cpu{.pageSize = 16, .initialSlots = 64};
+  LevelSet small(std::make_shared<UniformSource>(dims, 10.25f), {10, 0.5f, 1}, cpu), copied(uniformVolume(dims, 10.25f), {10, 0.5f, 1}, cpu);
+  for (LevelSet* ls : {&small, &copied}) {
+    ls->addSphere({128, 128, 32}, 4);
+    for (int i = 0; i < 5; ++i) ls->step();
+  }
   const std::uint64_t activeFloats = std::uint64_t(small.pages().activePages().size()) * 16 * 16 * sizeof(float);
   EXPECT_LT(small.physicalBytes(), volumeFloats / 8) << "the band's pages, not the volume";
   EXPECT_GE(small.physicalBytes(), 2 * activeFloats) << "phi and the intensities of every active page";
+  EXPECT_GE(copied.physicalBytes(), volumeFloats) << "the level set's copy of a Volume, as floats";
+  EXPECT_EQ(largestDifference(small.phi(), copied.phi()), 0.0);
 }
 
 // On both backends: growing keeps every slot's content (phi and, on the GPU, the source's pages).
