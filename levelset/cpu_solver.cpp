@@ -188,7 +188,7 @@ public:
     return (phi_.size() + edges_.size()) * sizeof(float) + moving * sizeof(Moving) + pages_.size() * sizeof(PageInfo) +
            around_.size() * sizeof(around_[0]) +
            sourceFloats_.size() * sizeof(float) + sourceBytes_.size() + sourceOf_.size() * (sizeof(std::int32_t) + 1) +
-           (kept_.capacity() + freeSources_.capacity()) * 8 + source_->heldBytes();
+           kept_.capacity() * sizeof(std::int64_t) + freeSources_.capacity() * sizeof(std::int32_t) + source_->heldBytes();
   }
 
 private:
