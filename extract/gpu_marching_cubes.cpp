@@ -101,7 +101,8 @@ GpuSurface GpuMarchingCubes::march(const Grid& grid, float iso, int blockSize, c
     throw Error("the surface is too large for the GPU extraction path; use --backend cpu", ErrorKind::Failure);
 
   profile.stage("programs");
-  gl::Defines defines{{"BLOCK_SIZE", std::to_string(blockSize)}};
+  const bool drawn = leave_ == Leave::DrawnSurface;
+  gl::Defines defines{{"BLOCK_SIZE", std::to_string(blockSize)}, {"DRAWN_VERTICES", drawn ? "1" : "0"}};
   if (paged) defines.insert(defines.end(), {{"FIELD_PAGES", "1"}, {"PAGE_SIZE", std::to_string(grid.paged.pages->pageSize())}});
   // Ours and the level set's (paged_phi.glsl), in one table.
   static const std::vector<gl::EmbeddedShader> shaders = gl::joinShaderTables({gl::kExtractShaders, levelset::levelsetShaderFiles()});
@@ -184,13 +185,15 @@ GpuSurface GpuMarchingCubes::march(const Grid& grid, float iso, int blockSize, c
   profile.stage("emit vertices");
   const std::size_t vertexCount = std::size_t(edgeVertexCount) + centreCount;
   edgeVertices_.reserve(std::size_t(edgeVertexCount) * sizeof(GpuVertex));
-  vertices_.reserve(vertexCount * 32);
+  if (drawn) vertices_.reserve(vertexCount * 32);
   triangles_.reserve(std::size_t(triangleCount) * 12);
   bindAll();
   edgeVertices_.bindBase(GL_SHADER_STORAGE_BUFFER, 9);
   triangles_.bindBase(GL_SHADER_STORAGE_BUFFER, 10);
-  vertices_.bindBase(GL_SHADER_STORAGE_BUFFER, 12);
-  bounds_.bindBase(GL_SHADER_STORAGE_BUFFER, 13);
+  if (drawn) {
+    vertices_.bindBase(GL_SHADER_STORAGE_BUFFER, 12);
+    bounds_.bindBase(GL_SHADER_STORAGE_BUFFER, 13);
+  }
   common(makeVertices);
   glUniform1ui(makeVertices.uniform("pointCount"), GLuint(points));
   makeVertices.dispatch(px, py, 1, GL_SHADER_STORAGE_BARRIER_BIT);
@@ -200,23 +203,26 @@ GpuSurface GpuMarchingCubes::march(const Grid& grid, float iso, int blockSize, c
   makeTriangles.dispatch(bx, by, 1,
                          GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT | GL_VERTEX_ATTRIB_ARRAY_BARRIER_BIT |
                              GL_ELEMENT_ARRAY_BARRIER_BIT);
-  profile.stage("read back the box");
-  std::uint32_t box[8];
-  bounds_.download(box, sizeof box);
+  std::uint32_t box[8] = {};
+  if (drawn) {
+    profile.stage("read back the box");
+    bounds_.download(box, sizeof box);
+  }
   gl::checkErrors("GPU marching cubes");
   profile.end();
   edgeVertexCount_ = edgeVertexCount, centreCount_ = centreCount;
   marched_ = true;
-  surface_.vertexBuffer = vertices_.id();
   surface_.indexBuffer = triangles_.id();
   surface_.vertexCount = std::uint32_t(vertexCount);
   surface_.triangleCount = triangleCount;
+  if (!drawn || vertexCount == 0) return surface_;  // no drawn vertices, or none at all: no box
+  surface_.vertexBuffer = vertices_.id();
   for (int a = 0; a < 3; ++a) {
-    std::memcpy(&surface_.lo[std::size_t(a)], &box[a], 4);
-    std::memcpy(&surface_.hi[std::size_t(a)], &box[3 + a], 4);
-    surface_.lo[std::size_t(a)] -= 1, surface_.hi[std::size_t(a)] -= 1;
+    float lo, hi;
+    std::memcpy(&lo, &box[a], 4);
+    std::memcpy(&hi, &box[3 + a], 4);
+    surface_.voxelBox.min[a] = double(lo) - 1, surface_.voxelBox.max[a] = double(hi) - 1;
   }
-  if (vertexCount == 0) surface_.lo = surface_.hi = {0, 0, 0};  // no vertex: no box
   return surface_;
 }
 
@@ -272,7 +278,7 @@ MarchingResult GpuMarchingCubes::readBack() const {
 }
 
 MarchingResult marchingCubesGpu(const Grid& grid, float iso, int blockSize, const VisitBlock& visitBlock) {
-  GpuMarchingCubes mc;
+  GpuMarchingCubes mc(GpuMarchingCubes::Leave::MeshOnly);
   mc.march(grid, iso, blockSize, visitBlock);
   MarchingResult result = mc.readBack();
   return result;

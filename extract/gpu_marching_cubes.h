@@ -16,7 +16,8 @@
 // GpuMarchingCubes keeps its buffers from one call to the next (each grown, never shrunk, to what
 // the counts of the pass before ask), and leaves the surface in them, for a renderer to draw where
 // it lies (render::renderMesh's GpuMeshView); readBack brings it to the host only when asked.
-// marchingCubesGpu is one call of a GpuMarchingCubes of its own, read back.
+// marchingCubesGpu is one call of a GpuMarchingCubes of its own, read back; it makes no drawn
+// vertices (Leave::MeshOnly), whose gradient normals would cost 12 more field reads a vertex.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -31,14 +32,19 @@ struct GpuSurface {
   // Per vertex 32 bytes: its position (vec4: voxel index coordinates, w = 1), then its outward unit
   // normal (vec4: the field's gradient, interpolated along the vertex's edge, in voxel axes, w = 0;
   // a centre vertex's is its ring's mean, normalised).
-  unsigned vertexBuffer = 0;
+  unsigned vertexBuffer = 0;  // 0 under Leave::MeshOnly, and with no vertex
   unsigned indexBuffer = 0;  // per triangle its three vertices (u32), counter-clockwise from outside
   std::uint32_t vertexCount = 0, triangleCount = 0;
-  std::array<float, 3> lo{}, hi{};  // the vertices' bounding box (voxel index coordinates; 0 with no vertex)
+  Box voxelBox;  // the vertices' bounding box (voxel index coordinates; zero with no drawn vertex)
 };
 
 class GpuMarchingCubes {
 public:
+  enum class Leave {
+    DrawnSurface,  // march leaves the GpuSurface to draw, and readBack gives the mesh
+    MeshOnly,      // only readBack: march's GpuSurface has no vertex buffer and no box
+  };
+  explicit GpuMarchingCubes(Leave leave = Leave::DrawnSurface) : leave_(leave) {}
   // The surface {grid = iso} over the blocks visitBlock names; blockSize must be 8.
   GpuSurface march(const Grid& grid, float iso, int blockSize = 8, const VisitBlock& visitBlock = {});
   // The last march's mesh on the host, as marchingCubesGpu returns it (positions made in double from
@@ -51,6 +57,7 @@ private:
   gl::Buffer field_, blocks_, slots_, caseIndex_, polygons_, cellTriangles_, cellCentres_, edgeBits_, edgeOffset_,
       visited_, edgeVertices_, vertices_, triangles_, bounds_;
   GpuSurface surface_;
+  Leave leave_;
   std::uint32_t edgeVertexCount_ = 0, centreCount_ = 0;
   bool marched_ = false;     // the last march visited blocks and ended
   bool denseField_ = false;  // the last march read a dense field (field_), not a page pool

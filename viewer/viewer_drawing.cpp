@@ -33,7 +33,7 @@ Image Viewer::surfacePicture(int width, int height) {
     const extract::GpuSurface surface = extract::marchLevelSetOnGpu(ls, *segment_->marching);
     if (surface.triangleCount == 0) return surfacePictureOfNothing(width, height);
     render::GpuMeshView view{surface.vertexBuffer, surface.indexBuffer, surface.triangleCount};
-    render::placeInVolume(view, ls.geometry(), {{surface.lo[0], surface.lo[1], surface.lo[2]}, {surface.hi[0], surface.hi[1], surface.hi[2]}});
+    render::placeInVolume(view, ls.geometry(), surface.voxelBox);
     return render::renderMesh(view, o);
   }
   const Mesh surface = extract::extractLevelSet(ls, {.backend = backend_});

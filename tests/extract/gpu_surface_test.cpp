@@ -65,14 +65,31 @@ TEST(GpuMarchingCubes, KeptBuffersGiveTheCpuMeshCallAfterCall) {
   EXPECT_EQ(bytes[2], bytes[1]);
   EXPECT_EQ(surfaces[2].vertexBuffer, surfaces[1].vertexBuffer);
   EXPECT_EQ(surfaces[2].indexBuffer, surfaces[1].indexBuffer);
-  EXPECT_EQ(surfaces[2].lo, surfaces[0].lo) << "the box is the last march's, not the larger one's before";
-  EXPECT_EQ(surfaces[2].hi, surfaces[0].hi);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(surfaces[2].voxelBox.min[k], surfaces[0].voxelBox.min[k]) << "the box is the last march's, not the larger one's before";
+    EXPECT_EQ(surfaces[2].voxelBox.max[k], surfaces[0].voxelBox.max[k]);
+  }
   // Nothing to march: an empty surface, and the mesh read back empty.
   const Volume outside = ball(-1);
   const GpuSurface none = mc.march(gridOf(outside), 0.0f);
   EXPECT_EQ(none.triangleCount, 0u);
-  EXPECT_EQ(none.lo, (std::array<float, 3>{0, 0, 0}));
+  EXPECT_EQ(none.voxelBox.min, (Vec3{0, 0, 0}));
+  EXPECT_EQ(none.voxelBox.max, (Vec3{0, 0, 0}));
   EXPECT_EQ(mc.readBack().mesh.faceCount(), 0u);
+}
+
+// A march only to be read back (marchingCubesGpu's) makes no drawn vertices and reads back the same mesh.
+TEST(GpuMarchingCubes, AMarchForTheMeshOnlyLeavesNothingToDrawAndTheSameMesh) {
+  test::glContext();
+  const Volume v = ball(9);
+  GpuMarchingCubes drawn, meshOnly(GpuMarchingCubes::Leave::MeshOnly);
+  const GpuSurface a = drawn.march(gridOf(v), 0.0f), b = meshOnly.march(gridOf(v), 0.0f);
+  EXPECT_NE(a.vertexBuffer, 0u);
+  EXPECT_EQ(b.vertexBuffer, 0u);
+  EXPECT_EQ(b.voxelBox.max, (Vec3{0, 0, 0}));
+  EXPECT_EQ(b.vertexCount, a.vertexCount);
+  EXPECT_LT(meshOnly.gpuBytes(), drawn.gpuBytes()) << "no drawn vertices held";
+  test_mesh::expectIdenticalMesh(drawn.readBack().mesh, meshOnly.readBack().mesh);
 }
 
 TEST(GpuMarchingCubes, DrawnVerticesAreTheMeshsWithOutwardNormalsInTheirBox) {
@@ -99,8 +116,8 @@ TEST(GpuMarchingCubes, DrawnVerticesAreTheMeshsWithOutwardNormalsInTheirBox) {
   }
   EXPECT_LT(worstDegrees, 3.0);
   for (int k = 0; k < 3; ++k) {
-    EXPECT_NEAR(s.lo[std::size_t(k)], box.min[k], 1e-5);
-    EXPECT_NEAR(s.hi[std::size_t(k)], box.max[k], 1e-5);
+    EXPECT_NEAR(s.voxelBox.min[k], box.min[k], 1e-5);
+    EXPECT_NEAR(s.voxelBox.max[k], box.max[k], 1e-5);
   }
 }
 
@@ -124,7 +141,7 @@ TEST(GpuMarchingCubes, ALevelSetsSurfaceDrawnWhereItLiesIsItsMeshsPicture) {
   const GpuSurface surface = marchLevelSetOnGpu(ls, mc);
   ASSERT_GT(surface.triangleCount, 1000u);
   render::GpuMeshView view{surface.vertexBuffer, surface.indexBuffer, surface.triangleCount};
-  render::placeInVolume(view, ls.geometry(), {{surface.lo[0], surface.lo[1], surface.lo[2]}, {surface.hi[0], surface.hi[1], surface.hi[2]}});
+  render::placeInVolume(view, ls.geometry(), surface.voxelBox);
   const Mesh mesh = extractLevelSet(ls, {.backend = levelset::Backend::Gpu});
   // The placed box holds the mesh as the host maps it (within float rounding); both pictures are then
   // framed on the mesh's own box, as renderMesh frames a mesh on the host.
