@@ -6,6 +6,7 @@
 #include "pipeline/segmentation.h"
 #include "core/error.h"
 #include "core/progress.h"
+#include "core/mapped_nifti.h"
 #include "core/volume_io.h"
 #include "levelset/level_set.h"
 
@@ -55,7 +56,10 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
     levelset::validateParams(params);
     std::vector<pipeline::Ball> seeds;
     for (const std::string& s : o->seeds) seeds.push_back(parseBall(s, "--seed", pipeline::kDefaultSeedRadius));
-    const Volume volume = readVolume(o->volume, o->read);
+    // An uncompressed NIfTI is read in place, page by page as the band reaches it (core/mapped_nifti.h).
+    bool mapped = false;
+    const std::shared_ptr<const VolumeSource> source = openVolumeSource(o->volume, o->read, &mapped);
+    const Volume& volume = source->geometry();
     for (std::size_t k = 0; k < seeds.size(); ++k) pipeline::requireInside(volume, seeds[k].centre, "--seed " + o->seeds[k]);
     Volume seedMask;
     if (!o->seedMask.empty()) {
@@ -64,7 +68,7 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
     }
 
     const pipeline::Gpu gpu = pipeline::chooseBackend(o->backend);  // before the level set: its context outlives it
-    const pipeline::Segmentation s = pipeline::segmentVolume(volume, {.params = params,
+    const pipeline::Segmentation s = pipeline::segmentVolume(source, {.params = params,
                                                   .seeds = seeds,
                                                   .seedMask = o->seedMask.empty() ? nullptr : &seedMask,
                                                   .backend = gpu.backend,
@@ -83,6 +87,7 @@ void addSegmentCommand(CLI::App& app, int& exitCode) {
     r["active_pages_final"] = std::int64_t(s.levelSet->pages().activePages().size());
     r["readback_bytes_per_iteration"] = s.stats.bytesReadBackPerIteration;
     r["gl_contexts"] = gl::Context::made();
+    r["volume_read"] = mapped ? "in place (mapped)" : "into memory";
     r["params"] = {{"target", o->target}, {"width", o->width}, {"alpha", o->alpha}, {"page", o->page}};
     logInfo("segment: " + std::to_string(s.insideVoxels) + " voxels inside after " + std::to_string(s.stats.iterations) +
             " iterations (" + (s.stats.converged ? "converged" : "not converged") + "), " + o->output);

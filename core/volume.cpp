@@ -1,4 +1,5 @@
 #include "core/volume.h"
+#include "core/volume_io.h"
 
 #include <algorithm>
 #include <cmath>
@@ -121,6 +122,15 @@ std::vector<float> Volume::toFloat() const {
 }
 
 void validateVolumeHeader(const Volume& v, const std::string& where) {
+  validateVolumeGeometry(v, where);
+  const std::uint64_t count = std::uint64_t(v.dims[0]) * std::uint64_t(v.dims[1]) * std::uint64_t(v.dims[2]);
+  const std::uint64_t perVoxel = bytesPerVoxel(v.type);
+  requireWithinMemoryBudget(count > ~std::uint64_t(0) / perVoxel ? ~std::uint64_t(0) : count * perVoxel,
+                            where + ": " + std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " +
+                                std::to_string(v.dims[2]) + " " + scalarTypeName(v.type) + " voxels");
+}
+
+void validateVolumeGeometry(const Volume& v, const std::string& where) {
   std::uint64_t count = 1;
   for (int a = 0; a < 3; ++a) {
     const std::int64_t d = v.dims[a];
@@ -132,10 +142,6 @@ void validateVolumeHeader(const Volume& v, const std::string& where) {
                   std::to_string(v.dims[2]) + " are too large");
     count *= std::uint64_t(d);
   }
-  const std::uint64_t perVoxel = bytesPerVoxel(v.type);
-  requireWithinMemoryBudget(count > ~std::uint64_t(0) / perVoxel ? ~std::uint64_t(0) : count * perVoxel,
-                            where + ": " + std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " +
-                                std::to_string(v.dims[2]) + " " + scalarTypeName(v.type) + " voxels");
   for (int a = 0; a < 3; ++a) {
     if (!std::isfinite(v.spacing[a]) || v.spacing[a] <= 0)
       throw Error(where + ": spacing along axis " + std::to_string(a) + " is " + std::to_string(v.spacing[a]) +

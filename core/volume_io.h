@@ -48,6 +48,10 @@ Volume readDicom(const std::string& path, const std::string& series = {});
 // with the count and the option to give.
 void requireVolumeIndex(const std::string& path, std::int64_t volumes, std::int64_t volume);
 
+// validateVolumeHeader less the memory budget, for a source read in place (core/mapped_nifti.h), not
+// into memory: dims (each >= 1, no overflow), spacing (finite, > 0) and direction (finite).
+void validateVolumeGeometry(const Volume& v, const std::string& where);
+
 // Splits an affine's 3x3 part (voxel index -> world) into spacing (column lengths) and direction
 // (unit columns). Throws Error naming `where` if a column is zero or not finite.
 void setGeometryFromAffine(Volume& v, const Mat3& linear, const Vec3& origin, const std::string& where);

@@ -1,13 +1,16 @@
-// NIfTI-1 and NIfTI-2 through nifticlib 3 (libnifti2). nifticlib parses the header; the voxel data is
-// read here in bounded chunks so a lying header cannot make us allocate what the file does not hold.
+// NIfTI-1 and NIfTI-2 through nifticlib 3 (libnifti2). nifticlib parses the header (readNiftiLayout,
+// core/nifti_layout.h); the voxel data is read here in bounded chunks so a lying header cannot make us
+// allocate what the file does not hold.
 #include <nifti2_io.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <memory>
 
 #include "core/error.h"
 #include "core/gz_file.h"
+#include "core/nifti_layout.h"
 #include "core/volume_io.h"
 
 namespace isoatlas {
@@ -57,7 +60,7 @@ Mat3 linearPart(const nifti_dmat44& a) {
 
 }  // namespace
 
-Volume readNifti(const std::string& path, std::int64_t volume) {
+NiftiLayout readNiftiLayout(const std::string& path, std::int64_t volume, bool withinBudget) {
   nifti_set_debug_level(0);  // nifticlib's own chatter would break the one-line error contract
   NiftiPtr nim(nifti_image_read(path.c_str(), 0));
   if (!nim) throw Error(path + ": not a readable NIfTI-1/NIfTI-2 file (bad or truncated header)");
@@ -69,7 +72,8 @@ Volume readNifti(const std::string& path, std::int64_t volume) {
                   "; isoatlas reads 3D scalar volumes, or one volume of a 4D series");
   const std::int64_t volumes = nim->ndim >= 4 ? std::max<std::int64_t>(nim->dim[4], 1) : 1;
   requireVolumeIndex(path, volumes, volume);
-  Volume v;
+  NiftiLayout layout;
+  Volume& v = layout.geometry;
   if (!scalarTypeFromNifti(nim->datatype, v.type))
     throw Error(path + ": unsupported NIfTI datatype " + std::to_string(nim->datatype) + " (" +
                 nifti_datatype_string(nim->datatype) + ")");
@@ -78,29 +82,41 @@ Volume readNifti(const std::string& path, std::int64_t volume) {
   // when neither code is set, as ITK does.
   const nifti_dmat44& affine = nim->sform_code > 0 ? nim->sto_xyz : nim->qto_xyz;
   setGeometryFromAffine(v, linearPart(affine), {affine.m[0][3], affine.m[1][3], affine.m[2][3]}, path);
-  validateVolumeHeader(v, path);
-  // scl_slope and scl_inter make the voxels real numbers (below): the limit holds for those too,
-  // checked before anything is read.
-  const double slope = nim->scl_slope, inter = nim->scl_inter;
-  const bool scaled = std::isfinite(slope) && std::isfinite(inter) && slope != 0 && (slope != 1 || inter != 0);
-  const ScalarType scaledType = v.type == ScalarType::Float64 ? ScalarType::Float64 : ScalarType::Float32;
-  if (scaled) {
+  if (withinBudget) validateVolumeHeader(v, path);
+  else validateVolumeGeometry(v, path);
+  // scl_slope and scl_inter make the voxels real numbers: the limit holds for those too, checked
+  // before anything is read.
+  layout.slope = nim->scl_slope, layout.inter = nim->scl_inter;
+  layout.scaled = std::isfinite(layout.slope) && std::isfinite(layout.inter) && layout.slope != 0 &&
+                  (layout.slope != 1 || layout.inter != 0);
+  layout.scaledType = v.type == ScalarType::Float64 ? ScalarType::Float64 : ScalarType::Float32;
+  if (layout.scaled && withinBudget) {
     Volume asScaled = v;
-    asScaled.type = scaledType;
-    validateVolumeHeader(asScaled, path + " (as " + scalarTypeName(scaledType) + ", its scl_slope applied)");
+    asScaled.type = layout.scaledType;
+    validateVolumeHeader(asScaled, path + " (as " + scalarTypeName(layout.scaledType) + ", its scl_slope applied)");
   }
+  if (!layout.scaled) layout.slope = 1, layout.inter = 0;
   if (!nim->iname) throw Error(path + ": NIfTI header names no image file");
   if (nim->iname_offset < 0) throw Error(path + ": negative NIfTI vox_offset");
+  layout.dataFile = nim->iname;
+  layout.offset = std::uint64_t(nim->iname_offset) +
+                  std::uint64_t(std::max<std::int64_t>(volume, 0)) * v.voxelCount() * bytesPerVoxel(v.type);
+  layout.swapped = nim->byteorder != nifti_short_order();
+  return layout;
+}
 
-  GzFile file(nim->iname, "rb");
-  file.skip(std::uint64_t(nim->iname_offset) + std::uint64_t(std::max<std::int64_t>(volume, 0)) * v.voxelCount() * bytesPerVoxel(v.type));
+Volume readNifti(const std::string& path, std::int64_t volume) {
+  const NiftiLayout layout = readNiftiLayout(path, volume, true);
+  Volume v = layout.geometry;
+  GzFile file(layout.dataFile, "rb");
+  file.skip(layout.offset);
   v.data = file.readExactly(v.voxelCount() * bytesPerVoxel(v.type), path);
-  if (nim->byteorder != nifti_short_order()) swapBytes(v.data.data(), v.voxelCount(), bytesPerVoxel(v.type));
+  if (layout.swapped) swapBytes(v.data.data(), v.voxelCount(), bytesPerVoxel(v.type));
 
   // Apply scl_slope/scl_inter as nibabel's get_fdata does: the stored numbers become real values.
-  if (scaled) {
-    Volume real = v.sameGeometry(scaledType);
-    for (std::size_t n = 0; n < v.voxelCount(); ++n) real.setValue(n, slope * v.value(n) + inter);
+  if (layout.scaled) {
+    Volume real = v.sameGeometry(layout.scaledType);
+    for (std::size_t n = 0; n < v.voxelCount(); ++n) real.setValue(n, layout.slope * v.value(n) + layout.inter);
     v = std::move(real);
   }
   return v;

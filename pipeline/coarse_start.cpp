@@ -21,32 +21,42 @@ void forBlock(const std::array<std::int64_t, 3>& dims, std::int64_t x, std::int6
 
 }  // namespace
 
-Volume halfResolution(const Volume& volume) {
-  const std::vector<float> values = volume.toFloat();
-  Volume half = Volume::zeros(halfDims(volume.dims), ScalarType::Float32);
+Volume halfResolution(const VolumeSource& source) {
+  const Volume& volume = source.geometry();
+  const auto& d = volume.dims;
+  Volume half = Volume::zeros(halfDims(d), ScalarType::Float32);
   half.spacing = volume.spacing * 2.0;
   half.direction = volume.direction;
   half.origin = volume.indexToWorld({0.5, 0.5, 0.5});
   auto* out = reinterpret_cast<float*>(half.data.data());
   tbb::parallel_for(std::int64_t(0), half.dims[2], [&](std::int64_t z) {
-    for (std::int64_t y = 0; y < half.dims[1]; ++y)
+    // The block row's source rows (Y, Z), 2 x 2 of them, each read whole.
+    std::vector<float> rows(std::size_t(4 * d[0]), 0.0f);
+    for (std::int64_t y = 0; y < half.dims[1]; ++y) {
+      for (std::int64_t Z = 2 * z; Z < std::min(2 * z + 2, d[2]); ++Z)
+        for (std::int64_t Y = 2 * y; Y < std::min(2 * y + 2, d[1]); ++Y)
+          source.readRow(0, Y, Z, d[0], rows.data() + ((Z - 2 * z) * 2 + (Y - 2 * y)) * d[0]);
       for (std::int64_t x = 0; x < half.dims[0]; ++x) {
         double sum = 0;
         int n = 0;
-        forBlock(volume.dims, x, y, z, [&](std::int64_t X, std::int64_t Y, std::int64_t Z) {
-          sum += values[volume.index(X, Y, Z)];
+        forBlock(d, x, y, z, [&](std::int64_t X, std::int64_t Y, std::int64_t Z) {
+          sum += rows[std::size_t(((Z - 2 * z) * 2 + (Y - 2 * y)) * d[0] + X)];
           ++n;
         });
         out[half.index(x, y, z)] = float(sum / n);
       }
+    }
   });
   return half;
 }
 
-CoarseStart solveAtHalfResolution(const Volume& volume, const levelset::SpeedParams& params, const std::vector<Ball>& seeds,
+Volume halfResolution(const Volume& volume) { return halfResolution(*VolumeInMemory::compact(volume)); }
+
+CoarseStart solveAtHalfResolution(const VolumeSource& source, const levelset::SpeedParams& params, const std::vector<Ball>& seeds,
                                   const Volume* seedMask, const levelset::LevelSetOptions& options,
                                   const levelset::RunOptions& run, const std::function<bool(const Volume&)>& acceptStart) {
-  const Volume half = halfResolution(volume);
+  const Volume& volume = source.geometry();
+  const Volume half = halfResolution(source);
   levelset::LevelSet coarse(half, params, options);
   if (seedMask) {
     Volume halfMask = half.sameGeometry(ScalarType::UInt8);
@@ -75,6 +85,12 @@ CoarseStart solveAtHalfResolution(const Volume& volume, const levelset::SpeedPar
         start.mask.data[volume.index(X, Y, Z)] = halfMask.data[halfMask.index(X / 2, Y / 2, Z / 2)];
   });
   return start;
+}
+
+CoarseStart solveAtHalfResolution(const Volume& volume, const levelset::SpeedParams& params, const std::vector<Ball>& seeds,
+                                  const Volume* seedMask, const levelset::LevelSetOptions& options,
+                                  const levelset::RunOptions& run, const std::function<bool(const Volume&)>& acceptStart) {
+  return solveAtHalfResolution(*VolumeInMemory::compact(volume), params, seeds, seedMask, options, run, acceptStart);
 }
 
 }  // namespace isoatlas::pipeline

@@ -8,14 +8,16 @@
 #include <vector>
 
 #include "core/volume.h"
+#include "core/volume_source.h"
 #include "levelset/level_set.h"
 #include "pipeline/seed_ball.h"
 
 namespace isoatlas::pipeline {
 
-// Input: any scalar volume. Output: float32, each voxel the mean of its 2 x 2 x 2 block of the input
-// (fewer at an odd edge), dims rounded up; spacing doubled and origin at the block's centre, so its
-// voxels lie where the blocks do.
+// Input: any scalar volume, or a source read two rows at a time (an eighth of it held). Output:
+// float32, each voxel the mean of its 2 x 2 x 2 block of the input (fewer at an odd edge), dims rounded
+// up; spacing doubled and origin at the block's centre, so its voxels lie where the blocks do.
+Volume halfResolution(const VolumeSource& source);
 Volume halfResolution(const Volume& volume);
 
 struct CoarseStart {
@@ -24,13 +26,16 @@ struct CoarseStart {
   bool started = true;  // false: acceptStart refused the start (nothing was run, mask is empty)
 };
 
-// Inputs: volume; params; seeds (voxel indices of the volume) and seedMask (null, or the volume's grid,
+// Inputs: the volume (or its source); params; seeds (voxel indices of the volume) and seedMask (null, or the volume's grid,
 //   > 0 inside: a block starts inside when any of its voxels does); options (backend, page size);
 //   run (maxIterations, the stopping rule and progress, for the half-resolution solve).
 //   acceptStart (optional): given the half-resolution start (the seeds there, on its grid) before the
 //   run; false stops there. Each voxel's 2 x 2 x 2 copy keeps the mask's topology ((6+, 18)), so a
 //   topology-preserving solve here hands the full resolution the start's topology.
 // Output: the half-resolution solution's mask on the volume's grid, and its run's figures.
+CoarseStart solveAtHalfResolution(const VolumeSource& source, const levelset::SpeedParams& params, const std::vector<Ball>& seeds,
+                                  const Volume* seedMask, const levelset::LevelSetOptions& options,
+                                  const levelset::RunOptions& run, const std::function<bool(const Volume&)>& acceptStart = {});
 CoarseStart solveAtHalfResolution(const Volume& volume, const levelset::SpeedParams& params, const std::vector<Ball>& seeds,
                                   const Volume* seedMask, const levelset::LevelSetOptions& options,
                                   const levelset::RunOptions& run, const std::function<bool(const Volume&)>& acceptStart = {});

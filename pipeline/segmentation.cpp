@@ -30,7 +30,7 @@ std::string topologyWords(const MaskTopology& t) {
 // preserved, the half resolution keeps it too, from seeds of the full resolution's topology: where
 // halving changes theirs (it can join two seeds or close a gap), the seeds stay, one line says why,
 // and this returns false.
-bool startAtHalfResolution(const Volume& volume, const SegmentationRequest& request, Segmentation& s) {
+bool startAtHalfResolution(const VolumeSource& source, const SegmentationRequest& request, Segmentation& s) {
   const bool preserve = request.topology == levelset::Topology::Preserve;
   MaskTopology seeds;
   if (preserve) seeds = maskTopology(s.levelSet->mask());
@@ -45,7 +45,7 @@ bool startAtHalfResolution(const Volume& volume, const SegmentationRequest& requ
             ", at full resolution " + topologyWords(seeds) + ", and --topology preserve keeps the seeds' own");
     return false;
   };
-  const CoarseStart coarse = solveAtHalfResolution(volume, request.params, request.seeds, request.seedMask,
+  const CoarseStart coarse = solveAtHalfResolution(source, request.params, request.seeds, request.seedMask,
                                                    {.backend = s.backend, .pageSize = request.pageSize, .topology = request.topology},
                                                    runOptionsOf(request, progress), sameTopology);
   if (progress) progress->finish();
@@ -58,12 +58,16 @@ bool startAtHalfResolution(const Volume& volume, const SegmentationRequest& requ
 }  // namespace
 
 Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& request) {
+  return segmentVolume(VolumeInMemory::compact(volume), request);
+}
+
+Segmentation segmentVolume(std::shared_ptr<const VolumeSource> source, const SegmentationRequest& request) {
   Segmentation s;
   s.backend = request.backend;
   s.renderer = request.renderer;
   s.topology = request.topology;
   s.levelSet = std::make_unique<levelset::LevelSet>(
-      volume, request.params, levelset::LevelSetOptions{.backend = s.backend, .pageSize = request.pageSize, .topology = request.topology});
+      source, request.params, levelset::LevelSetOptions{.backend = s.backend, .pageSize = request.pageSize, .topology = request.topology});
   const auto start = std::chrono::steady_clock::now();
   require(!request.halfResolutionStart || request.untilConverged, "the half-resolution start needs the run until converged (--converge)");
   // The seeds: the start, unless the half-resolution one takes their place (it needs them to compare
@@ -72,7 +76,7 @@ Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& requ
     if (request.seedMask) s.levelSet->setMask(*request.seedMask);
     for (const Ball& b : request.seeds) s.levelSet->addSphere(b.centre, b.radius);
   }
-  if (request.halfResolutionStart) s.halfResolutionStarted = startAtHalfResolution(volume, request, s);
+  if (request.halfResolutionStart) s.halfResolutionStarted = startAtHalfResolution(*source, request, s);
   std::optional<Progress> progress;
   progress.emplace(request.label, std::uint64_t(request.maxIterations), "iterations");
   s.stats = s.levelSet->run(runOptionsOf(request, progress));

@@ -60,6 +60,9 @@ struct Segmentation {
   nlohmann::json figures() const;
 };
 
+// The volume as a source (core/volume_source.h: read page by page as the band reaches it, such as a
+// mapped file), or a Volume, held compactly as a source.
+Segmentation segmentVolume(std::shared_ptr<const VolumeSource> source, const SegmentationRequest& request);
 Segmentation segmentVolume(const Volume& volume, const SegmentationRequest& request);
 
 }  // namespace isoatlas::pipeline

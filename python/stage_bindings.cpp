@@ -12,6 +12,7 @@
 #include "pipeline/volume_editing.h"
 #include "edit/solids/volume_solid.h"
 #include "core/error.h"
+#include "core/mapped_nifti.h"
 #include "core/progress.h"
 #include "extract/extract_surface.h"
 #include "levelset/probe.h"
@@ -136,8 +137,19 @@ void bindStages(py::module_& m) {
                       const std::string& backend, int iterations, bool converge, bool halfResolutionStart, const py::object& progress,
                       const py::object& affine, const std::string& topology) {
         const levelset::Topology kept = levelset::topologyFor(topology, "topology=");
-        const VolumeArgument argument(volume, affine, "segment");
-        const Volume& v = argument.get();
+        // A path is opened as `segment` opens it (an uncompressed NIfTI read in place, page by page);
+        // an array, image or Volume is held compactly.
+        std::shared_ptr<const VolumeSource> source;
+        bool mapped = false;
+        if (py::isinstance<py::str>(volume) || py::hasattr(volume, "__fspath__")) {
+          require(affine.is_none(), "segment: affine= places an array; a file gives its own");
+          const std::string path = py::str(py::module_::import("os").attr("fspath")(volume));
+          requireFile(path);
+          source = openVolumeSource(path, {}, &mapped);
+        } else {
+          source = VolumeInMemory::compact(VolumeArgument(volume, affine, "segment").get());
+        }
+        const Volume& v = source->geometry();
         const levelset::SpeedParams params{float(target), float(width), float(alpha)};
         levelset::validateParams(params);
         require(iterations > 0, "iterations must be > 0");
@@ -149,16 +161,20 @@ void bindStages(py::module_& m) {
         {
           ProgressToPython report(progress);
           py::gil_scoped_release release;
-          s = pipeline::segmentVolume(v, {.params = params, .seeds = balls, .backend = gpu.backend, .renderer = gpu.renderer,
+          s = pipeline::segmentVolume(source, {.params = params, .seeds = balls, .backend = gpu.backend, .renderer = gpu.renderer,
                                      .maxIterations = iterations, .untilConverged = converge, .readPhi = true,
                                      .halfResolutionStart = halfResolutionStart, .topology = kept});
         }
         // Arrays sharing the Volumes' voxels (the Volumes kept alive as their owners).
-        return py::make_tuple(ownedArray(std::move(s.mask)), ownedArray(std::move(s.phi)), toDict(s.figures()));
+        nlohmann::json figures = s.figures();
+        figures["volume_read"] = mapped ? "in place (mapped)" : "into memory";
+        return py::make_tuple(ownedArray(std::move(s.mask)), ownedArray(std::move(s.phi)), toDict(figures));
       }, py::arg("volume"), py::arg("seeds"), py::arg("target"), py::arg("width"), py::arg("alpha") = 0.5, py::arg("backend") = "auto",
       py::arg("iterations") = 1000, py::arg("converge") = false, py::arg("half_resolution_start") = false, py::arg("progress") = py::none(),
       py::arg("affine") = py::none(), py::arg("topology") = "free",
-      "the paged level-set segmentation (isoatlas segment): (mask uint8, phi float32, report), arrays (x, y, z) in the volume's grid; seeds in "
+      "the paged level-set segmentation (isoatlas segment): (mask uint8, phi float32, report), arrays (x, y, z) in the volume's grid; "
+      "volume: an array (with affine), a nibabel image, an isoatlas.Volume, or a file's path (an uncompressed NIfTI is then read in "
+      "place, page by page as the band reaches it); seeds in "
       "voxel indices; with converge and half_resolution_start, it starts from its solution at half resolution (faster); "
       "topology=\"preserve\" keeps the seeds' topology (one sphere per seed)");
 

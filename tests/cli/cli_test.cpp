@@ -588,6 +588,32 @@ TEST(Cli, SegmentFindsTheBallAndKeepsTheGeometry) {
   }
 }
 
+// An uncompressed NIfTI is read in place (mapped, page by page as the band reaches it): the mask is
+// the compressed file's, read into memory; a file shorter than its header says is refused before any work.
+TEST(Cli, SegmentReadsAnUncompressedNiftiInPlace) {
+  const auto dir = test::scratchDir();
+  const Volume ball = readVolume(ballVolume(dir).string());
+  writeVolume((dir / "ball.nii").string(), ball);
+  writeVolume((dir / "ball.nii.gz").string(), ball);
+  const std::string args = " --seed 20,18,15,2 --target 200 --width 60 --alpha 0.8 --iterations 400 --converge --half-resolution-start";
+  for (const char* name : {"ball.nii", "ball.nii.gz"}) {
+    const Result r = run("segment " + (dir / name).string() + args + " -o " + (dir / (std::string(name) + ".mask.nii")).string() +
+                         " --report " + (dir / (std::string(name) + ".json")).string());
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  const auto mapped = nlohmann::json::parse(test::readBytes(dir / "ball.nii.json"));
+  EXPECT_EQ(mapped["volume_read"], "in place (mapped)");
+  EXPECT_EQ(nlohmann::json::parse(test::readBytes(dir / "ball.nii.gz.json"))["volume_read"], "into memory");
+  EXPECT_GT(mapped["inside_voxels"].get<int>(), 1000);
+  EXPECT_EQ(readVolume((dir / "ball.nii.mask.nii").string()).data, readVolume((dir / "ball.nii.gz.mask.nii").string()).data);
+  std::string bytes = test::readBytes(dir / "ball.nii");
+  bytes.resize(bytes.size() - 100);
+  test::writeBytes(dir / "short.nii", bytes);
+  expectBadInput("segment " + (dir / "short.nii").string() + args + " -o " + (dir / "short.mask.nii").string(),
+                 "short of the 43200 uint8 voxels");
+  EXPECT_FALSE(std::filesystem::exists(dir / "short.mask.nii"));
+}
+
 TEST(Cli, SegmentRejectsBadInput) {
   const auto dir = test::scratchDir();
   const std::string ball = ballVolume(dir).string(), out = " -o " + (dir / "m.nii.gz").string();

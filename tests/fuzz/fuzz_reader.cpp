@@ -2,19 +2,25 @@
 // ".off", ".isoatlas", ".dvt", ".dcm", ".view" for the window's scripts, ...). The input is written to a file with that extension and read back; an isoatlas::Error
 // is the expected way to fail, anything else (a crash, a sanitizer report, a hang) is a bug. What a
 // reader accepts is then used as a user would use it, so that damage the parser lets through is
-// reached too: a model is reconstructed at its lowest levels, a tree is sampled into a mask.
+// reached too: a model is reconstructed at its lowest levels, a tree is sampled into a mask, an
+// uncompressed NIfTI is also read in place (core/mapped_nifti.h) and must give the same floats.
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "atlas/model_file.h"
 #include "atlas/reconstruct.h"
 #include "core/error.h"
+#include "core/mapped_nifti.h"
 #include "core/image.h"
 #include "core/memory_budget.h"
 #include "core/mesh_io.h"
@@ -37,6 +43,30 @@ const std::string& scratchPath() {
 
 // A detached NRRD header (.nhdr) names its data file: the seeds name this one, beside the input.
 constexpr const char* kNhdrData = "/tmp/isoatlas-fuzz-nhdr.raw";
+
+// An uncompressed NIfTI read in place (MappedNifti: every row read) and into memory: where both
+// accept it, they must give the same floats; a difference is a bug, as a crash is.
+static void readNiftiBothWays() {
+  std::optional<isoatlas::MappedNifti> mapped;
+  try {
+    mapped.emplace(scratchPath());
+  } catch (const isoatlas::Error&) {
+  }
+  std::vector<float> rows;
+  if (mapped) {
+    const auto& d = mapped->geometry().dims;
+    rows.resize(std::size_t(d[0] * d[1] * d[2]));  // at most the file's bytes: MappedNifti checked them
+    for (std::int64_t z = 0; z < d[2]; ++z)
+      for (std::int64_t y = 0; y < d[1]; ++y) mapped->readRow(0, y, z, d[0], rows.data() + (z * d[1] + y) * d[0]);
+  }
+  const isoatlas::Volume read = isoatlas::readVolume(scratchPath());
+  if (!mapped) return;
+  const std::vector<float> whole = read.toFloat();
+  if (whole.size() != rows.size() || std::memcmp(whole.data(), rows.data(), rows.size() * sizeof(float)) != 0) {
+    std::fprintf(stderr, "fuzz: the mapped NIfTI reads other floats than readVolume\n");
+    std::abort();
+  }
+}
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   // Keep every allocation far below libFuzzer's memory limit: a lying header must fail on its
@@ -80,6 +110,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     } else if (isoatlas::isMeshPath(scratchPath())) {
       const isoatlas::Mesh m = isoatlas::readMesh(scratchPath());
       isoatlas::requireManifold(m, scratchPath());
+    } else if (scratchPath().ends_with(".nii")) {
+      readNiftiBothWays();
     } else {
       isoatlas::readVolume(scratchPath());
     }

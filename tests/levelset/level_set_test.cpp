@@ -15,13 +15,17 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/mapped_nifti.h"
+#include "core/volume_io.h"
 #include "levelset/cpu_solver.h"
 #include "levelset/level_set.h"
 #include "levelset/probe.h"
 #include "levelset/row_stencil.h"
 #include "pipeline/coarse_start.h"
+#include "pipeline/segmentation.h"
 #include "tests/gl_context.h"
 #include "tests/levelset/phantom.h"
+#include "tests/test_util.h"
 #include "tests/thread_count.h"
 
 namespace isoatlas::levelset {
@@ -317,6 +321,31 @@ TEST(LevelSet, PagesAreReleasedBehindTheFrontAndReused) {
   // intensities (TheSolversReadTheSourcePageByPage below).
   const std::uint64_t pool = std::uint64_t(ls.pages().capacity()) * 4 * 4 * sizeof(float);
   EXPECT_GE(ls.physicalBytes(), pool);
+}
+
+// A volume segmented from its file read in place (an uncompressed NIfTI, mapped) gives the mask of
+// the same volume read into memory, on both backends, from the seeds and from the half resolution
+// (read from the source two rows at a time).
+TEST(LevelSet, AFileReadInPlaceSegmentsAsTheVolumeInMemory) {
+  test::glContext();
+  const Phantom p = torusPhantom();
+  const std::string path = (test::scratchDir() / "torus.nii").string();
+  writeVolume(path, p.image);
+  bool mapped = false;
+  const std::shared_ptr<const VolumeSource> source = openVolumeSource(path, {}, &mapped);
+  ASSERT_TRUE(mapped);
+  const Volume read = readVolume(path);
+  for (const Backend backend : {Backend::Cpu, Backend::Gpu})
+    for (const bool half : {false, true}) {
+      SCOPED_TRACE(std::string(backend == Backend::Cpu ? "cpu" : "gpu") + (half ? ", half-resolution start" : ""));
+      const pipeline::SegmentationRequest request{.params = {100, 30, 0.7f}, .seeds = {{p.seedA, 3}}, .backend = backend,
+                                                  .maxIterations = 300, .untilConverged = true, .halfResolutionStart = half};
+      const pipeline::Segmentation inPlace = pipeline::segmentVolume(source, request), inMemory = pipeline::segmentVolume(read, request);
+      EXPECT_EQ(inPlace.halfResolutionStarted, half);
+      EXPECT_EQ(inPlace.stats.iterations, inMemory.stats.iterations);
+      EXPECT_GT(inPlace.insideVoxels, 1000);
+      EXPECT_EQ(inPlace.mask.data, inMemory.mask.data);
+    }
 }
 
 // A source that counts the rows read from it.

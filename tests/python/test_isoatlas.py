@@ -174,6 +174,18 @@ def test_segment_and_extract_equal_the_command(tmp_path):
                                          iterations=60, backend="cpu")  # an isoatlas.Volume, read in place
     np.testing.assert_array_equal(from_volume, mask)
     assert mask.sum() > 1000, "the seed grew"
+    # A path: an uncompressed NIfTI is read in place (page by page), a compressed one into memory; the same mask.
+    uncompressed = tmp_path / "head.nii"
+    nib.save(nib.Nifti1Image(data, affine), str(uncompressed))
+    for given, read in ((uncompressed, "in place (mapped)"), (path, "into memory")):
+        from_path, _, path_report = isoatlas.segment(given, seeds=[(18, 20, 15, 3)], target=100, width=30, alpha=0.6,
+                                                     iterations=60, backend="cpu")
+        np.testing.assert_array_equal(from_path, mask)
+        assert path_report["volume_read"] == read
+    with pytest.raises(ValueError, match="affine= places an array"):
+        isoatlas.segment(path, seeds=[(18, 20, 15, 3)], target=100, width=30, affine=affine)
+    with pytest.raises(FileNotFoundError):
+        isoatlas.segment(str(tmp_path / "none.nii"), seeds=[(18, 20, 15, 3)], target=100, width=30)
 
     # Until converged from the solution at half resolution, both alike, and the full-resolution start agrees.
     cli("segment", path, "--seed", "18,20,15,3", "--target", "100", "--width", "30", "--alpha", "0.6", "--iterations", "400",
