@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <vector>
 
@@ -20,18 +21,30 @@
 namespace isoatlas {
 namespace {
 
-// n stored values of type T from `at` as floats: byte order undone, then slope * v + inter in double
-// where scaled (readNifti's setValue of the scaled type rounds it to float once, as here).
+// n stored values of type T from `at`, each as readNifti's Volume holds it (Volume::value): byte order
+// undone, slope * v + inter where scaled, rounded to float where that Volume holds floats.
 template <class T>
-void convertStored(const std::byte* at, std::int64_t n, bool swapped, bool scaled, double slope, double inter, float* out) {
+void storedValues(const std::byte* at, std::int64_t n, bool swapped, bool scaled, double slope, double inter, bool asFloat,
+                  double* out) {
   for (std::int64_t i = 0; i < n; ++i, at += sizeof(T)) {
     std::byte b[sizeof(T)];
     std::memcpy(b, at, sizeof(T));
     if (swapped) std::reverse(b, b + sizeof(T));
     T value;
     std::memcpy(&value, b, sizeof(T));
-    out[i] = scaled ? float(slope * double(value) + inter) : float(value);
+    const double x = scaled ? slope * double(value) + inter : double(value);
+    out[i] = asFloat ? double(float(x)) : x;
   }
+}
+
+// A gzip stream (its magic), which nifticlib and readNifti read through zlib whatever its name.
+bool gzipped(const std::byte* bytes, std::size_t size) {
+  return size >= 2 && bytes[0] == std::byte{0x1f} && bytes[1] == std::byte{0x8b};
+}
+bool gzipped(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  char magic[2] = {};
+  return in.read(magic, 2) && gzipped(reinterpret_cast<const std::byte*>(magic), 2);
 }
 
 }  // namespace
@@ -41,7 +54,8 @@ bool isMappableVolumePath(const std::string& path) { return endsWith(path, ".nii
 MappedNifti::MappedNifti(const std::string& path, std::int64_t volume) : MappedNifti(path, readNiftiLayout(path, volume, false)) {}
 
 MappedNifti::MappedNifti(const std::string& path, const NiftiLayout& layout) : VolumeSource(layout.geometry), layout_(layout) {
-  if (endsWith(layout.dataFile, ".gz")) throw Error(path + ": its voxels are compressed (" + layout.dataFile + "), so they cannot be read in place");
+  if (endsWith(layout.dataFile, ".gz") || gzipped(layout.dataFile))
+    throw Error(path + ": its voxels are compressed (" + layout.dataFile + "), so they cannot be read in place");
   const int fd = ::open(layout.dataFile.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) throw Error(layout.dataFile + ": cannot be opened (" + std::strerror(errno) + ")");
   struct stat st {};
@@ -65,14 +79,14 @@ MappedNifti::MappedNifti(const std::string& path, const NiftiLayout& layout) : V
   map_ = static_cast<const std::byte*>(map);
 
   // readVolume reads NaN and infinite voxels as the background, the smallest finite value: find both,
-  // a slab of rows at a time.
+  // a row at a time.
   if (!isFloating(layout_.valueType())) return;
   const std::int64_t nx = layout.geometry.dims[0];
-  std::vector<float> row(std::size_t(nx), 0.0f);
-  float lowest = std::numeric_limits<float>::infinity();
+  std::vector<double> row(std::size_t(nx), 0.0);
+  double lowest = std::numeric_limits<double>::infinity();
   for (std::uint64_t first = 0; first < voxels; first += std::uint64_t(nx)) {
-    readStored(std::size_t(first), nx, row.data());
-    for (const float v : row) {
+    readValues(std::size_t(first), nx, row.data());
+    for (const double v : row) {
       if (std::isfinite(v)) lowest = std::min(lowest, v);
       else ++nonFinite_;
     }
@@ -91,28 +105,34 @@ MappedNifti::~MappedNifti() {
   if (map_) ::munmap(const_cast<std::byte*>(map_), mapBytes_);
 }
 
-void MappedNifti::readStored(std::size_t first, std::int64_t n, float* out) const {
+void MappedNifti::readValues(std::size_t first, std::int64_t n, double* out) const {
   const std::byte* at = map_ + layout_.offset + first * bytesPerVoxel(layout_.geometry.type);
-  const bool sw = layout_.swapped, sc = layout_.scaled;
+  const bool sw = layout_.swapped, sc = layout_.scaled, f = layout_.valueType() == ScalarType::Float32;
   const double a = layout_.slope, b = layout_.inter;
   switch (layout_.geometry.type) {
-    case ScalarType::UInt8: convertStored<std::uint8_t>(at, n, sw, sc, a, b, out); break;
-    case ScalarType::Int8: convertStored<std::int8_t>(at, n, sw, sc, a, b, out); break;
-    case ScalarType::UInt16: convertStored<std::uint16_t>(at, n, sw, sc, a, b, out); break;
-    case ScalarType::Int16: convertStored<std::int16_t>(at, n, sw, sc, a, b, out); break;
-    case ScalarType::UInt32: convertStored<std::uint32_t>(at, n, sw, sc, a, b, out); break;
-    case ScalarType::Int32: convertStored<std::int32_t>(at, n, sw, sc, a, b, out); break;
-    case ScalarType::Float32: convertStored<float>(at, n, sw, sc, a, b, out); break;
-    case ScalarType::Float64: convertStored<double>(at, n, sw, sc, a, b, out); break;
+    case ScalarType::UInt8: storedValues<std::uint8_t>(at, n, sw, sc, a, b, f, out); break;
+    case ScalarType::Int8: storedValues<std::int8_t>(at, n, sw, sc, a, b, f, out); break;
+    case ScalarType::UInt16: storedValues<std::uint16_t>(at, n, sw, sc, a, b, f, out); break;
+    case ScalarType::Int16: storedValues<std::int16_t>(at, n, sw, sc, a, b, f, out); break;
+    case ScalarType::UInt32: storedValues<std::uint32_t>(at, n, sw, sc, a, b, f, out); break;
+    case ScalarType::Int32: storedValues<std::int32_t>(at, n, sw, sc, a, b, f, out); break;
+    case ScalarType::Float32: storedValues<float>(at, n, sw, sc, a, b, f, out); break;
+    case ScalarType::Float64: storedValues<double>(at, n, sw, sc, a, b, f, out); break;
   }
 }
 
 void MappedNifti::readRow(std::int64_t x0, std::int64_t y, std::int64_t z, std::int64_t n, float* out) const {
   const auto& d = geometry().dims;
-  readStored(std::size_t((z * d[1] + y) * d[0] + x0), n, out);
-  if (nonFinite_ == 0) return;
-  for (std::int64_t i = 0; i < n; ++i)
-    if (!std::isfinite(out[i])) out[i] = background_;
+  const std::size_t first = std::size_t((z * d[1] + y) * d[0] + x0);
+  // Non-finite is judged on the value as readNifti's Volume holds it (a double of 1e300 is finite
+  // there, and becomes infinity only as a float), so a chunk at a time passes through doubles.
+  constexpr std::int64_t kChunk = 64;
+  double values[kChunk];
+  for (std::int64_t i = 0; i < n; i += kChunk) {
+    const std::int64_t m = std::min(kChunk, n - i);
+    readValues(first + std::size_t(i), m, values);
+    for (std::int64_t k = 0; k < m; ++k) out[i + k] = float(nonFinite_ > 0 && !std::isfinite(values[k]) ? background_ : values[k]);
+  }
 }
 
 bool MappedNifti::wholeBytes() const { return layout_.geometry.type == ScalarType::UInt8 && !layout_.scaled; }
@@ -123,7 +143,7 @@ std::shared_ptr<const VolumeSource> openVolumeSource(const std::string& path, co
     std::error_code ec;
     require(std::filesystem::is_regular_file(path, ec), path + ": no such file");
     const NiftiLayout layout = readNiftiLayout(path, options.volume, false);
-    if (!endsWith(layout.dataFile, ".gz")) {
+    if (!endsWith(layout.dataFile, ".gz") && !gzipped(layout.dataFile)) {
       if (mapped) *mapped = true;
       return std::make_shared<const MappedNifti>(path, layout);
     }

@@ -36,13 +36,14 @@ public:
   std::uint64_t nonFiniteVoxels() const { return nonFinite_; }
 
 private:
-  void readStored(std::size_t first, std::int64_t n, float* out) const;  // as stored, scaled, non-finite kept
+  // n voxels from voxel `first` (counted over the volume), each as readNifti's Volume holds it (non-finite kept).
+  void readValues(std::size_t first, std::int64_t n, double* out) const;
 
   NiftiLayout layout_;
   const std::byte* map_ = nullptr;
   std::size_t mapBytes_ = 0;
   std::uint64_t nonFinite_ = 0;
-  float background_ = 0;
+  double background_ = 0;
 };
 
 // Whether `path` names an uncompressed NIfTI file whose voxels could be mapped (its extension: .nii
@@ -50,7 +51,7 @@ private:
 bool isMappableVolumePath(const std::string& path);
 
 // The volume at `path` as a source: mapped where isMappableVolumePath (and the voxels are not
-// compressed), else read whole (readVolume, with its checks and its memory budget) and held
+// compressed: a .nii that is gzip inside is read whole), else read whole (readVolume, with its checks and its memory budget) and held
 // compactly (VolumeInMemory::compact). `mapped`, when given, says which.
 std::shared_ptr<const VolumeSource> openVolumeSource(const std::string& path, const VolumeReadOptions& options = {},
                                                      bool* mapped = nullptr);

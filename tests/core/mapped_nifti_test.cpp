@@ -122,6 +122,15 @@ TEST(MappedNifti, AppliesScalingAndReadsNonFiniteVoxelsAsTheBackground) {
   EXPECT_EQ(mapped.nonFiniteVoxels(), 2u);
   expectReadsAsReadVolume(mapped, readVolume(path));
   EXPECT_EQ(allRows(mapped)[3], -4.0f) << "the smallest finite value";
+  // A double too large for a float is finite where readVolume judges it (as a double), so it is no
+  // background: it reads as infinity in floats, both ways.
+  Volume large = turnedRamp(ScalarType::Float64);
+  large.setValue(5, 1e300);
+  writeVolume(path, large);
+  const MappedNifti mappedLarge(path);
+  EXPECT_EQ(mappedLarge.nonFiniteVoxels(), 0u);
+  expectReadsAsReadVolume(mappedLarge, readVolume(path));
+  EXPECT_EQ(allRows(mappedLarge)[5], std::numeric_limits<float>::infinity());
 }
 
 TEST(MappedNifti, ReadsOneVolumeOfA4DFile) {
@@ -173,6 +182,10 @@ TEST(MappedNifti, OpenVolumeSourceMapsOnlyWhatIsUncompressed) {
     EXPECT_EQ(mapped, std::string(name) == "v.nii" || std::string(name) == "pair.hdr");
     expectReadsAsReadVolume(*s, readVolume(path));
   }
+  // gzip under a .nii name: refused either way (nifticlib reads a .nii's header uncompressed).
+  test::writeBytes(dir / "gzip-inside.nii", test::readBytes(dir / "v.nii.gz"));
+  EXPECT_THROW(openVolumeSource((dir / "gzip-inside.nii").string()), Error);
+  EXPECT_THROW(readVolume((dir / "gzip-inside.nii").string()), Error);
 }
 
 // The memory budget does not bound a mapped file (its voxels are not read into memory), but the
