@@ -18,7 +18,7 @@ bool GpuPageChain::fits(std::uint64_t voxels) {
 }
 
 GpuPageChain::GpuPageChain(gl::Context& ctx, const gl::Defines& solverDefines, std::array<std::int64_t, 3> pages,
-                           std::array<std::int64_t, 3> dims, std::span<const float> source)
+                           std::array<std::int64_t, 3> dims, const VolumeSource& source)
     : ctx_(ctx), pages_(pages), dims_(dims), state_(sizeof(PageState)) {
   gl::Defines defines = solverDefines;
   for (const auto& [name, value] : solverDefines)
@@ -38,7 +38,13 @@ GpuPageChain::GpuPageChain(gl::Context& ctx, const gl::Defines& solverDefines, s
   marks_ = gl::Buffer(virtualPages * 12);
   marks_.fillZero();
   newList_ = gl::Buffer(virtualPages * 4);  // a page is listed new at most once an iteration
-  source_ = gl::Buffer(source.size() * sizeof(float), source.data());
+  const std::size_t sliceVoxels = std::size_t(dims[0] * dims[1]);
+  source_ = gl::Buffer(sliceVoxels * std::size_t(dims[2]) * sizeof(float));
+  std::vector<float> slice(sliceVoxels);
+  for (std::int64_t z = 0; z < dims[2]; ++z) {
+    for (std::int64_t y = 0; y < dims[1]; ++y) source.readRow(0, y, z, dims[0], &slice[std::size_t(y * dims[0])]);
+    source_.upload(slice.data(), sliceVoxels * sizeof(float), std::size_t(z) * sliceVoxels * sizeof(float));
+  }
 }
 
 void GpuPageChain::sizeSlots(std::int32_t capacity) {

@@ -17,11 +17,11 @@
 #pragma once
 #include <array>
 #include <cstdint>
-#include <span>
 #include <vector>
 
 #include "core/gl/context.h"
 #include "core/gl/resources.h"
+#include "core/volume_source.h"
 #include "levelset/page_manager.h"
 #include "levelset/solver_backend.h"
 
@@ -58,9 +58,10 @@ class GpuPageChain {
 public:
   // Whether a volume of `voxels` floats fits the chain's source buffer in the current context.
   static bool fits(std::uint64_t voxels);
-  // defines: the solver's (PAGE_SIZE, CLAMP, ...); source: the whole volume, x fastest.
+  // defines: the solver's (PAGE_SIZE, CLAMP, ...); source: the volume (of dims), uploaded whole to
+  // the GPU a slice at a time (the host holds one slice of floats, not the volume).
   GpuPageChain(gl::Context& ctx, const gl::Defines& defines, std::array<std::int64_t, 3> pages, std::array<std::int64_t, 3> dims,
-               std::span<const float> source);
+               const VolumeSource& source);
 
   // The page manager's state (page table, active list, free stack) onto the GPU, with the first
   // iteration's evaluate bytes already in the solver's buffer; the counters start at zero.

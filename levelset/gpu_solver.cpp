@@ -128,11 +128,8 @@ public:
     if (!chain_) {
       const std::size_t voxels = std::size_t(dims_[0] * dims_[1] * dims_[2]);
       if (!GpuPageChain::fits(voxels)) return std::nullopt;
-      std::vector<float> whole(voxels);  // the chain activates pages on its own: it holds the whole source
-      for (std::int64_t z = 0; z < dims_[2]; ++z)
-        for (std::int64_t y = 0; y < dims_[1]; ++y)
-          source_->readRow(0, y, z, dims_[0], &whole[std::size_t((z * dims_[1] + y) * dims_[0])]);
-      chain_ = std::make_unique<GpuPageChain>(ctx_, defines_, pm.pages(), dims_, whole);
+      // The chain activates pages on its own: it holds the whole source, on the GPU.
+      chain_ = std::make_unique<GpuPageChain>(ctx_, defines_, pm.pages(), dims_, *source_);
       onDevice_ = passes(defines_, true);
     }
     DeviceRun run;
