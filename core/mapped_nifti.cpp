@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -53,7 +54,8 @@ bool isMappableVolumePath(const std::string& path) { return endsWith(path, ".nii
 
 MappedNifti::MappedNifti(const std::string& path, std::int64_t volume) : MappedNifti(path, readNiftiLayout(path, volume, false)) {}
 
-MappedNifti::MappedNifti(const std::string& path, const NiftiLayout& layout) : VolumeSource(layout.geometry), layout_(layout) {
+MappedNifti::MappedNifti(const std::string& path, const NiftiLayout& layout, std::uint64_t residentMost)
+    : VolumeSource(layout.geometry), layout_(layout), residentMost_(residentMost) {
   if (endsWith(layout.dataFile, ".gz") || gzipped(layout.dataFile))
     throw Error(path + ": its voxels are compressed (" + layout.dataFile + "), so they cannot be read in place");
   const int fd = ::open(layout.dataFile.c_str(), O_RDONLY | O_CLOEXEC);
@@ -106,6 +108,16 @@ MappedNifti::~MappedNifti() {
 }
 
 void MappedNifti::readValues(std::size_t first, std::int64_t n, double* out) const {
+  // What the read may bring into the mapping: its bytes and the system page they start in (a row of
+  // a few voxels maps a whole 4 KiB page).
+  const std::uint64_t bytes = std::uint64_t(n) * bytesPerVoxel(layout_.geometry.type) + 4096;
+  if (readSinceDrop_.fetch_add(bytes) + bytes > residentMost_) {
+    // Read-only and private: dropped pages are read again from the file cache when next touched, so
+    // a reader on another thread meanwhile is unaffected.
+    readSinceDrop_ = 0;
+    ::madvise(const_cast<std::byte*>(map_), mapBytes_, MADV_DONTNEED);
+    ++drops_;
+  }
   const std::byte* at = map_ + layout_.offset + first * bytesPerVoxel(layout_.geometry.type);
   const bool sw = layout_.swapped, sc = layout_.scaled, f = layout_.valueType() == ScalarType::Float32;
   const double a = layout_.slope, b = layout_.inter;

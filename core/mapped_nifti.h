@@ -8,9 +8,13 @@
 //   - The file must hold every voxel its header promises (checked when opened). It must not shrink
 //     while mapped: the system would then stop the program at the first read past its end.
 //   - heldBytes is 0: the pages read stay in the system's file cache, which it reclaims as it needs.
+//     The process's own mapping of them is dropped (madvise) each time reads since the last drop
+//     may have mapped residentMost bytes (each read counted with the 4 KiB page it starts in), so
+//     its resident memory does not grow with the volume (a page read again comes back from the cache).
 //   - A floating-point file is scanned once when opened, for its non-finite voxels and background.
 // openVolumeSource picks the source for a path: mapped where the file can be, else read into memory.
 #pragma once
+#include <atomic>
 #include <memory>
 #include <string>
 
@@ -24,8 +28,9 @@ class MappedNifti final : public VolumeSource {
 public:
   // Throws Error naming `path` for a header readNifti would refuse, compressed voxels, or a file
   // shorter than its header says.
+  static constexpr std::uint64_t kResidentMost = std::uint64_t(256) << 20;
   explicit MappedNifti(const std::string& path, std::int64_t volume = -1);
-  MappedNifti(const std::string& path, const NiftiLayout& layout);
+  MappedNifti(const std::string& path, const NiftiLayout& layout, std::uint64_t residentMost = kResidentMost);
   ~MappedNifti() override;
   MappedNifti(const MappedNifti&) = delete;
   MappedNifti& operator=(const MappedNifti&) = delete;
@@ -34,6 +39,7 @@ public:
   bool wholeBytes() const override;
   std::uint64_t heldBytes() const override { return 0; }
   std::uint64_t nonFiniteVoxels() const { return nonFinite_; }
+  std::uint64_t mappingDrops() const { return drops_.load(); }  // times the mapping's pages were dropped
 
 private:
   // n voxels from voxel `first` (counted over the volume), each as readNifti's Volume holds it (non-finite kept).
@@ -44,6 +50,8 @@ private:
   std::size_t mapBytes_ = 0;
   std::uint64_t nonFinite_ = 0;
   double background_ = 0;
+  std::uint64_t residentMost_;
+  mutable std::atomic<std::uint64_t> readSinceDrop_{0}, drops_{0};
 };
 
 // Whether `path` names an uncompressed NIfTI file whose voxels could be mapped (its extension: .nii

@@ -188,6 +188,25 @@ TEST(MappedNifti, OpenVolumeSourceMapsOnlyWhatIsUncompressed) {
   EXPECT_THROW(readVolume((dir / "gzip-inside.nii").string()), Error);
 }
 
+// The mapping's pages are dropped each time residentMost bytes have been read, and read back from
+// the file as they are needed: the values do not change.
+TEST(MappedNifti, DropsItsMappedPagesAsItReadsAndReadsTheSameValues) {
+  const auto dir = scratchDir();
+  const std::string path = (dir / "v.nii").string();
+  const Volume v = test::rampVolume(ScalarType::Float32, {64, 64, 32});  // 512 KiB of voxels
+  writeVolume(path, v);
+  const NiftiLayout layout = readNiftiLayout(path, -1, false);
+  const MappedNifti dropping(path, layout, 64 << 10), keeping(path, layout);
+  const std::uint64_t dropsOpening = dropping.mappingDrops();  // its scan for non-finite voxels read it all once
+  EXPECT_GE(dropsOpening, 7u);
+  const std::vector<float> once = allRows(dropping), twice = allRows(dropping);
+  EXPECT_GE(dropping.mappingDrops(), dropsOpening + 14) << "a drop every 64 KiB read";
+  EXPECT_EQ(keeping.mappingDrops(), 0u);
+  EXPECT_EQ(once, allRows(keeping));
+  EXPECT_EQ(twice, once);
+  expectReadsAsReadVolume(dropping, readVolume(path));
+}
+
 // The memory budget does not bound a mapped file (its voxels are not read into memory), but the
 // file must hold every voxel its header places.
 TEST(MappedNifti, RefusesAShortFileAndIgnoresTheMemoryBudget) {
