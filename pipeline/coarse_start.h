@@ -14,7 +14,7 @@
 
 namespace isoatlas::pipeline {
 
-// Input: any scalar volume, or a source read two rows at a time (an eighth of it held). Output:
+// Input: any scalar volume, or a source (read four rows at a time per thread, never whole). Output:
 // float32, each voxel the mean of its 2 x 2 x 2 block of the input (fewer at an odd edge), dims rounded
 // up; spacing doubled and origin at the block's centre, so its voxels lie where the blocks do.
 Volume halfResolution(const VolumeSource& source);
